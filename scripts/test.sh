@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Set-up if needed, build (Release, warnings as errors), run every test on the Vulkan device that
+# is present (lavapipe on a machine without a GPU) with validation layers on.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+HYBRIDBENCH_SKIP_BUILD=1 bash scripts/setup.sh
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DHYBRIDBENCH_WERROR=ON >/dev/null
+cmake --build build -j"$(nproc)"
+export HYBRIDBENCH_VALIDATION=1
+# lavapipe's thread count: both cores, but no more (CI has 2).
+export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
+cd build && ctest --output-on-failure -j1 --timeout 900 "$@"

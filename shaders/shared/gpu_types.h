@@ -1,0 +1,72 @@
+// GPU data structures and constants shared by GLSL and C++ (conventions.md habit 2). Plain scalar
+// and 16-byte-vector members only, laid out for std430/std140 alike; C++ static_asserts the sizes.
+#ifndef HB_GPU_TYPES_H
+#define HB_GPU_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace hb::gpu {
+using vec2 = glm::vec2;
+using vec4 = glm::vec4;
+using mat4 = glm::mat4;
+using uint = uint32_t;
+#define HB_CONST constexpr
+#else
+#define HB_CONST const
+#endif
+
+HB_CONST uint kLightPoint = 0u;
+HB_CONST uint kLightSpot = 1u;
+HB_CONST uint kLightDirectional = 2u;
+HB_CONST uint kMaxLightsPerTile = 32u;  // one 32-bit visibility mask per texel (thesis 4.3.3)
+
+// Camera and frame constants (uniform buffer).
+struct FrameConstants {
+  mat4 view;
+  mat4 viewInv;
+  mat4 proj;
+  mat4 viewProj;
+  mat4 viewProjInv;
+  vec4 cameraPos;     // xyz world, w unused
+  vec4 extent;        // x = width, y = height, z = 1/width, w = 1/height
+  uint tileCountX;
+  uint tileCountY;
+  uint tileSize;
+  uint lightCount;
+};
+
+// One punctual light in world space. positionRange.w = range; directionCos.w = cos(outer cone).
+struct GpuLight {
+  vec4 positionRange;
+  vec4 directionCosOuter;  // xyz unit direction the light points, w = cos(outer)
+  vec4 colorIntensity;     // rgb linear colour, a = intensity
+  uint type;
+  float cosInner;
+  uint castShadows;
+  float tanOuter;          // tan(outer cone angle), for the cone-vs-plane test
+};
+
+// Four side planes of a tile's frustum in view space: xyz = unit normal pointing into the tile,
+// w = distance (plane: dot(n, p) + w = 0; eye at origin so w = 0).
+struct TileFrustum {
+  vec4 planes[4];
+};
+
+// Light grid entry: the tile's slice of the light index list.
+struct LightGridEntry {
+  uint offset;
+  uint count;  // lights stored (<= capacity)
+  uint total;  // lights that touched the tile (> count: the tile overflowed)
+  uint pad;
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
+static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
+static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");
+static_assert(sizeof(LightGridEntry) == 16, "LightGridEntry layout");
+}  // namespace hb::gpu
+#endif
+
+#endif

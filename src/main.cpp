@@ -1,0 +1,74 @@
+// hybridbench: a headless benchmark of a Forward+ hybrid renderer (see README.md).
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "errors.h"
+#include "version.h"
+
+int main(int argc, char** argv) {
+  using namespace hb;
+  CLI::App app{"hybridbench: a headless Vulkan benchmark of a Forward+ renderer with ray-traced shadows"};
+  app.set_version_flag("--version", toolVersion() + " (" + gitRevision() + ")");
+  app.require_subcommand(0, 1);
+
+  bool devicesJson = false;
+  auto* devices = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
+  devices->add_flag("--json", devicesJson, "machine-readable output");
+
+  RenderOptions render;
+  auto* renderCmd = app.add_subcommand("render", "render one frame and write its images and statistics");
+  renderCmd->add_option("config", render.config, "config file whose defaults apply");
+  renderCmd->add_option("--scene", render.scene, "built-in scene name or .gltf/.glb path");
+  renderCmd->add_option("--size", render.size, "resolution WxH, e.g. 1920x1080");
+  renderCmd->add_option("--device", render.device, "device index or name substring");
+  renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)");
+  renderCmd->add_option("--out", render.out, "output directory")->required();
+
+  auto* sceneCmd = app.add_subcommand("scene", "export or inspect scenes");
+  sceneCmd->require_subcommand(1);
+  std::string exportName, exportOut, infoPath;
+  bool infoJson = false;
+  auto* exportCmd = sceneCmd->add_subcommand("export", "write a built-in scene as glTF");
+  exportCmd->add_option("name", exportName, "built-in scene name")->required();
+  exportCmd->add_option("out", exportOut, "output .gltf or .glb")->required();
+  auto* infoCmd = sceneCmd->add_subcommand("info", "print a scene's statistics");
+  infoCmd->add_option("path", infoPath, "built-in scene name or .gltf/.glb path")->required();
+  infoCmd->add_flag("--json", infoJson, "machine-readable output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "hybridbench: %s (see hybridbench --help)\n", e.what());
+    return kExitBadInput;
+  }
+
+  try {
+    if (*devices) return cmdDevices(devicesJson);
+    if (*renderCmd) return cmdRender(render);
+    if (*exportCmd) return cmdSceneExport(exportName, exportOut);
+    if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
+    // No subcommand: the main job (the embedded default sweep) — until the sweep lands, a render.
+    RenderOptions main;
+    main.out = "out/render";
+    return cmdRender(main);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "hybridbench: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const DeviceError& e) {
+    std::fprintf(stderr, "hybridbench: device failure: %s\n", e.what());
+    return kExitDeviceFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hybridbench: internal error: %s\n", e.what());
+    return kExitDeviceFailure;
+  }
+}

@@ -1,0 +1,100 @@
+// The in-memory scene every pass and every CPU reference works from: one vertex and one index
+// array for all meshes, meshes made of primitives (one material each), instances with world
+// transforms, materials, decoded textures, punctual lights and cameras.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace hb {
+
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+
+// A run of triangles with one material. Indices are relative to vertexOffset.
+struct Primitive {
+  uint32_t firstIndex = 0;
+  uint32_t indexCount = 0;
+  uint32_t vertexOffset = 0;
+  uint32_t vertexCount = 0;
+  uint32_t material = 0;
+};
+
+struct Mesh {
+  std::string name;
+  std::vector<Primitive> primitives;
+};
+
+struct Instance {
+  uint32_t mesh = 0;
+  glm::mat4 transform{1.0f};  // object → world
+};
+
+struct Material {
+  std::string name;
+  glm::vec4 baseColorFactor{1.0f};
+  float metallicFactor = 1.0f;  // glTF defaults
+  float roughnessFactor = 1.0f;
+  int baseColorTexture = -1;  // index into Scene::textures, -1 = none
+  int metallicRoughnessTexture = -1;
+  bool doubleSided = false;
+};
+
+// Decoded 8-bit RGBA, row-major, top row first.
+struct Texture {
+  std::string name;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  bool srgb = false;  // base colour textures are sRGB, metallic-roughness linear
+  std::vector<uint8_t> rgba;
+};
+
+enum class LightType : uint32_t { Point = 0, Spot = 1, Directional = 2 };
+
+// KHR_lights_punctual, in world space. Intensity in candela (point/spot) or lux (directional).
+struct Light {
+  std::string name;
+  LightType type = LightType::Point;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // unit; the direction the light points
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float range = 0.0f;  // > 0 always after loading: missing ranges come from thesis eq. 4.1
+  bool rangeFromEq41 = false;
+  float innerConeAngle = 0.0f;               // radians, spot only
+  float outerConeAngle = 0.785398163397448f;  // radians, spot only (glTF default pi/4)
+  bool castShadows = true;
+};
+
+struct Camera {
+  std::string name;
+  glm::mat4 view{1.0f};  // world → view (right-handed, looking down -z, y up in view space)
+  float yfov = 1.0471975512f;  // radians
+  float znear = 0.1f;
+  float zfar = 1000.0f;  // reverse-Z: near → depth 1, far → depth 0
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  std::vector<Mesh> meshes;
+  std::vector<Instance> instances;
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+  std::vector<Light> lights;
+  std::vector<Camera> cameras;  // cameras[0] is the one a render uses unless told otherwise
+
+  uint64_t triangleCount() const;  // over instances (a mesh instanced twice counts twice)
+  void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances
+};
+
+// Thesis eq. 4.1: the distance at which I/D^2 falls to 0.02, D = 50*sqrt(0.02*I) = sqrt(50*I).
+double rangeFromIntensity(double intensity);
+
+}  // namespace hb
