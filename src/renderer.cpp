@@ -1,50 +1,105 @@
 #include "renderer.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include "errors.h"
+#include "gpu_lights.h"
 
 namespace hb {
 
+static Camera pickCamera(const Scene& scene, uint32_t index) {
+  if (scene.cameras.empty())
+    throw InputError("scene \"" + scene.name + "\" has no camera; add one to the glTF or set a camera in the config");
+  if (index >= scene.cameras.size())
+    throw InputError("camera index " + std::to_string(index) + " does not exist; the scene has " +
+                     std::to_string(scene.cameras.size()));
+  return scene.cameras[index];
+}
+
 Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx),
+      scene_(scene),
       settings_(settings),
+      camera_(pickCamera(scene, settings.cameraIndex)),
+      view_(camera_.view),
+      proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
+                               camera_.zfar)),
       gpuScene_(ctx, scene),
       depth_(ctx, settings.width, settings.height, kDepthFormat,
              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT),
+      frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
+      lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+              true, MemClass::Other),
       depthPrepass_(ctx),
       timer_(ctx, 16) {
-  if (scene.cameras.empty()) throw InputError("scene \"" + scene.name + "\" has no camera; add one or set a camera in the config");
-  if (settings.cameraIndex >= scene.cameras.size())
-    throw InputError("camera index " + std::to_string(settings.cameraIndex) + " does not exist; the scene has " +
-                     std::to_string(scene.cameras.size()));
-  camera_ = scene.cameras[settings.cameraIndex];
-  view_ = camera_.view;
-  proj_ = reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear, camera_.zfar);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
-  });
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VK_CHECK(vkCreateSampler(ctx.device(), &si, nullptr, &pointSampler_));
+
+  const uint32_t lightCount = uint32_t(scene.lights.size());
+  gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount);
+  std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
+  std::vector<gpu::GpuLight> packed = packLights(scene.lights);
+  if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
+
+  // Effects select passes (design.md): no culling when there are no lights or only directional ones.
+  const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const Light& l) { return l.type != LightType::Directional; });
+  if (!anyLocalLight) {
+    passesSkipped_.push_back({"light_culling", scene.lights.empty() ? "the scene has no lights"
+                                                                    : "every light is directional (never culled)"});
+  } else {
+    CullingSettings cs;
+    cs.tileSize = settings.tileSize;
+    cs.lightCulling = settings.lightCulling;
+    cs.aabb = settings.aabb;
+    culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
+                                              depth_, pointSampler_);
+  }
 }
 
-Renderer::~Renderer() = default;
+Renderer::~Renderer() {
+  vkDeviceWaitIdle(ctx_.device());
+  vkDestroySampler(ctx_.device(), pointSampler_, nullptr);
+}
 
 FrameTiming Renderer::renderFrame() {
   passesRun_.clear();
+  const uint32_t lightCount = uint32_t(scene_.lights.size());
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     timer_.reset(cmd);
+    if (culling_ && !frustumsDone_) culling_->recordFrustums(cmd);  // once per camera/resolution/tile size
+    frustumsDone_ = true;
     timer_.frameBegin(cmd);
+
+    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
     timer_.begin(cmd, "depth_prepass");
     depthPrepass_.record(cmd, gpuScene_, proj_ * view_, depth_);
     timer_.end(cmd);
     passesRun_.push_back("depth_prepass");
-    // The next frame's clear (and readbacks) wait for this frame's depth writes.
-    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
                  VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_SHADER_READ_BIT);
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                     VK_ACCESS_2_TRANSFER_READ_BIT);
+
+    if (culling_) {
+      timer_.begin(cmd, "light_culling");
+      culling_->recordCulling(cmd, lightCount);
+      timer_.end(cmd);
+      passesRun_.push_back("light_culling");
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
     timer_.frameEnd(cmd);
   });
   FrameTiming t;
@@ -53,10 +108,32 @@ FrameTiming Renderer::renderFrame() {
 }
 
 std::vector<float> Renderer::readDepth() const {
-  std::vector<uint8_t> bytes = readbackImage(ctx_, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, 4);
+  std::vector<uint8_t> bytes = readbackImage(ctx_, depth_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, 4);
   std::vector<float> out(bytes.size() / 4);
   std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
+}
+
+CullingReadback Renderer::readCulling() const {
+  HB_ASSERT(culling_);
+  CullingOutputs o = culling_->outputs();
+  CullingReadback r;
+  r.tilesX = o.tilesX;
+  r.tilesY = o.tilesY;
+  r.capacity = culling_->settings().capacity;
+  std::vector<uint8_t> grid = readbackBuffer(ctx_, *o.grid);
+  std::vector<uint8_t> idx = readbackBuffer(ctx_, *o.indices);
+  const size_t tiles = size_t(o.tilesX) * o.tilesY;
+  std::vector<gpu::LightGridEntry> entries(tiles);
+  std::memcpy(entries.data(), grid.data(), tiles * sizeof(gpu::LightGridEntry));
+  for (const auto& e : entries) {
+    r.offset.push_back(e.offset);
+    r.count.push_back(e.count);
+    r.total.push_back(e.total);
+  }
+  r.indices.resize(idx.size() / 4);
+  std::memcpy(r.indices.data(), idx.data(), idx.size());
+  return r;
 }
 
 }  // namespace hb

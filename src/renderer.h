@@ -1,6 +1,6 @@
 // The frame: a flat list of passes in frame order (design.md "The frame"), the resources they
-// share, and per-pass GPU timestamps. Timed frames record only the passes; analysis frames (not
-// timed) add counters and readbacks.
+// share, and per-pass GPU timestamps. Which passes run follows from the settings and the scene's
+// effects; passesRun() and passesSkipped() say which and why.
 #pragma once
 #include <memory>
 #include <string>
@@ -11,6 +11,7 @@
 #include "gpu_scene.h"
 #include "gpu_timer.h"
 #include "passes/depth_prepass.h"
+#include "passes/light_culling.h"
 
 namespace hb {
 
@@ -18,11 +19,20 @@ struct RenderSettings {
   uint32_t width = 1920;
   uint32_t height = 1080;
   uint32_t cameraIndex = 0;
+  uint32_t tileSize = 16;
+  bool lightCulling = true;
+  bool aabb = false;
 };
 
 struct FrameTiming {
   double frameMs = 0;
   std::vector<std::pair<std::string, double>> passMs;  // in frame order
+};
+
+struct CullingReadback {
+  uint32_t tilesX = 0, tilesY = 0, capacity = 0;
+  std::vector<uint32_t> offset, count, total;  // per tile
+  std::vector<uint32_t> indices;               // tiles × capacity
 };
 
 class Renderer {
@@ -36,21 +46,31 @@ class Renderer {
   const glm::mat4& view() const { return view_; }
   const glm::mat4& proj() const { return proj_; }
   const Camera& camera() const { return camera_; }
+  const RenderSettings& settings() const { return settings_; }
   const std::vector<std::string>& passesRun() const { return passesRun_; }
+  const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
+  bool hasCulling() const { return bool(culling_); }
 
-  // Readbacks (analysis only).
+  // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
+  CullingReadback readCulling() const;
 
  private:
   const VulkanContext& ctx_;
+  const Scene& scene_;
   RenderSettings settings_;
   Camera camera_;
   glm::mat4 view_, proj_;
   GpuScene gpuScene_;
   Image depth_;
+  VkSampler pointSampler_ = VK_NULL_HANDLE;
+  Buffer frameConstants_, lights_;
   DepthPrepass depthPrepass_;
+  std::unique_ptr<LightCulling> culling_;
   GpuTimer timer_;
+  bool frustumsDone_ = false;
   std::vector<std::string> passesRun_;
+  std::vector<std::pair<std::string, std::string>> passesSkipped_;
 };
 
 }  // namespace hb

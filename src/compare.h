@@ -1,0 +1,64 @@
+// Comparison of two results files (two GPUs, two builds): per variant and per pass, the ratio of
+// medians B/A with a confidence interval, a two-sided Mann-Whitney U test and a verdict; a
+// regression flag for CI (exit code 1 when any frame-level verdict is "slower").
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace hb {
+
+struct CompareOptions {
+  double thresholdPct = 5;  // a ratio within 1 ± threshold/100 is "same" even when significant
+  double alpha = 0.05;      // significance level of the test; the CI is at 1 - alpha
+  bool force = false;       // compare even when the scenes or configs differ (warns instead)
+};
+
+// Below kMinSamplesForVerdict samples on a side, or with a CV above kMaxQuietCv, a result that is
+// not significant reads "too noisy" rather than "same". 0.10: with n = 30 the median's standard
+// error is about 1.25 * 0.10 / sqrt(30) = 2.3 %, so a 5 % change would be barely two standard
+// errors away; noisier runs cannot support a claim of "same" at the default threshold.
+constexpr size_t kMinSamplesForVerdict = 5;
+constexpr double kMaxQuietCv = 0.10;
+// Fewer samples than this on a side gives a warning: the test has little power (google/benchmark
+// warns likewise for its U test).
+constexpr size_t kFewSamplesWarning = 20;
+
+struct CompareRow {
+  std::string variant;       // run name, matched between A and B
+  std::string pass;          // "frame" or a pass name ("shadows", ...)
+  size_t nA = 0, nB = 0;     // samples per side
+  double medianA = 0, medianB = 0;
+  double cvA = 0, cvB = 0;
+  double ratio = 0;          // medianB / medianA (> 1: B is slower)
+  double ciLow = 0, ciHigh = 0;  // ratioInterval(A, B, alpha): NaN without samples
+  double p = 1;              // Mann-Whitney two-sided; NaN without samples
+  std::string verdict;       // "faster" | "slower" | "same" | "too noisy"
+};
+
+struct CompareReport {
+  std::string deviceA, deviceB;  // context.device.name, "unknown" when absent
+  double thresholdPct = 5, alpha = 0.05;
+  std::vector<CompareRow> rows;  // per matched variant: "frame" first, then passes in frame order
+  double geomeanRatio = 0;       // geometric mean of the frame-level ratios (NaN when none)
+  std::vector<std::string> warnings;
+  bool regression = false;       // any frame-level row is "slower"
+};
+
+// Compares results file b against a (design.md "Results file", schema_version 1).
+// Throws InputError when either is not a schema-1 results file, or (unless options.force) when
+// context.scene.sha256, the config's scene, the resolution or the config's variants differ; the
+// message names the field and both values. Runs whose status is not "ok", variants or passes
+// present on one side only, and small samples give warnings, not errors.
+CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b,
+                             const CompareOptions& options);
+
+// A Markdown table for the console and for CI logs, then the geometric mean, the regression
+// flag and the warnings.
+std::string formatCompare(const CompareReport& report);
+
+nlohmann::json toJson(const CompareReport& report);
+
+}  // namespace hb
