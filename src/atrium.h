@@ -5,8 +5,10 @@
 // 18.3 m (z), 25 materials. A floor, outer walls, an open courtyard along x framed by two storeys
 // of columns and arches, galleries behind them, hanging curtains, vases with plants, lion-head
 // ornaments and strings of small beads round the arches (most of the sub-3-pixel triangles).
-// Every part but the curtains and leaves' sheets is a closed solid; no triangle is degenerate;
-// winding is counter-clockwise around outward normals. One mesh per part, one instance each.
+// Every part but the curtains (open sheets, double-sided fabric) is a union of closed solids; no
+// triangle is degenerate; winding is counter-clockwise around outward normals. One mesh per part
+// (8 meshes), one identity instance each. About 38 % of the triangles in the default camera's
+// view at 1920x1080 fit in 3 x 3 pixels.
 #pragma once
 #include <cstdint>
 

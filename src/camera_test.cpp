@@ -23,7 +23,9 @@ TEST(Projection, HasTheStructureOfThesisEquation21) {
     for (int r = 0; r < 4; ++r) {
       bool structural = (c == 0 && r == 0) || (c == 1 && r == 1) || (c == 2 && r == 2) || (c == 3 && r == 2) ||
                         (c == 2 && r == 3);
-      if (!structural) EXPECT_EQ(p[c][r], 0.0) << c << "," << r;
+      if (!structural) {
+        EXPECT_EQ(p[c][r], 0.0) << c << "," << r;
+      }
     }
 }
 

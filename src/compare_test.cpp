@@ -21,7 +21,8 @@ std::vector<double> noisyTimes(std::mt19937& rng, size_t n, double centerMs, dou
   auto uniform = [&] { return (static_cast<double>(rng()) + 0.5) / 4294967296.0; };
   std::vector<double> v;
   for (size_t i = 0; i < n; ++i) {
-    const double g = std::sqrt(-2 * std::log(uniform())) * std::cos(2 * std::numbers::pi * uniform());
+    const double radius = std::sqrt(-2 * std::log(uniform()));
+    const double g = radius * std::cos(2 * std::numbers::pi * uniform());
     v.push_back(centerMs * (1 + cv * g));
   }
   return v;
@@ -41,7 +42,8 @@ json makeResults(const std::string& sceneSha, uint32_t seed, size_t n, double sc
                     {"params", {{"tile_size", 8}}},
                     {"frames", n},
                     {"frame_ms", statsBlock(noisyTimes(rng, n, center * scale, cv))},
-                    {"passes", {{"shadows", statsBlock(noisyTimes(rng, n, 0.9 * center * scale, cv))},
+                    {"passes",
+                     {{"shadows", statsBlock(noisyTimes(rng, n, 0.9 * center * scale, cv))},
                                 {"depth_prepass", statsBlock(noisyTimes(rng, n, 0.3, cv))}}},
                     {"status", "ok"}});
   }

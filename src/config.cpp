@@ -6,7 +6,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <glm/gtc/constants.hpp>
 #include <limits>
 #include <map>
 #include <set>
@@ -18,9 +17,7 @@
 
 namespace hb {
 
-using config_reader::Json;
-using config_reader::Where;
-using namespace config_reader;
+using namespace config_reader;  // Json, Where and the strict readers
 
 namespace {
 
@@ -481,7 +478,8 @@ Config lowerForCpuDevice(Config c) {
   if (warmup != c.warmupFrames)
     changes.push_back("warmup " + std::to_string(warmup) + " -> " + std::to_string(c.warmupFrames));
   if (measured != c.measuredFrames)
-    changes.push_back("measured frames " + std::to_string(measured) + " -> " + std::to_string(c.measuredFrames));
+    changes.push_back("measured frames " + std::to_string(measured) + " -> " +
+                      std::to_string(c.measuredFrames));
 
   std::string note;
   for (const std::string& change : changes) note += (note.empty() ? "" : ", ") + change;

@@ -18,7 +18,7 @@
 //   "camera": {"index": 0}            // the scene's camera N (default: camera 0)
 //           | {"position": [x,y,z], "target": [x,y,z], "up": [0,1,0],
 //              "yfov_deg": 60, "znear": 0.1, "zfar": 100},   // 1 <= yfov_deg <= 179, 0 < znear < zfar
-//   "lights": "scene"                 // the scene's own lights (default)
+//   "lights": "scene"                 // the scene's own lights (default; the atrium's are procedural)
 //           | [ {"type": "point" | "spot" | "directional",   // required
 //                "name": "key light",
 //                "position": [x,y,z],      // point, spot: required
@@ -55,15 +55,24 @@
 // axis varies slowest) on top of "defaults", each named "key=value, key=value" in axis order, e.g.
 // "tile_size=8, normal_culling=naive". Neither "variants" nor "grid": one variant named "default".
 // Two runs with the same name are an error. Names are the identity of a run in results files.
+//
+// Shipped configs (configs/): thesis-table-5-1 (rows named as in Table 5.1), thesis-table-5-2 (rows
+// "8x8", "16x16", "32x32"), thesis (both tables; embedded as the default sweep), ci (thesis at
+// 320x180, 2+5 frames), thesis-sponza (thesis on scenes/sponza/Sponza.gltf, with its own camera and
+// lights), scaling (a grid over light_count, triangle_scale and resolution). In thesis.json the 5.1
+// row "light culling + AABB + improved shadow ray culling" and the 5.2 row "8x8" are the same
+// configuration and both are kept: each table is built from its own rows, and the pair shows the
+// run-to-run noise.
 #pragma once
 #include <array>
 #include <cstdint>
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "atrium.h"
 #include "scene.h"
@@ -123,7 +132,8 @@ struct Config {
   std::string sourceName;  // the file (or "thesis.json (embedded)") that messages name
   std::string name;
   std::string description;
-  std::string scene = "atrium";  // "atrium" or a glTF path, resolved against the config's directory
+  // "atrium" or an absolute glTF path (a relative one in the file resolves against its directory)
+  std::string scene = "atrium";
   bool sceneIsBuiltin() const { return scene == "atrium"; }
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <regex>
+#include <cstdio>
 #include <set>
 
 #include "errors.h"
@@ -196,10 +196,15 @@ class DuplicateKeyCheck {
     std::string p;
     for (size_t i = 0; i + 1 < frames_.size(); ++i) {
       const Frame& f = frames_[i];
-      if (f.isObject)
-        p += (p.empty() ? "" : ".") + f.currentKey;
-      else
-        p += "[" + std::to_string(f.index) + "]";
+      // Appended piecewise: GCC 12's -Wrestrict misfires on `"[" + std::to_string(...) + "]"`.
+      if (f.isObject) {
+        if (!p.empty()) p += '.';
+        p += f.currentKey;
+      } else {
+        p += '[';
+        p += std::to_string(f.index);
+        p += ']';
+      }
     }
     return p;
   }
@@ -215,10 +220,14 @@ Json parseText(const std::string& text, const std::string& source) {
   } catch (const nlohmann::json::parse_error& e) {
     // what() reads "[json.exception.parse_error.101] parse error at line L, column C: <detail>".
     std::string what = e.what();
-    static const std::regex kPosition(R"(line (\d+), column (\d+): (.*))");
-    std::smatch m;
-    if (std::regex_search(what, m, kPosition))
-      throw InputError(source + ":" + m[1].str() + ":" + m[2].str() + ": malformed JSON: " + m[3].str());
+    unsigned line = 0, column = 0;
+    int consumed = 0;
+    size_t at = what.find("line ");
+    if (at != std::string::npos &&
+        std::sscanf(what.c_str() + at, "line %u, column %u: %n", &line, &column, &consumed) == 2 &&
+        consumed > 0)
+      throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                       ": malformed JSON: " + what.substr(at + size_t(consumed)));
     throw InputError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " + what);
   }
 }

@@ -1,12 +1,11 @@
 #include "config.h"
 
-#include <gtest/gtest.h>
-
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <set>
 #include <sstream>
+
+#include <gtest/gtest.h>
 
 #include "errors.h"
 

@@ -1,12 +1,12 @@
 // glTF 2.0 export through tinygltf's writer: one buffer (data URI in .gltf, BIN chunk in .glb),
 // non-interleaved float attributes, uint32 indices, PNG images stored in the buffer.
+#include <stb_image_write.h>
+#include <tiny_gltf.h>
+
 #include <cctype>
 #include <cstring>
 #include <filesystem>
-
 #include <glm/gtc/matrix_inverse.hpp>
-#include <stb_image_write.h>
-#include <tiny_gltf.h>
 
 #include "errors.h"
 #include "gltf_io.h"
@@ -147,9 +147,10 @@ class Exporter {
       tinygltf::Primitive prim;
       prim.mode = TINYGLTF_MODE_TRIANGLES;
       prim.material = static_cast<int>(p.material);
-      const int position = addAccessor(
-          addView(positions.data(), positions.size() * sizeof(glm::vec3), TINYGLTF_TARGET_ARRAY_BUFFER),
-          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
+      const int position =
+          addAccessor(addView(positions.data(), positions.size() * sizeof(glm::vec3),
+                              TINYGLTF_TARGET_ARRAY_BUFFER),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
       if (p.vertexCount > 0) {  // the spec requires POSITION bounds
         model_.accessors[static_cast<size_t>(position)].minValues = {lo.x, lo.y, lo.z};
         model_.accessors[static_cast<size_t>(position)].maxValues = {hi.x, hi.y, hi.z};
@@ -161,10 +162,10 @@ class Exporter {
       prim.attributes["TEXCOORD_0"] = addAccessor(
           addView(uvs.data(), uvs.size() * sizeof(glm::vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
           TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, p.vertexCount);
-      prim.indices = addAccessor(addView(indices.data(), indices.size() * sizeof(uint32_t),
-                                         TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
-                                 indices.size());
+      prim.indices =
+          addAccessor(addView(indices.data(), indices.size() * sizeof(uint32_t),
+                              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
       mesh.primitives.push_back(std::move(prim));
     }
     model_.meshes.push_back(std::move(mesh));
@@ -192,9 +193,15 @@ class Exporter {
     light.color = {l.color.r, l.color.g, l.color.b};
     light.intensity = l.intensity;
     switch (l.type) {
-      case LightType::Point: light.type = "point"; break;
-      case LightType::Spot: light.type = "spot"; break;
-      case LightType::Directional: light.type = "directional"; break;
+      case LightType::Point:
+        light.type = "point";
+        break;
+      case LightType::Spot:
+        light.type = "spot";
+        break;
+      case LightType::Directional:
+        light.type = "directional";
+        break;
     }
     if (l.type != LightType::Directional) HB_ASSERT(l.range > 0.0f);
     light.range = l.range;  // tinygltf writes it when > 0: always for point and spot lights
@@ -210,7 +217,8 @@ class Exporter {
     // exactly -direction so that the loader's -Z comes back to the same vector; X and Y complete
     // a right-handed orthonormal frame around it.
     const glm::dvec3 z = -glm::dvec3(l.direction);
-    const glm::dvec3 up = std::abs(z.y) < 0.9 * glm::length(z) ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 up =
+        std::abs(z.y) < 0.9 * glm::length(z) ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
     const glm::dvec3 x = glm::normalize(glm::cross(up, z));
     const glm::dvec3 y = glm::normalize(glm::cross(z, x));
     const glm::dmat4 frame(glm::dvec4(x, 0.0), glm::dvec4(y, 0.0), glm::dvec4(z, 0.0),
@@ -242,7 +250,8 @@ void exportGltf(const Scene& scene, const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(path + ": the directory " + parent.string() + " does not exist; create it first");
+    throw InputError(path + ": the directory " + parent.string() +
+                     " does not exist; create it first");
   const tinygltf::Model model = Exporter(scene).build();
   tinygltf::TinyGLTF writer;
   const bool glb = endsWithGlb(path);

@@ -3,18 +3,18 @@
 // byte range and index is checked here before it is read.
 #include "gltf_io.h"
 
+#include <tiny_gltf.h>
+
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
-#include <limits>
-#include <sstream>
-
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <tiny_gltf.h>
+#include <iostream>
+#include <limits>
+#include <sstream>
 
 #include "errors.h"
 
@@ -44,14 +44,30 @@ std::string oneLine(const std::string& text) {
 std::string componentTypeName(int componentType) {
   const char* name = "unknown";
   switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: name = "BYTE"; break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: name = "UNSIGNED_BYTE"; break;
-    case TINYGLTF_COMPONENT_TYPE_SHORT: name = "SHORT"; break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: name = "UNSIGNED_SHORT"; break;
-    case TINYGLTF_COMPONENT_TYPE_INT: name = "INT"; break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: name = "UNSIGNED_INT"; break;
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: name = "FLOAT"; break;
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: name = "DOUBLE"; break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      name = "BYTE";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      name = "UNSIGNED_BYTE";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      name = "SHORT";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      name = "UNSIGNED_SHORT";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      name = "INT";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      name = "UNSIGNED_INT";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      name = "FLOAT";
+      break;
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+      name = "DOUBLE";
+      break;
   }
   return std::to_string(componentType) + " (" + name + ")";
 }
@@ -104,9 +120,9 @@ class Loader {
     loadNodes();
     markSrgbTextures();
     if (warnings.skippedPrimitives > 0)
-      warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedPrimitives) +
-                                  " primitive(s) whose mode is not TRIANGLES (4), first " +
-                                  firstSkippedPrimitive_);
+      warnings.messages.push_back(
+          path_ + ": skipped " + std::to_string(warnings.skippedPrimitives) +
+          " primitive(s) whose mode is not TRIANGLES (4), first " + firstSkippedPrimitive_);
     if (warnings.skippedCameras > 0)
       warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedCameras) +
                                   " camera node(s) that are not perspective, first " +
@@ -125,8 +141,9 @@ class Loader {
   size_t checkIndex(int index, size_t size, const std::string& field,
                     const std::string& arrayName) const {
     if (index < 0 || static_cast<size_t>(index) >= size)
-      fail(field, "index " + std::to_string(index) + " does not exist (" + arrayName + " has " +
-                      std::to_string(size) + " elements)",
+      fail(field,
+           "index " + std::to_string(index) + " does not exist (" + arrayName + " has " +
+               std::to_string(size) + " elements)",
            "point it at an existing element of " + arrayName);
     return static_cast<size_t>(index);
   }
@@ -146,8 +163,9 @@ class Loader {
     if (acc.sparse.isSparse)
       fail(where, "sparse accessors are not supported", "write the data densely");
     if (acc.type != type)
-      fail(where, "type is " + std::to_string(acc.type) + ", expected " +
-                      std::to_string(type) + " (tinygltf TINYGLTF_TYPE_* code)",
+      fail(where,
+           "type is " + std::to_string(acc.type) + ", expected " + std::to_string(type) +
+               " (tinygltf TINYGLTF_TYPE_* code)",
            "store this attribute with the type the glTF spec requires");
     bool supported = false;
     std::string allowed;
@@ -161,17 +179,17 @@ class Loader {
     if (acc.count == 0) fail(where, "count is 0", "give the accessor at least one element");
     if (acc.bufferView < 0)
       fail(where, "has no bufferView (an all-zero accessor)", "give it a bufferView with data");
-    size_t v = checkIndex(acc.bufferView, model_.bufferViews.size(), where + ".bufferView",
-                          "bufferViews");
+    size_t v =
+        checkIndex(acc.bufferView, model_.bufferViews.size(), where + ".bufferView", "bufferViews");
     const tinygltf::BufferView& view = model_.bufferViews[v];
     size_t b = checkIndex(view.buffer, model_.buffers.size(),
                           "bufferViews[" + std::to_string(v) + "].buffer", "buffers");
     const tinygltf::Buffer& buffer = model_.buffers[b];
 
-    const uint64_t elementSize = static_cast<uint64_t>(tinygltf::GetComponentSizeInBytes(
-                                     static_cast<uint32_t>(acc.componentType))) *
-                                 static_cast<uint64_t>(tinygltf::GetNumComponentsInType(
-                                     static_cast<uint32_t>(acc.type)));
+    const uint64_t elementSize =
+        static_cast<uint64_t>(
+            tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType))) *
+        static_cast<uint64_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type)));
     const uint64_t stride = view.byteStride != 0 ? view.byteStride : elementSize;
     if (stride < elementSize)
       fail("bufferViews[" + std::to_string(v) + "].byteStride",
@@ -189,11 +207,12 @@ class Loader {
     const uint64_t need =
         countFits ? acc.byteOffset + stride * (acc.count - 1) + elementSize : ~uint64_t(0);
     if (!countFits || need > view.byteLength)
-      fail(where, std::to_string(acc.count) + " elements from byteOffset " +
-                      std::to_string(acc.byteOffset) + " with stride " + std::to_string(stride) +
-                      " need " + (countFits ? std::to_string(need) : std::string("more")) +
-                      " bytes but bufferViews[" + std::to_string(v) + "] has only " +
-                      std::to_string(view.byteLength),
+      fail(where,
+           std::to_string(acc.count) + " elements from byteOffset " +
+               std::to_string(acc.byteOffset) + " with stride " + std::to_string(stride) +
+               " need " + (countFits ? std::to_string(need) : std::string("more")) +
+               " bytes but bufferViews[" + std::to_string(v) + "] has only " +
+               std::to_string(view.byteLength),
            "fix the accessor's count/byteOffset or make the bufferView and buffer longer");
     AccessorView out;
     out.data = buffer.data.data() + view.byteOffset + acc.byteOffset;
@@ -211,13 +230,15 @@ class Loader {
         std::memcpy(&f, p, 4);
         return f;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return static_cast<float>(*p) / 255.0f;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return static_cast<float>(*p) / 255.0f;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
         uint16_t u;
         std::memcpy(&u, p, 2);
         return static_cast<float>(u) / 65535.0f;
       }
-      default: HB_ASSERT(false);
+      default:
+        HB_ASSERT(false);
     }
   }
 
@@ -227,8 +248,8 @@ class Loader {
     const size_t componentSize = view.elementSize / N;
     for (size_t i = 0; i < view.count; ++i)
       for (int c = 0; c < N; ++c)
-        out[i][c] = readComponent(view.data + i * view.stride + c * componentSize,
-                                  view.componentType);
+        out[i][c] =
+            readComponent(view.data + i * view.stride + c * componentSize, view.componentType);
     return out;
   }
 
@@ -309,9 +330,10 @@ class Loader {
       Material out;
       out.name = mat.name;
       if (pbr.baseColorFactor.size() != 4)
-        fail(field + ".baseColorFactor", "has " + std::to_string(pbr.baseColorFactor.size()) +
-                                             " numbers", "give it 4 (RGBA)");
-      for (int c = 0; c < 4; ++c) out.baseColorFactor[c] = static_cast<float>(pbr.baseColorFactor[c]);
+        fail(field + ".baseColorFactor",
+             "has " + std::to_string(pbr.baseColorFactor.size()) + " numbers", "give it 4 (RGBA)");
+      for (int c = 0; c < 4; ++c)
+        out.baseColorFactor[c] = static_cast<float>(pbr.baseColorFactor[c]);
       out.metallicFactor = static_cast<float>(pbr.metallicFactor);
       out.roughnessFactor = static_cast<float>(pbr.roughnessFactor);
       if (!std::isfinite(out.metallicFactor) || !std::isfinite(out.roughnessFactor) ||
@@ -337,7 +359,8 @@ class Loader {
 
   void markSrgbTextures() {
     for (const Material& m : scene_.materials)
-      if (m.baseColorTexture >= 0) scene_.textures[static_cast<size_t>(m.baseColorTexture)].srgb = true;
+      if (m.baseColorTexture >= 0)
+        scene_.textures[static_cast<size_t>(m.baseColorTexture)].srgb = true;
   }
 
   // ---- meshes ----------------------------------------------------------------------------------
@@ -383,37 +406,37 @@ class Loader {
       normals = readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3,
                                         {TINYGLTF_COMPONENT_TYPE_FLOAT}));
       if (normals.size() != vertexCount)
-        fail(field + ".attributes.NORMAL", "count " + std::to_string(normals.size()) +
-                                               " differs from POSITION's " +
-                                               std::to_string(vertexCount),
+        fail(field + ".attributes.NORMAL",
+             "count " + std::to_string(normals.size()) + " differs from POSITION's " +
+                 std::to_string(vertexCount),
              "give every attribute of a primitive the same count");
     }
     std::vector<glm::vec2> uvs;
     if (int a = attribute("TEXCOORD_0"); a >= 0) {
       // The spec allows normalized unsigned byte/short texture coordinates besides float.
-      uvs = readVectors<2>(accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
-                                    {TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
+      uvs = readVectors<2>(
+          accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                   {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
       if (uvs.size() != vertexCount)
-        fail(field + ".attributes.TEXCOORD_0", "count " + std::to_string(uvs.size()) +
-                                                   " differs from POSITION's " +
-                                                   std::to_string(vertexCount),
+        fail(field + ".attributes.TEXCOORD_0",
+             "count " + std::to_string(uvs.size()) + " differs from POSITION's " +
+                 std::to_string(vertexCount),
              "give every attribute of a primitive the same count");
     }
 
     std::vector<uint32_t> indices;
     const std::string indicesField = field + ".indices";
     if (prim.indices >= 0) {
-      indices = readIndices(accessor(prim.indices, indicesField, TINYGLTF_TYPE_SCALAR,
-                                     {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}));
+      indices = readIndices(
+          accessor(prim.indices, indicesField, TINYGLTF_TYPE_SCALAR,
+                   {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}));
       for (size_t i = 0; i < indices.size(); ++i)
         if (indices[i] >= vertexCount)
-          fail(indicesField, "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
-                                 " but the primitive has only " + std::to_string(vertexCount) +
-                                 " vertices",
+          fail(indicesField,
+               "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
+                   " but the primitive has only " + std::to_string(vertexCount) + " vertices",
                "fix the index buffer or the POSITION accessor's count");
     } else {
       indices.resize(vertexCount);
@@ -450,7 +473,8 @@ class Loader {
                                                     const std::vector<uint32_t>& indices) {
     std::vector<glm::dvec3> sum(positions.size(), glm::dvec3(0.0));
     for (size_t t = 0; t + 2 < indices.size(); t += 3) {
-      glm::dvec3 a(positions[indices[t]]), b(positions[indices[t + 1]]), c(positions[indices[t + 2]]);
+      glm::dvec3 a(positions[indices[t]]), b(positions[indices[t + 1]]),
+          c(positions[indices[t + 2]]);
       glm::dvec3 n = glm::cross(b - a, c - a);
       for (int k = 0; k < 3; ++k) sum[indices[t + k]] += n;
     }
@@ -468,7 +492,8 @@ class Loader {
     std::vector<int> roots;
     if (!model_.scenes.empty()) {
       int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
-      const tinygltf::Scene& gscene = model_.scenes[checkIndex(s, model_.scenes.size(), "scene", "scenes")];
+      const tinygltf::Scene& gscene =
+          model_.scenes[checkIndex(s, model_.scenes.size(), "scene", "scenes")];
       roots = gscene.nodes;
       scene_.name = gscene.name;
       for (size_t r = 0; r < roots.size(); ++r)
@@ -505,10 +530,12 @@ class Loader {
       glm::dmat4 t(1.0), r(1.0), s(1.0);
       if (need(node.translation, 3, "translation"))
         t = glm::translate(glm::dmat4(1.0), glm::make_vec3(node.translation.data()));
-      if (need(node.rotation, 4, "rotation"))  // glTF stores x, y, z, w; glm's constructor takes w first
-        r = glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1],
-                                      node.rotation[2]));
-      if (need(node.scale, 3, "scale")) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
+      if (need(node.rotation, 4,
+               "rotation"))  // glTF stores x, y, z, w; glm's constructor takes w first
+        r = glm::mat4_cast(
+            glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+      if (need(node.scale, 3, "scale"))
+        s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
       local = t * r * s;
     }
     for (int c = 0; c < 4; ++c)
@@ -522,24 +549,28 @@ class Loader {
     const std::string field = "nodes[" + std::to_string(nodeIndex) + "]";
     const size_t n = checkIndex(nodeIndex, model_.nodes.size(), field, "nodes");
     if (onPath_[n] || depth > kMaxNodeDepth)
-      fail(field + ".children", "the node hierarchy has a cycle (or is deeper than " +
-                                    std::to_string(kMaxNodeDepth) + ")",
+      fail(field + ".children",
+           "the node hierarchy has a cycle (or is deeper than " + std::to_string(kMaxNodeDepth) +
+               ")",
            "make the nodes a tree: no node may be its own ancestor");
     const tinygltf::Node& node = model_.nodes[n];
     const glm::dmat4 world = parent * localTransform(node, field);
     if (node.mesh >= 0) {
       Instance inst;
-      inst.mesh = static_cast<uint32_t>(checkIndex(node.mesh, model_.meshes.size(), field + ".mesh", "meshes"));
+      inst.mesh = static_cast<uint32_t>(
+          checkIndex(node.mesh, model_.meshes.size(), field + ".mesh", "meshes"));
       inst.transform = glm::mat4(world);
       scene_.instances.push_back(inst);
     }
-    if (node.camera >= 0) addCamera(checkIndex(node.camera, model_.cameras.size(), field + ".camera", "cameras"), world);
+    if (node.camera >= 0)
+      addCamera(checkIndex(node.camera, model_.cameras.size(), field + ".camera", "cameras"),
+                world);
     if (auto it = node.extensions.find(kLightsExtension); it != node.extensions.end()) {
       const std::string lightField = field + ".extensions." + kLightsExtension + ".light";
       if (!it->second.IsObject() || !it->second.Get("light").IsNumber())
         fail(lightField, "missing or not an integer", "write {\"light\": <index>}");
-      size_t l = checkIndex(it->second.Get("light").GetNumberAsInt(), model_.lights.size(), lightField,
-                            std::string("extensions.") + kLightsExtension + ".lights");
+      size_t l = checkIndex(it->second.Get("light").GetNumberAsInt(), model_.lights.size(),
+                            lightField, std::string("extensions.") + kLightsExtension + ".lights");
       addLight(l, world);
     }
     onPath_[n] = 1;
@@ -556,7 +587,8 @@ class Loader {
     }
     const tinygltf::PerspectiveCamera& p = cam.perspective;
     if (!(p.yfov > 0.0 && p.yfov < glm::pi<double>()))
-      fail(field + ".perspective.yfov", "is " + num(p.yfov), "give a field of view in (0, pi) radians");
+      fail(field + ".perspective.yfov", "is " + num(p.yfov),
+           "give a field of view in (0, pi) radians");
     if (!(p.znear > 0.0 && std::isfinite(p.znear)))
       fail(field + ".perspective.znear", "is " + num(p.znear), "give a positive near distance");
     if (p.zfar != 0.0 && !(p.zfar > p.znear && std::isfinite(p.zfar)))  // tinygltf: 0 = absent
@@ -575,17 +607,26 @@ class Loader {
 
   void addLight(size_t l, const glm::dmat4& world) {
     const tinygltf::Light& light = model_.lights[l];
-    const std::string field = std::string("extensions.") + kLightsExtension + ".lights[" + std::to_string(l) + "]";
+    const std::string field =
+        std::string("extensions.") + kLightsExtension + ".lights[" + std::to_string(l) + "]";
     const nlohmann::json* raw =
-        rawLights_.is_array() && l < rawLights_.size() && rawLights_[l].is_object() ? &rawLights_[l] : nullptr;
+        rawLights_.is_array() && l < rawLights_.size() && rawLights_[l].is_object() ? &rawLights_[l]
+                                                                                    : nullptr;
     Light out;
     out.name = light.name;
-    if (light.type == "point") out.type = LightType::Point;
-    else if (light.type == "spot") out.type = LightType::Spot;
-    else if (light.type == "directional") out.type = LightType::Directional;
-    else fail(field + ".type", "'" + light.type + "' is not a punctual light type", "use point, spot or directional");
+    if (light.type == "point")
+      out.type = LightType::Point;
+    else if (light.type == "spot")
+      out.type = LightType::Spot;
+    else if (light.type == "directional")
+      out.type = LightType::Directional;
+    else
+      fail(field + ".type", "'" + light.type + "' is not a punctual light type",
+           "use point, spot or directional");
     if (!light.color.empty()) {
-      if (light.color.size() != 3) fail(field + ".color", "has " + std::to_string(light.color.size()) + " numbers", "give it 3 (linear RGB)");
+      if (light.color.size() != 3)
+        fail(field + ".color", "has " + std::to_string(light.color.size()) + " numbers",
+             "give it 3 (linear RGB)");
       out.color = glm::vec3(glm::make_vec3(light.color.data()));
     }
     if (!(light.intensity >= 0.0 && std::isfinite(light.intensity)))
@@ -607,7 +648,8 @@ class Loader {
     if (out.type == LightType::Spot) {
       const double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
       if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
-        fail(field + ".spot", "cone angles inner " + num(inner) + ", outer " + num(outer) + " are invalid",
+        fail(field + ".spot",
+             "cone angles inner " + num(inner) + ", outer " + num(outer) + " are invalid",
              "use 0 <= innerConeAngle < outerConeAngle <= pi/2");
       out.innerConeAngle = static_cast<float>(inner);
       out.outerConeAngle = static_cast<float>(outer);
@@ -619,14 +661,16 @@ class Loader {
         out.castShadows = light.extras.Get("castShadows").Get<bool>();
       }
       // Written by exportGltf: the explicit range was derived from eq. 4.1 originally.
-      if (hasRange && light.extras.Has("rangeFromEq41") && light.extras.Get("rangeFromEq41").IsBool())
+      if (hasRange && light.extras.Has("rangeFromEq41") &&
+          light.extras.Get("rangeFromEq41").IsBool())
         out.rangeFromEq41 = light.extras.Get("rangeFromEq41").Get<bool>();
     }
     out.position = glm::vec3(world[3]);
     const glm::dvec3 forward = -glm::dvec3(world[2]);  // world * (0, 0, -1, 0)
     const double len = glm::length(forward);
     if (!(len > 0.0))
-      fail("nodes (of " + field + ")", "the node's transform collapses its -Z axis", "give the light's node a non-zero scale");
+      fail("nodes (of " + field + ")", "the node's transform collapses its -Z axis",
+           "give the light's node a non-zero scale");
     out.direction = glm::vec3(forward / len);
     scene_.lights.push_back(out);
   }
@@ -687,11 +731,13 @@ Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings) {
   bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
                    : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok)
-    throw InputError(path + ": not a valid glTF 2.0 " + (binary ? "binary (.glb)" : "JSON (.gltf)") +
+    throw InputError(path + ": not a valid glTF 2.0 " +
+                     (binary ? "binary (.glb)" : "JSON (.gltf)") +
                      " file: " + oneLine(err.empty() ? warn : err) +
                      "; re-export it as glTF 2.0 or check it with the Khronos glTF validator");
   if (model.asset.version.rfind("2.", 0) != 0)
-    throw InputError(path + ": asset.version: '" + model.asset.version + "' is not 2.x; re-export it as glTF 2.0");
+    throw InputError(path + ": asset.version: '" + model.asset.version +
+                     "' is not 2.x; re-export it as glTF 2.0");
 
   GltfLoadWarnings local;
   const nlohmann::json rawLights = rawLightsJson(bytes, binary);

@@ -1,10 +1,9 @@
 // glTF 2.0 scenes in and out (tinygltf), plus a summary and a content hash of any hb::Scene.
 #pragma once
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "scene.h"
 

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "errors.h"
@@ -51,11 +50,13 @@ struct GltfBuilder {
     size_t offset = bin.size();
     bin.resize(offset + data.size() * sizeof(T));
     std::memcpy(bin.data() + offset, data.data(), data.size() * sizeof(T));
-    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * sizeof(T)}});
+    doc["bufferViews"].push_back(
+        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * sizeof(T)}});
     return static_cast<int>(doc["bufferViews"].size() - 1);
   }
   int accessor(int view, int componentType, const char* type, size_t count) {
-    doc["accessors"].push_back({{"bufferView", view}, {"componentType", componentType}, {"type", type}, {"count", count}});
+    doc["accessors"].push_back(
+        {{"bufferView", view}, {"componentType", componentType}, {"type", type}, {"count", count}});
     return static_cast<int>(doc["accessors"].size() - 1);
   }
   int floats(const std::vector<float>& v, const char* type, int components) {
@@ -64,8 +65,10 @@ struct GltfBuilder {
   // A unit quad in the z = 0 plane facing +z, indices as u16, with normals and texcoords unless
   // told otherwise. Returns the mesh index.
   int quad(bool withNormals = true, int material = -1) {
-    json prim = {{"attributes", {{"POSITION", floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
-    if (withNormals) prim["attributes"]["NORMAL"] = floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
+    json prim = {
+        {"attributes", {{"POSITION", floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
+    if (withNormals)
+      prim["attributes"]["NORMAL"] = floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
     prim["attributes"]["TEXCOORD_0"] = floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2", 2);
     prim["indices"] = accessor(view(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}), kU16, "SCALAR", 6);
     if (material >= 0) prim["material"] = material;
@@ -93,13 +96,17 @@ struct GltfBuilder {
     if (!bin.empty()) {
       fs::path binPath = path;
       binPath.replace_extension(".bin");
-      std::ofstream(binPath, std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), static_cast<std::streamsize>(bin.size()));
-      d["buffers"] = json::array({{{"uri", binPath.filename().string()}, {"byteLength", bin.size()}}});
+      std::ofstream(binPath, std::ios::binary)
+          .write(reinterpret_cast<const char*>(bin.data()),
+                 static_cast<std::streamsize>(bin.size()));
+      d["buffers"] =
+          json::array({{{"uri", binPath.filename().string()}, {"byteLength", bin.size()}}});
     }
     std::ofstream(path) << d.dump(1);
     return path;
   }
-  // .glb: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros (glTF 2.0 §4.4).
+  // .glb: 12-byte header, JSON chunk padded with spaces, BIN chunk padded with zeros (glTF 2.0
+  // §4.4).
   fs::path writeGlb(const fs::path& path) {
     json d = doc;
     d["buffers"] = json::array({{{"byteLength", bin.size()}}});
@@ -107,7 +114,9 @@ struct GltfBuilder {
     while (text.size() % 4) text += ' ';
     std::vector<uint8_t> body = bin;
     while (body.size() % 4) body.push_back(0);
-    auto u32 = [](std::ofstream& out, uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
+    auto u32 = [](std::ofstream& out, uint32_t v) {
+      out.write(reinterpret_cast<const char*>(&v), 4);
+    };
     std::ofstream out(path, std::ios::binary);
     out.write("glTF", 4);
     u32(out, 2);
@@ -117,7 +126,8 @@ struct GltfBuilder {
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     u32(out, static_cast<uint32_t>(body.size()));
     u32(out, 0x004E4942u);  // "BIN\0"
-    out.write(reinterpret_cast<const char*>(body.data()), static_cast<std::streamsize>(body.size()));
+    out.write(reinterpret_cast<const char*>(body.data()),
+              static_cast<std::streamsize>(body.size()));
     return path;
   }
 };
@@ -125,10 +135,16 @@ struct GltfBuilder {
 // The quad at the origin and a point light one node away: the file most tests start from.
 GltfBuilder quadWithLight(json light) {
   GltfBuilder b;
-  b.doc["materials"] = {{{"name", "red"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.5}}}, {"doubleSided", true}}};
+  b.doc["materials"] = {
+      {{"name", "red"},
+       {"pbrMetallicRoughness",
+        {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.5}}},
+       {"doubleSided", true}}};
   int mesh = b.quad(true, 0);
   int l = b.light(std::move(light));
-  b.scene({b.node({{"mesh", mesh}}), b.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
+  b.scene({b.node({{"mesh", mesh}}),
+           b.node({{"translation", {1, 2, 3}},
+                   {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
   return b;
 }
 
@@ -142,13 +158,15 @@ void expectInputError(const fs::path& path, std::vector<std::string> parts) {
     const std::string message = e.what();
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
     EXPECT_NE(message.find(path.string()), std::string::npos) << message;
-    for (const std::string& part : parts) EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
+    for (const std::string& part : parts)
+      EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' not in: " << message;
   }
 }
 
 TEST(GltfLoad, ReadsAQuadWithAPointLight) {
   TestDir dir;
-  GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 20}, {"range", 5}, {"color", {1, 0.5, 0.25}}});
+  GltfBuilder b = quadWithLight(
+      {{"type", "point"}, {"intensity", 20}, {"range", 5}, {"color", {1, 0.5, 0.25}}});
   Scene s = loadGltf(b.writeGltf(dir / "quad.gltf").string());
   ASSERT_EQ(s.vertices.size(), 4u);
   EXPECT_EQ(s.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
@@ -180,7 +198,10 @@ TEST(GltfLoad, ReadsAQuadWithAPointLight) {
 
 TEST(GltfLoad, LightWithoutRangeGetsThesisEq41) {
   TestDir dir;
-  GltfBuilder b = quadWithLight({{"type", "spot"}, {"intensity", 100}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.5}}}, {"extras", {{"castShadows", false}}}});
+  GltfBuilder b = quadWithLight({{"type", "spot"},
+                                 {"intensity", 100},
+                                 {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.5}}},
+                                 {"extras", {{"castShadows", false}}}});
   Scene s = loadGltf(b.writeGltf(dir / "spot.gltf").string());
   ASSERT_EQ(s.lights.size(), 1u);
   // Eq. 4.1: D = 50 sqrt(0.02 I) = sqrt(50 I) = sqrt(5000) for I = 100.
@@ -198,7 +219,8 @@ TEST(GltfLoad, DirectionalLightHasRangeZeroAndPointsAlongNodeMinusZ) {
   int l = b.light({{"type", "directional"}, {"intensity", 3}});
   // Rotation of -90 degrees about X (quaternion x = -sin 45°, w = cos 45°) turns -Z into -Y.
   const double h = std::sqrt(0.5);
-  b.scene({b.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
+  b.scene({b.node(
+      {{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
   Scene s = loadGltf(b.writeGltf(dir / "sun.gltf").string());
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_EQ(s.lights[0].type, LightType::Directional);
@@ -217,8 +239,12 @@ TEST(GltfLoad, ComposesTrsAndMatrixNodeTransforms) {
   int mesh = b.quad();
   // Parent: T(10,0,0) * R(90° about Y) * S(2); child: a matrix translating by (0,0,1).
   const double h = std::sqrt(0.5);
-  int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1}}});
-  int parent = b.node({{"translation", {10, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}, {"children", {child}}});
+  int child =
+      b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1}}});
+  int parent = b.node({{"translation", {10, 0, 0}},
+                       {"rotation", {0, h, 0, h}},
+                       {"scale", {2, 2, 2}},
+                       {"children", {child}}});
   b.scene({parent});
   Scene s = loadGltf(b.writeGltf(dir / "tree.gltf").string());
   ASSERT_EQ(s.instances.size(), 1u);
@@ -250,7 +276,9 @@ TEST(GltfLoad, ComputesNormalsAndSequentialIndicesWhenMissing) {
   TestDir dir;
   GltfBuilder b;
   // Two triangles of a quad facing +z, no NORMAL and no indices.
-  json prim = {{"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
+  json prim = {{"attributes",
+                {{"POSITION",
+                  b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
   b.doc["meshes"] = json::array({{{"primitives", json::array({prim})}}});
   b.scene({b.node({{"mesh", 0}})});
   Scene s = loadGltf(b.writeGltf(dir / "bare.gltf").string());
@@ -267,7 +295,9 @@ TEST(GltfLoad, ReadsU8AndU32Indices) {
   int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3);
   int i8 = b.accessor(b.view(std::vector<uint8_t>{0, 1, 2}), kU8, "SCALAR", 3);
   int i32 = b.accessor(b.view(std::vector<uint32_t>{0, 2, 3}), kU32, "SCALAR", 3);
-  b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", i8}}, {{"attributes", {{"POSITION", pos}}}, {"indices", i32}}}}}});
+  b.doc["meshes"] = json::array({{{"primitives",
+                                   {{{"attributes", {{"POSITION", pos}}}, {"indices", i8}},
+                                    {{"attributes", {{"POSITION", pos}}}, {"indices", i32}}}}}});
   b.scene({b.node({{"mesh", 0}})});
   Scene s = loadGltf(b.writeGltf(dir / "idx.gltf").string());
   EXPECT_EQ(s.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
@@ -314,7 +344,8 @@ TEST(GltfLoad, ReadsAPerspectiveCameraAsTheInverseOfItsNode) {
   EXPECT_EQ(s.cameras[0].view * glm::vec4(0, 1, 4, 1), glm::vec4(0, 0, 0, 1));
 }
 
-// ---- bad input -----------------------------------------------------------------------------------
+// ---- bad input
+// -----------------------------------------------------------------------------------
 
 TEST(GltfLoadErrors, MissingFileNamesThePath) {
   TestDir dir;
@@ -341,7 +372,8 @@ TEST(GltfLoadErrors, AccessorPastItsBufferViewNamesTheAttribute) {
   b.quad();
   b.doc["accessors"][0]["count"] = 5;  // POSITION: 5 * 12 bytes > the 48-byte bufferView
   b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "short.gltf"), {"meshes[0].primitives[0].attributes.POSITION", "accessors[0]", "60"});
+  expectInputError(b.writeGltf(dir / "short.gltf"),
+                   {"meshes[0].primitives[0].attributes.POSITION", "accessors[0]", "60"});
 }
 
 TEST(GltfLoadErrors, AccessorByteOffsetPastItsBufferViewNamesTheIndices) {
@@ -377,9 +409,11 @@ TEST(GltfLoadErrors, IndexPastTheVertexCountNamesTheIndices) {
   GltfBuilder b;
   int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0}, "VEC3", 3);
   int idx = b.accessor(b.view(std::vector<uint16_t>{0, 1, 7}), kU16, "SCALAR", 3);
-  b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}}}});
+  b.doc["meshes"] =
+      json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}}}});
   b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "index.gltf"), {"meshes[0].primitives[0].indices", "7", "3 vertices"});
+  expectInputError(b.writeGltf(dir / "index.gltf"),
+                   {"meshes[0].primitives[0].indices", "7", "3 vertices"});
 }
 
 TEST(GltfLoadErrors, NonFinitePositionsNameThePositionAttribute) {
@@ -389,7 +423,8 @@ TEST(GltfLoadErrors, NonFinitePositionsNameThePositionAttribute) {
     b.floats({0, 0, 0, 1, 0, 0, 1, bad, 0}, "VEC3", 3);
     b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}});
     b.scene({b.node({{"mesh", 0}})});
-    expectInputError(b.writeGltf(dir / "nan.gltf"), {"meshes[0].primitives[0].attributes.POSITION", "vertex 2", "not finite"});
+    expectInputError(b.writeGltf(dir / "nan.gltf"),
+                     {"meshes[0].primitives[0].attributes.POSITION", "vertex 2", "not finite"});
   }
 }
 
@@ -397,7 +432,8 @@ TEST(GltfLoadErrors, ZeroOrNegativeLightRangeNamesTheLight) {
   TestDir dir;
   for (double range : {0.0, -2.0}) {
     GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 5}, {"range", range}});
-    expectInputError(b.writeGltf(dir / "range.gltf"), {"KHR_lights_punctual.lights[0].range", "> 0"});
+    expectInputError(b.writeGltf(dir / "range.gltf"),
+                     {"KHR_lights_punctual.lights[0].range", "> 0"});
   }
 }
 
@@ -408,13 +444,15 @@ TEST(GltfLoadErrors, UnsupportedComponentTypeNamesTheAccessor) {
   b.doc["accessors"][3]["componentType"] = kFloat;  // float indices
   b.doc["accessors"][3]["count"] = 3;
   b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "floatidx.gltf"), {"meshes[0].primitives[0].indices", "componentType 5126"});
+  expectInputError(b.writeGltf(dir / "floatidx.gltf"),
+                   {"meshes[0].primitives[0].indices", "componentType 5126"});
 
   GltfBuilder c;
   c.quad();
   c.doc["accessors"][0]["componentType"] = kU16;  // quantized positions (KHR_mesh_quantization)
   c.scene({c.node({{"mesh", 0}})});
-  expectInputError(c.writeGltf(dir / "u16pos.gltf"), {"attributes.POSITION", "componentType 5123", "FLOAT"});
+  expectInputError(c.writeGltf(dir / "u16pos.gltf"),
+                   {"attributes.POSITION", "componentType 5123", "FLOAT"});
 }
 
 TEST(GltfLoadErrors, NodeCycleIsAnInputErrorNotAStackOverflow) {
@@ -487,9 +525,11 @@ Scene handBuiltScene() {
     p.vertexCount = 4;
     p.indexCount = 6;
     p.material = material;
-    const glm::vec3 n = glm::normalize(glm::vec3(0.1f, 0.2f, 1.0f));  // deliberately not axis-aligned
+    const glm::vec3 n =
+        glm::normalize(glm::vec3(0.1f, 0.2f, 1.0f));  // deliberately not axis-aligned
     for (int i = 0; i < 4; ++i)
-      s.vertices.push_back({glm::vec3(0.3f * (i & 1), 0.7f * (i >> 1), z), n, glm::vec2(0.1f * i, 1.0f / 3.0f * i)});
+      s.vertices.push_back(
+          {glm::vec3(0.3f * (i & 1), 0.7f * (i >> 1), z), n, glm::vec2(0.1f * i, 1.0f / 3.0f * i)});
     for (uint32_t i : {0u, 1u, 3u, 0u, 3u, 2u}) s.indices.push_back(i);
     return p;
   };
@@ -497,14 +537,17 @@ Scene handBuiltScene() {
   s.meshes.push_back({"one-prim", {addQuad(-1.25f, 2)}});
   s.instances.push_back({0, glm::mat4(1.0f)});
   s.instances.push_back({1, glm::translate(glm::mat4(1.0f), glm::vec3(3.1f, -2.0f, 0.7f))});
-  s.instances.push_back({1, glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(1.5f))});
+  s.instances.push_back({1, glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)) *
+                                glm::scale(glm::mat4(1.0f), glm::vec3(1.5f))});
 
   Texture tex;
   tex.name = "checker";
   tex.width = 4;
   tex.height = 3;
   tex.srgb = true;
-  for (uint32_t i = 0; i < 12; ++i) tex.rgba.insert(tex.rgba.end(), {uint8_t(i * 20), uint8_t(255 - i * 7), uint8_t(i * i), uint8_t(200 + i)});
+  for (uint32_t i = 0; i < 12; ++i)
+    tex.rgba.insert(tex.rgba.end(),
+                    {uint8_t(i * 20), uint8_t(255 - i * 7), uint8_t(i * i), uint8_t(200 + i)});
   s.textures.push_back(tex);
   Texture mr = tex;
   mr.name = "metal-rough";
@@ -555,7 +598,8 @@ Scene handBuiltScene() {
 
   Camera cam;
   cam.name = "main";
-  cam.view = glm::lookAt(glm::vec3(6.0f, 2.5f, 7.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0));
+  cam.view =
+      glm::lookAt(glm::vec3(6.0f, 2.5f, 7.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0));
   cam.yfov = 0.9f;
   cam.znear = 0.05f;
   cam.zfar = 250.0f;
@@ -566,7 +610,8 @@ Scene handBuiltScene() {
 void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.name, b.name);
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
-  EXPECT_EQ(0, std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)));
+  EXPECT_EQ(0,
+            std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)));
   EXPECT_EQ(a.indices, b.indices);
   ASSERT_EQ(a.meshes.size(), b.meshes.size());
   for (size_t m = 0; m < a.meshes.size(); ++m) {
@@ -584,7 +629,8 @@ void expectSameScene(const Scene& a, const Scene& b) {
   ASSERT_EQ(a.instances.size(), b.instances.size());
   for (size_t i = 0; i < a.instances.size(); ++i) {
     EXPECT_EQ(a.instances[i].mesh, b.instances[i].mesh);
-    EXPECT_EQ(a.instances[i].transform, b.instances[i].transform);  // float -> JSON double -> float is exact
+    EXPECT_EQ(a.instances[i].transform,
+              b.instances[i].transform);  // float -> JSON double -> float is exact
   }
   ASSERT_EQ(a.materials.size(), b.materials.size());
   for (size_t i = 0; i < a.materials.size(); ++i) {
@@ -614,7 +660,8 @@ void expectSameScene(const Scene& a, const Scene& b) {
     // The loader normalises the exported -Z column (= the float direction d) in double. A float
     // normalize leaves | |d| - 1 | <= 3·2^-24, so dividing by |d| moves each component (|c| <= 1)
     // by at most 3·2^-24, and rounding back to float adds at most 2^-25: below 2^-22.
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(x.direction[k], y.direction[k], 0x1p-22f) << "light " << i;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(x.direction[k], y.direction[k], 0x1p-22f) << "light " << i;
     EXPECT_EQ(x.color, y.color);
     EXPECT_EQ(x.intensity, y.intensity);
     EXPECT_EQ(x.range, y.range);
@@ -671,13 +718,17 @@ TEST(GltfExport, WritesRangesAndDeclaresTheLightsExtension) {
   TestDir dir;
   exportGltf(handBuiltScene(), (dir / "scene.gltf").string());
   json doc = json::parse(std::ifstream(dir / "scene.gltf"));
-  EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_lights_punctual"), doc["extensionsUsed"].end());
+  EXPECT_NE(
+      std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_lights_punctual"),
+      doc["extensionsUsed"].end());
   const json& lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
   ASSERT_EQ(lights.size(), 3u);
   EXPECT_EQ(lights[0]["range"].get<float>(), 12.5f);
   EXPECT_EQ(lights[1]["range"].get<float>(), static_cast<float>(rangeFromIntensity(7.0)));
   EXPECT_EQ(doc["asset"]["version"], "2.0");
-  EXPECT_EQ(doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
+  EXPECT_EQ(
+      doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0),
+      0u);
 }
 
 TEST(GltfExport, UnwritablePathIsAnInputError) {
@@ -685,11 +736,13 @@ TEST(GltfExport, UnwritablePathIsAnInputError) {
   EXPECT_THROW(exportGltf(handBuiltScene(), (dir / "missing" / "x.gltf").string()), InputError);
 }
 
-// ---- info and hash -------------------------------------------------------------------------------
+// ---- info and hash
+// -------------------------------------------------------------------------------
 
 TEST(SceneInfo, CountsAndBoundsOfTheQuad) {
   TestDir dir;
-  Scene s = loadGltf(quadWithLight({{"type", "point"}, {"intensity", 50}}).writeGltf(dir / "q.gltf").string());
+  Scene s = loadGltf(
+      quadWithLight({{"type", "point"}, {"intensity", 50}}).writeGltf(dir / "q.gltf").string());
   json j = sceneInfoJson(s);
   EXPECT_EQ(j["triangles"], 2);
   EXPECT_EQ(j["vertices"], 4);
@@ -728,7 +781,8 @@ TEST(SceneHash, IsDeterministicAndSeesEveryChange) {
 }
 
 TEST(SceneHash, MatchesTheFips180ExampleForAbc) {
-  EXPECT_EQ(sha256Hex("abc", 3), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256Hex("abc", 3),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }
 
 }  // namespace

@@ -41,14 +41,14 @@ Scene makeGrazing();
 // "thin-gap": a receiver quad at y = 0 (2 x 2 m) and a closed occluder box 40 x 1 x 40 cm whose
 // underside is kThinGap = 1 mm above it, seen from a camera 0.5 m above, 0.8 m away (znear 0.01).
 // Light at (0.5, 2, 0.3): the receiver under the box is in shadow.
-constexpr double kThinGap = 0.001;
+inline constexpr double kThinGap = 0.001;
 Scene makeThinGap();
 
 // "degenerate": a 4 x 4 m quad at y = 0 of 16 x 16 cells (512 good triangles) with degenerate
 // triangles mixed into the same primitive: zero-area triangles with three collinear vertices,
 // triangles that repeat an index (a, a, b) and triangles of three distinct vertices at one
 // position. kDegenerateCount of them; all positions and normals finite. Camera above, light above.
-constexpr uint32_t kDegenerateCount = 48;
+inline constexpr uint32_t kDegenerateCount = 48;
 Scene makeDegenerate();
 
 // "open-occluder": a single quad (x in [-1, 1], y in [0.5, 1.5], z = 0, normal +z) with a
@@ -59,13 +59,13 @@ Scene makeOpenOccluder();
 
 // "far-origin": makeCube moved kFarOriginOffset = 10 km along x, in vertex positions (identity
 // instance), camera and light moved with it. float spacing there is 2^-10 m ~ 1 mm.
-constexpr double kFarOriginOffset = 10000.0;
+inline constexpr double kFarOriginOffset = 10000.0;
 Scene makeFarOrigin();
 
 // "far-planes": three quads facing +z at distances kFarPlaneDepths from a camera at the origin
 // looking down -z (znear 0.05, zfar 1000); each covers a third of the image (left: 0.1 m, middle:
 // 100 m, right: 900 m) and overhangs its third by 5 %. One light in front of each.
-constexpr double kFarPlaneDepths[3] = {0.1, 100.0, 900.0};
+inline constexpr double kFarPlaneDepths[3] = {0.1, 100.0, 900.0};
 Scene makeFarPlanes();
 
 // Names of the built-in scenes: "atrium" and the hard cases above, in that order.

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include <glm/gtc/packing.hpp>
+
 #include "errors.h"
 #include "gpu_lights.h"
 
@@ -59,6 +61,44 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
                                               depth_, pointSampler_);
   }
+
+  // Shadows need rays: acceleration structures and the shadow pass only when an effect asks.
+  const bool anyShadowCaster =
+      std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; });
+  if (!settings.shadows) {
+    passesSkipped_.push_back({"shadows", "effects.shadows is off"});
+  } else if (!anyShadowCaster) {
+    passesSkipped_.push_back({"shadows", scene.lights.empty() ? "the scene has no lights" : "no light casts shadows"});
+  } else if (!culling_) {
+    passesSkipped_.push_back({"shadows", "every light is directional: not supported by the tiled shadow pass yet"});
+  } else {
+    if (!ctx.canTrace())
+      throw InputError("device \"" + ctx.info().name +
+                       "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: "
+                       "set effects.shadows=false (--set shadows=false)");
+    ShadowSettings ss;
+    if (settings.backend == "auto")
+      ss.backend = ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
+    else if (settings.backend == "rayquery")
+      ss.backend = ShadowBackend::RayQuery;
+    else if (settings.backend == "pipeline")
+      ss.backend = ShadowBackend::Pipeline;
+    else
+      throw InputError("backend \"" + settings.backend + "\" is not one of auto, rayquery, pipeline");
+    ss.tileSize = settings.tileSize;
+    ss.normals = settings.normals;
+    ss.worldPos = settings.worldPos;
+    ss.rangeTest = settings.rangeTest;
+    accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
+    CullingOutputs co = culling_->outputs();
+    ShadowInputs in{&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
+    shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, in);
+  }
+  CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
+  ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
+                   shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
+                          pointSampler_};
+  shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
 }
 
 Renderer::~Renderer() {
@@ -66,7 +106,7 @@ Renderer::~Renderer() {
   vkDestroySampler(ctx_.device(), pointSampler_, nullptr);
 }
 
-FrameTiming Renderer::renderFrame() {
+FrameTiming Renderer::renderFrame(bool analysis) {
   passesRun_.clear();
   const uint32_t lightCount = uint32_t(scene_.lights.size());
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
@@ -100,6 +140,24 @@ FrameTiming Renderer::renderFrame() {
                         VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
                     VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
     }
+    if (shadows_) {
+      timer_.begin(cmd, "shadows");
+      shadows_->record(cmd, analysis);
+      timer_.end(cmd);
+      passesRun_.push_back("shadows");
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                    VK_ACCESS_2_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
+    timer_.begin(cmd, "shading");
+    shading_->record(cmd, proj_ * view_, analysis);
+    timer_.end(cmd);
+    passesRun_.push_back("shading");
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     timer_.frameEnd(cmd);
   });
   FrameTiming t;
@@ -133,6 +191,43 @@ CullingReadback Renderer::readCulling() const {
   }
   r.indices.resize(idx.size() / 4);
   std::memcpy(r.indices.data(), idx.data(), idx.size());
+  return r;
+}
+
+template <typename T>
+static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, uint32_t bytesPerPixel) {
+  std::vector<uint8_t> bytes = readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, bytesPerPixel);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+std::vector<float> Renderer::readColor() const {
+  std::vector<uint8_t> bytes = readbackImage(ctx_, shading_->color(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 8);
+  std::vector<float> out(bytes.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) {
+    uint16_t h;
+    std::memcpy(&h, bytes.data() + 2 * i, 2);
+    out[i] = glm::unpackHalf1x16(h);
+  }
+  return out;
+}
+
+std::vector<float> Renderer::readRefNormals() const {
+  std::vector<uint8_t> bytes =
+      readbackImage(ctx_, shading_->refNormals(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 16);
+  std::vector<float> out(bytes.size() / 4);
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+ShadowReadback Renderer::readShadows() const {
+  HB_ASSERT(shadows_);
+  ShadowReadback r;
+  r.visibility = readImageAs<uint32_t>(ctx_, shadows_->visibility(), 4);
+  r.accounting = readImageAs<uint32_t>(ctx_, shadows_->accounting(), 4);
+  r.normals = readImageAs<float>(ctx_, shadows_->normals(), 16);
+  r.positions = readImageAs<float>(ctx_, shadows_->positions(), 16);
   return r;
 }
 

@@ -11,7 +11,10 @@
 #include "gpu_scene.h"
 #include "gpu_timer.h"
 #include "passes/depth_prepass.h"
+#include "accel.h"
 #include "passes/light_culling.h"
+#include "passes/shading.h"
+#include "passes/shadows.h"
 
 namespace hb {
 
@@ -22,6 +25,19 @@ struct RenderSettings {
   uint32_t tileSize = 16;
   bool lightCulling = true;
   bool aabb = false;
+  bool shadows = true;                 // effects.shadows: false skips the BLAS/TLAS and the shadow pass
+  std::string backend = "auto";        // auto | rayquery | pipeline
+  uint32_t normals = 0;                // gpu::kNormalsOff / Naive / Improved
+  uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
+  bool rangeTest = false;
+};
+
+// Readbacks of the shadow pass (analysis frames).
+struct ShadowReadback {
+  std::vector<uint32_t> visibility;  // per pixel bitmask over the tile's light list
+  std::vector<uint32_t> accounting;  // packed per-pixel counts (gpu_types.h kAccount*)
+  std::vector<float> normals;        // xyzw per pixel (w unused; zero = none)
+  std::vector<float> positions;      // xyzw per pixel (w = 1 where not sky)
 };
 
 struct FrameTiming {
@@ -40,8 +56,9 @@ class Renderer {
   Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
   ~Renderer();
 
-  // Records, submits and waits for one frame; returns its GPU timings.
-  FrameTiming renderFrame();
+  // Records, submits and waits for one frame; returns its GPU timings. An analysis frame also
+  // writes the shadow pass's accounting, normals and positions (never timed in a sweep).
+  FrameTiming renderFrame(bool analysis = false);
 
   const glm::mat4& view() const { return view_; }
   const glm::mat4& proj() const { return proj_; }
@@ -50,10 +67,16 @@ class Renderer {
   const std::vector<std::string>& passesRun() const { return passesRun_; }
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
   bool hasCulling() const { return bool(culling_); }
+  bool hasShadows() const { return bool(shadows_); }
+  const AccelerationStructures* accel() const { return accel_.get(); }
+  std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
 
   // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
   CullingReadback readCulling() const;
+  ShadowReadback readShadows() const;
+  std::vector<float> readColor() const;       // linear HDR RGBA per pixel
+  std::vector<float> readRefNormals() const;  // analysis frames: true face normal xyz, w = 1 where valid
 
  private:
   const VulkanContext& ctx_;
@@ -67,6 +90,9 @@ class Renderer {
   Buffer frameConstants_, lights_;
   DepthPrepass depthPrepass_;
   std::unique_ptr<LightCulling> culling_;
+  std::unique_ptr<AccelerationStructures> accel_;
+  std::unique_ptr<ShadowPass> shadows_;
+  std::unique_ptr<ShadingPass> shading_;
   GpuTimer timer_;
   bool frustumsDone_ = false;
   std::vector<std::string> passesRun_;

@@ -13,9 +13,12 @@ namespace {
 
 const char* lightTypeName(LightType type) {
   switch (type) {
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    case LightType::Directional: return "directional";
+    case LightType::Point:
+      return "point";
+    case LightType::Spot:
+      return "spot";
+    case LightType::Directional:
+      return "directional";
   }
   return "unknown";
 }
@@ -27,8 +30,10 @@ class HashWriter {
   static_assert(std::endian::native == std::endian::little, "the hash layout is little-endian");
 
   void bytes(const void* data, size_t size) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    buffer_.insert(buffer_.end(), p, p + size);
+    // resize + memcpy rather than insert(): GCC 12 misreports insert() here (-Wstringop-overflow).
+    const size_t old = buffer_.size();
+    buffer_.resize(old + size);
+    if (size) std::memcpy(buffer_.data() + old, data, size);
     if (buffer_.size() >= (1u << 20)) flush();
   }
   void u32(uint32_t v) { bytes(&v, 4); }
@@ -141,7 +146,8 @@ std::string sceneInfoText(const Scene& scene) {
   } else {
     auto v3 = [](const nlohmann::json& a) {
       std::ostringstream s;
-      s << "(" << a[0].get<float>() << ", " << a[1].get<float>() << ", " << a[2].get<float>() << ")";
+      s << "(" << a[0].get<float>() << ", " << a[1].get<float>() << ", " << a[2].get<float>()
+        << ")";
       return s.str();
     };
     out << "bounds     " << v3(j["bounds"]["min"]) << " .. " << v3(j["bounds"]["max"]) << "\n"

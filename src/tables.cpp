@@ -183,7 +183,8 @@ std::vector<ThesisRow> thesisRows(const json& results) {
     } else {
       r.runName = at(*run, "name").is_string() ? at(*run, "name").get<std::string>() : "";
       r.status = at(*run, "status") == "ok" ? "ok" : "error";
-      if (r.status == "error") r.note = "run '" + r.runName + "' failed: " + stringAt(*run, "error");
+      if (r.status == "error")
+        r.note = "run '" + r.runName + "' failed: " + stringAt(*run, "error");
       if (matches > 1)
         r.note += (r.note.empty() ? "" : "; ") +
                   format("%zu runs match; showing '%s'", matches, r.runName.c_str());

@@ -171,7 +171,8 @@ TEST(ThesisTables, CsvHasAHeaderAndOneRowPerTableRow) {
                          0),
             0u)
       << csv[1];
-  EXPECT_EQ(csv[2].rfind("5.1,light culling,8,true,false,off,ok,lc_t8,2.88,-28.00,11.52,-28.00,", 0),
+  EXPECT_EQ(csv[2].rfind("5.1,light culling,8,true,false,off,ok,lc_t8,2.88,-28.00,11.52,-28.00,",
+                         0),
             0u)
       << csv[2];
   EXPECT_EQ(csv[8].rfind("5.2,16x16,16,true,true,improved,ok,lc_aabb_improved_t16,2.45,1.24,9.56,,",

@@ -199,8 +199,9 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::debugCallback(VkDebugUtilsMessageS
                                                             void* user) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
     auto* self = static_cast<VulkanContext*>(user);
-    self->validationMessages_++;
-    std::fprintf(stderr, "validation: %s\n", data->pMessage);
+    const uint32_t n = ++self->validationMessages_;
+    if (n <= 10) std::fprintf(stderr, "validation: %s\n", data->pMessage);
+    if (n == 10) std::fprintf(stderr, "validation: (further messages are counted, not printed)\n");
   }
   return VK_FALSE;
 }
@@ -264,6 +265,7 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   en11.pNext = &en12;
   en12.pNext = &en13;
   en2.features.shaderInt64 = f2.features.shaderInt64;
+  en2.features.geometryShader = f2.features.geometryShader;  // gl_PrimitiveID in fragment shaders (analysis)
   en2.features.fragmentStoresAndAtomics = f2.features.fragmentStoresAndAtomics;
   en2.features.samplerAnisotropy = f2.features.samplerAnisotropy;
   en2.features.shaderStorageImageWriteWithoutFormat = f2.features.shaderStorageImageWriteWithoutFormat;

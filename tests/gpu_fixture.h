@@ -17,7 +17,9 @@ class GpuTest : public ::testing::Test {
     ctx = std::make_unique<VulkanContext>(0);
   }
   void TearDown() override {
-    if (ctx) EXPECT_EQ(ctx->validationMessages(), 0u) << "validation layers reported messages (see stderr)";
+    if (ctx) {
+      EXPECT_EQ(ctx->validationMessages(), 0u) << "validation layers reported messages (see stderr)";
+    }
   }
   std::unique_ptr<VulkanContext> ctx;
 };

@@ -21,6 +21,29 @@ HB_CONST uint kLightSpot = 1u;
 HB_CONST uint kLightDirectional = 2u;
 HB_CONST uint kMaxLightsPerTile = 32u;  // one 32-bit visibility mask per texel (thesis 4.3.3)
 
+// Shadow pass specialization constants (shadows.*.glsl): normal reconstruction and world positions.
+HB_CONST uint kNormalsOff = 0u;
+HB_CONST uint kNormalsNaive = 1u;
+HB_CONST uint kNormalsImproved = 2u;
+HB_CONST uint kWorldPosAlg41 = 0u;   // thesis Algorithm 4.1
+HB_CONST uint kWorldPosMatrix = 1u;  // full inverse view-projection matrix
+
+// Per-pixel ray accounting (analysis frames only), packed 6 bits each into one r32ui texel:
+// traced rays, pairs removed by the normal test, pairs removed by the range/cone test, lights
+// exactly at the shaded point (no direction, no ray), lights that cast no shadow (visible, no
+// ray). Each count is <= kMaxLightsPerTile = 32 < 64.
+HB_CONST uint kAccountBits = 6u;
+HB_CONST uint kAccountMask = 63u;
+HB_CONST uint kAccountTracedShift = 0u;
+HB_CONST uint kAccountNormalShift = 6u;
+HB_CONST uint kAccountRangeShift = 12u;
+HB_CONST uint kAccountAtLightShift = 18u;
+HB_CONST uint kAccountNoShadowShift = 24u;
+
+// Shadow rays (thesis 4.3.3).
+HB_CONST float kShadowTMin = 0.001;
+HB_CONST float kDirectionalTMax = 1000.0;
+
 // Camera and frame constants (uniform buffer).
 struct FrameConstants {
   mat4 view;
@@ -61,7 +84,29 @@ struct LightGridEntry {
   uint pad;
 };
 
+// A glTF metallic-roughness material (shading pass). Texture indices index the bindless array;
+// -1 = none (use the factors alone).
+struct GpuMaterial {
+  vec4 baseColorFactor;
+  float metallicFactor;
+  float roughnessFactor;
+  int baseColorTexture;
+  int metallicRoughnessTexture;
+};
+
+// Push constants of the raster passes: one draw item.
+struct DrawConstants {
+  mat4 modelViewProj;
+  mat4 model;
+  uint material;
+  uint firstIndex;    // of the draw's first index in the scene's index buffer
+  uint vertexOffset;  // added to each index
+  uint pad;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
+static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");

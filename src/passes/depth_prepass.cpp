@@ -1,11 +1,12 @@
 #include "passes/depth_prepass.h"
 
 #include "errors.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
 DepthPrepass::DepthPrepass(const VulkanContext& ctx) : ctx_(ctx), pipeline_(ctx) {
-  pipeline_.createLayout({}, sizeof(glm::mat4));
+  pipeline_.createLayout({}, sizeof(gpu::DrawConstants));
   ShaderModule vert(ctx, "depth.vert");
   VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   stage.stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -84,8 +85,8 @@ void DepthPrepass::record(VkCommandBuffer cmd, const GpuScene& scene, const glm:
   vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
   for (const DrawItem& d : scene.draws()) {
-    glm::mat4 mvp = viewProj * d.model;
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof mvp, &mvp);
+    gpu::DrawConstants dc{viewProj * d.model, d.model, d.material, d.firstIndex, d.vertexOffset, 0};
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof dc, &dc);
     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, int32_t(d.vertexOffset), 0);
   }
   vkCmdEndRendering(cmd);

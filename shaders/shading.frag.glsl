@@ -1,0 +1,128 @@
+#version 460
+// Shading pass (thesis 4.4 / 2.7): Cook-Torrance — Lambert diffuse + specular with Schlick's
+// Fresnel, the GGX/Trowbridge-Reitz distribution and Smith with Schlick-GGX geometry; k_s from
+// Fresnel, k_d = (1 - k_s)(1 - metallic). glTF punctual lights (candela / lux), a distance
+// attenuation that reaches zero at the range, spot cone falloff; visibility from the shadow
+// pass's bitmask. No emission and no ambient. Writes linear HDR colour; the analysis variant also
+// writes the true face normal of the triangle (the reference for normal reconstruction).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_nonuniform_qualifier : require
+#include "shared/gpu_types.h"
+
+layout(constant_id = 0) const uint TILE = 16;
+layout(constant_id = 1) const uint USE_GRID = 1;  // 0: no culling pass ran, loop over all lights
+layout(constant_id = 2) const uint SHADOWS = 1;   // 0: every light visible
+layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference normal
+
+layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = 2) readonly buffer Grid { LightGridEntry grid[]; };
+layout(set = 0, binding = 3) readonly buffer Indices { uint lightIndices[]; };
+layout(set = 0, binding = 4) uniform usampler2D visibilityTex;
+layout(set = 0, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
+layout(set = 0, binding = 6) readonly buffer Positions { float vertexData[]; };  // Vertex: 8 floats
+layout(set = 0, binding = 7) readonly buffer SceneIndices { uint sceneIndices[]; };
+layout(set = 0, binding = 8) uniform sampler2D textures[];
+layout(push_constant) uniform Push { DrawConstants draw; };
+
+layout(location = 0) in vec3 inWorldPos;
+layout(location = 1) in vec3 inNormal;
+layout(location = 2) in vec2 inUv;
+layout(location = 0) out vec4 outColor;
+layout(location = 1) out vec4 outRefNormal;
+
+const float kPi = 3.14159265358979;
+
+float distributionGgx(float nDotH, float roughness) {
+  float a = roughness * roughness, a2 = a * a;
+  float d = nDotH * nDotH * (a2 - 1.0) + 1.0;
+  return a2 / max(kPi * d * d, 1e-12);
+}
+float geometrySchlickGgx(float nDotX, float roughness) {
+  float r = roughness + 1.0, k = r * r / 8.0;  // direct lighting (Karis 2013)
+  return nDotX / (nDotX * (1.0 - k) + k);
+}
+vec3 fresnelSchlick(float cosTheta, vec3 f0) { return f0 + (1.0 - f0) * pow(clamp(1.0 - cosTheta, 0.0, 1.0), 5.0); }
+
+vec3 vertexPosition(uint index) {
+  uint v = (draw.vertexOffset + index) * 8u;
+  return vec3(vertexData[v], vertexData[v + 1], vertexData[v + 2]);
+}
+
+void main() {
+  GpuMaterial m = materials[draw.material];
+  vec4 base = m.baseColorFactor;
+  if (m.baseColorTexture >= 0) base *= texture(textures[nonuniformEXT(m.baseColorTexture)], inUv);
+  float metallic = m.metallicFactor, roughness = m.roughnessFactor;
+  if (m.metallicRoughnessTexture >= 0) {
+    vec4 mr = texture(textures[nonuniformEXT(m.metallicRoughnessTexture)], inUv);
+    roughness *= mr.g;  // glTF: green = roughness, blue = metallic
+    metallic *= mr.b;
+  }
+  roughness = clamp(roughness, 0.04, 1.0);
+  metallic = clamp(metallic, 0.0, 1.0);
+
+  vec3 n = normalize(inNormal);
+  if (!gl_FrontFacing) n = -n;  // double-sided: shade the side we see
+  vec3 v = normalize(frame.cameraPos.xyz - inWorldPos);
+  float nDotV = max(dot(n, v), 1e-4);
+  vec3 f0 = mix(vec3(0.04), base.rgb, metallic);
+
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  uint mask = SHADOWS == 1 ? texelFetch(visibilityTex, p, 0).r : 0xFFFFFFFFu;
+  uint first = 0u, count = frame.lightCount;
+  if (USE_GRID == 1) {
+    LightGridEntry cell = grid[uint(p.y) / TILE * frame.tileCountX + uint(p.x) / TILE];
+    first = cell.offset;
+    count = cell.count;
+  }
+  vec3 color = vec3(0.0);
+  for (uint i = 0u; i < count; ++i) {
+    if ((mask & (1u << min(i, 31u))) == 0u) continue;  // in shadow (bit i = light i of the tile)
+    GpuLight light = lights[USE_GRID == 1 ? lightIndices[first + i] : i];
+    vec3 l;
+    vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a;
+    if (light.type == kLightDirectional) {
+      l = -light.directionCosOuter.xyz;
+    } else {
+      vec3 toLight = light.positionRange.xyz - inWorldPos;
+      float d2 = dot(toLight, toLight);
+      if (!(d2 > 0.0)) continue;
+      float d = sqrt(d2);
+      l = toLight / d;
+      // glTF's recommended window: inverse square, smoothly to zero at the range.
+      float ratio = d / light.positionRange.w;
+      float window = clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
+      radiance *= window * window / d2;
+      if (light.type == kLightSpot) {
+        float cd = dot(light.directionCosOuter.xyz, -l);
+        float t = clamp((cd - light.directionCosOuter.w) / max(light.cosInner - light.directionCosOuter.w, 1e-4), 0.0, 1.0);
+        radiance *= t * t;
+      }
+    }
+    float nDotL = dot(n, l);
+    if (nDotL <= 0.0) continue;
+    vec3 h = normalize(v + l);
+    float nDotH = max(dot(n, h), 0.0);
+    vec3 f = fresnelSchlick(max(dot(h, v), 0.0), f0);
+    float dTerm = distributionGgx(nDotH, roughness);
+    float g = geometrySchlickGgx(nDotV, roughness) * geometrySchlickGgx(nDotL, roughness);
+    vec3 specular = dTerm * g * f / (4.0 * nDotV * nDotL + 1e-7);
+    vec3 kd = (vec3(1.0) - f) * (1.0 - metallic);
+    color += (kd * base.rgb / kPi + specular) * radiance * nDotL;
+  }
+  outColor = vec4(color, 1.0);
+
+  if (ANALYSIS == 1) {
+    // The triangle's true face normal from its three vertices (not the interpolated one).
+    uint t = draw.firstIndex + uint(gl_PrimitiveID) * 3u;
+    vec3 a = (draw.model * vec4(vertexPosition(sceneIndices[t]), 1.0)).xyz;
+    vec3 b = (draw.model * vec4(vertexPosition(sceneIndices[t + 1u]), 1.0)).xyz;
+    vec3 c = (draw.model * vec4(vertexPosition(sceneIndices[t + 2u]), 1.0)).xyz;
+    vec3 fn = cross(b - a, c - a);
+    float len2 = dot(fn, fn);
+    fn = len2 > 0.0 ? fn / sqrt(len2) : vec3(0.0);
+    if (dot(fn, frame.cameraPos.xyz - inWorldPos) < 0.0) fn = -fn;
+    outRefNormal = vec4(fn, len2 > 0.0 ? 1.0 : 0.0);
+  }
+}

@@ -1,0 +1,117 @@
+#include "render_outputs.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "image_io.h"
+#include "shared/gpu_types.h"
+#include "version.h"
+
+namespace hb {
+
+namespace {
+
+ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr, const std::vector<float>& depth,
+                             uint32_t w, uint32_t h, uint32_t tileSize, uint32_t light) {
+  // White: lit (in the tile's list, ray reached the light); dark red: in the list but shadowed or
+  // culled by the normal/range test; black: not in the tile's list; dark blue: sky.
+  ImageRGBA8 img{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)};
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      uint8_t* px = &img.px[(size_t(y) * w + x) * 4];
+      const size_t i = size_t(y) * w + x;
+      if (!(depth[i] > 0.0f)) {
+        px[0] = 16, px[1] = 24, px[2] = 80;
+        continue;
+      }
+      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
+      int slot = -1;
+      for (uint32_t k = 0; k < cr.count[tile]; ++k)
+        if (cr.indices[cr.offset[tile] + k] == light) slot = int(k);
+      if (slot < 0) {
+        px[0] = px[1] = px[2] = 0;
+      } else if ((sh.visibility[i] >> slot) & 1u) {
+        px[0] = px[1] = px[2] = 255;
+      } else {
+        px[0] = 110, px[1] = 20, px[2] = 20;
+      }
+    }
+  return img;
+}
+
+}  // namespace
+
+RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
+                                 const VariantParams& params, const std::string& dir, bool writeImages) {
+  namespace fs = std::filesystem;
+  RenderOutputs out;
+  const RenderSettings& s = renderer.settings();
+  const uint32_t w = s.width, h = s.height;
+  if (writeImages) fs::create_directories(dir);
+  auto write = [&](const std::string& name, const ImageRGBA8& img, std::map<std::string, std::string> text = {}) {
+    if (!writeImages) return;
+    text["Software"] = "hybridbench " + toolVersion() + " (" + gitRevision() + ")";
+    text["Device"] = ctx.info().name + " / " + ctx.info().driverInfo;
+    writePng(fs::path(dir) / name, img, text);
+    out.files.push_back(name);
+  };
+
+  nlohmann::json j;
+  j["passes_run"] = renderer.passesRun();
+  j["passes_skipped"] = nlohmann::json::object();
+  for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
+  j["backend"] = renderer.backendUsed();
+  if (const AccelerationStructures* as = renderer.accel())
+    j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
+                                    {"build_ms_source", "wall clock, submit to fence"}};
+
+  const std::vector<float> depth = renderer.readDepth();
+  const Camera& cam = renderer.camera();
+  write("depth.png", depthToImage(depth, w, h, cam.znear, cam.zfar),
+        {{"Description", "reverse-Z depth: log view distance to grey (white = near), sky dark blue"}});
+
+  // Colour: linear HDR → ACES (Narkowicz fit) at exposure 0 → sRGB.
+  const std::vector<float> hdr = renderer.readColor();
+  ImageF hdrImage{w, h, 4, hdr};
+  ToneMapResult tm = toneMapToSrgb(hdrImage, 0.0f, ToneMapOperator::AcesFitted);
+  write("color.png", tm.image, {{"ToneMapping", "aces-fitted (Narkowicz 2015), exposure 0 EV, then sRGB OETF"}});
+  j["color"] = {{"tone_mapping", "aces-fitted"}, {"exposure_ev", 0.0}, {"non_finite_pixels", tm.nonFinitePixels}};
+
+  if (renderer.hasCulling() && renderer.hasShadows()) {
+    const CullingReadback cr = renderer.readCulling();
+    const ShadowReadback sh = renderer.readShadows();
+    const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
+    for (uint32_t l = 0; l < shown; ++l) {
+      char name[64];
+      std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
+      write(name, visibilityOfLight(sh, cr, depth, w, h, s.tileSize, l),
+            {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
+                             "tile's light list, blue sky"}});
+    }
+    if (params.normalCulling != NormalCulling::Off) {
+      std::vector<uint8_t> valid(size_t(w) * h);
+      std::vector<float> n3(size_t(w) * h * 3);
+      for (size_t i = 0; i < valid.size(); ++i) {
+        for (int c = 0; c < 3; ++c) n3[i * 3 + c] = sh.normals[i * 4 + c];
+        valid[i] = (n3[i * 3] != 0.0f || n3[i * 3 + 1] != 0.0f || n3[i * 3 + 2] != 0.0f) ? 1 : 0;
+      }
+      write(std::string("normals_") + toString(params.normalCulling) + ".png", normalsToImage(n3, valid, w, h));
+    }
+  }
+  {
+    const std::vector<float> ref = renderer.readRefNormals();
+    std::vector<uint8_t> valid(size_t(w) * h);
+    std::vector<float> n3(size_t(w) * h * 3);
+    for (size_t i = 0; i < valid.size(); ++i) {
+      for (int c = 0; c < 3; ++c) n3[i * 3 + c] = ref[i * 4 + c];
+      valid[i] = ref[i * 4 + 3] > 0.5f && depth[i] > 0.0f;
+    }
+    write("normals_reference.png", normalsToImage(n3, valid, w, h),
+          {{"Description", "true face normals of the visible triangles (analysis pass)"}});
+  }
+  out.json = j;
+  return out;
+}
+
+}  // namespace hb
