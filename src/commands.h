@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "compare.h"
 #include "scene.h"
 
 namespace hb {
@@ -19,6 +20,9 @@ struct RenderOptions {
   std::string out;                 // output directory (required)
 };
 int cmdRender(const RenderOptions& options);
+
+int cmdTables(const std::string& resultsPath, const std::string& format);
+int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json);
 
 int cmdSceneExport(const std::string& name, const std::string& out);
 int cmdSceneInfo(const std::string& path, bool json);

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "sweep.h"
 #include "errors.h"
 #include "version.h"
 
@@ -27,6 +28,33 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--device", render.device, "device index or name substring");
   renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)");
   renderCmd->add_option("--out", render.out, "output directory")->required();
+
+  SweepOptions sweep;
+  bool noImages = false;
+  auto* sweepCmd = app.add_subcommand("sweep", "run a benchmark sweep from a config (default: the embedded thesis.json)");
+  sweepCmd->add_option("config", sweep.config, "config file (JSON)");
+  sweepCmd->add_option("--device", sweep.device, "device index, name substring, or all");
+  sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
+  sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
+  sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)");
+  sweepCmd->add_option("--warmup", sweep.warmup, "warm-up frames per variant (overrides the config)");
+  sweepCmd->add_flag("--no-images", noImages, "write no per-variant images");
+
+  std::string tablesPath, tablesFormat = "md";
+  auto* tablesCmd = app.add_subcommand("tables", "regenerate the thesis tables from a results file");
+  tablesCmd->add_option("results", tablesPath, "results.json")->required();
+  tablesCmd->add_option("--format", tablesFormat, "md or csv")->check(CLI::IsMember({"md", "csv"}));
+
+  std::string compareA, compareB;
+  CompareOptions compareOpts;
+  bool compareJson = false;
+  auto* compareCmd = app.add_subcommand("compare", "compare two results files (B against A); exit 1 on a regression");
+  compareCmd->add_option("a", compareA, "baseline results.json")->required();
+  compareCmd->add_option("b", compareB, "candidate results.json")->required();
+  compareCmd->add_option("--threshold", compareOpts.thresholdPct, "slower beyond this many percent is a regression (default 5)");
+  compareCmd->add_option("--alpha", compareOpts.alpha, "significance level of the Mann-Whitney U test (default 0.05)");
+  compareCmd->add_flag("--force", compareOpts.force, "compare even when scenes or configs differ");
+  compareCmd->add_flag("--json", compareJson, "machine-readable report");
 
   auto* sceneCmd = app.add_subcommand("scene", "export or inspect scenes");
   sceneCmd->require_subcommand(1);
@@ -55,12 +83,16 @@ int main(int argc, char** argv) {
   try {
     if (*devices) return cmdDevices(devicesJson);
     if (*renderCmd) return cmdRender(render);
+    if (*sweepCmd) {
+      sweep.images = !noImages;
+      return cmdSweep(sweep);
+    }
+    if (*tablesCmd) return cmdTables(tablesPath, tablesFormat);
+    if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
-    // No subcommand: the main job (the embedded default sweep) — until the sweep lands, a render.
-    RenderOptions main;
-    main.out = "out/render";
-    return cmdRender(main);
+    // No subcommand: the main job, the embedded default sweep (configs/thesis.json) on device 0.
+    return cmdSweep(SweepOptions{});
   } catch (const InputError& e) {
     std::fprintf(stderr, "hybridbench: %s\n", e.what());
     return kExitBadInput;

@@ -124,7 +124,7 @@ TEST(TriangleBvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
 // ---- reference surface, oracle, accuracy on an analytic plane ----------------------------------
 
 // A quad in z = 0 (facing +z), camera at (0, 0, 5) looking down -z, 64x36. Depth is computed in
-// double from the projection (depth = C + D / 5 at every pixel, the plane is parallel to the image)
+// double from the projection (depth = -C + D / 5 at every pixel, the plane is parallel to the image)
 // and rounded once to float, as a perfect rasteriser would.
 struct PlaneFixture {
   uint32_t w = 64, h = 36;
@@ -144,7 +144,7 @@ struct PlaneFixture {
     view = glm::dmat4(lookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0}));
     proj = reverseZProjectionD(double(w) / h, 1.0471975512, 0.1, 1000.0);
     cam = reconstructionCamera<double>(view, proj, w, h);
-    depth.assign(size_t(w) * h, float(proj[2][2] + proj[3][2] / 5.0));
+    depth.assign(size_t(w) * h, float(-proj[2][2] + proj[3][2] / 5.0));
     depth[0] = 0.0f;  // one sky pixel
   }
 };
@@ -262,7 +262,7 @@ TEST(CompareShadows, AgreesWithAConsistentReadbackAndFlagsAWrongBit) {
   const uint32_t base = uint32_t(f.scene.vertices.size());
   for (glm::vec3 p : {glm::vec3(-0.5f, -0.5f, 1), glm::vec3(0.5f, -0.5f, 1), glm::vec3(0.5f, 0.5f, 1), glm::vec3(-0.5f, 0.5f, 1)})
     f.scene.vertices.push_back({p, {0, 0, 1}, {0, 0}});
-  for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) f.scene.indices.push_back(base + k);
+  for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) f.scene.indices.push_back(k);  // relative to vertexOffset
   f.scene.meshes[0].primitives.push_back({6, 6, base, 4, 0});
   const Bvh bvh = buildBvh(f.scene);
   // Two pixels: (10, 10) far from the occluder's shadow, the centre pixel in it. One tile holds both lights.

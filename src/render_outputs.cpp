@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "culling_analysis.h"
 #include "image_io.h"
 #include "shared/gpu_types.h"
 #include "version.h"
@@ -78,6 +79,33 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   write("color.png", tm.image, {{"ToneMapping", "aces-fitted (Narkowicz 2015), exposure 0 EV, then sRGB OETF"}});
   j["color"] = {{"tone_mapping", "aces-fitted"}, {"exposure_ev", 0.0}, {"non_finite_pixels", tm.nonFinitePixels}};
 
+  if (renderer.hasCulling()) {
+    // Culling statistics against the CPU reference of the same method and the exact test.
+    const CullingReadback cr = renderer.readCulling();
+    CullingInputs ci;
+    ci.depth = &depth;
+    ci.lights = &scene.lights;
+    ci.view = renderer.view();
+    ci.proj = renderer.proj();
+    ci.width = w;
+    ci.height = h;
+    ci.tileSize = s.tileSize;
+    ci.aabb = s.aabb;
+    ci.lightCulling = s.lightCulling;
+    ci.capacity = cr.capacity;
+    CullingAnalysis ca = analyzeCulling(ci, cr);
+    j["culling"] = ca.json;
+    write("lights_per_tile.png", ca.heatmap,
+          {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %%, "
+                  "false negatives %llu",
+                  (unsigned long long)ca.stats.tiles, ca.stats.meanLightsPerTile, ca.stats.maxLightsPerTile,
+                  (unsigned long long)ca.stats.overflowTiles, 100.0 * ca.stats.falsePositiveRate,
+                  (unsigned long long)ca.stats.falseNegatives);
+    out.summary.push_back(line);
+  }
   if (renderer.hasCulling() && renderer.hasShadows()) {
     const CullingReadback cr = renderer.readCulling();
     const ShadowReadback sh = renderer.readShadows();
