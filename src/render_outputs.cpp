@@ -6,6 +6,8 @@
 
 #include "culling_analysis.h"
 #include "image_io.h"
+#include "ray_analysis.h"
+#include "reconstruct_ref.h"
 #include "shared/gpu_types.h"
 #include "version.h"
 
@@ -109,6 +111,52 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   if (renderer.hasCulling() && renderer.hasShadows()) {
     const CullingReadback cr = renderer.readCulling();
     const ShadowReadback sh = renderer.readShadows();
+    // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
+    const uint32_t lightCount = uint32_t(scene.lights.size());
+    RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
+    const TriangleBvh bvh = buildTriangleBvh(scene);
+    const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
+    const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
+    const OracleRays oracle = oracleRays(scene, surface);
+    nlohmann::json rays = toJson(acc);
+    rays["adds_up"] = acc.addsUp();
+    rays["oracle"] = oracle.total;
+    rays["oracle_pixels_without_true_normal"] = oracle.pixelsWithoutNormal;
+    rays["efficiency"] = rayEfficiency(oracle.total, acc.traced);
+    j["rays"] = rays;
+    write("rays.png", rayHeatmap(acc.perPixel, w, h, lightCount),
+          {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-3, cyan/green 4-7, yellow/red 8-10 "
+                           "of 10; red = the light count)"}});
+    write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, lightCount),
+          {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
+    nlohmann::json accuracy;
+    PositionAccuracy pa = positionAccuracy(sh.positions, depth, rcam);
+    accuracy["world_pos"] = toJson(pa);
+    accuracy["world_pos_rel_error"] = pa.maxRelative;
+    if (params.normalCulling != NormalCulling::Off) {
+      NormalAccuracy na = normalAccuracy(sh.normals, surface);
+      accuracy["normals"] = toJson(na);
+      accuracy["normal_angular_error_deg"] = na.meanAngleDeg;
+      accuracy["normal_image_error"] = na.meanImageDifference;
+      write(std::string("normal_error_") + toString(params.normalCulling) + ".png",
+            errorMapToImage(na.angleDeg, w, h, 45.0f),
+            {{"Description", "angle between reconstructed and true normal, viridis 0..45 degrees"}});
+      char line[200];
+      std::snprintf(line, sizeof line, "normals (%s): mean %.3f deg, p95 %.3f deg, image difference %.5f",
+                    toString(params.normalCulling), na.meanAngleDeg, na.p95AngleDeg, na.meanImageDifference);
+      out.summary.push_back(line);
+    }
+    j["accuracy"] = accuracy;
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "rays: %llu candidates, %llu culled by tile, %llu by normal, %llu traced; oracle %llu "
+                  "(efficiency %.3f); accounting %s",
+                  (unsigned long long)acc.candidates, (unsigned long long)acc.culledByTile,
+                  (unsigned long long)acc.culledByNormal, (unsigned long long)acc.traced,
+                  (unsigned long long)oracle.total, rayEfficiency(oracle.total, acc.traced),
+                  acc.addsUp() ? "adds up" : "DOES NOT ADD UP");
+    out.summary.push_back(line);
+
     const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
     for (uint32_t l = 0; l < shown; ++l) {
       char name[64];
