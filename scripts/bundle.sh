@@ -23,9 +23,9 @@ ldd build/hybridbench | awk '/=> \// {print $3}' | while read -r lib; do
 done
 # NVIDIA's Vulkan ICD (libGLX_nvidia.so.0) needs libglvnd's dispatch library, which a machine with
 # only the driver may lack; the launcher's LD_LIBRARY_PATH makes the ICD find these copies.
-for lib in libGLdispatch.so.0 libGLX.so.0; do
+for lib in libGLdispatch.so.0 libGLX.so.0 libEGL.so.1 libGL.so.1 libOpenGL.so.0; do
   path=$(ldconfig -p | awk -v l="$lib" '$1 == l && /x86-64/ {print $NF; exit}')
-  if [ -n "$path" ]; then cp -L "$path" "$out/lib/"; else echo "bundle: $lib not found (install libglvnd0 libglx0); NVIDIA machines without it will not find their Vulkan driver" >&2; fi
+  if [ -n "$path" ]; then cp -L "$path" "$out/lib/"; else echo "bundle: $lib not found (install libglvnd0 libglx0 libegl1 libgl1 libopengl0); NVIDIA machines without it will not find their Vulkan driver" >&2; fi
 done
 cat > "$out/hybridbench" <<'LAUNCH'
 #!/usr/bin/env bash

@@ -16,7 +16,7 @@ fi
 
 PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libtinygltf-dev
   nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev vulkan-validationlayers vulkan-tools
-  libssl-dev libglvnd0 libglx0)
+  libssl-dev libglvnd0 libglx0 libegl1 libgl1 libopengl0)
 BACKPORTS_LIST=/etc/apt/sources.list.d/hybridbench-backports.list
 
 missing=()

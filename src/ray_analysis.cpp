@@ -210,8 +210,11 @@ ReferenceSurface referenceSurface(const TriangleBvh& bvh, const std::vector<floa
       const double tDepth = cam.d / (double(depth[i]) + cam.c);
       double t;
       uint32_t tri;
-      const bool hit = bvh.closestHit(s.eye, dir, tDepth * (1.0 - kSurfaceMatchTolerance), kInf, t, tri);
-      if (hit && t <= tDepth * (1.0 + kSurfaceMatchTolerance)) {
+      // The window: kSurfaceMatchTolerance relative, plus the rasteriser's absolute error far from
+      // the origin (vertex − eye cancels in float: ~16 u (|eye| + distance), doubled).
+      const double window = kSurfaceMatchTolerance * tDepth + kSurfaceMatchFarTerm * (glm::length(s.eye) + tDepth);
+      const bool hit = bvh.closestHit(s.eye, dir, std::max(0.0, tDepth - window), kInf, t, tri);
+      if (hit && t <= tDepth + window) {
         const BvhTriangle& T = bvh.triangles()[tri];
         s.position[i] = s.eye + t * dir;
         glm::dvec3 n = glm::normalize(glm::cross(T.v1 - T.v0, T.v2 - T.v0));

@@ -79,7 +79,7 @@ class TriangleBvh {
 
 enum class SurfaceState : uint8_t {
   Sky,        // depth 0: nothing rasterised
-  Matched,    // the eye ray hits a triangle at the rasterised depth (within kSurfaceMatchTolerance)
+  Matched,    // the eye ray hits a triangle at the rasterised depth (within the window below)
   Unmatched,  // rasterised, but the eye ray through the pixel centre finds no triangle there
               // (silhouette pixels where rasteriser and ray disagree): no reference normal
 };
@@ -87,7 +87,11 @@ enum class SurfaceState : uint8_t {
 // surface: the depth buffer's distance is within ~16 float ulps (depth_prepass_test), i.e.
 // 1e-6 relative; 1e-4 is wide enough for that and narrow enough to separate the 1 mm gap of
 // "thin-gap" seen from 0.94 m (1e-3 relative).
+// Far from the origin the rasterised depth itself errs by more: the vertex transform rounds
+// world coordinates of size |eye| (viewProj · v in float, ~16 float ulps of |eye| + distance); the
+// window adds kSurfaceMatchFarTerm · (|eye| + distance) = 32 · 2^-24 · (|eye| + distance).
 inline constexpr double kSurfaceMatchTolerance = 1e-4;
+inline constexpr double kSurfaceMatchFarTerm = 32.0 / 16777216.0;
 
 // Per pixel, the true geometric surface: the eye ray through the pixel centre (x + 0.5, y + 0.5,
 // as the rasteriser samples) is intersected with the scene, starting just before the rasterised

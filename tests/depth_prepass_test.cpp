@@ -78,9 +78,12 @@ TEST_F(DepthPrepassTest, ClearsToZeroWhereThereIsNoGeometry) {
   Renderer renderer(*ctx, scene, settings);
   FrameTiming t = renderer.renderFrame();
   for (float d : renderer.readDepth()) ASSERT_EQ(d, 0.0f);
-  ASSERT_EQ(t.passMs.size(), 1u);
+  // A scene without lights runs the prepass and the shading pass only (nothing to cull or trace).
+  ASSERT_EQ(t.passMs.size(), 2u);
   EXPECT_EQ(t.passMs[0].first, "depth_prepass");
+  EXPECT_EQ(t.passMs[1].first, "shading");
   EXPECT_GE(t.passMs[0].second, 0.0);
+  EXPECT_EQ(renderer.passesSkipped().size(), 2u);  // light_culling and shadows, each with its reason
 }
 
 }  // namespace
