@@ -59,11 +59,13 @@ fetch() {
   for ref in "${refs[@]}"; do
     if last_error=$(download "$REPO_RAW/$ref/$SUBDIR/$name" "$target.part" 2>&1); then
       mv -f "$target.part" "$target"
+      last_error=""
       ref_used="$ref"
       return 0
     fi
   done
   rm -f "$target.part"
+  last_error="${last_error##*$'\n'}"  # the last attempt's message (curl --retry prints one each)
   return 1
 }
 
@@ -95,13 +97,13 @@ for uri in "${uris[@]}"; do
   if fetch "$uri"; then
     [ $was_there = 0 ] && fetched=$((fetched + 1))
   else
-    echo "fetch-sponza.sh: could not download $SUBDIR/$uri" >&2
+    echo "fetch-sponza.sh: could not download $SUBDIR/$uri${last_error:+ ($last_error)}" >&2
     failed=$((failed + 1))
   fi
 done
 
 if [ $failed -gt 0 ]; then
-  no_network_help "$failed of ${#uris[@]} files"
+  echo "fetch-sponza.sh: $failed of ${#uris[@]} files are missing from $DEST/ (see above); rerun to fetch only those (the others were kept)" >&2
   exit 3
 fi
 echo "fetch-sponza.sh: $DEST/ holds Sponza.gltf and its ${#uris[@]} files ($fetched downloaded now${ref_used:+, from $ref_used})"

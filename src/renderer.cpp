@@ -91,8 +91,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     ss.rangeTest = settings.rangeTest;
     accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
     CullingOutputs co = culling_->outputs();
-    ShadowInputs in{&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
-    shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, in);
+    shadowInputs_ = {&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
+    shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, shadowInputs_);
   }
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
   ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
@@ -163,6 +163,27 @@ FrameTiming Renderer::renderFrame(bool analysis) {
   FrameTiming t;
   t.passMs = timer_.read(&t.frameMs);
   return t;
+}
+
+std::vector<double> Renderer::rayBench(uint32_t repetitions) {
+  HB_ASSERT(shadows_);
+  if (!rayBench_)
+    rayBench_ = std::make_unique<RayBenchPass>(ctx_, shadows_->settings().backend, settings_.width, settings_.height,
+                                               shadowInputs_, *shadows_);
+  std::vector<double> ms;
+  for (uint32_t r = 0; r < repetitions; ++r) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      timer_.frameBegin(cmd);
+      timer_.begin(cmd, "raybench");
+      rayBench_->record(cmd);
+      timer_.end(cmd);
+      timer_.frameEnd(cmd);
+    });
+    auto t = timer_.read(nullptr);
+    ms.push_back(t.empty() ? 0.0 : t[0].second);
+  }
+  return ms;
 }
 
 std::vector<float> Renderer::readDepth() const {

@@ -14,6 +14,7 @@
 #include "accel.h"
 #include "passes/light_culling.h"
 #include "passes/shading.h"
+#include "passes/raybench.h"
 #include "passes/shadows.h"
 
 namespace hb {
@@ -71,6 +72,11 @@ class Renderer {
   const AccelerationStructures* accel() const { return accel_.get(); }
   std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
 
+  // Ray throughput: re-traces the rays of the last analysis frame `repetitions` times as a pure
+  // ray workload (passes/raybench.h); returns each repetition's GPU time in ms.
+  // Precondition: hasShadows() and the last frame was an analysis frame.
+  std::vector<double> rayBench(uint32_t repetitions);
+
   // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
   CullingReadback readCulling() const;
@@ -93,6 +99,8 @@ class Renderer {
   std::unique_ptr<AccelerationStructures> accel_;
   std::unique_ptr<ShadowPass> shadows_;
   std::unique_ptr<ShadingPass> shading_;
+  std::unique_ptr<RayBenchPass> rayBench_;
+  ShadowInputs shadowInputs_{};
   GpuTimer timer_;
   bool frustumsDone_ = false;
   std::vector<std::string> passesRun_;

@@ -151,6 +151,19 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   // What the frame spends outside the timed passes (barriers, gaps between passes).
   run["frame_minus_passes_ms"] = fs_.median - sumOfMedians;
   run["memory_bytes"] = memory;
+  // Ray throughput: the analysis frame's own rays re-traced alone, against the shadow pass.
+  if (renderer.hasShadows() && run.contains("rays") && passMs.count("shadows")) {
+    const uint32_t reps = ctx.info().type == "cpu" ? 2 : 20;
+    std::vector<double> rb = renderer.rayBench(reps);
+    const double rays = run["rays"].value("traced", 0.0);
+    const double benchMs = summarize(rb).median, shadowMs = summarize(passMs["shadows"]).median;
+    run["raybench"] = {{"rays", rays},
+                       {"repetitions", reps},
+                       {"ms", toJson(summarize(rb), rb)},
+                       {"rays_per_s", benchMs > 0 ? rays / (benchMs * 1e-3) : 0.0},
+                       {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
+                       {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
+  }
   run["scene"] = {{"triangles", scene.triangleCount()}, {"lights", scene.lights.size()}};
   if (!images) run.erase("images");
   run["status"] = "ok";

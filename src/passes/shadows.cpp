@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "errors.h"
+#include "rt_pipeline.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -11,7 +12,6 @@ const char* toString(ShadowBackend b) { return b == ShadowBackend::RayQuery ? "r
 
 namespace {
 
-VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
   return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
@@ -23,7 +23,8 @@ std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
           {6, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages}};
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages}};
 }
 
 VkShaderStageFlags stagesFor(ShadowBackend b) {
@@ -34,71 +35,19 @@ VkShaderStageFlags stagesFor(ShadowBackend b) {
 }  // namespace
 
 struct ShadowPass::Variant {
-  const VulkanContext& ctx;
-  Pipeline pipeline;
-  Buffer sbt;
-  VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
+  Pipeline compute;                              // rayquery backend
+  std::unique_ptr<RaygenMissPipeline> rtProgram;  // pipeline backend
 
-  Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis)
-      : ctx(c), pipeline(c) {
-    pipeline.createLayout({layout}, 0);
+  Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
     SpecConstants spec{{s.tileSize, s.normals, s.worldPos, s.rangeTest ? 1u : 0u, analysis ? 1u : 0u}};
     if (s.backend == ShadowBackend::RayQuery) {
-      pipeline.createCompute("shadows_rayquery.comp", spec);
-      return;
+      compute.createLayout({layout}, 0);
+      compute.createCompute("shadows_rayquery.comp", spec);
+    } else {
+      rtProgram = std::make_unique<RaygenMissPipeline>(c, layout, "shadows.rgen", "shadows.rmiss", spec);
     }
-    // Ray-tracing pipeline: group 0 = ray generation, group 1 = miss; no hit groups (the rays skip
-    // closest-hit shaders and all geometry is opaque).
-    ShaderModule rgen(c, "shadows.rgen"), rmiss(c, "shadows.rmiss");
-    std::vector<VkSpecializationMapEntry> entries;
-    VkSpecializationInfo si = specializationInfo(spec, entries);
-    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-    stages[0].stage = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
-    stages[0].module = rgen.handle();
-    stages[0].pName = "main";
-    stages[0].pSpecializationInfo = &si;
-    stages[1].stage = VK_SHADER_STAGE_MISS_BIT_KHR;
-    stages[1].module = rmiss.handle();
-    stages[1].pName = "main";
-    VkRayTracingShaderGroupCreateInfoKHR groups[2] = {{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
-                                                      {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR}};
-    for (uint32_t g = 0; g < 2; ++g) {
-      groups[g].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
-      groups[g].generalShader = g;
-      groups[g].closestHitShader = VK_SHADER_UNUSED_KHR;
-      groups[g].anyHitShader = VK_SHADER_UNUSED_KHR;
-      groups[g].intersectionShader = VK_SHADER_UNUSED_KHR;
-    }
-    VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-    ci.stageCount = 2;
-    ci.pStages = stages;
-    ci.groupCount = 2;
-    ci.pGroups = groups;
-    ci.maxPipelineRayRecursionDepth = 1;
-    ci.layout = pipeline.layout();
-    VK_CHECK(c.rt().createRayTracingPipelines(c.device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
-                                               &pipeline.pipeline_));
-    pipeline.bindPoint_ = VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
-
-    // Shader binding table: each region starts at a shaderGroupBaseAlignment boundary.
-    const auto& props = c.rtPipelineProps();
-    const uint32_t handleSize = props.shaderGroupHandleSize;
-    const VkDeviceSize stride = alignUp(handleSize, props.shaderGroupHandleAlignment);
-    const VkDeviceSize base = props.shaderGroupBaseAlignment;
-    std::vector<uint8_t> handles(2 * handleSize);
-    VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline.handle(), 0, 2, handles.size(), handles.data()));
-    const VkDeviceSize missOffset = alignUp(stride, base);
-    sbt = Buffer(c, missOffset + alignUp(stride, base) + base,
-                 VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
-                 MemClass::Other);
-    const VkDeviceAddress start = alignUp(sbt.address(), base);
-    uint8_t* mapped = static_cast<uint8_t*>(sbt.mapped()) + (start - sbt.address());
-    std::memcpy(mapped, handles.data(), handleSize);
-    std::memcpy(mapped + missOffset, handles.data() + handleSize, handleSize);
-    raygen = {start, stride, stride};  // the raygen region's size must equal its stride
-    miss = {start + missOffset, stride, stride};
   }
+  const Pipeline& pipeline() const { return rtProgram ? rtProgram->pipeline() : compute; }
 };
 
 ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings, uint32_t width, uint32_t height,
@@ -116,6 +65,8 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      traced_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+              VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx, shadowBindings(stagesFor(settings.backend))) {
   if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
     throw InputError("backend=rayquery: device \"" + ctx.info().name +
@@ -130,8 +81,8 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
   sets_.writeAccelerationStructure(0, 5, in.tlas);
-  const Image* images[4] = {&visibility_, &accounting_, &normals_, &positions_};
-  for (uint32_t i = 0; i < 4; ++i)
+  const Image* images[5] = {&visibility_, &accounting_, &normals_, &positions_, &traced_};
+  for (uint32_t i = 0; i < 5; ++i)
     sets_.writeImage(0, 6 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
   analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
@@ -147,13 +98,13 @@ ShadowPass::~ShadowPass() = default;
 void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
   const Variant& v = analysis ? *analysis_ : *timed_;
   VkDescriptorSet set = sets_.set();
-  vkCmdBindPipeline(cmd, v.pipeline.bindPoint(), v.pipeline.handle());
-  vkCmdBindDescriptorSets(cmd, v.pipeline.bindPoint(), v.pipeline.layout(), 0, 1, &set, 0, nullptr);
+  vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
+  vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
   if (settings_.backend == ShadowBackend::RayQuery) {
     const uint32_t t = settings_.tileSize;
     vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
   } else {
-    ctx_.rt().cmdTraceRays(cmd, &v.raygen, &v.miss, &v.hit, &v.callable, width_, height_, 1);
+    v.rtProgram->traceRays(cmd, width_, height_);
   }
 }
 

@@ -48,6 +48,7 @@ class ShadowPass {
   const Image& accounting() const { return accounting_; }
   const Image& normals() const { return normals_; }
   const Image& positions() const { return positions_; }
+  const Image& traced() const { return traced_; }  // analysis: bit i = the ray to tile light i was traced
   const ShadowSettings& settings() const { return settings_; }
 
  private:
@@ -55,7 +56,7 @@ class ShadowPass {
   const VulkanContext& ctx_;
   ShadowSettings settings_;
   uint32_t width_, height_;
-  Image visibility_, accounting_, normals_, positions_;
+  Image visibility_, accounting_, normals_, positions_, traced_;
   DescriptorSets sets_;
   std::unique_ptr<Variant> timed_, analysis_;
 };
