@@ -5,7 +5,7 @@
 // Erratum: eq. 2.1 as printed has C = -zf/(zn-zf), D = -zf*zn/(zn-zf). With w = -z that maps the
 // near plane to depth 0 and the far plane to depth -1 (outside Vulkan's [0,1]), i.e. it is not a
 // reverse-Z matrix. The reverse-Z matrix with the same structure swaps the roles of the planes:
-// C = zn/(zf-zn), D = zf*zn/(zf-zn). projection_test.cpp checks both facts.
+// C = zn/(zf-zn), D = zf*zn/(zf-zn). camera_test.cpp checks both facts.
 #pragma once
 #include <glm/glm.hpp>
 

@@ -37,7 +37,12 @@ int cmdRender(const RenderOptions& options) {
     }
     applySetOverride(params, set);
   }
-  const bool sceneFlagGiven = options.scene != "atrium" || !haveConfig;
+  const bool sceneFlagGiven = options.sceneGiven || !haveConfig;
+  bool setsAtriumParams = false;
+  for (const std::string& set : options.sets)
+    setsAtriumParams |= set.rfind("light_count=", 0) == 0 || set.rfind("triangle_scale=", 0) == 0;
+  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && setsAtriumParams)
+    throw InputError("--set light_count/triangle_scale apply only to the built-in atrium, not to \"" + options.scene + "\"");
   Scene scene;
   if (haveConfig && !sceneFlagGiven) {
     checkParamsFitScene(config, params, "--set");

@@ -14,6 +14,7 @@ int cmdDevices(bool json);
 struct RenderOptions {
   std::string config;              // optional config file; its defaults apply
   std::string scene = "atrium";    // built-in name or glTF path
+  bool sceneGiven = false;         // --scene was on the command line (it wins over a config's scene)
   std::string size;                // "WxH" (empty: config's or 1920x1080)
   std::string device;              // index or name substring
   std::vector<std::string> sets;   // key=value overrides

@@ -23,10 +23,10 @@ int main(int argc, char** argv) {
   RenderOptions render;
   auto* renderCmd = app.add_subcommand("render", "render one frame and write its images and statistics");
   renderCmd->add_option("config", render.config, "config file whose defaults apply");
-  renderCmd->add_option("--scene", render.scene, "built-in scene name or .gltf/.glb path");
+  auto* sceneOpt = renderCmd->add_option("--scene", render.scene, "built-in scene name or .gltf/.glb path");
   renderCmd->add_option("--size", render.size, "resolution WxH, e.g. 1920x1080");
   renderCmd->add_option("--device", render.device, "device index or name substring");
-  renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)");
+  renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)")->allow_extra_args(false);
   renderCmd->add_option("--out", render.out, "output directory")->required();
 
   SweepOptions sweep;
@@ -36,8 +36,10 @@ int main(int argc, char** argv) {
   sweepCmd->add_option("--device", sweep.device, "device index, name substring, or all");
   sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
   sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
-  sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)");
-  sweepCmd->add_option("--warmup", sweep.warmup, "warm-up frames per variant (overrides the config)");
+  sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)")
+      ->check(CLI::Range(1, 1000000));
+  sweepCmd->add_option("--warmup", sweep.warmup, "warm-up frames per variant (overrides the config)")
+      ->check(CLI::Range(0, 100000));
   sweepCmd->add_flag("--no-images", noImages, "write no per-variant images");
 
   std::string tablesPath, tablesFormat = "md";
@@ -82,7 +84,10 @@ int main(int argc, char** argv) {
 
   try {
     if (*devices) return cmdDevices(devicesJson);
-    if (*renderCmd) return cmdRender(render);
+    if (*renderCmd) {
+      render.sceneGiven = sceneOpt->count() > 0;
+      return cmdRender(render);
+    }
     if (*sweepCmd) {
       sweep.images = !noImages;
       return cmdSweep(sweep);

@@ -131,6 +131,14 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   }
   if (gInterrupted) throw std::runtime_error("interrupted");
   renderer.renderFrame(true);  // analysis frame: counters, readbacks, images
+  // Ray throughput right after it, while the GPU is as warm as in the measured frames (the CPU
+  // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
+  std::vector<double> rb;
+  if (renderer.hasShadows()) {
+    const bool cpu = ctx.info().type == "cpu";
+    renderer.rayBench(cpu ? 1 : 30);
+    rb = renderer.rayBench(cpu ? 2 : 30);
+  }
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images);
 
   json run = outputs.json;
@@ -152,9 +160,8 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   run["frame_minus_passes_ms"] = fs_.median - sumOfMedians;
   run["memory_bytes"] = memory;
   // Ray throughput: the analysis frame's own rays re-traced alone, against the shadow pass.
-  if (renderer.hasShadows() && run.contains("rays") && passMs.count("shadows")) {
-    const uint32_t reps = ctx.info().type == "cpu" ? 2 : 20;
-    std::vector<double> rb = renderer.rayBench(reps);
+  if (!rb.empty() && run.contains("rays") && passMs.count("shadows")) {
+    const size_t reps = rb.size();
     const double rays = run["rays"].value("traced", 0.0);
     const double benchMs = summarize(rb).median, shadowMs = summarize(passMs["shadows"]).median;
     run["raybench"] = {{"rays", rays},
@@ -232,7 +239,7 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
     config = lowerForCpuDevice(config);
     std::printf("note: %s\n", config.notes.back().c_str());
   }
-  if (options.frames >= 0) config.measuredFrames = uint32_t(std::max(1, options.frames));
+  if (options.frames > 0) config.measuredFrames = uint32_t(options.frames);
   if (options.warmup >= 0) config.warmupFrames = uint32_t(options.warmup);
   std::vector<Variant> variants = expandVariants(config);
   fs::create_directories(outDir);
@@ -320,6 +327,9 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
 }
 
 int cmdSweep(const SweepOptions& options) {
+  if (options.resume && options.out.empty())
+    throw InputError("sweep --resume needs --out DIR: the directory of the interrupted sweep");
+  if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
   Config config = options.config.empty() ? embeddedDefaultConfig() : loadConfig(options.config);
   std::vector<DeviceInfo> devices = enumerateDevices();
   std::vector<DeviceInfo> chosen;
