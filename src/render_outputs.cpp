@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "culling_analysis.h"
+#include "flip.h"
 #include "image_io.h"
 #include "ray_analysis.h"
 #include "reconstruct_ref.h"
@@ -43,10 +44,64 @@ ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr
   return img;
 }
 
+// Per pixel, the scene lights whose bit is set in the pixel's visibility mask (the mask indexes the
+// pixel's tile list). Sky: 0. Precondition: every light index < 64.
+std::vector<uint64_t> visibleSceneLights(const ShadowReadback& sh, const CullingReadback& cr,
+                                         const std::vector<float>& depth, uint32_t w, uint32_t h, uint32_t tileSize) {
+  std::vector<uint64_t> out(size_t(w) * h, 0);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!(depth[i] > 0.0f)) continue;
+      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
+      for (uint32_t k = 0; k < cr.count[tile]; ++k)
+        if ((sh.visibility[i] >> k) & 1u) out[i] |= 1ull << cr.indices[cr.offset[tile] + k];
+    }
+  return out;
+}
+
+// Does light l send light to the true surface point p with true normal n (range, cone, N·L)? Only
+// those (pixel, light) pairs change the image, so only they count as shadow mismatches.
+bool lightReaches(const Light& l, const glm::dvec3& p, const glm::dvec3& n) {
+  if (l.type == LightType::Directional) return glm::dot(n, -glm::dvec3(l.direction)) > 0.0;
+  glm::dvec3 d = glm::dvec3(l.position) - p;
+  const double dist = glm::length(d);
+  if (!(dist > 0.0) || dist > l.range) return false;
+  d /= dist;
+  if (l.type == LightType::Spot && glm::dot(-d, glm::normalize(glm::dvec3(l.direction))) < std::cos(double(l.outerConeAngle)))
+    return false;
+  return glm::dot(n, d) > 0.0;
+}
+
 }  // namespace
 
+VariantParams referenceParams(const VariantParams& params) {
+  VariantParams r = params;
+  r.lightCulling = false;
+  r.aabb = false;
+  r.normalCulling = NormalCulling::Off;
+  r.rangeTest = false;
+  return r;
+}
+
+ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
+  ReferenceFrame ref;
+  const RenderSettings& s = renderer.settings();
+  ref.width = s.width;
+  ref.height = s.height;
+  ref.lightCount = uint32_t(scene.lights.size());
+  const std::vector<float> depth = renderer.readDepth();
+  if (renderer.hasCulling() && renderer.hasShadows() && ref.lightCount <= 64)
+    ref.visible = visibleSceneLights(renderer.readShadows(), renderer.readCulling(), depth, s.width, s.height,
+                                     s.tileSize);
+  ImageF hdr{s.width, s.height, 4, renderer.readColor()};
+  ref.color = toneMapToSrgb(hdr, 0.0f, ToneMapOperator::AcesFitted).image;
+  return ref;
+}
+
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
-                                 const VariantParams& params, const std::string& dir, bool writeImages) {
+                                 const VariantParams& params, const std::string& dir, bool writeImages,
+                                 const ReferenceFrame* reference) {
   namespace fs = std::filesystem;
   RenderOutputs out;
   const RenderSettings& s = renderer.settings();
@@ -80,6 +135,18 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   ToneMapResult tm = toneMapToSrgb(hdrImage, 0.0f, ToneMapOperator::AcesFitted);
   write("color.png", tm.image, {{"ToneMapping", "aces-fitted (Narkowicz 2015), exposure 0 EV, then sRGB OETF"}});
   j["color"] = {{"tone_mapping", "aces-fitted"}, {"exposure_ev", 0.0}, {"non_finite_pixels", tm.nonFinitePixels}};
+  nlohmann::json accuracy = nlohmann::json::object();
+  if (reference && reference->width == w && reference->height == h) {
+    // LDR-FLIP (Andersson et al. 2020) of this variant's image against the reference render,
+    // at the default viewing setup (flip.h kDefaultPpd).
+    FlipResult flip = ldrFlip(reference->color, tm.image);
+    accuracy["image_error"] = flip.mean;
+    accuracy["image_error_flip"] = {{"mean", flip.mean}, {"p50", flip.p50}, {"p95", flip.p95}, {"max", flip.max},
+                                    {"ppd", kDefaultPpd}, {"reference", "same scene/camera/resolution/backend, no culling"}};
+    std::vector<float> e(flip.errorMap.px.begin(), flip.errorMap.px.end());
+    write("flip_error.png", errorMapToImage(e, w, h, 1.0f),
+          {{"Description", "LDR-FLIP error against the no-culling reference render, viridis 0..1"}});
+  }
 
   if (renderer.hasCulling()) {
     // Culling statistics against the CPU reference of the same method and the exact test.
@@ -129,7 +196,24 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                            "of 10; red = the light count)"}});
     write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, lightCount),
           {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
-    nlohmann::json accuracy;
+    if (reference && !reference->visible.empty() && reference->width == w && reference->height == h) {
+      // (pixel, light) pairs whose visibility differs from the reference, among the pairs that
+      // change the image (the light reaches the true surface): wrongly dark = the reference sees
+      // the light, this variant does not (culled or shadowed); wrongly lit = the reverse.
+      const std::vector<uint64_t> mine = visibleSceneLights(sh, cr, depth, w, h, s.tileSize);
+      uint64_t dark = 0, lit = 0, pairs = 0;
+      for (size_t i = 0; i < mine.size(); ++i) {
+        if (surface.state[i] != SurfaceState::Matched) continue;
+        for (uint32_t l = 0; l < lightCount; ++l) {
+          if (!lightReaches(scene.lights[l], surface.position[i], surface.normal[i])) continue;
+          ++pairs;
+          const bool a = (reference->visible[i] >> l) & 1ull, b = (mine[i] >> l) & 1ull;
+          dark += a && !b;
+          lit += !a && b;
+        }
+      }
+      accuracy["shadow_mismatches"] = {{"wrongly_dark", dark}, {"wrongly_lit", lit}, {"pairs_compared", pairs}};
+    }
     PositionAccuracy pa = positionAccuracy(sh.positions, depth, rcam);
     accuracy["world_pos"] = toJson(pa);
     accuracy["world_pos_rel_error"] = pa.maxRelative;
@@ -146,7 +230,6 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                     toString(params.normalCulling), na.meanAngleDeg, na.p95AngleDeg, na.meanImageDifference);
       out.summary.push_back(line);
     }
-    j["accuracy"] = accuracy;
     char line[256];
     std::snprintf(line, sizeof line,
                   "rays: %llu candidates, %llu culled by tile, %llu by normal, %llu traced; oracle %llu "
@@ -186,6 +269,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     write("normals_reference.png", normalsToImage(n3, valid, w, h),
           {{"Description", "true face normals of the visible triangles (analysis pass)"}});
   }
+  if (!accuracy.empty()) j["accuracy"] = accuracy;
   out.json = j;
   return out;
 }

@@ -18,6 +18,7 @@
 #include "render_outputs.h"
 #include "renderer.h"
 #include "scene_setup.h"
+#include "shared/gpu_types.h"
 #include "stats.h"
 #include "tables.h"
 #include "version.h"
@@ -109,10 +110,36 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
 };
 
+// The no-culling reference of each (scene, resolution, backend), rendered once (design.md
+// "Accuracy"). None for scenes with more lights than one tile list holds: with culling off such a
+// reference would itself drop lights.
+class ReferenceCache {
+ public:
+  const ReferenceFrame* get(const VulkanContext& ctx, const Config& config, const VariantParams& params,
+                            SceneCache& scenes) {
+    const Scene& scene = scenes.get(config, params);
+    if (scene.lights.size() > gpu::kMaxLightsPerTile || !config.shadows) return nullptr;
+    VariantParams rp = referenceParams(params);
+    const std::string key = toJson(rp).dump();
+    auto it = frames_.find(key);
+    if (it == frames_.end()) {
+      Renderer renderer(ctx, scene, renderSettingsFor(rp, config.shadows));
+      renderer.renderFrame(true);
+      it = frames_.emplace(key, captureReference(renderer, scene)).first;
+    }
+    return &it->second;
+  }
+
+ private:
+  std::map<std::string, ReferenceFrame> frames_;
+};
+
 // Runs one variant; returns its run record (status ok) or throws.
 json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v, SceneCache& scenes,
-                const std::string& imageDir, bool images, uint32_t warmup, uint32_t measured) {
+                ReferenceCache& references, const std::string& imageDir, bool images, uint32_t warmup,
+                uint32_t measured) {
   const Scene& scene = scenes.get(config, v.params);
+  const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
   RenderSettings settings = renderSettingsFor(v.params, config.shadows);
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
@@ -139,7 +166,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     renderer.rayBench(cpu ? 1 : 30);
     rb = renderer.rayBench(cpu ? 2 : 30);
   }
-  RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images);
+  RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
 
   json run = outputs.json;
   run["name"] = v.name;
@@ -286,6 +313,7 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
 
   std::printf("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n", config.name.c_str(),
               ctx.info().name.c_str(), variants.size(), config.warmupFrames, config.measuredFrames, outDir.c_str());
+  ReferenceCache references;
   Progress progress(variants.size());
   size_t index = 0, failures = 0;
   for (const Variant& v : variants) {
@@ -296,8 +324,8 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
     } else {
       json run;
       try {
-        run = runVariant(ctx, config, v, scenes, (fs::path(outDir) / slug(v.name)).string(), options.images,
-                         config.warmupFrames, config.measuredFrames);
+        run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(),
+                         options.images, config.warmupFrames, config.measuredFrames);
       } catch (const std::exception& e) {
         if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
         run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
