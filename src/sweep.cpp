@@ -290,6 +290,11 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
   context["config"] = toJson(config);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
   context["timing_source"] = "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
+  if (ctx.info().type == "cpu")
+    context["timing_caveat"] =
+        "CPU implementation (lavapipe): its timestamps do not bracket compute and ray-tracing work (those passes read "
+        "~0.01 ms while the frame takes hundreds of ms), so per-pass times, shadow-pass shares and "
+        "raybench.shadow_pass_fraction_of_peak are not meaningful here; frame times, counts and accuracy are.";
   results["context"] = context;
   results["runs"] = json::array();
 
@@ -305,7 +310,7 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
     const json& oc = old.value("context", json::object());
     if (oc.value("config", json()) != context["config"] ||
         oc.value("device", json::object()).value("uuid", "") != ctx.info().uuid)
-      throw InputError(resultsPath + ": --resume needs the same config and device as the interrupted sweep; use another --out");
+      throw InputError(resultsPath + ": --resume needs the same config (frame counts included) and device as the interrupted sweep; use another --out");
     for (const json& run : old.value("runs", json::array()))
       if (run.value("status", "") == "ok") done[run.value("name", "")] = run;
     std::printf("resume: %zu of %zu variants already done\n", done.size(), variants.size());

@@ -212,6 +212,9 @@ std::string thesisTablesMarkdown(const json& results) {
   std::string out = "# Thesis tables\n\n" + headerLine(results) + "\n\n";
   out += "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
          "of the frame).\n";
+  if (results.contains("context") && results["context"].contains("timing_caveat") &&
+      results["context"]["timing_caveat"].is_string())
+    out += "\nCaveat: " + results["context"]["timing_caveat"].get<std::string>() + "\n";
   std::vector<std::string> notes;
   auto extraCells = [&](const ThesisRow& r) {
     if (!r.note.empty()) notes.push_back(r.table + " " + r.label + ": " + r.note);

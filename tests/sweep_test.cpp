@@ -45,7 +45,7 @@ using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 const fs::path kFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/sweep-tiny.json";
-// A child that runs longer than this is hung: the longest sweep here takes ~15 s on lavapipe.
+// A child that runs longer than this is hung: the longest sweep here takes ~20 s on lavapipe.
 constexpr auto kChildDeadline = std::chrono::seconds(150);
 const std::vector<std::string> kPasses = {"depth_prepass", "light_culling", "shadows", "shading"};
 
@@ -321,6 +321,24 @@ void expectAnalysis(const json& run) {
   ASSERT_TRUE(a.contains("world_pos_rel_error"));
   EXPECT_TRUE(std::isfinite(a["world_pos_rel_error"].get<double>()));
   EXPECT_EQ(a.contains("normal_angular_error_deg"), p["normal_culling"] != "off");
+  // Against the no-culling reference render (10 lights: one tile list holds them all).
+  ASSERT_TRUE(a.contains("image_error") && a["image_error"].is_number()) << a.dump();
+  const double flip = a["image_error"];
+  EXPECT_GE(flip, 0.0);
+  EXPECT_LE(flip, 1.0);  // LDR-FLIP is in [0, 1]
+  ASSERT_TRUE(a.contains("shadow_mismatches")) << a.dump();
+  const json& m = a["shadow_mismatches"];
+  const uint64_t dark = m["wrongly_dark"], lit = m["wrongly_lit"], pairs = m["pairs_compared"];
+  EXPECT_GT(pairs, 0u);
+  EXPECT_LE(dark + lit, pairs);
+  if (!p["light_culling"].get<bool>() && p["normal_culling"] == "off" && !p["range_test"].get<bool>() &&
+      p["backend"] == "auto") {
+    // These are the reference's own parameters: the same pipelines on the same inputs render the
+    // same frame, so nothing may differ.
+    EXPECT_EQ(flip, 0.0);
+    EXPECT_EQ(dark, 0u);
+    EXPECT_EQ(lit, 0u);
+  }
 
   ASSERT_TRUE(run.contains("raybench"));
   EXPECT_EQ(run["raybench"]["rays"].get<double>(), double(traced));
