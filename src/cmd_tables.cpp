@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "accuracy_report.h"
 #include "commands.h"
 #include "compare.h"
 #include "errors.h"
@@ -23,7 +24,13 @@ static nlohmann::json readResults(const std::string& path) {
 
 int cmdTables(const std::string& resultsPath, const std::string& format) {
   nlohmann::json results = readResults(resultsPath);
-  std::cout << (format == "csv" ? thesisTablesCsv(results) : thesisTablesMarkdown(results));
+  if (format == "csv") {
+    std::cout << thesisTablesCsv(results);
+  } else if (format == "svg") {
+    std::cout << accuracyReportSvg(results);
+  } else {
+    std::cout << thesisTablesMarkdown(results) << "\n" << accuracyReportMarkdown(results);
+  }
   return kExitOk;
 }
 

@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
   std::string tablesPath, tablesFormat = "md";
   auto* tablesCmd = app.add_subcommand("tables", "regenerate the thesis tables from a results file");
   tablesCmd->add_option("results", tablesPath, "results.json")->required();
-  tablesCmd->add_option("--format", tablesFormat, "md or csv")->check(CLI::IsMember({"md", "csv"}));
+  tablesCmd->add_option("--format", tablesFormat, "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
+      ->check(CLI::IsMember({"md", "csv", "svg"}));
 
   std::string compareA, compareB;
   CompareOptions compareOpts;

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <sys/utsname.h>
 
+#include "accuracy_report.h"
 #include "errors.h"
 #include "gltf_io.h"
 #include "render_outputs.h"
@@ -258,6 +259,8 @@ static void writeOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "results.json").string(), results.dump(1) + "\n");
   writeFileAtomic((fs::path(dir) / "results.csv").string(), resultsCsv(results));
   writeFileAtomic((fs::path(dir) / "tables.md").string(), thesisTablesMarkdown(results));
+  writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
+  writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
 }
 
 static int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
@@ -349,7 +352,7 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
   }
   progress.update(variants.size(), "done");
   std::printf("%s", thesisTablesMarkdown(results).c_str());
-  std::printf("wrote %s/results.json, results.csv, tables.md%s\n", outDir.c_str(),
+  std::printf("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
               options.images ? " and images per variant" : "");
   if (failures) std::printf("%zu variant(s) failed: see status \"error\" in results.json\n", failures);
   if (ctx.validationMessages()) {

@@ -432,7 +432,13 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   const RunResult md = run({"tables", (out / "results.json").string()});
   ASSERT_EQ(md.exitCode, 0) << md.err;
   EXPECT_NE(md.out.find("Table 5.1"), std::string::npos) << md.out;
-  EXPECT_EQ(md.out, tablesMd);
+  // `tables` prints tables.md followed by the accuracy-vs-time report (accuracy.md).
+  const std::string accuracyMd = readFile(out / "accuracy.md");
+  EXPECT_NE(accuracyMd.find("Pareto"), std::string::npos) << accuracyMd;
+  EXPECT_EQ(md.out, tablesMd + "\n" + accuracyMd);
+  const RunResult svg = run({"tables", (out / "results.json").string(), "--format", "svg"});
+  ASSERT_EQ(svg.exitCode, 0) << svg.err;
+  EXPECT_EQ(svg.out, readFile(out / "accuracy.svg"));
   const RunResult csv = run({"tables", (out / "results.json").string(), "--format", "csv"});
   ASSERT_EQ(csv.exitCode, 0) << csv.err;
   const std::vector<std::string> rows = lines(csv.out);
