@@ -1,3 +1,4 @@
+#include "text_format.h"
 #include "accuracy_report.h"
 
 #include <algorithm>
@@ -17,15 +18,6 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kDash = "—";
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, args);
-  va_end(args);
-  return buf;
-}
 
 const json& at(const json& j, const char* key) {
   static const json kNull;

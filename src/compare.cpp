@@ -1,3 +1,4 @@
+#include "text_format.h"
 #include "compare.h"
 
 #include <algorithm>
@@ -22,15 +23,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const std::vector<std::string> kPassOrder = {"depth_prepass", "tile_frustums", "light_culling",
                                              "shadows", "shading", "analysis"};
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, args);
-  va_end(args);
-  return buf;
-}
 
 // The value at a dotted path, or null where any step is missing (never throws).
 json valueAt(const json& root, const std::vector<std::string>& path) {

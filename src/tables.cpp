@@ -1,3 +1,4 @@
+#include "text_format.h"
 #include "tables.h"
 
 #include <cmath>
@@ -40,15 +41,6 @@ const ThesisConfig kThesis[] = {
     {"5.2", "32x32", 32, true, true, "improved", 9.99, kNaN},
 };
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, args);
-  va_end(args);
-  return buf;
-}
 
 std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
 

@@ -1,0 +1,10 @@
+// Small text helpers shared by the report writers.
+#pragma once
+#include <string>
+
+namespace hb {
+
+// printf into a std::string (at most 511 characters; longer output is cut).
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+
+}  // namespace hb
