@@ -2,6 +2,7 @@
 
 #include "errors.h"
 #include "passes/depth_prepass.h"
+#include "raster_pipeline.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -74,70 +75,18 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert.handle();
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = frag.handle();
-  stages[1].pName = "main";
-  stages[1].pSpecializationInfo = &si;
-  VkVertexInputBindingDescription vb{0, sizeof(Vertex), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription va[3] = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, position)},
-                                             {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
-                                             {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
-  VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vi.vertexBindingDescriptionCount = 1;
-  vi.pVertexBindingDescriptions = &vb;
-  vi.vertexAttributeDescriptionCount = 3;
-  vi.pVertexAttributeDescriptions = va;
-  VkPipelineInputAssemblyStateCreateInfo ia{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  ia.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkPipelineViewportStateCreateInfo vp{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  vp.viewportCount = 1;
-  vp.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo rs{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  rs.polygonMode = VK_POLYGON_MODE_FILL;
-  rs.cullMode = VK_CULL_MODE_NONE;  // as the prepass
-  rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  rs.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  ds.depthTestEnable = VK_TRUE;
-  ds.depthWriteEnable = VK_FALSE;
-  ds.depthCompareOp = VK_COMPARE_OP_EQUAL;  // only the fragment the prepass kept (thesis 4.4)
-  VkPipelineColorBlendAttachmentState blend[2]{};
-  blend[0].colorWriteMask = blend[1].colorWriteMask = 0xF;
-  VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  cb.attachmentCount = analysis ? 2 : 1;
-  cb.pAttachments = blend;
-  VkDynamicState dyn[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dy{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dy.dynamicStateCount = 2;
-  dy.pDynamicStates = dyn;
-  VkFormat formats[2] = {kHdrFormat, kRefNormalFormat};
-  VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  ri.colorAttachmentCount = analysis ? 2 : 1;
-  ri.pColorAttachmentFormats = formats;
-  ri.depthAttachmentFormat = kDepthFormat;
-  VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  gi.pNext = &ri;
-  gi.stageCount = 2;
-  gi.pStages = stages;
-  gi.pVertexInputState = &vi;
-  gi.pInputAssemblyState = &ia;
-  gi.pViewportState = &vp;
-  gi.pRasterizationState = &rs;
-  gi.pMultisampleState = &ms;
-  gi.pDepthStencilState = &ds;
-  gi.pColorBlendState = &cb;
-  gi.pDynamicState = &dy;
-  gi.layout = layout_.layout();
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VK_CHECK(vkCreateGraphicsPipelines(ctx_.device(), VK_NULL_HANDLE, 1, &gi, nullptr, &pipeline));
-  return pipeline;
+  RasterPipelineDesc desc;
+  desc.layout = layout_.layout();
+  desc.vertex = vert.handle();
+  desc.fragment = frag.handle();
+  desc.fragmentSpec = &si;
+  desc.vertexAttributes = 3;
+  desc.depthWrite = false;
+  desc.depthCompare = VK_COMPARE_OP_EQUAL;  // only the fragment the prepass kept (thesis 4.4)
+  desc.colorFormats = {kHdrFormat};
+  if (analysis) desc.colorFormats.push_back(kRefNormalFormat);
+  desc.depthFormat = kDepthFormat;
+  return createRasterPipeline(ctx_, desc);
 }
 
 void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const {
@@ -163,22 +112,10 @@ void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool an
   ri.pColorAttachments = ca;
   ri.pDepthAttachment = &da;
   vkCmdBeginRendering(cmd, &ri);
-  VkViewport viewport{0, 0, float(width_), float(height_), 0.0f, 1.0f};
-  VkRect2D scissor{{0, 0}, {width_, height_}};
-  vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &scissor);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, analysis ? analysis_ : timed_);
   VkDescriptorSet set = sets_.set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0, nullptr);
-  VkDeviceSize offset = 0;
-  VkBuffer vb = scene_.vertices().handle();
-  vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
-  vkCmdBindIndexBuffer(cmd, scene_.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
-  for (const DrawItem& d : scene_.draws()) {
-    gpu::DrawConstants dc{viewProj * d.model, d.model, d.material, d.firstIndex, d.vertexOffset, 0};
-    vkCmdPushConstants(cmd, layout_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof dc, &dc);
-    vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, int32_t(d.vertexOffset), 0);
-  }
+  drawScene(cmd, scene_, layout_.layout(), viewProj, width_, height_);
   vkCmdEndRendering(cmd);
 }
 
