@@ -18,81 +18,22 @@
 #include <string>
 #include <vector>
 
+#include "tool_process.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#ifndef HYBRIDBENCH_BINARY
-#error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
-#endif
 
-extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exitCode = -1;  // the child's exit status; 128 + signal if it was killed
-  std::string out;
-  std::string err;
-};
+using hb::testing::readFile;
+using hb::testing::RunResult;
+using hb::testing::writeFile;
 
-std::string readFile(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-void writeFile(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary);
-  f << text;
-}
-
-// A fresh scratch directory per test, removed afterwards.
-class Cli : public ::testing::Test {
+class Cli : public hb::testing::ToolTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() /
-          ("hybridbench_cli_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  // Runs hybridbench with args; stdout and stderr go to files (no pipe can fill up and block).
-  RunResult run(const std::vector<std::string>& args) {
-    const fs::path outPath = dir / ".stdout", errPath = dir / ".stderr";
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    std::vector<std::string> argv{HYBRIDBENCH_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    pid_t pid = 0;
-    RunResult r;
-    const int rc = posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-      ADD_FAILURE() << "posix_spawn " << HYBRIDBENCH_BINARY << " failed: " << rc;
-      return r;
-    }
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = readFile(outPath);
-    r.err = readFile(errPath);
-    return r;
-  }
-
   // Bad input: exit 2 and exactly one line on stderr that contains every one of `names`.
   void expectBadInput(const std::vector<std::string>& args, const std::vector<std::string>& names) {
     std::string cmd;
@@ -106,7 +47,6 @@ class Cli : public ::testing::Test {
     for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
   }
 
-  fs::path dir;
 };
 
 // Standard base64 (RFC 4648), for a glTF buffer in a data URI.

@@ -26,17 +26,14 @@
 #include <thread>
 #include <vector>
 
+#include "tool_process.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#ifndef HYBRIDBENCH_BINARY
-#error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
-#endif
 #ifndef HYBRIDBENCH_SOURCE_DIR
 #error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
 #endif
 
-extern char** environ;
 
 namespace {
 
@@ -46,20 +43,11 @@ using Clock = std::chrono::steady_clock;
 
 const fs::path kFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/sweep-tiny.json";
 // A child that runs longer than this is hung: the longest sweep here takes ~20 s on lavapipe.
-constexpr auto kChildDeadline = std::chrono::seconds(150);
 const std::vector<std::string> kPasses = {"depth_prepass", "light_culling", "shadows", "shading"};
 
-std::string readFile(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-void writeFile(const fs::path& p, const std::string& text) {
-  std::ofstream f(p, std::ios::binary);
-  f << text;
-}
+using hb::testing::readFile;
+using hb::testing::RunResult;
+using hb::testing::writeFile;
 
 json readJson(const fs::path& p) { return json::parse(readFile(p), nullptr, /*allow_exceptions=*/false); }
 
@@ -102,87 +90,8 @@ std::vector<std::string> variantNames(const json& config) {
   return names;
 }
 
-struct RunResult {
-  int exitCode = -1;  // the child's exit status; 128 + signal if a signal killed it
-  std::string out;
-  std::string err;
-};
-
-// A fresh scratch directory per test, removed afterwards; children run hybridbench in it.
-class Sweep : public ::testing::Test {
+class Sweep : public hb::testing::ToolTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir = fs::temp_directory_path() / ("hybridbench_sweep_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-
-  // Starts hybridbench with args, stdout and stderr to files (no pipe can fill up and block),
-  // HYBRIDBENCH_VALIDATION=1 whatever the test's own environment says. Returns the pid (0: failed).
-  pid_t start(const std::vector<std::string>& args) {
-    ++children_;
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, outPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, 2, errPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    std::vector<std::string> argv{HYBRIDBENCH_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (auto& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    std::vector<std::string> env{"HYBRIDBENCH_VALIDATION=1"};
-    for (char** e = environ; *e; ++e)
-      if (std::strncmp(*e, "HYBRIDBENCH_VALIDATION=", 23) != 0) env.emplace_back(*e);
-    std::vector<char*> cenv;
-    for (auto& e : env) cenv.push_back(e.data());
-    cenv.push_back(nullptr);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), cenv.data());
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-      ADD_FAILURE() << "posix_spawn " << HYBRIDBENCH_BINARY << " failed: " << std::strerror(rc);
-      return 0;
-    }
-    return pid;
-  }
-
-  // Waits for the child (killing it past kChildDeadline) and checks that the validation layer
-  // reported nothing.
-  RunResult wait(pid_t pid) {
-    RunResult r;
-    if (pid == 0) return r;
-    const auto deadline = Clock::now() + kChildDeadline;
-    int status = 0;
-    while (true) {
-      const pid_t w = waitpid(pid, &status, WNOHANG);
-      if (w == pid) break;
-      if (w < 0 && errno != EINTR) {
-        ADD_FAILURE() << "waitpid: " << std::strerror(errno);
-        return r;
-      }
-      if (Clock::now() > deadline) {
-        ADD_FAILURE() << "hybridbench ran past " << kChildDeadline.count() << " s; killed";
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = readFile(outPath());
-    r.err = readFile(errPath());
-    EXPECT_EQ(r.out.find("validation:"), std::string::npos) << r.out;
-    EXPECT_EQ(r.err.find("validation:"), std::string::npos) << r.err;
-    return r;
-  }
-
-  RunResult run(const std::vector<std::string>& args) { return wait(start(args)); }
-
   // The fixture config with its variants replaced, written into the scratch directory.
   fs::path configWith(const std::string& name, const json& variants) {
     json c = readJson(kFixture);
@@ -196,7 +105,7 @@ class Sweep : public ::testing::Test {
   // Polls out/results.json until it holds at least `runs` runs (it is replaced atomically, so
   // every read parses); false if the child exits first or past the deadline.
   bool waitForRuns(pid_t pid, const fs::path& out, size_t runs) {
-    const auto deadline = Clock::now() + kChildDeadline;
+    const auto deadline = Clock::now() + ToolTest::kChildDeadline;
     while (Clock::now() < deadline) {
       const json r = readJson(out / "results.json");
       if (!r.is_discarded() && r.value("runs", json::array()).size() >= runs) return true;
@@ -211,11 +120,6 @@ class Sweep : public ::testing::Test {
     return false;
   }
 
-  fs::path outPath() const { return dir / (".stdout" + std::to_string(children_)); }
-  fs::path errPath() const { return dir / (".stderr" + std::to_string(children_)); }
-
-  fs::path dir;
-  int children_ = 0;
 };
 
 // The summary of a timing block: every key of design.md, samples of the stated length, and

@@ -1,0 +1,134 @@
+// Running the built hybridbench from end-to-end tests: each test gets a scratch directory; the
+// tool runs there with stdout and stderr in files (no pipe can fill up and block) and
+// HYBRIDBENCH_VALIDATION=1 whatever the test's own environment says.
+#pragma once
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#ifndef HYBRIDBENCH_BINARY
+#error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
+#endif
+
+extern char** environ;
+
+namespace hb::testing {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exitCode = -1;  // the child's exit status; 128 + signal if a signal ended it
+  std::string out;
+  std::string err;
+};
+
+inline std::string readFile(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+inline void writeFile(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary);
+  f << text;
+}
+
+class ToolTest : public ::testing::Test {
+ protected:
+  static constexpr std::chrono::seconds kChildDeadline{300};
+
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir = fs::temp_directory_path() / (std::string("hybridbench_") + info->test_suite_name() + "_" +
+                                       std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+
+  // Starts hybridbench with args; returns the pid (0: the spawn failed, already reported).
+  pid_t start(const std::vector<std::string>& args) {
+    ++children_;
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, outPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&actions, 2, errPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::vector<std::string> argv{HYBRIDBENCH_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (auto& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    std::vector<std::string> env{"HYBRIDBENCH_VALIDATION=1"};
+    for (char** e = environ; *e; ++e)
+      if (std::strncmp(*e, "HYBRIDBENCH_VALIDATION=", 23) != 0) env.emplace_back(*e);
+    std::vector<char*> cenv;
+    for (auto& e : env) cenv.push_back(e.data());
+    cenv.push_back(nullptr);
+    pid_t pid = 0;
+    const int rc = posix_spawn(&pid, cargv[0], &actions, nullptr, cargv.data(), cenv.data());
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) {
+      ADD_FAILURE() << "posix_spawn " << HYBRIDBENCH_BINARY << " failed: " << std::strerror(rc);
+      return 0;
+    }
+    return pid;
+  }
+
+  // Waits for the child (killing it past kChildDeadline) and checks that the validation layer
+  // reported nothing.
+  RunResult wait(pid_t pid) {
+    RunResult r;
+    if (pid == 0) return r;
+    const auto deadline = std::chrono::steady_clock::now() + kChildDeadline;
+    int status = 0;
+    while (true) {
+      const pid_t w = waitpid(pid, &status, WNOHANG);
+      if (w == pid) break;
+      if (w < 0 && errno != EINTR) {
+        ADD_FAILURE() << "waitpid: " << std::strerror(errno);
+        return r;
+      }
+      if (std::chrono::steady_clock::now() > deadline) {
+        ADD_FAILURE() << "hybridbench ran past " << kChildDeadline.count() << " s; killed";
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = readFile(outPath());
+    r.err = readFile(errPath());
+    EXPECT_EQ(r.out.find("validation:"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err.find("validation:"), std::string::npos) << r.err;
+    return r;
+  }
+
+  RunResult run(const std::vector<std::string>& args) { return wait(start(args)); }
+
+  fs::path outPath() const { return dir / (".stdout" + std::to_string(children_)); }
+  fs::path errPath() const { return dir / (".stderr" + std::to_string(children_)); }
+
+  fs::path dir;
+  int children_ = 0;
+};
+
+}  // namespace hb::testing
