@@ -1,3 +1,4 @@
+#include "results_json.h"
 #include "text_format.h"
 #include "accuracy_report.h"
 
@@ -15,32 +16,16 @@ using nlohmann::json;
 
 namespace {
 
+using results::at;
+using results::csvField;
+using results::escapeCell;
+using results::medianOf;
+using results::numberAt;
+using results::requireResultsFile;
+
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kDash = "—";
-
-
-const json& at(const json& j, const char* key) {
-  static const json kNull;
-  return j.is_object() && j.contains(key) ? j[key] : kNull;
-}
-
-double numberAt(const json& j, const char* key) {
-  const json& v = at(j, key);
-  return v.is_number() ? v.get<double>() : kNaN;
-}
-
-// Median of a stats block: the recorded one, else the median of its samples.
-double medianOf(const json& stats) {
-  const double m = numberAt(stats, "median");
-  if (std::isfinite(m)) return m;
-  std::vector<double> s;
-  for (const json& v : at(stats, "samples"))
-    if (v.is_number()) s.push_back(v.get<double>());
-  if (s.empty()) return kNaN;
-  std::sort(s.begin(), s.end());
-  const size_t n = s.size();
-  return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-}
 
 bool isOk(const json& run) { return at(run, "status") == "ok"; }
 
@@ -65,19 +50,6 @@ double measureOf(const json& run, AccuracyMeasure m) {
       break;
   }
   return kNaN;
-}
-
-void requireResultsFile(const json& r) {
-  if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())
-    throw InputError("results: not a schema_version 1 results file with a 'runs' array; pass a "
-                     "results.json written by 'hybridbench sweep'");
-}
-
-std::string escapeCell(std::string s) {
-  for (size_t pos = 0; (pos = s.find('|', pos)) != std::string::npos; pos += 2) s.insert(pos, "\\");
-  for (char& ch : s)
-    if (ch == '\n') ch = ' ';
-  return s;
 }
 
 std::string escapeXml(const std::string& s) {

@@ -1,3 +1,4 @@
+#include "results_json.h"
 #include "text_format.h"
 #include "tables.h"
 
@@ -14,6 +15,14 @@ namespace hb {
 using nlohmann::json;
 
 namespace {
+
+using results::at;
+using results::csvField;
+using results::escapeCell;
+using results::medianOf;
+using results::numberAt;
+using results::requireResultsFile;
+
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -44,30 +53,12 @@ const ThesisConfig kThesis[] = {
 
 std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
 
-const json& at(const json& j, const char* key) {
-  static const json kNull;
-  return j.is_object() && j.contains(key) ? j[key] : kNull;
-}
-
-double numberAt(const json& j, const char* key) {
-  const json& v = at(j, key);
-  return v.is_number() ? v.get<double>() : kNaN;
-}
-
 std::string stringAt(const json& j, const char* key) {
   const json& v = at(j, key);
   return v.is_string() ? v.get<std::string>() : v.is_null() ? "unknown" : v.dump();
 }
 
 // Median of a stats block: the recorded one, else recomputed from its samples.
-double medianOf(const json& stats) {
-  const double m = numberAt(stats, "median");
-  if (std::isfinite(m)) return m;
-  std::vector<double> samples;
-  for (const json& v : at(stats, "samples"))
-    if (v.is_number()) samples.push_back(v.get<double>());
-  return samples.empty() ? kNaN : summarize(samples).median;
-}
 
 // Params match a configuration. Without light culling there are no tiles to test against an
 // AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway).
@@ -98,26 +89,6 @@ const json* pickRun(const json& runs, const ThesisConfig& c, size_t& matches) {
     }
   }
   return best;
-}
-
-void requireResultsFile(const json& r) {
-  if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())
-    throw InputError("results: not a schema_version 1 results file with a 'runs' array; pass a "
-                     "results.json written by 'hybridbench sweep'");
-}
-
-std::string escapeCell(std::string s) {
-  for (size_t pos = 0; (pos = s.find('|', pos)) != std::string::npos; pos += 2) s.insert(pos, "\\");
-  for (char& ch : s)
-    if (ch == '\n') ch = ' ';
-  return s;
-}
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-  return q + "\"";
 }
 
 std::string bytes(double b) {

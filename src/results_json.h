@@ -1,0 +1,25 @@
+// Reading results files (design.md "Results file") for the report writers: tolerant lookups that
+// turn a missing or mistyped field into null/NaN ("—" in a report, never an invented number).
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace hb::results {
+
+using json = nlohmann::json;
+
+// j[key] when j is an object holding key, else null.
+const json& at(const json& j, const char* key);
+// j[key] as a number, else NaN.
+double numberAt(const json& j, const char* key);
+// The median of a stats block: the recorded one, else the median of its samples, else NaN.
+double medianOf(const json& stats);
+// Throws InputError unless r is a schema_version 1 results file with a runs array.
+void requireResultsFile(const json& r);
+// A Markdown table cell: '|' escaped, newlines as spaces.
+std::string escapeCell(std::string s);
+// A CSV field, quoted (RFC 4180) when it holds a comma, quote or newline.
+std::string csvField(const std::string& s);
+
+}  // namespace hb::results
