@@ -8,6 +8,7 @@
 layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint CULLING = 1;  // 0: every tile gets every light
 layout(constant_id = 2) const uint AABB = 0;     // 1: Turanzkij's AABB test on top of the planes
+layout(constant_id = 3) const uint SLICES = 0;   // 2..32: the 2.5D slab test (cull_ref.h); 0 off
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
 const uint kMaxLights = 4096;  // the visible-set bitmask below; the host refuses more
@@ -27,6 +28,8 @@ shared TileFrustum sFrustum;
 shared float sZNear, sZFar;
 shared vec3 sAabbMin, sAabbMax;
 shared bool sEmpty;
+shared float sSliceScale;
+shared uint sDepthMask;
 
 void main() {
   const uint tile = gl_WorkGroupID.y * frame.tileCountX + gl_WorkGroupID.x;
@@ -51,8 +54,9 @@ void main() {
 
   // Min/max depth over the tile's non-sky pixels (reverse-Z: the minimum is the farthest point).
   uvec2 px = gl_WorkGroupID.xy * TILE + gl_LocalInvocationID.xy;
+  float d = 0.0;  // sky outside the image
   if (px.x < uint(frame.extent.x) && px.y < uint(frame.extent.y)) {
-    float d = texelFetch(depthTex, ivec2(px), 0).r;
+    d = texelFetch(depthTex, ivec2(px), 0).r;
     if (d > 0.0) {
       atomicMin(sMinDepthBits, floatBitsToUint(d));
       atomicMax(sMaxDepthBits, floatBitsToUint(d));
@@ -73,14 +77,22 @@ void main() {
     tileAabb(rays, sZNear, sZFar, lo, hi);
     sAabbMin = lo;
     sAabbMax = hi;
+    // applyDepthSlices in C++: a flat tile (zNear == zFar) is one slab.
+    sSliceScale = sZNear > sZFar ? float(SLICES) / (sZNear - sZFar) : 0.0;
+    sDepthMask = 0u;
   }
   barrier();
+
+  if (SLICES > 0u) {
+    if (d > 0.0) atomicOr(sDepthMask, 1u << sliceOf(sZNear, sSliceScale, SLICES, viewZFromDepth(d, frame.proj[2][2], frame.proj[3][2])));
+    barrier();
+  }
 
   // Each thread tests lights round-robin; the visible set is a bitmask so the stored list can be
   // written in ascending index order (the first kMaxLightsPerTile of them, as cull_ref.h does).
   if (!sEmpty)
     for (uint i = local; i < lightCount; i += groupSize)
-      if (lightTouchesTile(lights[i], frame.view, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1)) atomicOr(sKept[i / 32], 1u << (i % 32));
+      if (lightTouchesTile(lights[i], frame.view, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
   barrier();
 
   if (local == 0) {

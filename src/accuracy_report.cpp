@@ -188,9 +188,9 @@ std::string accuracyReportMarkdown(const json& results) {
 
   std::string out = "## Accuracy vs frame time — " + escapeCell(sweepName(results)) + "\n\n" +
                     escapeCell(contextLine(results)) + "\n\n";
-  out += "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | False "
-         "negatives | Normal error (°) | Normal image error | World-pos error";
-  std::string rule = "|---|--:|--:|--:|--:|--:|--:|--:|--:";
+  out += "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | Lights reaching no "
+         "pixel | False negatives | Normal error (°) | Normal image error | World-pos error";
+  std::string rule = "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:";
   if (anyImage) out += " | Image error (FLIP)", rule += "|--:";
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
   out += " | Pareto |\n" + rule + "|:-:|\n";
@@ -204,7 +204,7 @@ std::string accuracyReportMarkdown(const json& results) {
     if (!p.ok) {
       failed.push_back(&p);
       out += "failed";
-      for (int c = 0; c < 8 + extra; ++c) out += std::string(" | ") + kDash;
+      for (int c = 0; c < 9 + extra; ++c) out += std::string(" | ") + kDash;
       out += std::string(" | ") + kDash + " |\n";
       continue;
     }
@@ -215,6 +215,7 @@ std::string accuracyReportMarkdown(const json& results) {
     out += cell(p.frameMs, "%.3f") + " | " + cell(numberAt(rays, "traced"), "%.0f") + " | " +
            cell(numberAt(rays, "efficiency"), "%.3f") + " | " +
            cell(numberAt(cull, "false_positive_rate"), "%.3f") + " | " +
+           cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
            cell(numberAt(cull, "false_negatives"), "%.0f") + " | " +
            cell(numberAt(acc, "normal_angular_error_deg"), "%.2f") + " | " +
            cell(numberAt(acc, "normal_image_error"), "%.4g") + " | " +
@@ -231,8 +232,12 @@ std::string accuracyReportMarkdown(const json& results) {
          accuracyMeasureLabel(front.measure) + " = " + accuracyMeasureDefinition(front.measure) +
          ". A run is on the front when no other ok run is at least as fast and at least as "
          "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
-         "work, not error, and do not enter the measure. \"—\": the results do not carry the "
-         "figure (normal errors: the variant reconstructs no normals).\n";
+         "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
+         "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
+         "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
+         "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
+         "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
+         "variant reconstructs no normals).\n";
   if (!failed.empty()) {
     out += "\nFailed runs (not on the front):\n";
     for (const AccuracyPoint* p : failed)

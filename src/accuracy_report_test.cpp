@@ -150,15 +150,16 @@ TEST(AccuracyReport, MissingFieldsPrintADashNeverAFigure) {
                {"rays", {{"traced", 100}, {"oracle", 100}}}};
   const std::string md = accuracyReportMarkdown(resultsWith({run("full", 5, 0.01), bare}));
   const std::vector<std::string> cells = rowCells(md, "bare");
-  // | name | frame | traced | eff | fp | fn | normal° | normal img | world | image | dark | lit | pareto
-  ASSERT_EQ(cells.size(), 13u) << md;
+  // | name | frame | traced | eff | fp | fp geometry | fn | normal° | normal img | world | image | dark
+  // | lit | pareto
+  ASSERT_EQ(cells.size(), 14u) << md;
   EXPECT_EQ(cells[1], "3.000");
   EXPECT_EQ(cells[2], "100");
-  for (size_t c = 3; c <= 11; ++c) EXPECT_EQ(cells[c], "—") << "column " << c;
+  for (size_t c = 3; c <= 12; ++c) EXPECT_EQ(cells[c], "—") << "column " << c;
   // "bare" lacks image error and shadow mismatches, so the sweep falls back to the ray deficit,
   // which both runs carry: full has traced 120 ≥ oracle 100 → deficit 0 (surplus is not error),
   // bare 0 too; bare is faster, so it alone is on the front.
-  EXPECT_EQ(cells[12], "**yes**");
+  EXPECT_EQ(cells[13], "**yes**");
   EXPECT_EQ(rowCells(md, "full").back(), "no");
   EXPECT_NE(md.find("ray deficit"), std::string::npos);
 }

@@ -107,6 +107,7 @@ ViewLight<T> toViewLight(const Light& light, const glm::mat<4, 4, T>& view) {
   l.tanOuter = T(spotConeTan(outer));
   l.cosOuter = T(std::cos(outer));
   l.sinOuter = T(std::sin(outer));
+  l.worldScale = glm::length(V3(light.position)) + glm::length(V3(view[3]));
   return l;
 }
 
@@ -161,10 +162,51 @@ bool lightPassesAabb(const TileVolume<T>& tile, const ViewLight<T>& light) {
 }
 
 template <typename T>
+uint32_t sliceOf(const TileVolume<T>& tile, T z) {
+  const T u = std::floor((tile.zNear - z) * tile.sliceScale);
+  return uint32_t(std::min(std::max(u, T(0)), T(tile.slices - 1)));
+}
+
+template <typename T>
+void applyDepthSlices(TileVolume<T>& tile, uint32_t slices, const ProjectionParams<T>& proj,
+                      const std::vector<float>& depth, uint32_t width, uint32_t height, const TileRect& rect) {
+  HB_ASSERT(slices == 0 || (slices >= 2 && slices <= 32));
+  HB_ASSERT(depth.size() == size_t(width) * height && rect.x1 <= width && rect.y1 <= height);
+  tile.slices = slices;
+  tile.depthMask = 0;
+  if (slices == 0 || tile.empty) return;
+  // zNear == zFar: every pixel and every light falls in slab 0 and the slab test keeps all.
+  tile.sliceScale = tile.zNear > tile.zFar ? T(slices) / (tile.zNear - tile.zFar) : T(0);
+  for (uint32_t y = rect.y0; y < rect.y1; ++y)
+    for (uint32_t x = rect.x0; x < rect.x1; ++x) {
+      const float d = depth[size_t(y) * width + x];
+      if (d <= 0.0f) continue;  // sky
+      tile.depthMask |= 1u << sliceOf(tile, viewZFromDepth(T(d), proj));
+    }
+}
+
+template <typename T>
+T sliceWidening(const TileVolume<T>& tile, const ViewLight<T>& light) {
+  const T u = T(0x1p-24);
+  return T(16) * u * (std::abs(tile.zFar) + std::abs(light.position.z) + light.range + light.worldScale);
+}
+
+template <typename T>
+uint32_t lightSliceMask(const TileVolume<T>& tile, const ViewLight<T>& light) {
+  const T reach = light.range + sliceWidening(tile, light);
+  const uint32_t lo = sliceOf(tile, light.position.z + reach);  // nearest point: the largest z
+  const uint32_t hi = sliceOf(tile, light.position.z - reach);
+  return (0xFFFFFFFFu >> (31u - hi)) & (0xFFFFFFFFu << lo);
+}
+
+template <typename T>
 bool lightTouchesTile(const TileVolume<T>& tile, const ViewLight<T>& light, bool useAabb) {
   if (tile.empty) return false;
   if (!lightPassesPlanes(tile, light)) return false;
-  return !useAabb || lightPassesAabb(tile, light);
+  if (useAabb && !lightPassesAabb(tile, light)) return false;
+  if (tile.slices > 0 && light.type != LightType::Directional && (lightSliceMask(tile, light) & tile.depthMask) == 0)
+    return false;
+  return true;
 }
 
 template <typename T>
@@ -383,6 +425,27 @@ CullStatistics cullStatistics(const std::vector<TileLightList>& kept,
   return s;
 }
 
+void addGeometryStatistics(CullStatistics& s, const std::vector<TileLightList>& kept,
+                           const std::vector<std::vector<uint32_t>>& needed, bool sliced) {
+  HB_ASSERT(kept.size() == needed.size() && kept.size() == s.tiles);
+  s.neededPairs = s.uselessPairs = s.missedNeeded = 0;
+  for (size_t t = 0; t < kept.size(); ++t) {
+    const auto& stored = kept[t].indices;
+    const auto& need = needed[t];
+    const bool overflow = kept[t].total > stored.size();
+    s.neededPairs += need.size();
+    for (uint32_t i : stored)
+      if (!std::binary_search(need.begin(), need.end(), i)) ++s.uselessPairs;
+    for (uint32_t i : need)
+      if (!overflow && !std::binary_search(stored.begin(), stored.end(), i)) ++s.missedNeeded;
+  }
+  s.uselessRate = s.storedPairs ? double(s.uselessPairs) / double(s.storedPairs) : 0.0;
+  if (sliced) {
+    s.slicedAway = s.falseNegatives;
+    s.falseNegatives = s.missedNeeded;
+  }
+}
+
 // Explicit instantiations: float mirrors the GPU, double is the reference.
 #define HB_CULL_INSTANTIATE(T)                                                                     \
   template std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>&, const TileRect&, \
@@ -399,6 +462,11 @@ CullStatistics cullStatistics(const std::vector<TileLightList>& kept,
   template bool lightPassesPlanes(const TileVolume<T>&, const ViewLight<T>&);                      \
   template bool lightPassesAabb(const TileVolume<T>&, const ViewLight<T>&);                        \
   template bool lightTouchesTile(const TileVolume<T>&, const ViewLight<T>&, bool);                 \
+  template uint32_t sliceOf(const TileVolume<T>&, T);                                              \
+  template void applyDepthSlices(TileVolume<T>&, uint32_t, const ProjectionParams<T>&,              \
+                                 const std::vector<float>&, uint32_t, uint32_t, const TileRect&);   \
+  template T sliceWidening(const TileVolume<T>&, const ViewLight<T>&);                             \
+  template uint32_t lightSliceMask(const TileVolume<T>&, const ViewLight<T>&);                     \
   template TileLightList cullTile(const TileVolume<T>&, const std::vector<ViewLight<T>>&, bool, uint32_t);
 HB_CULL_INSTANTIATE(float)
 HB_CULL_INSTANTIATE(double)

@@ -81,6 +81,12 @@ TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, u
 // [5] far (n = (0,0,1), d = -zFar); corners [0..3] = cornerRays[i] * -zNear, [4..7] the same at
 // zFar; the AABB of those 8 corners. zNear = viewZ(maxDepth) >= zFar = viewZ(minDepth) (reverse-Z:
 // the smallest depth is the farthest point). empty: all-sky tile, it receives no light at all.
+//
+// Depth slices (beyond the thesis; Harada et al., "A 2.5D culling for Forward+", SIGGRAPH Asia
+// 2012 Technical Briefs): with slices > 0 (applyDepthSlices) the tile's [zFar, zNear] is cut
+// into `slices` equal slabs of view z; depthMask has bit k set when a non-sky pixel lies in slab
+// k (k = 0 nearest), and a light is kept only if its z extent meets an occupied slab. slices = 0:
+// off (tileVolume's default), and the rest of the test ignores sliceScale and depthMask.
 template <typename T>
 struct TileVolume {
   std::array<Plane<T>, 6> planes;
@@ -88,6 +94,9 @@ struct TileVolume {
   glm::vec<3, T> aabbMin, aabbMax;
   T zNear, zFar;
   bool empty;
+  uint32_t slices = 0;
+  T sliceScale = T(0);    // slices / (zNear - zFar); 0 for a flat tile (zNear == zFar: one slab)
+  uint32_t depthMask = 0;
 };
 template <typename T>
 TileVolume<T> tileVolume(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width,
@@ -103,6 +112,7 @@ struct ViewLight {
   T range;
   T tanOuter;
   T cosOuter, sinOuter;
+  T worldScale;  // |world position| + |view translation|: the size the view transform rounds at
 };
 // tan(outer) for the cone-vs-plane test, or -1 when outer > kMaxConeCullAngle. What the GPU
 // light packer stores in GpuLight::tanOuter.
@@ -136,7 +146,36 @@ bool lightPassesPlanes(const TileVolume<T>& tile, const ViewLight<T>& light);
 // Turanzkij's AABB test: range sphere vs the tile frustum's AABB; directional always passes.
 template <typename T>
 bool lightPassesAabb(const TileVolume<T>& tile, const ViewLight<T>& light);
-// Kept iff the tile is not empty and the plane test (and, with useAabb, the AABB test) keeps it.
+
+// ---- depth slices (see TileVolume) ----
+
+// Slab of view-space z: clamp(floor((zNear - z) · sliceScale), 0, slices - 1), clamped in floating
+// point before the conversion (a light far outside the tile maps far outside [0, slices)).
+// Precondition: tile.slices in 1..32.
+template <typename T>
+uint32_t sliceOf(const TileVolume<T>& tile, T z);
+// Sets tile.slices, tile.sliceScale and tile.depthMask from the tile's non-sky pixels (their view
+// z is viewZFromDepth of their depth, in T). Precondition: slices in 2..32 (0 leaves it off);
+// depth as tileDepthRange.
+template <typename T>
+void applyDepthSlices(TileVolume<T>& tile, uint32_t slices, const ProjectionParams<T>& proj,
+                      const std::vector<float>& depth, uint32_t width, uint32_t height, const TileRect& rect);
+// How far the light's z extent is widened before slicing, so that float rounding never drops a
+// light that reaches a pixel: both the pixel's slab and the light's slabs go through the same
+// monotone sliceOf (correctly rounded - and *), so only their inputs' errors matter: the pixel's
+// z = -D/(d + C) is within 6u·|z| <= 6u·|zFar| (an add, a division of 2.5 ulp on the GPU), and
+// the light's view z within 8u·worldScale (culling_analysis.cpp, view transform) plus 2u·(|zc|
+// + r) for the two sums zc ± r. Widening by twice their sum, 16u·(|zFar| + |zc| + r +
+// worldScale) with u = 2^-24, covers both with room for the widening's own rounding.
+template <typename T>
+T sliceWidening(const TileVolume<T>& tile, const ViewLight<T>& light);
+// Bits sliceOf(zc + r + w) .. sliceOf(zc - r - w) of the light's range sphere (w = sliceWidening;
+// a spot's sector lies in its sphere).
+template <typename T>
+uint32_t lightSliceMask(const TileVolume<T>& tile, const ViewLight<T>& light);
+
+// Kept iff the tile is not empty and the plane test (and, with useAabb, the AABB test, and with
+// depth slices, the slab test) keeps it.
 template <typename T>
 bool lightTouchesTile(const TileVolume<T>& tile, const ViewLight<T>& light, bool useAabb);
 
@@ -185,10 +224,26 @@ struct CullStatistics {
   uint32_t maxLightsPerTile = 0;
   uint64_t overflowTiles = 0;
   uint64_t memoryBytes = 0;
+  // Against the geometry (addGeometryStatistics): a light is NEEDED by a tile when it reaches
+  // (range ball, and cone for a spot) the view-space point of at least one of its pixels.
+  uint64_t neededPairs = 0;
+  uint64_t uselessPairs = 0;         // stored lights that reach none of the tile's pixels
+  double uselessRate = 0.0;          // uselessPairs / storedPairs (0 when none)
+  uint64_t missedNeeded = 0;         // needed lights missing from a tile that did not overflow
+  uint64_t slicedAway = 0;           // with depth slices: exact lights the slab test removed
 };
 // Precondition: kept.size() == exact.size() == tileCount(width)*tileCount(height).
 CullStatistics cullStatistics(const std::vector<TileLightList>& kept,
                               const std::vector<std::vector<uint32_t>>& exact, uint32_t width,
                               uint32_t height, uint32_t tileSize, uint32_t capacity);
+
+// Fills the geometry figures of `s` from needed[i], tile i's needed lights (ascending; a subset of
+// its exact set). With depth slices the exact set is no longer what a tile must keep (the slab
+// test removes lights that meet the frustum between two surfaces on purpose), so `sliced` moves
+// the exact lights missing from non-overflowing tiles from falseNegatives to slicedAway and makes
+// falseNegatives = missedNeeded: what must be 0 is then "no light that reaches a pixel is lost".
+// Precondition: kept.size() == needed.size() == s.tiles, s from cullStatistics on the same kept.
+void addGeometryStatistics(CullStatistics& s, const std::vector<TileLightList>& kept,
+                           const std::vector<std::vector<uint32_t>>& needed, bool sliced);
 
 }  // namespace hb

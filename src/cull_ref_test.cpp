@@ -442,5 +442,130 @@ TEST(CullStatistics, CountsFalsePositivesNegativesOverflowAndMemory) {
   EXPECT_EQ(cullingMemoryBytes(1920, 1080, 8, 32), 32400u * (16u + 128u));
 }
 
+// ---- depth slices --------------------------------------------------------------------------------
+
+// A tile cut into `slices` slabs between z = -2 and z = -10 (depths of those distances); pixels at
+// z = -2 (slab 0) and z = -10 (the last slab) only.
+struct SlicedTile {
+  ProjectionParams<double> proj = projectionParams(reverseZProjectionD(16.0 / 9.0, 1.0, 0.1, 100.0));
+  uint32_t width = 64, height = 32;
+  TileRect rect = tileRect(1, 1, 16, 64, 32);
+  std::vector<float> depth;
+  TileVolume<double> tile;
+  explicit SlicedTile(uint32_t slices) {
+    depth.assign(size_t(width) * height, 0.0f);
+    for (uint32_t y = rect.y0; y < rect.y1; ++y)
+      for (uint32_t x = rect.x0; x < rect.x1; ++x)
+        depth[size_t(y) * width + x] = float(proj.d / (x < rect.x0 + 8 ? 2.0 : 10.0) - proj.c);
+    const auto r = tileDepthRange(depth, width, height, rect);
+    tile = tileVolume(proj, rect, width, height, double(r.minDepth), double(r.maxDepth));
+    applyDepthSlices(tile, slices, proj, depth, width, height, rect);
+  }
+};
+
+TEST(DepthSlices, MaskHoldsTheSlabsOfThePixelsOnly) {
+  const SlicedTile t(32);
+  EXPECT_EQ(t.tile.depthMask, 0x80000001u);
+  EXPECT_NEAR(t.tile.sliceScale, 32.0 / 8.0, 1e-5);
+  // Outside the tile's range sliceOf clamps to the first and last slab (no UB, no wrap).
+  EXPECT_EQ(sliceOf(t.tile, 5.0), 0u);
+  EXPECT_EQ(sliceOf(t.tile, -1e30), 31u);
+  EXPECT_EQ(sliceOf(t.tile, -6.1), 16u);  // 4.1 m past the near bound at 4 slabs per metre
+}
+
+TEST(DepthSlices, LightInTheGapIsDroppedAndLightsReachingEitherSurfaceAreKept) {
+  const SlicedTile t(32);
+  const glm::dvec3 axis = (t.tile.corners[0] + t.tile.corners[2]) / 2.0 / 2.0;  // ray at z = -1
+  const TileVolume<double> plain = [&] {
+    TileVolume<double> v = t.tile;
+    v.slices = 0;
+    return v;
+  }();
+  const auto gap = Fixture::point(axis * 6.1, 1.0);  // z from -5.1 to -7.1: u 12.4..20.4, slabs 12..20
+  EXPECT_TRUE(lightTouchesTile(plain, gap, true));
+  EXPECT_FALSE(lightTouchesTile(t.tile, gap, true));
+  EXPECT_EQ(lightSliceMask(t.tile, gap), 0x001FF000u);
+  EXPECT_TRUE(lightTouchesTile(t.tile, Fixture::point(axis * 6.0, 4.1), true));   // reaches 10 m
+  EXPECT_TRUE(lightTouchesTile(t.tile, Fixture::point(axis * 3.0, 1.05), true));  // reaches 2 m
+}
+
+TEST(DepthSlices, FlatTileIsOneSlabAndKeepsWhatThePlanesKeep) {
+  SlicedTile t(32);
+  std::fill(t.depth.begin(), t.depth.end(), float(t.proj.d / 5.0 - t.proj.c));
+  const auto r = tileDepthRange(t.depth, t.width, t.height, t.rect);
+  auto tile = tileVolume(t.proj, t.rect, t.width, t.height, double(r.minDepth), double(r.maxDepth));
+  applyDepthSlices(tile, 32, t.proj, t.depth, t.width, t.height, t.rect);
+  EXPECT_EQ(tile.sliceScale, 0.0);
+  EXPECT_EQ(tile.depthMask, 1u);
+  const glm::dvec3 axis = (tile.corners[0] + tile.corners[2]) / 2.0 / -tile.zNear;  // ray at z = -1
+  EXPECT_TRUE(lightTouchesTile(tile, Fixture::point(axis * 5.5, 0.6), false));
+}
+
+// In float, as the GPU runs it: the slab test never drops a light that the plane test keeps and
+// that reaches a pixel in double; that is what sliceWidening is for. The close calls are built on
+// purpose: a tile with pixels at a near and a far distance and, in between, a surface whose z lies
+// on a slab boundary of the 32-slab cut (the float depth moves it by ~1e-7·|z| either way), and a
+// light straight in front of one of its pixels whose range ends at that pixel's z to within float
+// rounding, so the pixel's slab and the light's last slab are decided by rounding alone.
+TEST(DepthSlices, FloatNeverDropsALightThatReachesAPixel) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  uint64_t reaching = 0, tested = 0, straddling = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double zn = logUniform(rng, 0.01, 1.0), zf = zn * logUniform(rng, 100.0, 1e5);
+    const glm::dmat4 projD = reverseZProjectionD(16.0 / 9.0, 1.0, zn, zf);
+    const auto proj = projectionParams(projD);
+    const uint32_t w = 128, h = 72, ts = 16;
+    const TileRect rect = tileRect(uint32_t(rng() % 8), uint32_t(rng() % 5), ts, w, h);
+    auto depthAt = [&](double dist) { return float(proj.d / dist - proj.c); };
+    const double nearDist = logUniform(rng, zn, std::min(zf, 1e4) / 4);
+    const double farDist = nearDist * logUniform(rng, 1.01, 4.0);
+    // zNear and zFar as the tile will see them (from the float depths), then boundary k of 32.
+    const double zNear = viewZFromDepth(double(depthAt(nearDist)), proj);
+    const double zFar = viewZFromDepth(double(depthAt(farDist)), proj);
+    const double zMid = zNear - double(1 + rng() % 31) * (zNear - zFar) / 32.0;
+    std::vector<float> depth(size_t(w) * h, 0.0f);
+    for (uint32_t y = rect.y0; y < rect.y1; ++y)
+      for (uint32_t x = rect.x0; x < rect.x1; ++x) {
+        const uint32_t pick = (x + y) % 3;
+        depth[size_t(y) * w + x] = depthAt(pick == 0 ? nearDist : pick == 1 ? farDist : -zMid);
+      }
+    // A middle-surface pixel's view-space point (double, pixel centre).
+    uint32_t px, py;
+    do {
+      px = rect.x0 + uint32_t(rng() % (rect.x1 - rect.x0));
+      py = rect.y0 + uint32_t(rng() % (rect.y1 - rect.y0));
+    } while ((px + py) % 3 != 2);
+    const double z = viewZFromDepth(double(depth[size_t(py) * w + px]), proj);
+    const glm::dvec3 p((2.0 * ((px + 0.5) / w) - 1.0) / proj.a * -z, (2.0 * ((py + 0.5) / h) - 1.0) / proj.b * -z, z);
+    // The light in front of it (toward the camera) or behind it, its range ending at p.
+    const double r0 = std::abs(z) * logUniform(rng, 1e-4, 0.2) * (u01(rng) < 0.5 ? 1.0 : -1.0);
+    Light l;
+    l.position = glm::vec3(p + glm::dvec3(0.0, 0.0, r0));
+    l.range = float(std::abs(r0));
+    if (glm::length(glm::dvec3(l.position) - p) > double(l.range)) continue;  // does not reach p
+    ++reaching;
+    const auto r = tileDepthRange(depth, w, h, rect);
+    const auto projF = projectionParams(glm::mat4(projD));
+    auto volF = tileVolume(projF, rect, w, h, r.minDepth, r.maxDepth);
+    const ViewLight<float> lf = toViewLight(l, glm::mat4(1.0f));
+    if (!lightTouchesTile(volF, lf, true)) continue;  // a plane-test close call: not this test's
+    // The unwidened float decision at 32 slabs: how often rounding alone would have lost it.
+    applyDepthSlices(volF, 32, projF, depth, w, h, rect);
+    const float reach = lf.range;
+    const uint32_t lo = sliceOf(volF, lf.position.z + reach), hi = sliceOf(volF, lf.position.z - reach);
+    straddling += ((0xFFFFFFFFu >> (31u - hi)) & (0xFFFFFFFFu << lo) & volF.depthMask) == 0;
+    for (uint32_t slices : {2u, 7u, 32u}) {
+      applyDepthSlices(volF, slices, projF, depth, w, h, rect);
+      ASSERT_TRUE(lightTouchesTile(volF, lf, true)) << "case " << i << " slices " << slices << " z " << z;
+      ++tested;
+    }
+  }
+  EXPECT_GT(tested, 100000u);
+  EXPECT_GT(straddling, 100u);  // without the widening these would have been dropped
+  std::printf("lights reaching a pixel %llu, slab tests %llu, dropped without widening %llu\n",
+              (unsigned long long)reaching, (unsigned long long)tested, (unsigned long long)straddling);
+}
+
 }  // namespace
 }  // namespace hb

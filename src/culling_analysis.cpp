@@ -51,6 +51,30 @@ bool sphereClearlyOutside(const TileVolume<double>& tile, const ViewLight<double
   return false;
 }
 
+// Does the light reach the view-space point p? Range ball, and for a spot its cone (an outer angle
+// of 90° or more leaves the half-space or the ball: cosOuter <= 0 still reads right).
+bool lightReachesPoint(const ViewLight<double>& l, const glm::dvec3& p) {
+  if (l.type == LightType::Directional) return true;
+  const glm::dvec3 v = p - l.position;
+  const double d2 = glm::dot(v, v);
+  if (d2 > l.range * l.range) return false;
+  return l.type == LightType::Point || glm::dot(v, l.direction) >= l.cosOuter * std::sqrt(d2);
+}
+
+// The view-space points of the tile's non-sky pixels, at pixel centres, in double.
+std::vector<glm::dvec3> tilePoints(const CullingInputs& in, const ProjectionParams<double>& proj, const TileRect& rect) {
+  std::vector<glm::dvec3> pts;
+  for (uint32_t y = rect.y0; y < rect.y1; ++y)
+    for (uint32_t x = rect.x0; x < rect.x1; ++x) {
+      const float d = (*in.depth)[size_t(y) * in.width + x];
+      if (d <= 0.0f) continue;
+      const double z = viewZFromDepth(double(d), proj);
+      const double ndcX = 2.0 * ((x + 0.5) / in.width) - 1.0, ndcY = 2.0 * ((y + 0.5) / in.height) - 1.0;
+      pts.emplace_back(ndcX / proj.a * -z, ndcY / proj.b * -z, z);
+    }
+  return pts;
+}
+
 }  // namespace
 
 CullingReference cullingReference(const CullingInputs& in) {
@@ -66,6 +90,7 @@ CullingReference cullingReference(const CullingInputs& in) {
   ref.same.resize(size_t(tx) * ty);
   ref.sameAll.resize(size_t(tx) * ty);
   ref.exact.resize(size_t(tx) * ty);
+  ref.needed.resize(size_t(tx) * ty);
   for (uint32_t y = 0; y < ty; ++y)
     for (uint32_t x = 0; x < tx; ++x) {
       const size_t t = size_t(y) * tx + x;
@@ -73,7 +98,8 @@ CullingReference cullingReference(const CullingInputs& in) {
       const TileDepthRange range = tileDepthRange(*in.depth, in.width, in.height, rect);
       std::vector<uint32_t>& all = ref.sameAll[t];
       if (in.lightCulling) {
-        const auto volF = tileVolume(projF, rect, in.width, in.height, range.minDepth, range.maxDepth);
+        auto volF = tileVolume(projF, rect, in.width, in.height, range.minDepth, range.maxDepth);
+        applyDepthSlices(volF, in.depthSlices, projF, *in.depth, in.width, in.height, rect);
         all = cullTile(volF, lightsF, in.aabb, std::numeric_limits<uint32_t>::max()).indices;
       } else {
         for (uint32_t i = 0; i < n; ++i) all.push_back(i);  // every tile, sky included, as the GPU
@@ -89,6 +115,11 @@ CullingReference cullingReference(const CullingInputs& in) {
         if (l.type != LightType::Directional && sphereClearlyOutside(volD, l)) continue;
         if (exactLightMeetsTile(volD, l)) ref.exact[t].push_back(i);
       }
+      if (ref.exact[t].empty()) continue;
+      const std::vector<glm::dvec3> pts = tilePoints(in, dbl.proj, rect);
+      for (uint32_t i : ref.exact[t])
+        if (std::any_of(pts.begin(), pts.end(), [&](const glm::dvec3& p) { return lightReachesPoint(dbl.lights[i], p); }))
+          ref.needed[t].push_back(i);
     }
   return ref;
 }
@@ -109,7 +140,10 @@ std::vector<TileLightList> gpuTileLists(const CullingInputs& in, const CullingRe
 }
 
 CullStatistics gpuCullStatistics(const CullingInputs& in, const CullingReadback& gpu, const CullingReference& ref) {
-  return cullStatistics(gpuTileLists(in, gpu), ref.exact, in.width, in.height, in.tileSize, in.capacity);
+  const std::vector<TileLightList> lists = gpuTileLists(in, gpu);
+  CullStatistics s = cullStatistics(lists, ref.exact, in.width, in.height, in.tileSize, in.capacity);
+  addGeometryStatistics(s, lists, ref.needed, in.lightCulling && in.depthSlices > 0);
+  return s;
 }
 
 ImageRGBA8 lightsPerTileHeatmap(const CullingInputs& in, const CullingReadback& gpu) {
@@ -134,7 +168,12 @@ nlohmann::json cullStatisticsJson(const CullStatistics& s, const CullingInputs& 
           {"memory_bytes", s.memoryBytes},
           {"tile_size", in.tileSize},
           {"aabb", in.aabb},
-          {"light_culling", in.lightCulling}};
+          {"light_culling", in.lightCulling},
+          {"depth_slices", in.depthSlices},
+          {"needed_pairs", s.neededPairs},
+          {"geometry_false_positive_rate", s.uselessRate},
+          {"geometry_false_negatives", s.missedNeeded},
+          {"sliced_away", s.slicedAway}};
 }
 
 // ---- rounding margin --------------------------------------------------------------------------
@@ -198,6 +237,47 @@ double cullingRoundingBound(const std::array<glm::dvec3, 4>& rays, const TileVol
   return (42.0 * cond + 80.0) * kU * scale + 8.0 * kU * (worldPositionLength + viewTranslationLength);
 }
 
+double sliceDecisionMargin(const TileVolume<double>& tile, const ViewLight<double>& l,
+                           const ProjectionParams<double>& proj, const std::vector<float>& depth, uint32_t width,
+                           const TileRect& rect) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (l.type == LightType::Directional || tile.slices == 0 || tile.empty || !(tile.sliceScale > 0.0)) return inf;
+  const double width1 = 1.0 / tile.sliceScale;  // one slab, in metres of z
+  auto boundary = [&](double k) { return tile.zNear - k * width1; };
+  // Distance from z to the nearest of the slices + 1 boundaries zNear - k·width1, k = 0..slices.
+  auto toNearestBoundary = [&](double z) {
+    const double k = std::clamp(std::round((tile.zNear - z) * tile.sliceScale), 0.0, double(tile.slices));
+    return std::abs(z - boundary(k));
+  };
+  const double reach = l.range + sliceWidening(tile, l);
+  double m = std::min(toNearestBoundary(l.position.z + reach), toNearestBoundary(l.position.z - reach));
+  const double lo = sliceOf(tile, l.position.z + reach), hi = sliceOf(tile, l.position.z - reach);
+  for (uint32_t y = rect.y0; y < rect.y1; ++y)
+    for (uint32_t x = rect.x0; x < rect.x1; ++x) {
+      const float d = depth[size_t(y) * width + x];
+      if (d <= 0.0f) continue;
+      const double z = viewZFromDepth(double(d), proj);
+      m = std::min({m, std::abs(z - boundary(lo)), std::abs(z - boundary(hi + 1.0))});
+    }
+  return m;
+}
+
+// The slab test compares, in effect, view z values with the boundaries zNear - k/scale. Against
+// double, float evaluation moves (u = 2^-24; GPU division 2.5 ulp = 5u):
+//  - a pixel's z = -D/(d + C): (1 + u)(1 + 5u) → 6u·|z| <= 6u·|zFar|;
+//  - zNear, zFar the same way, 6u each; scale = slices/(zNear - zFar) then carries the relative
+//    error 6u(|zNear| + |zFar|)/(zNear - zFar) + u (subtraction) + 5u (division), which moves
+//    boundary k = zNear - k/scale (k <= slices) by at most 6u(|zNear| + |zFar|) + 6u(zNear - zFar)
+//    <= 12u(|zNear| + |zFar|), plus 6u·|zNear| for zNear itself and u·slices/scale = u(zNear -
+//    zFar) for the product (zNear - z)·scale: under 20u(|zNear| + |zFar|);
+//  - the light's ends zc ± (r + w): zc within 8u·worldScale (view transform, as in the plane
+//    bound below), two sums 2u(|zc| + r + w), w itself is tiny (16u·(...)) and rounds at u·w.
+// Summed and doubled for safety: 32u(|zNear| + |zFar| + |zc| + r) + 16u·worldScale.
+double sliceRoundingBound(const TileVolume<double>& tile, const ViewLight<double>& l) {
+  return 32.0 * kU * (std::abs(tile.zNear) + std::abs(tile.zFar) + std::abs(l.position.z) + l.range) +
+         16.0 * kU * l.worldScale;
+}
+
 // ---- comparison -------------------------------------------------------------------------------
 
 CullingComparison compareGpuToReference(const CullingInputs& in, const CullingReadback& gpu,
@@ -241,12 +321,22 @@ CullingComparison compareGpuToReference(const CullingInputs& in, const CullingRe
         if (in.lightCulling) {  // culling off involves no arithmetic: every disagreement is hard
           if (!haveVolume) {
             vol = doubleVolume(in, dbl.proj, rect);
+            applyDepthSlices(vol, in.depthSlices, dbl.proj, *in.depth, in.width, in.height, rect);
             rays = tileCornerRays(dbl.proj, rect, in.width, in.height);
             haveVolume = true;
           }
           m.margin = cullingDecisionMargin(vol, dbl.lights[i], in.aabb);
           m.bound = cullingRoundingBound(rays, vol, dbl.lights[i], worldLen[i], viewT);
           m.borderline = !vol.empty && m.margin <= m.bound;
+          if (in.depthSlices > 0 && !m.borderline) {
+            const double sm = sliceDecisionMargin(vol, dbl.lights[i], dbl.proj, *in.depth, in.width, rect);
+            const double sb = sliceRoundingBound(vol, dbl.lights[i]);
+            if (sm <= sb) {
+              m.margin = sm;
+              m.bound = sb;
+              m.borderline = true;
+            }
+          }
         }
         return m;
       };

@@ -35,6 +35,7 @@ struct CullingInputs {
   bool aabb = false;
   bool lightCulling = true;
   uint32_t capacity = kDefaultTileCapacity;
+  uint32_t depthSlices = 0;  // 0 off, 2..32: the 2.5D slab test (cull_ref.h TileVolume)
 };
 
 // Per tile (row-major, tileCount(width) × tileCount(height)), ascending light indices.
@@ -42,10 +43,15 @@ struct CullingReference {
   std::vector<TileLightList> same;               // the GPU's method in float, first `capacity` stored
   std::vector<std::vector<uint32_t>> sameAll;    // the same method's full kept set (no capacity)
   std::vector<std::vector<uint32_t>> exact;      // exact (double) light set; empty for sky tiles
+  std::vector<std::vector<uint32_t>> needed;     // exact lights reaching one of the tile's pixels
 };
 
 // The CPU reference for `in`. Light culling off: every tile keeps every light (as the GPU does,
-// sky tiles included); the exact sets do not depend on the flag.
+// sky tiles included); the exact sets do not depend on the flag, nor on depth slices (they are
+// the lights meeting the tile's depth-bounded frustum). needed: the lights of the exact set that
+// reach, in double, the view-space point of at least one of the tile's non-sky pixels (pixel
+// centre, depth as rendered): inside the range ball and, for a spot, its cone; a directional
+// light reaches every such point.
 CullingReference cullingReference(const CullingInputs& in);
 
 // The GPU readback as per-tile lists (indices sorted ascending, total from the grid).
@@ -53,7 +59,8 @@ CullingReference cullingReference(const CullingInputs& in);
 // entry's slice lies inside gpu.indices.
 std::vector<TileLightList> gpuTileLists(const CullingInputs& in, const CullingReadback& gpu);
 
-// Statistics of the GPU result against the exact sets (cull_ref.h cullStatistics).
+// Statistics of the GPU result against the exact and needed sets (cull_ref.h cullStatistics and
+// addGeometryStatistics, sliced when in.depthSlices > 0).
 CullStatistics gpuCullStatistics(const CullingInputs& in, const CullingReadback& gpu,
                                  const CullingReference& ref);
 
@@ -63,7 +70,8 @@ ImageRGBA8 lightsPerTileHeatmap(const CullingInputs& in, const CullingReadback& 
 
 // Keys: tiles, lights_per_tile_mean, lights_per_tile_max, overflow_tiles, false_positive_rate,
 // false_positives, false_negatives, dropped_by_overflow, memory_bytes, tile_size, aabb,
-// light_culling.
+// light_culling, depth_slices, needed_pairs, geometry_false_positive_rate (stored lights reaching
+// none of the tile's pixels / stored), geometry_false_negatives, sliced_away.
 nlohmann::json cullStatisticsJson(const CullStatistics& stats, const CullingInputs& in);
 
 // One light on which the GPU and the float reference disagree in one tile.
@@ -108,6 +116,16 @@ CullingAnalysis analyzeCulling(const CullingInputs& in, const CullingReadback& g
 // threshold: |s + r| and |s| for every plane, the cone base point Q, and (with aabb) the sphere-
 // AABB distance minus r. Directional lights: +inf (never culled).
 double cullingDecisionMargin(const TileVolume<double>& tile, const ViewLight<double>& light, bool aabb);
+// The slab test's margin, in metres of view z, for a tile sliced in double (applyDepthSlices):
+// the distance of the light's widened z extent's ends to the nearest slab boundary, and of every
+// non-sky pixel's z to the two boundaries that enclose the light's slabs (only a pixel crossing
+// one of those can change the answer). +inf for a directional light, a flat or unsliced tile.
+double sliceDecisionMargin(const TileVolume<double>& tile, const ViewLight<double>& light,
+                           const ProjectionParams<double>& proj, const std::vector<float>& depth, uint32_t width,
+                           const TileRect& rect);
+// The bound float evaluation (CPU or GPU) stays within for those distances (derivation in
+// culling_analysis.cpp).
+double sliceRoundingBound(const TileVolume<double>& tile, const ViewLight<double>& light);
 // The bound on how far float evaluation on CPU or GPU can move those comparisons (derivation in
 // culling_analysis.cpp). rays: the tile's corner rays in double; worldPosition: the light's
 // world-space position; viewTranslation: |view[3].xyz|.

@@ -161,6 +161,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     ci.tileSize = s.tileSize;
     ci.aabb = s.aabb;
     ci.lightCulling = s.lightCulling;
+    ci.depthSlices = s.depthSlices;
     ci.capacity = cr.capacity;
     CullingAnalysis ca = analyzeCulling(ci, cr);
     j["culling"] = ca.json;
@@ -168,11 +169,15 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
           {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
     char line[256];
     std::snprintf(line, sizeof line,
-                  "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %%, "
-                  "false negatives %llu",
+                  "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %% "
+                  "(reaching no pixel %.1f %%), false negatives %llu%s",
                   (unsigned long long)ca.stats.tiles, ca.stats.meanLightsPerTile, ca.stats.maxLightsPerTile,
                   (unsigned long long)ca.stats.overflowTiles, 100.0 * ca.stats.falsePositiveRate,
-                  (unsigned long long)ca.stats.falseNegatives);
+                  100.0 * ca.stats.uselessRate, (unsigned long long)ca.stats.falseNegatives,
+                  s.depthSlices ? (", " + std::to_string(ca.stats.slicedAway) + " cut by " +
+                                   std::to_string(s.depthSlices) + " depth slices")
+                                      .c_str()
+                                : "");
     out.summary.push_back(line);
   }
   if (renderer.hasCulling() && renderer.hasShadows()) {

@@ -58,6 +58,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     cs.tileSize = settings.tileSize;
     cs.lightCulling = settings.lightCulling;
     cs.aabb = settings.aabb;
+    cs.depthSlices = settings.depthSlices;
     culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
                                               depth_, pointSampler_);
   }

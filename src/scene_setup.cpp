@@ -46,9 +46,6 @@ RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
     throw InputError("max_lights_per_tile=" + std::to_string(p.maxLightsPerTile) +
                      ": only 32 (one 32-bit visibility mask per texel) is implemented; overflowing tiles are "
                      "counted and reported instead of truncated silently");
-  if (p.depthSlices != 0)
-    throw InputError("depth_slices=" + std::to_string(p.depthSlices) +
-                     ": depth-sliced culling is not implemented yet; use depth_slices=0");
   RenderSettings s;
   s.width = p.resolution[0];
   s.height = p.resolution[1];
@@ -62,6 +59,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
                                                         : gpu::kNormalsImproved;
   s.worldPos = p.worldPos == WorldPosMethod::Alg41 ? gpu::kWorldPosAlg41 : gpu::kWorldPosMatrix;
   s.rangeTest = p.rangeTest;
+  s.depthSlices = p.depthSlices;
   return s;
 }
 

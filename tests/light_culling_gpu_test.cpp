@@ -31,13 +31,15 @@ struct CullRun {
 // Renders one frame of `scene` (no shadows: only the depth prepass and the culling passes) and
 // analyses its culling. `scene` must outlive the result (in.lights points into it).
 std::unique_ptr<CullRun> cull(const VulkanContext& ctx, const Scene& scene, uint32_t width, uint32_t height,
-                              uint32_t tileSize, bool lightCulling = true, bool aabb = false) {
+                              uint32_t tileSize, bool lightCulling = true, bool aabb = false,
+                              uint32_t depthSlices = 0) {
   RenderSettings rs;
   rs.width = width;
   rs.height = height;
   rs.tileSize = tileSize;
   rs.lightCulling = lightCulling;
   rs.aabb = aabb;
+  rs.depthSlices = depthSlices;
   rs.shadows = false;
   Renderer renderer(ctx, scene, rs);
   renderer.renderFrame(true);
@@ -53,6 +55,7 @@ std::unique_ptr<CullRun> cull(const VulkanContext& ctx, const Scene& scene, uint
   run->in.tileSize = tileSize;
   run->in.aabb = aabb;
   run->in.lightCulling = lightCulling;
+  run->in.depthSlices = depthSlices;
   run->in.capacity = run->gpu.capacity;
   run->analysis = analyzeCulling(run->in, run->gpu);
   return run;
@@ -60,7 +63,8 @@ std::unique_ptr<CullRun> cull(const VulkanContext& ctx, const Scene& scene, uint
 
 std::string label(const CullingInputs& in) {
   return std::to_string(in.width) + "x" + std::to_string(in.height) + " tile " + std::to_string(in.tileSize) +
-         (in.lightCulling ? "" : " culling off") + (in.aabb ? " aabb" : "");
+         (in.lightCulling ? "" : " culling off") + (in.aabb ? " aabb" : "") +
+         (in.depthSlices ? " slices " + std::to_string(in.depthSlices) : "");
 }
 
 // The GPU lists equal the float reference (up to rounding-level borderline decisions) and miss
@@ -75,6 +79,10 @@ void expectMatchesReference(const CullRun& r) {
       ADD_FAILURE() << label(r.in) << ": tile " << m.tile << " light " << m.light << (m.gpuKept ? " only on GPU" : " only on CPU")
                     << ", margin " << m.margin << " > bound " << m.bound;
   EXPECT_EQ(r.analysis.stats.falseNegatives, 0u) << label(r.in);
+  EXPECT_EQ(r.analysis.stats.missedNeeded, 0u) << label(r.in) << ": a light that reaches a pixel was dropped";
+  if (r.in.depthSlices == 0) {
+    EXPECT_EQ(r.analysis.stats.slicedAway, 0u) << label(r.in);
+  }
 }
 
 Scene sceneWithCamera(glm::vec3 eye, glm::vec3 target, float znear = 0.1f) {
@@ -319,6 +327,72 @@ TEST_F(LightCullingGpuTest, LightStraddlingTheNearPlaneIsKeptWhereItReachesTheSu
       EXPECT_EQ(r->gpu.total[0], 0u);
     }
   }
+}
+
+// ---- depth slices (2.5D culling, beyond the thesis) ------------------------------------------------
+
+// A tile partly on a near box face (z = -2) and partly on a far wall (z = -20): its frustum spans
+// 2..20 m. A light at 10 m with range 2 lies in the empty gap: the frustum test keeps it, the slab
+// test drops it (32 slabs of 18/32 m: the light covers slabs 10..17, the pixels only 0 and 31);
+// a light at 19 m with range 2 reaches the wall and stays. 128x64, yfov 1 rad: at 2 m a pixel is
+// 2·tan(0.5)·2/64 = 0.034 m wide, so the box edge at x = -0.25 m falls 7 px left of the image
+// centre, inside tile column 3 (pixels 48..63).
+TEST_F(LightCullingGpuTest, DepthSlicesDropALightInTheGapBetweenTwoSurfacesAndKeepOneOnTheWall) {
+  Scene scene = sceneWithCamera({0, 0, 0}, {0, 0, -1});
+  MeshBuilder mb("step");
+  addQuad(mb, 0, {-40, -40, -20}, {40, -40, -20}, {40, 40, -20}, {-40, 40, -20}, {0, 0, 1});
+  addQuad(mb, 0, {-5, -5, -2}, {-0.25, -5, -2}, {-0.25, 5, -2}, {-5, 5, -2}, {0, 0, 1});
+  mb.appendTo(scene);
+  scene.lights.push_back(pointLight({0, 0, -10}, 2.0f));
+  scene.lights.push_back(pointLight({0, 0, -19}, 2.0f));
+  for (uint32_t slices : {0u, 32u}) {
+    const auto r = cull(*ctx, scene, 128, 64, 16, true, false, slices);
+    expectMatchesReference(*r);
+    const size_t t = 1 * 8 + 3;  // row 1, column 3: box face and wall
+    const auto range = tileDepthRange(r->depth, 128, 64, tileRect(3, 1, 16, 128, 64));
+    ASSERT_FALSE(range.empty());
+    const std::vector<uint32_t>& exact = r->analysis.reference.exact[t];
+    EXPECT_EQ(exact, (std::vector<uint32_t>{0, 1}));  // both meet the 2..20 m frustum
+    EXPECT_EQ(r->analysis.reference.needed[t], (std::vector<uint32_t>{1}));  // only one reaches a pixel
+    EXPECT_EQ(r->gpu.total[t], slices ? 1u : 2u) << "slices " << slices;
+    if (slices) {
+      EXPECT_GE(r->analysis.stats.slicedAway, 1u);
+    }
+  }
+}
+
+// The atrium and the random scenes with depth slices: the GPU equals the float reference, no light
+// that reaches a pixel is lost, and slicing never adds a light (it only runs after the plane and
+// AABB tests), so lights per tile and the lights that reach no pixel can only go down.
+TEST_F(LightCullingGpuTest, DepthSlicesMatchTheCpuReferenceAndOnlyRemoveLights) {
+  AtriumParams ap;
+  ap.triangleScale = 0.25;
+  ap.lightCount = 40;
+  std::vector<Scene> scenes;
+  scenes.push_back(makeAtrium(ap));
+  for (uint32_t seed : {1u, 2u}) scenes.push_back(randomScene(seed));
+  for (const Scene& scene : scenes)
+    for (uint32_t tileSize : {8u, 16u, 32u})
+      for (bool aabb : {false, true}) {
+        const auto plain = cull(*ctx, scene, 256, 144, tileSize, true, aabb, 0);
+        expectMatchesReference(*plain);
+        for (uint32_t slices : {4u, 32u}) {
+          const auto sliced = cull(*ctx, scene, 256, 144, tileSize, true, aabb, slices);
+          SCOPED_TRACE(scene.name + " " + label(sliced->in));
+          expectMatchesReference(*sliced);
+          const CullStatistics &a = plain->analysis.stats, &b = sliced->analysis.stats;
+          EXPECT_LE(b.meanLightsPerTile, a.meanLightsPerTile);
+          EXPECT_LE(b.uselessPairs, a.uselessPairs);
+          EXPECT_EQ(b.neededPairs, a.neededPairs);  // the same depth, the same lights
+          for (size_t t = 0; t < plain->gpu.total.size(); ++t)
+            EXPECT_LE(sliced->gpu.total[t], plain->gpu.total[t]) << "tile " << t;
+          if (tileSize == 16 && !aabb)
+            std::printf("%s tile 16, %u slices: lights/tile %.3f -> %.3f, reaching no pixel %.1f %% -> %.1f %%, "
+                        "borderline %llu\n",
+                        scene.name.c_str(), slices, a.meanLightsPerTile, b.meanLightsPerTile, 100 * a.uselessRate,
+                        100 * b.uselessRate, (unsigned long long)sliced->analysis.comparison.borderlineMismatches);
+        }
+      }
 }
 
 }  // namespace

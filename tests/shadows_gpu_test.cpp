@@ -257,6 +257,42 @@ TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
   }
 }
 
+// The distances one by one: far-planes puts a plane at 0.1 m, 100 m and 900 m in thirds of
+// the image (camera at the origin, znear 0.05, zfar 1000: reverse-Z keeps float depth precision
+// roughly constant relative to distance). Each plane's pixels, told apart by their reconstructed
+// distance, stay within the same 4·2^-23·distance bound (derivation above), and each plane has
+// its own figure, so that a precision loss at one distance cannot hide in the others' average.
+TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance) {
+  const Frame f = render(*ctx, sceneNamed("far-planes"), gpu::kNormalsOff, "rayquery");
+  struct PlaneFigure {
+    size_t pixels = 0;
+    double maxRel = 0, sumRel = 0;
+  } planes[3];
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      if (!(f.depth[i] > 0.0f)) continue;
+      const glm::dvec3 cpu = worldFromDepth<double>(f.cam, x, y, double(f.depth[i]));
+      const glm::dvec3 gpu(f.shadows.positions[4 * i], f.shadows.positions[4 * i + 1], f.shadows.positions[4 * i + 2]);
+      const double dist = -cpu.z;  // view = world here, the planes face +z
+      int k = 0;
+      while (k < 2 && std::abs(dist - kFarPlaneDepths[k]) > 0.01 * kFarPlaneDepths[k]) ++k;
+      ASSERT_LT(std::abs(dist - kFarPlaneDepths[k]), 0.01 * kFarPlaneDepths[k]) << "pixel " << x << "," << y;
+      const double rel = glm::length(gpu - cpu) / glm::length(cpu);
+      planes[k].pixels++;
+      planes[k].maxRel = std::max(planes[k].maxRel, rel);
+      planes[k].sumRel += rel;
+    }
+  for (int k = 0; k < 3; ++k) {
+    // Each plane fills about a third of the image (320x180 / 3 = 19,200 px, overhang included).
+    EXPECT_GT(planes[k].pixels, kWidth * kHeight / 4) << kFarPlaneDepths[k] << " m";
+    EXPECT_LE(planes[k].maxRel, 8.0 * kU) << kFarPlaneDepths[k] << " m";
+    std::printf("[ positions ] far-planes at %5.1f m: %zu px, max relative %.3g (%.2f of 4*2^-23), mean %.3g\n",
+                kFarPlaneDepths[k], planes[k].pixels, planes[k].maxRel, planes[k].maxRel / (8.0 * kU),
+                planes[k].sumRel / double(planes[k].pixels));
+  }
+}
+
 // Far from the origin the bound relative to distance cannot hold: world = viewInv · v sums terms
 // of size |eye| (10 km here) whose float rounding is ~u |eye| ≈ 0.6 mm, and viewInv itself is
 // inverted in float (makeFrameConstants: glm::inverse of a float matrix), which misplaces the

@@ -501,6 +501,8 @@ TEST_F(Sweep, CompareCallsAFileTheSameAsItselfFlagsASlowdownAndRefusesAnotherSce
   EXPECT_EQ(forced.exitCode, 0) << forced.out << forced.err;  // identical samples: no regression
 }
 
+// The 64-lights variant fails (only 32 per tile is implemented); the depth-sliced one, placed
+// between it and the last, runs as any other.
 TEST_F(Sweep, UnsupportedVariantIsRecordedAsAnErrorAndTheSweepGoesOn) {
   const json fixture = readJson(kFixture);
   const json variants = {fixture["variants"][0],
@@ -515,9 +517,10 @@ TEST_F(Sweep, UnsupportedVariantIsRecordedAsAnErrorAndTheSweepGoesOn) {
   ASSERT_FALSE(results.is_discarded());
   ASSERT_EQ(runNames(results), variantNames(json{{"variants", variants}}));
   const json& runs = results["runs"];
-  for (size_t i : {size_t(0), size_t(3)})
+  for (size_t i : {size_t(0), size_t(2), size_t(3)})
     expectCompleteRun(runs[i], results["context"]["config"]["variants"][i], 3);
-  const std::map<size_t, std::string> refused = {{1, "max_lights_per_tile"}, {2, "depth_slices"}};
+  EXPECT_EQ(runs[2]["culling"].value("depth_slices", 0), 4) << runs[2].dump();
+  const std::map<size_t, std::string> refused = {{1, "max_lights_per_tile"}};
   for (const auto& [i, key] : refused) {
     SCOPED_TRACE(runs[i].dump());
     EXPECT_EQ(runs[i].value("status", ""), "error");
@@ -527,7 +530,7 @@ TEST_F(Sweep, UnsupportedVariantIsRecordedAsAnErrorAndTheSweepGoesOn) {
     EXPECT_FALSE(runs[i].contains("frame_ms"));
     EXPECT_NE(r.out.find(runs[i].value("name", "")), std::string::npos) << r.out;
   }
-  EXPECT_NE(r.out.find("2 variant(s) failed"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 variant(s) failed"), std::string::npos) << r.out;
   expectCsvMatches(readFile(out / "results.csv"), results);
   const RunResult tables = run({"tables", (out / "results.json").string()});
   EXPECT_EQ(tables.exitCode, 0) << tables.err;

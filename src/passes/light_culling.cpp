@@ -36,6 +36,8 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   if (settings.tileSize != 8 && settings.tileSize != 16 && settings.tileSize != 32)
     throw InputError("tile_size " + std::to_string(settings.tileSize) + " is not one of 8, 16, 32");
   HB_ASSERT(settings.capacity == gpu::kMaxLightsPerTile);
+  if (settings.depthSlices == 1 || settings.depthSlices > 32)
+    throw InputError("depth_slices " + std::to_string(settings.depthSlices) + " is not 0 (off) or 2..32");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
   sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lights.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frustums_.handle());
@@ -46,9 +48,10 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   frustumPipeline_.createLayout({sets_.layout()}, 4);
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);
-  // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test.
-  cullPipeline_.createCompute("light_cull.comp",
-                              {{settings.tileSize, settings.lightCulling ? 1u : 0u, settings.aabb ? 1u : 0u}});
+  // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test,
+  // 3 depth slices.
+  cullPipeline_.createCompute("light_cull.comp", {{settings.tileSize, settings.lightCulling ? 1u : 0u,
+                                                   settings.aabb ? 1u : 0u, settings.depthSlices}});
 }
 
 LightCulling::~LightCulling() = default;

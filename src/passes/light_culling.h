@@ -14,6 +14,7 @@ struct CullingSettings {
   bool lightCulling = true;  // off: every tile gets every light
   bool aabb = false;         // Turanzkij's AABB test on top of the plane test
   uint32_t capacity = 32;    // lights stored per tile (one 32-bit visibility mask)
+  uint32_t depthSlices = 0;  // 0 off, 2..32: Harada's 2.5D slab test after the plane/AABB tests
 };
 
 // Buffers every later pass reads.
