@@ -399,8 +399,15 @@ void addLights(Scene& scene, const AtriumParams& params) {
     l.color = glm::vec3(c / std::max({c.r, c.g, c.b}));
     l.intensity = float(rng.uniform(5.0, 60.0));  // candela
     const double explicitRange = rng.uniform(3.0, 12.0);
-    l.rangeFromEq41 = i % 5 == 4;  // two in ten take thesis eq. 4.1
-    l.range = float(l.rangeFromEq41 ? rangeFromIntensity(l.intensity) : explicitRange);
+    if (params.lightRangeMax > 0.0) {
+      // The same draw mapped onto [min, max], so that the sequence (and every other light
+      // property) does not change.
+      l.rangeFromEq41 = false;
+      l.range = float(params.lightRangeMin + (explicitRange - 3.0) / 9.0 * (params.lightRangeMax - params.lightRangeMin));
+    } else {
+      l.rangeFromEq41 = i % 5 == 4;  // two in ten take thesis eq. 4.1
+      l.range = float(l.rangeFromEq41 ? rangeFromIntensity(l.intensity) : explicitRange);
+    }
     scene.lights.push_back(l);
   }
 }
@@ -411,6 +418,9 @@ Scene makeAtrium(const AtriumParams& params) {
   if (!(params.triangleScale >= 0.25 && params.triangleScale <= 64.0))
     throw InputError("atrium: triangleScale " + std::to_string(params.triangleScale) +
                      " is out of range; use a value in [0.25, 64]");
+  if (params.lightRangeMax > 0.0 && !(params.lightRangeMin > 0.0 && params.lightRangeMin <= params.lightRangeMax))
+    throw InputError("atrium: light range [" + std::to_string(params.lightRangeMin) + ", " +
+                     std::to_string(params.lightRangeMax) + "] is not a range; use 0 < min <= max");
   if (params.lightCount > 4096)
     throw InputError("atrium: lightCount " + std::to_string(params.lightCount) + " is too large; use at most 4096");
   // Curved parts get sqrt(scale) more divisions in each of their two directions.

@@ -23,6 +23,10 @@ struct AtriumParams {
   double triangleScale = 1.0;
   uint32_t lightCount = 10;  // point lights, in the courtyard and both galleries; <= 4096
   uint32_t seed = 1;         // the lights' positions, colours, intensities and ranges
+  // Explicit ranges drawn from [lightRangeMin, lightRangeMax] m for every light (none from eq.
+  // 4.1) when lightRangeMax > 0; the default 0 keeps the mix above (3..12 m, two in ten from
+  // eq. 4.1). Positions, colours and intensities stay the same for a given seed.
+  double lightRangeMin = 0.0, lightRangeMax = 0.0;
 };
 
 // Builds the atrium. Deterministic: the same params give bit-identical scenes on every compiler

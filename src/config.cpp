@@ -77,13 +77,20 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
     if (!c.sceneIsBuiltin())
       w.fail("applies only to the built-in \"atrium\" scene; remove it or set \"scene\": \"atrium\"");
     const Json& sp = doc["scene_params"];
-    requireObjectWithKeys(sp, w, {"triangle_scale", "lights", "seed"});
+    requireObjectWithKeys(sp, w, {"triangle_scale", "lights", "seed", "light_range"});
     if (sp.contains("triangle_scale"))
       c.sceneParams.triangleScale = readNumber(sp["triangle_scale"], w.key("triangle_scale"),
                                                kMinTriangleScale, kMaxTriangleScale, false);
     if (sp.contains("lights"))
       c.sceneParams.lightCount = uint32_t(readInt(sp["lights"], w.key("lights"), 0, kMaxLightCount));
     if (sp.contains("seed")) c.sceneParams.seed = uint32_t(readInt(sp["seed"], w.key("seed"), 0, UINT32_MAX));
+    if (sp.contains("light_range")) {
+      const std::vector<double> r = readNumbers(sp["light_range"], w.key("light_range"), 2, "[min, max] in metres");
+      if (!(r[0] > 0.0 && r[0] <= r[1] && r[1] < 1e6))
+        w.key("light_range").fail(describe(sp["light_range"]) + " is not a range; use [min, max] with 0 < min <= max < 1e6");
+      c.sceneParams.lightRangeMin = r[0];
+      c.sceneParams.lightRangeMax = r[1];
+    }
   }
 }
 
@@ -426,6 +433,8 @@ nlohmann::json toJson(const Config& c) {
   if (c.sceneIsBuiltin()) {
     j["scene_params"] = {{"triangle_scale", c.sceneParams.triangleScale}, {"seed", c.sceneParams.seed}};
     if (!c.lights) j["scene_params"]["lights"] = c.sceneParams.lightCount;
+    if (c.sceneParams.lightRangeMax > 0.0)
+      j["scene_params"]["light_range"] = {c.sceneParams.lightRangeMin, c.sceneParams.lightRangeMax};
   }
   if (c.camera.explicitPose)
     j["camera"] = {{"position", vecJson(c.camera.position)},

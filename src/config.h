@@ -14,7 +14,9 @@
 //   "scene_params": {                 // built-in atrium only
 //     "triangle_scale": 1.0,          // [0.25, 64]: multiplies the atrium's triangle count
 //     "lights": 10,                   // 0..4096 procedural point lights
-//     "seed": 1 },                    // 0..2^32-1, places the lights
+//     "seed": 1,                      // 0..2^32-1, places the lights
+//     "light_range": [0.5, 2.0] },    // optional: every light's range drawn from [min, max] m
+//                                     // (default: 3..12 m, two in ten from thesis eq. 4.1)
 //   "camera": {"index": 0}            // the scene's camera N (default: camera 0)
 //           | {"position": [x,y,z], "target": [x,y,z], "up": [0,1,0],
 //              "yfov_deg": 60, "znear": 0.1, "zfar": 100},   // 1 <= yfov_deg <= 179, 0 < znear < zfar

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "atrium.h"
 #include "errors.h"
 
 namespace hb {
@@ -271,6 +272,27 @@ TEST(ConfigErrors, OutOfRangeValuesSayWhatIsAllowed) {
             "x.json: defaults.depth_slices: 1 is not allowed: use 0 (off) or 2..32 slices");
   EXPECT_EQ(errorOfText(R"({"name": "n", "scene_params": {"triangle_scale": 100}})"),
             "x.json: scene_params.triangle_scale: 100 is out of range [0.25, 64.0]");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "scene_params": {"light_range": [2, 1]}})"),
+            "x.json: scene_params.light_range: [2,1] is not a range; use [min, max] with 0 < min <= max < 1e6");
+}
+
+TEST(Config, LightRangeGivesEveryAtriumLightARangeInsideIt) {
+  const Config c = parseText(R"({"name": "n", "scene_params": {"lights": 50, "light_range": [0.5, 2]}})");
+  EXPECT_EQ(c.sceneParams.lightRangeMin, 0.5);
+  EXPECT_EQ(c.sceneParams.lightRangeMax, 2.0);
+  const Scene ranged = makeAtrium(c.sceneParams);
+  AtriumParams plainParams = c.sceneParams;
+  plainParams.lightRangeMin = plainParams.lightRangeMax = 0.0;
+  const Scene plain = makeAtrium(plainParams);
+  ASSERT_EQ(ranged.lights.size(), 50u);
+  for (size_t i = 0; i < ranged.lights.size(); ++i) {
+    EXPECT_GE(ranged.lights[i].range, 0.5f);
+    EXPECT_LE(ranged.lights[i].range, 2.0f);
+    EXPECT_FALSE(ranged.lights[i].rangeFromEq41);
+    EXPECT_EQ(ranged.lights[i].position, plain.lights[i].position);  // only the ranges change
+    EXPECT_EQ(ranged.lights[i].intensity, plain.lights[i].intensity);
+  }
+  EXPECT_EQ(toJson(c)["scene_params"]["light_range"], nlohmann::json({0.5, 2.0}));
 }
 
 TEST(ConfigErrors, DuplicateNamesAreRefused) {
