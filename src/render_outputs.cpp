@@ -81,6 +81,7 @@ VariantParams referenceParams(const VariantParams& params) {
   r.aabb = false;
   r.normalCulling = NormalCulling::Off;
   r.rangeTest = false;
+  r.depthSlices = 0;  // only acts with culling on; keeps one reference for sliced and unsliced variants
   return r;
 }
 
