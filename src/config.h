@@ -61,10 +61,12 @@
 // Shipped configs (configs/): thesis-table-5-1 (rows named as in Table 5.1), thesis-table-5-2 (rows
 // "8x8", "16x16", "32x32"), thesis (both tables; embedded as the default sweep), ci (thesis at
 // 320x180, 2+5 frames), thesis-sponza (thesis on scenes/sponza/Sponza.gltf, with its own camera and
-// lights), scaling (light_count, triangle_scale and resolution, one axis at a time), accuracy (beyond-thesis variants). In thesis.json the 5.1
-// row "light culling + AABB + improved shadow ray culling" and the 5.2 row "8x8" are the same
-// configuration and both are kept: each table is built from its own rows, and the pair shows the
-// run-to-run noise.
+// lights), scaling (light_count, triangle_scale and resolution, one axis at a time), accuracy (the
+// normal-culling, world-position, range-test and depth-slice options against each other),
+// depth-slices (256 small lights, 0.5-2 m: each tile size with and without 32 depth slices). In
+// thesis.json the 5.1 row "light culling + AABB + improved shadow ray culling" and the 5.2 row "8x8"
+// are the same configuration and both are kept: each table is built from its own rows, and the pair
+// shows the run-to-run noise.
 #pragma once
 #include <array>
 #include <cstdint>
