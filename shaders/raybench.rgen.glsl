@@ -7,10 +7,10 @@
 
 layout(location = 0) rayPayloadEXT uint visible;
 
-bool occluded(vec3 origin, vec3 dir, float tMax) {
+bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
   visible = 0u;
   traceRayEXT(tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT | gl_RayFlagsSkipClosestHitShaderEXT,
-              0xFF, 0, 0, 0, origin, kShadowTMin, dir, tMax, 0);
+              0xFF, 0, 0, 0, origin, tMin, dir, tMax, 0);
   return visible == 0u;
 }
 

@@ -7,10 +7,10 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-bool occluded(vec3 origin, vec3 dir, float tMax) {
+bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
   rayQueryEXT rq;
   rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT, 0xFF, origin,
-                        kShadowTMin, dir, tMax);
+                        tMin, dir, tMax);
   while (rayQueryProceedEXT(rq)) {
   }
   return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;

@@ -35,10 +35,10 @@ float depthAt(ivec2 p) {
   return sDepth[q.y * kSide + q.x];
 }
 
-bool occluded(vec3 origin, vec3 dir, float tMax) {
+bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
   rayQueryEXT rq;
   rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT, 0xFF, origin,
-                        kShadowTMin, dir, tMax);
+                        tMin, dir, tMax);
   while (rayQueryProceedEXT(rq)) {
   }
   return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;

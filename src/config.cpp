@@ -1,5 +1,6 @@
 // Config files: the top-level schema (config.h), sweep expansion, the effective config, CPU lowering.
 #include "config.h"
+#include "hard_cases.h"
 
 #include <algorithm>
 #include <charconv>
@@ -60,8 +61,9 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
   if (doc.contains("scene")) {
     Where w = top.key("scene");
     std::string s = readString(doc["scene"], w);
-    if (s == "atrium") {
-      c.scene = s;
+    const std::vector<std::string> builtins = builtinSceneNames();
+    if (std::find(builtins.begin(), builtins.end(), s) != builtins.end()) {
+      c.scene = s;  // the atrium or a hard case (hard_cases.h)
     } else if (isGltfPath(s)) {
       std::filesystem::path p(s);
       // Absolute, so that the effective config in a results file names the same file from anywhere.
@@ -69,7 +71,9 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
         p = std::filesystem::absolute(std::filesystem::path(c.sourceName).parent_path() / p);
       c.scene = p.lexically_normal().string();
     } else {
-      w.fail("\"" + s + "\" is neither the built-in scene \"atrium\" nor a .gltf/.glb path");
+      std::string names;
+      for (const std::string& n : builtins) names += (names.empty() ? "" : ", ") + n;
+      w.fail("\"" + s + "\" is neither a built-in scene (" + names + ") nor a .gltf/.glb path");
     }
   }
   if (doc.contains("scene_params")) {

@@ -9,8 +9,10 @@
 // {
 //   "name": "thesis",                 // required; letters, digits, '.', '_', '-' (names output files)
 //   "description": "free text",       // copied into the results file
-//   "scene": "atrium",                // built-in "atrium" (default), or a .gltf/.glb path; a relative
-//                                     // path resolves against the config file's directory
+//   "scene": "atrium",                // built-in "atrium" (default), a built-in hard case ("grazing",
+//                                     // "far-planes", ...: hard_cases.h, with their own camera and
+//                                     // lights), or a .gltf/.glb path; a relative path resolves
+//                                     // against the config file's directory
 //   "scene_params": {                 // built-in atrium only
 //     "triangle_scale": 1.0,          // [0.25, 64]: multiplies the atrium's triangle count
 //     "lights": 10,                   // 0..4096 procedural point lights
@@ -48,6 +50,9 @@
 //   "world_pos": "alg41" | "matrix"                  default "alg41" (thesis Alg. 4.1)
 //   "range_test": bool  (per-pixel range test before tracing; beyond the thesis)   default false
 //   "depth_slices": 0 | 2..32  (2.5D depth-sliced culling; 0 = off; beyond the thesis) default 0
+//   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
+//                                    max(0.001 m, 400u · distance to the eye); beyond the thesis)
+//                                                    default "constant"
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -62,8 +67,9 @@
 // "8x8", "16x16", "32x32"), thesis (both tables; embedded as the default sweep), ci (thesis at
 // 320x180, 2+5 frames), thesis-sponza (thesis on scenes/sponza/Sponza.gltf, with its own camera and
 // lights), scaling (light_count, triangle_scale and resolution, one axis at a time), accuracy (the
-// normal-culling, world-position, range-test and depth-slice options against each other),
-// depth-slices (256 small lights, 0.5-2 m: each tile size with and without 32 depth slices). In
+// normal-culling, world-position, range-test, depth-slice and t_min options against each other),
+// depth-slices (256 small lights, 0.5-2 m: each tile size with and without 32 depth slices),
+// grazing-far (the hard case of that name: constant against scaled t_min). In
 // thesis.json the 5.1 row "light culling + AABB + improved shadow ray culling" and the 5.2 row "8x8"
 // are the same configuration and both are kept: each table is built from its own rows, and the pair
 // shows the run-to-run noise.
@@ -86,10 +92,12 @@ namespace hb {
 enum class NormalCulling { Off, Naive, Improved };
 enum class RtBackend { Auto, RayQuery, Pipeline };
 enum class WorldPosMethod { Alg41, Matrix };
+enum class ShadowTMin { Constant, Scaled };
 
 const char* toString(NormalCulling);
 const char* toString(RtBackend);
 const char* toString(WorldPosMethod);
+const char* toString(ShadowTMin);
 
 struct VariantParams {
   uint32_t tileSize = 8;
@@ -101,6 +109,7 @@ struct VariantParams {
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
   bool rangeTest = false;
   uint32_t depthSlices = 0;
+  ShadowTMin tMin = ShadowTMin::Constant;
   uint32_t maxLightsPerTile = 32;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.
@@ -139,6 +148,8 @@ struct Config {
   // "atrium" or an absolute glTF path (a relative one in the file resolves against its directory)
   std::string scene = "atrium";
   bool sceneIsBuiltin() const { return scene == "atrium"; }
+  // A built-in hard case (hard_cases.h: "grazing", "far-planes", ...): its own camera and lights.
+  bool sceneIsHardCase() const { return !sceneIsBuiltin() && scene.find('.') == std::string::npos && scene.find('/') == std::string::npos; }
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights

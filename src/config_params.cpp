@@ -36,12 +36,20 @@ const char* toString(WorldPosMethod v) {
   return "?";
 }
 
+const char* toString(ShadowTMin v) {
+  switch (v) {
+    case ShadowTMin::Constant: return "constant";
+    case ShadowTMin::Scaled: return "scaled";
+  }
+  return "?";
+}
+
 namespace config_reader {
 
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "max_lights_per_tile", "light_count", "triangle_scale"};
   return keys;
 }
 
@@ -69,6 +77,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     int64_t n = readInt(v, where, 0, 32);
     if (n == 1) where.fail("1 is not allowed: use 0 (off) or 2..32 slices");
     p.depthSlices = uint32_t(n);
+  } else if (key == "t_min") {
+    p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "max_lights_per_tile") {
     int64_t n = readInt(v, where, 32, 1024);
     // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
@@ -109,6 +119,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["world_pos"] = toString(p.worldPos);
   j["range_test"] = p.rangeTest;
   j["depth_slices"] = p.depthSlices;
+  j["t_min"] = toString(p.tMin);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;
@@ -121,7 +132,7 @@ void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) 
   if (eq == std::string::npos || eq == 0)
     where.fail(
         "expected key=value, e.g. --set tile_size=16 (keys: tile_size, light_culling, aabb, "
-        "normal_culling, backend, resolution, world_pos, range_test, depth_slices, "
+        "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, "
         "max_lights_per_tile, light_count, triangle_scale)");
   std::string key = keyEqualsValue.substr(0, eq);
   std::string text = keyEqualsValue.substr(eq + 1);

@@ -126,6 +126,21 @@ TEST(ShippedConfigs, ThesisIsBothTablesAndCiIsTheSameSweepSmall) {
   EXPECT_EQ(ci.measuredFrames, 5u);
 }
 
+TEST(ConfigScene, AHardCaseIsABuiltinSceneWithItsOwnCameraAndLightsButNoSceneParams) {
+  Config c = parseText(R"({"name": "n", "scene": "grazing",
+      "variants": [{"name": "a", "params": {"t_min": "scaled"}}]})");
+  EXPECT_EQ(c.scene, "grazing");
+  EXPECT_TRUE(c.sceneIsHardCase());
+  EXPECT_FALSE(c.sceneIsBuiltin());
+  EXPECT_EQ(c.variants[0].params.tMin, ShadowTMin::Scaled);
+  EXPECT_FALSE(c.variants[0].params.lightCount.has_value());
+  EXPECT_EQ(toJson(c)["scene"], "grazing");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "scene": "grazing", "scene_params": {"lights": 3}})"),
+            R"(x.json: scene_params: applies only to the built-in "atrium" scene; remove it or set "scene": "atrium")");
+  EXPECT_FALSE(parseText(R"({"name": "n", "scene": "atrium"})").sceneIsHardCase());
+  EXPECT_FALSE(parseText(R"({"name": "n", "scene": "s.gltf"})").sceneIsHardCase());
+}
+
 TEST(ShippedConfigs, SponzaResolvesItsPathAgainstTheConfigFolderAndGivesCameraAndLights) {
   Config c = loadConfig(kConfigDir + "/thesis-sponza.json");
   std::filesystem::path expected = std::filesystem::path(kSourceDir) / "scenes/sponza/Sponza.gltf";
@@ -186,8 +201,9 @@ TEST(EffectiveConfig, FillsEveryParameterDefault) {
   nlohmann::json p = toJson(c)["variants"][0]["params"];
   for (const char* key :
        {"tile_size", "light_culling", "aabb", "normal_culling", "backend", "resolution", "world_pos",
-        "range_test", "depth_slices", "max_lights_per_tile", "light_count", "triangle_scale"})
+        "range_test", "depth_slices", "t_min", "max_lights_per_tile", "light_count", "triangle_scale"})
     EXPECT_TRUE(p.contains(key)) << key;
+  EXPECT_EQ(p["t_min"], "constant");  // the thesis's t_min
   // Built-in defaults: the thesis's best configuration (Tables 5.1 and 5.2).
   EXPECT_EQ(p["tile_size"], 8);
   EXPECT_EQ(p["normal_culling"], "improved");
@@ -270,6 +286,8 @@ TEST(ConfigErrors, OutOfRangeValuesSayWhatIsAllowed) {
             "x.json: defaults.max_lights_per_tile: 48 is not a multiple of 32");
   EXPECT_EQ(errorOfText(R"({"name": "n", "defaults": {"depth_slices": 1}})"),
             "x.json: defaults.depth_slices: 1 is not allowed: use 0 (off) or 2..32 slices");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "defaults": {"t_min": "adaptive"}})"),
+            R"(x.json: defaults.t_min: "adaptive" is not one of "constant", "scaled")");
   EXPECT_EQ(errorOfText(R"({"name": "n", "scene_params": {"triangle_scale": 100}})"),
             "x.json: scene_params.triangle_scale: 100 is out of range [0.25, 64.0]");
   EXPECT_EQ(errorOfText(R"({"name": "n", "scene_params": {"light_range": [2, 1]}})"),
@@ -316,7 +334,7 @@ TEST(ConfigErrors, SceneSpecificParametersAreRefusedForGltfScenes) {
       e.rfind("x.json: variants[0].params: light_count applies only to the built-in \"atrium\" scene", 0), 0u)
       << e;
   EXPECT_EQ(errorOfText(R"({"name": "n", "scene": "sponza"})"),
-            R"(x.json: scene: "sponza" is neither the built-in scene "atrium" nor a .gltf/.glb path)");
+            R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes) nor a .gltf/.glb path)");
 }
 
 TEST(ConfigErrors, StructuralMistakesNameTheField) {

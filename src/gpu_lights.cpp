@@ -24,7 +24,7 @@ std::vector<gpu::GpuLight> packLights(const std::vector<Light>& lights) {
 }
 
 gpu::FrameConstants makeFrameConstants(const glm::mat4& view, const glm::mat4& proj, uint32_t width, uint32_t height,
-                                       uint32_t tileSize, uint32_t lightCount) {
+                                       uint32_t tileSize, uint32_t lightCount, float tMinPerMetre) {
   gpu::FrameConstants f{};
   f.view = view;
   // Inverses in double, then rounded: a float inverse misplaces the camera by ~1 mm at 10 km from
@@ -33,7 +33,7 @@ gpu::FrameConstants makeFrameConstants(const glm::mat4& view, const glm::mat4& p
   f.proj = proj;
   f.viewProj = proj * view;
   f.viewProjInv = glm::mat4(glm::inverse(glm::dmat4(proj) * glm::dmat4(view)));
-  f.cameraPos = glm::vec4(glm::vec3(f.viewInv[3]), 1.0f);
+  f.cameraPos = glm::vec4(glm::vec3(f.viewInv[3]), tMinPerMetre);
   f.extent = glm::vec4(float(width), float(height), 1.0f / float(width), 1.0f / float(height));
   f.tileCountX = (width + tileSize - 1) / tileSize;
   f.tileCountY = (height + tileSize - 1) / tileSize;

@@ -128,6 +128,21 @@ Scene makeGrazing() {
   return s;
 }
 
+glm::dvec3 grazingFarNormal() { return {std::sin(kPi / 6), 0.0, std::cos(kPi / 6)}; }
+
+Scene makeGrazingFar() {
+  Scene s = baseScene("grazing-far");
+  MeshBuilder mb("grazing-far");
+  const glm::dvec3 centre(0, 0, -kGrazingFarDepth), n = grazingFarNormal(), t(n.z, 0.0, -n.x), up(0, 1, 0);
+  addQuad(mb, kGrey, centre - 700.0 * t - 350.0 * up, centre + 700.0 * t - 350.0 * up, centre + 700.0 * t + 350.0 * up,
+          centre - 700.0 * t + 350.0 * up, n);
+  mb.appendTo(s);
+  // 1000 m along the plane and 10 m above it: N.L = 0.01 at the centre.
+  addLight(s, centre + 1000.0 * (std::sqrt(1.0 - 0.01 * 0.01) * t + 0.01 * n), 4e6, 2000);
+  addCamera(s, {0, 0, 0}, {0, 0, -1}, 0.1, 1000);
+  return s;
+}
+
 Scene makeThinGap() {
   Scene s = baseScene("thin-gap");
   MeshBuilder mb("thin-gap");
@@ -214,8 +229,8 @@ Scene makeFarPlanes() {
 }
 
 std::vector<std::string> builtinSceneNames() {
-  return {"atrium",   "plane",      "depth-step",    "cube",       "tiny-triangles", "grazing",
-          "thin-gap", "degenerate", "open-occluder", "far-origin", "far-planes"};
+  return {"atrium",   "plane",    "depth-step", "cube",          "tiny-triangles", "grazing",
+          "grazing-far", "thin-gap", "degenerate", "open-occluder", "far-origin",     "far-planes"};
 }
 
 Scene makeBuiltinScene(const std::string& name) {
@@ -225,6 +240,7 @@ Scene makeBuiltinScene(const std::string& name) {
   if (name == "cube") return makeCube();
   if (name == "tiny-triangles") return makeTinyTriangles();
   if (name == "grazing") return makeGrazing();
+  if (name == "grazing-far") return makeGrazingFar();
   if (name == "thin-gap") return makeThinGap();
   if (name == "degenerate") return makeDegenerate();
   if (name == "open-occluder") return makeOpenOccluder();

@@ -38,6 +38,17 @@ Scene makeTinyTriangles();
 // Camera at (0, 2, 6) looking at the origin.
 Scene makeGrazing();
 
+// "grazing-far": the same grazing light far away and seen nearly head-on, where depth
+// reconstruction errs along the surface normal: a 1400 x 700 m quad centred kGrazingFarDepth =
+// 500 m in front of a camera at the origin looking down -z (znear 0.1, zfar 1000), turned 30
+// degrees about the vertical so that its depth varies (normal grazingFarNormal() = (sin 30, 0,
+// cos 30); at least 433 m away, it fills the view but for sky on the right). One light 10 m above the plane's
+// surface (along the normal), 1000 m from its centre along the plane: N.L = 0.01 at the centre
+// (about 0.006 at the far edge, 0.02 at the near one); 4e6 cd, range 2000.
+inline constexpr double kGrazingFarDepth = 500.0;
+glm::dvec3 grazingFarNormal();
+Scene makeGrazingFar();
+
 // "thin-gap": a receiver quad at y = 0 (2 x 2 m) and a closed occluder box 40 x 1 x 40 cm whose
 // underside is kThinGap = 1 mm above it, seen from a camera 0.5 m above, 0.8 m away (znear 0.01).
 // Light at (0.5, 2, 0.3): the receiver under the box is in shadow.

@@ -83,6 +83,27 @@ TEST(HardCases, GrazingLightMeetsThePlaneAtNDotLOfOnePercent) {
   EXPECT_GE(s.lights[0].range, glm::length(glm::dvec3(s.lights[0].position)));
 }
 
+TEST(HardCases, GrazingFarLightMeetsAPlaneFiveHundredMetresAwayAtNDotLOfOnePercent) {
+  const Scene s = makeGrazingFar();
+  const glm::dvec3 centre(0, 0, -kGrazingFarDepth), n = grazingFarNormal();
+  const glm::dvec3 l = glm::normalize(glm::dvec3(s.lights[0].position) - centre);
+  // The light position (~1000 m) is rounded to float: each component moves by at most 2^-24 of
+  // 1000 m = 6e-5 m, which turns the 1000 m direction by under 1e-7; N.L within 1e-6.
+  EXPECT_NEAR(glm::dot(l, n), 0.01, 1e-6);
+  // Vertices (|v| <= ~1000 m) are rounded to float: off the plane by at most 2^-24 · 1000 · sqrt(3).
+  double minDist = 1e30, maxDist = 0;
+  for (const Vertex& v : s.vertices) {
+    EXPECT_NEAR(glm::dot(glm::dvec3(v.position) - centre, n), 0.0, 1.1e-4);
+    minDist = std::min(minDist, glm::length(glm::dvec3(v.position)));
+    maxDist = std::max(maxDist, glm::length(glm::dvec3(v.position)));
+  }
+  EXPECT_GT(minDist, 433.0);  // 500 · cos 30: every point is far beyond the 41.9 m where the constant t_min is safe
+  EXPECT_NEAR(glm::length(eyeOf(s.cameras[0])), 0.0, 1e-6);
+  // The light reaches the whole plane: its farthest corner is about 1735 m away.
+  for (const Vertex& v : s.vertices)
+    EXPECT_LT(glm::length(glm::dvec3(v.position) - glm::dvec3(s.lights[0].position)), s.lights[0].range);
+}
+
 TEST(HardCases, ThinGapOccluderFloatsOneMillimetreAboveTheReceiver) {
   const Scene s = makeThinGap();
   float lowestAboveZero = 1e30f;

@@ -378,7 +378,7 @@ struct PairDecision {
 };
 
 PairDecision decidePair(const gpu::GpuLight& light, const glm::dvec3& p, const glm::dvec3& n, bool rangeTest,
-                        const Bvh& bvh) {
+                        double tMin, const Bvh& bvh) {
   PairDecision d;
   glm::dvec3 toLight;
   double magnitude;  // size of the float operands the GPU's toLight was formed from
@@ -416,7 +416,7 @@ PairDecision decidePair(const gpu::GpuLight& light, const glm::dvec3& p, const g
   }
   d.traced = true;
   d.dir = toLight;
-  d.visible = !bvh.occluded(p, toLight, gpu::kShadowTMin, d.tMax);
+  d.visible = !bvh.occluded(p, toLight, tMin, d.tMax);
   return d;
 }
 
@@ -424,7 +424,7 @@ PairDecision decidePair(const gpu::GpuLight& light, const glm::dvec3& p, const g
 
 ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const ShadowReadback& shadows,
                                 const CullingReadback& culling, uint32_t width, uint32_t height,
-                                uint32_t tileSize, bool rangeTest) {
+                                uint32_t tileSize, bool rangeTest, const glm::vec4& cameraPos) {
   const size_t pixels = size_t(width) * height;
   HB_ASSERT(shadows.visibility.size() == pixels && shadows.positions.size() == 4 * pixels &&
             shadows.normals.size() == 4 * pixels);
@@ -442,7 +442,9 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
         if (gpuMask != 0u) c.mismatches += uint64_t(__builtin_popcount(gpuMask));
         continue;
       }
-      const glm::dvec3 p(shadows.positions[4 * i], shadows.positions[4 * i + 1], shadows.positions[4 * i + 2]);
+      const glm::vec3 pf(shadows.positions[4 * i], shadows.positions[4 * i + 1], shadows.positions[4 * i + 2]);
+      const glm::dvec3 p(pf);
+      const double tMin = gpu::shadowTMin(cameraPos, pf);  // as the GPU computed it, in float
       const glm::dvec3 n(shadows.normals[4 * i], shadows.normals[4 * i + 1], shadows.normals[4 * i + 2]);
       const uint32_t tile = tileIndexOf(culling, x, y, tileSize);
       const uint32_t count = culling.count[tile], offset = culling.offset[tile];
@@ -453,7 +455,7 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
       for (uint32_t k = 0; k < count; ++k) {
         const uint32_t li = culling.indices[offset + k];
         HB_ASSERT(li < lights.size());
-        const PairDecision d = decidePair(lights[li], p, n, rangeTest, bvh);
+        const PairDecision d = decidePair(lights[li], p, n, rangeTest, tMin, bvh);
         c.pairs++;
         if (d.traced) c.rays++;
         if (d.visible) mask |= 1u << k;
@@ -465,7 +467,6 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
         }
         if (!d.traced) continue;  // unexplained: a decision without a ray that is not a tie
         const double delta = kFloatRayShift * (glm::length(p) + std::min(d.tMax, diagonal));
-        const double tMin = gpu::kShadowTMin;
         const bool wide = bvh.occluded(p, d.dir, std::max(0.0, tMin - delta), d.tMax + delta);
         const bool narrow = bvh.occluded(p, d.dir, tMin + delta, std::max(tMin + delta, d.tMax - delta));
         if (wide != narrow) {

@@ -162,8 +162,9 @@ nlohmann::json toJson(const PositionAccuracy& acc);
 
 // The GPU shadow pass repeated in double with `bvh`, from the GPU's own positions and normals
 // (shaders/shadows_common.glsl.inc): per pixel, per light i of its tile list, the same at-light,
-// range/cone (rangeTest), N·L and castShadows decisions, then Bvh::occluded(P, L, kShadowTMin,
-// tMax); then compared with the GPU's mask. A mismatching pair is EXPLAINED when float rounding
+// range/cone (rangeTest), N·L and castShadows decisions, then Bvh::occluded(P, L, tMin, tMax)
+// with tMin = gpu::shadowTMin(cameraPos, P) (cameraPos as in FrameConstants: w = 0 gives the
+// thesis's constant kShadowTMin, w = kShadowTMinPerMetre the scaled one); then compared with the GPU's mask. A mismatching pair is EXPLAINED when float rounding
 // may decide it either way, with δ = kFloatRayShift · (|P| + min(tMax, scene diagonal)):
 //  - nearTie: |N·L| or the range/cone margin is within 16 float ulps of its operands (the GPU
 //    takes these decisions in float);
@@ -189,6 +190,6 @@ struct ShadowComparison {
 // Preconditions as accountRays; shadows from an analysis frame.
 ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const ShadowReadback& shadows,
                                 const CullingReadback& culling, uint32_t width, uint32_t height,
-                                uint32_t tileSize, bool rangeTest);
+                                uint32_t tileSize, bool rangeTest, const glm::vec4& cameraPos = glm::vec4(0.0f));
 
 }  // namespace hb

@@ -42,7 +42,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   VK_CHECK(vkCreateSampler(ctx.device(), &si, nullptr, &pointSampler_));
 
   const uint32_t lightCount = uint32_t(scene.lights.size());
-  gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount);
+  gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
+                                              settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f);
   std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
   std::vector<gpu::GpuLight> packed = packLights(scene.lights);
   if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));

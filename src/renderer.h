@@ -32,6 +32,7 @@ struct RenderSettings {
   uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
+  bool scaledTMin = false;             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
 };
 
 // Readbacks of the shadow pass (analysis frames).

@@ -5,6 +5,7 @@
 #include "atrium.h"
 #include "errors.h"
 #include "gltf_io.h"
+#include "hard_cases.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -28,6 +29,8 @@ Scene sceneForVariant(const Config& config, const VariantParams& params) {
     if (params.lightCount) ap.lightCount = *params.lightCount;
     if (params.triangleScale) ap.triangleScale = *params.triangleScale;
     scene = makeAtrium(ap);
+  } else if (config.sceneIsHardCase()) {
+    scene = makeBuiltinScene(config.scene);
   } else {
     if (!std::filesystem::exists(config.scene)) {
       std::string hint = config.scene.find("ponza") != std::string::npos
@@ -60,6 +63,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
   s.worldPos = p.worldPos == WorldPosMethod::Alg41 ? gpu::kWorldPosAlg41 : gpu::kWorldPosMatrix;
   s.rangeTest = p.rangeTest;
   s.depthSlices = p.depthSlices;
+  s.scaledTMin = p.tMin == ShadowTMin::Scaled;
   return s;
 }
 

@@ -210,7 +210,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
 std::string resultsCsv(const json& results) {
   std::ostringstream o;
   o << "run,status,tile_size,light_culling,aabb,normal_culling,backend,width,height,world_pos,range_test,"
-       "depth_slices,light_count,triangle_scale,pass,median_ms,mean_ms,stddev_ms,min_ms,max_ms,p95_ms,samples,rays_traced,"
+       "depth_slices,t_min,light_count,triangle_scale,pass,median_ms,mean_ms,stddev_ms,min_ms,max_ms,p95_ms,samples,rays_traced,"
        "rays_oracle\n";
   auto q = [](const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -236,7 +236,7 @@ std::string resultsCsv(const json& results) {
     json res = p.value("resolution", json::array({0, 0}));
     prefix << res[0] << "," << res[1] << "," << str(p.value("world_pos", json())) << ","
            << str(p.value("range_test", json())) << "," << str(p.value("depth_slices", json())) << ","
-           << str(p.value("light_count", json())) << ","
+           << str(p.value("t_min", json())) << "," << str(p.value("light_count", json())) << ","
            << str(p.value("triangle_scale", json()));
     const json rays = run.value("rays", json::object());
     const std::string tail = "," + num(rays, "traced") + "," + num(rays, "oracle") + "\n";

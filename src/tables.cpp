@@ -62,12 +62,13 @@ std::string stringAt(const json& j, const char* key) {
 
 // Params match a configuration. Without light culling there are no tiles to test against an
 // AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway). A run with
-// an option beyond the thesis (the per-pixel range test, depth slices) is not the thesis's method
+// an option beyond the thesis (the per-pixel range test, depth slices, a scaled t_min) is not the thesis's method
 // and never stands in for one of its rows.
 bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
   if (const auto it = params.find("range_test"); it != params.end() && *it == true) return false;
   if (const auto it = params.find("depth_slices"); it != params.end() && it->is_number() && it->get<double>() != 0)
     return false;
+  if (const auto it = params.find("t_min"); it != params.end() && *it != "constant") return false;
   const json& tile = at(params, "tile_size");
   const json& lc = at(params, "light_culling");
   const json& aabb = at(params, "aabb");

@@ -129,6 +129,21 @@ TEST(ThesisTables, RunsAreMatchedByParamsNotByName) {
   EXPECT_NE(md.find("| light culling | 2.880 | -28.00 |"), std::string::npos);
 }
 
+TEST(ThesisTables, RunsWithOptionsBeyondTheThesisNeverStandInForItsRows) {
+  for (const auto& [key, value] : std::vector<std::pair<std::string, json>>{
+           {"range_test", true}, {"depth_slices", 32}, {"t_min", "scaled"}}) {
+    json results = fixture();
+    for (json& run : results["runs"])
+      if (run["name"] == "lc_t8") run["params"][key] = value;
+    const std::vector<ThesisRow> rows = thesisRows(results);
+    EXPECT_EQ(rows[1].status, "missing") << key;
+    json same = fixture();  // the thesis's own values match as before
+    for (json& run : same["runs"])
+      if (run["name"] == "lc_t8") run["params"][key] = key == "range_test" ? json(false) : key == "depth_slices" ? json(0) : json("constant");
+    EXPECT_EQ(thesisRows(same)[1].runName, "lc_t8") << key;
+  }
+}
+
 TEST(ThesisTables, FailedRunIsShownAsFailedWithItsError) {
   json results = fixture();
   for (json& run : results["runs"])

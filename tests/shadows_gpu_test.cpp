@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
+#include "gpu_lights.h"
 #include "hard_cases.h"
 #include "ray_analysis.h"
 #include "renderer.h"
@@ -31,8 +32,9 @@ struct Frame {
 };
 
 Frame render(const VulkanContext& ctx, const Scene& scene, uint32_t normals, const std::string& backend,
-             uint32_t tileSize = 16) {
+             uint32_t tileSize = 16, bool scaledTMin = false) {
   RenderSettings s;
+  s.scaledTMin = scaledTMin;
   s.width = kWidth;
   s.height = kHeight;
   s.tileSize = tileSize;
@@ -59,8 +61,13 @@ RayAccounting account(const Frame& f, const Scene& scene) {
 }
 
 ShadowComparison compare(const Frame& f, const Scene& scene, const Bvh& bvh) {
+  // The camera position and t_min scale exactly as the renderer uploads them.
+  const glm::vec4 cameraPos =
+      makeFrameConstants(f.view, f.proj, f.settings.width, f.settings.height, f.settings.tileSize, 0,
+                         f.settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f)
+          .cameraPos;
   return compareShadows(scene, bvh, f.shadows, f.culling, f.settings.width, f.settings.height, f.settings.tileSize,
-                        f.settings.rangeTest);
+                        f.settings.rangeTest, cameraPos);
 }
 
 // Sky pixels carry nothing; everything else is finite and has w = 1.
@@ -130,8 +137,14 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     const ShadowComparison cmp = compare(rq, scene, bvh);
     EXPECT_EQ(cmp.unexplained(), 0u) << what << ": " << cmp.mismatches << " mismatches of " << cmp.pairs << " pairs";
     // Not a tolerance but a check that the explanation stays meaningful: if a large share of the
-    // rays needed it, δ would be hiding real errors. lavapipe measured 0 on every scene.
-    EXPECT_LE(cmp.mismatches, cmp.rays / 1000) << what;
+    // rays needed it, δ would be hiding real errors. lavapipe measured 0 on every scene but
+    // grazing-far, which exists to make the thesis's constant t_min fail: a third of its rays
+    // start below the plane and hit it within a few cm, where float and double may disagree on
+    // every one of them (lavapipe: 2,961 of 47,140, all explained). ShadowScaledTMin holds that
+    // scene to the same 1/1000 with the remedy.
+    if (GetParam() != "grazing-far") {
+      EXPECT_LE(cmp.mismatches, cmp.rays / 1000) << what;
+    }
     std::printf("[ shadows ] %-14s normals=%u traced %llu of %llu candidates, CPU mismatches %llu "
                 "(tie %llu, endpoint %llu, grazing %llu)\n",
                 GetParam().c_str(), normals, (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
@@ -147,6 +160,33 @@ INSTANTIATE_TEST_SUITE_P(ShadowScenes, ShadowBackends, ::testing::ValuesIn(built
                              if (c == '-') c = '_';
                            return n;
                          });
+
+// ---- scaled t_min (beyond the thesis) --------------------------------------------------------------
+
+// With t_min = max(0.001 m, 400u·|P − eye|) (gpu_types.h kShadowTMinPerMetre) both backends still
+// agree bit for bit, and the CPU's double-precision rays from the GPU's positions with the same
+// per-pixel t_min explain every difference, as in ShadowBackends: on the scenes where t_min grows
+// (grazing up to ~140 m away, grazing-far 433-1100 m, far-planes at 100 m and 900 m) and where a larger t_min could
+// wrongly light (thin-gap, a 1 mm gap; within 41.9 m of the eye t_min stays 1 mm).
+class ShadowScaledTMin : public testing::GpuTest {};
+
+TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
+  for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
+    const Scene& scene = sceneNamed(name);
+    const Bvh bvh = buildBvh(scene);
+    const Frame rq = render(*ctx, scene, gpu::kNormalsImproved, "rayquery", 16, /*scaledTMin=*/true);
+    const Frame rt = render(*ctx, scene, gpu::kNormalsImproved, "pipeline", 16, /*scaledTMin=*/true);
+    size_t visDiff = 0;
+    for (size_t i = 0; i < rq.pixels(); ++i) visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
+    EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between rayquery and pipeline";
+    expectCleanImages(rq, std::string(name) + " scaled t_min");
+    const ShadowComparison cmp = compare(rq, scene, bvh);
+    EXPECT_EQ(cmp.unexplained(), 0u) << name << ": " << cmp.mismatches << " mismatches of " << cmp.pairs << " pairs";
+    EXPECT_LE(cmp.mismatches, cmp.rays / 1000) << name;
+    std::printf("[ t_min   ] %-14s scaled: CPU mismatches %llu of %llu rays\n", name,
+                (unsigned long long)cmp.mismatches, (unsigned long long)cmp.rays);
+  }
+}
 
 // ---- normals --------------------------------------------------------------------------------------
 

@@ -42,6 +42,13 @@ HB_CONST uint kAccountNoShadowShift = 24u;
 
 // Shadow rays (thesis 4.3.3).
 HB_CONST float kShadowTMin = 0.001;
+// Beyond the thesis (param t_min = "scaled"): t_min = max(kShadowTMin, kShadowTMinPerMetre · |P −
+// eye|). A reconstructed position lies within 4u·|P − eye| of the true surface (Alg. 4.1, u =
+// 2^-24; shadows_gpu_test), and a shadow ray leaving at N·L = s has risen t·s above the plane at
+// t; it cannot hit its own surface when t_min·s > 4u·|P − eye|. With t_min = 400u·|P − eye| that
+// holds down to s = 0.01 at every distance; the constant 0.001 m holds it only within
+// 0.001 / (400u) = 41.9 m of the eye. Equal to kShadowTMin within those 41.9 m.
+HB_CONST float kShadowTMinPerMetre = 400.0 * 5.9604644775390625e-8;
 HB_CONST float kDirectionalTMax = 1000.0;
 
 // Camera and frame constants (uniform buffer).
@@ -51,13 +58,24 @@ struct FrameConstants {
   mat4 proj;
   mat4 viewProj;
   mat4 viewProjInv;
-  vec4 cameraPos;     // xyz world, w unused
+  vec4 cameraPos;     // xyz world, w = shadow t_min per metre of distance to the eye (0: constant)
   vec4 extent;        // x = width, y = height, z = 1/width, w = 1/height
   uint tileCountX;
   uint tileCountY;
   uint tileSize;
   uint lightCount;
 };
+
+// A shadow ray's t_min at world position p: kShadowTMin when cameraPos.w is 0 (the thesis), else
+// max(kShadowTMin, cameraPos.w · |p − eye|) (see kShadowTMinPerMetre). One body per language, so
+// the CPU ray analysis and both GPU backends agree.
+#ifdef __cplusplus
+inline float shadowTMin(const glm::vec4& cameraPos, const glm::vec3& p) {
+  return glm::max(kShadowTMin, cameraPos.w * glm::length(p - glm::vec3(cameraPos)));
+}
+#else
+float shadowTMin(vec4 cameraPos, vec3 p) { return max(kShadowTMin, cameraPos.w * length(p - cameraPos.xyz)); }
+#endif
 
 // One punctual light in world space. positionRange.w = range; directionCos.w = cos(outer cone).
 struct GpuLight {
