@@ -67,7 +67,7 @@ static Image uploadTexture(const VulkanContext& ctx, const Texture& t) {
       di.pImageMemoryBarriers = &b;
       vkCmdPipelineBarrier2(cmd, &di);
     }
-  });
+  }, "a texture upload");
   return img;
 }
 

@@ -9,6 +9,7 @@
 #include "sweep.h"
 #include "errors.h"
 #include "version.h"
+#include "vk_context.h"
 
 int main(int argc, char** argv) {
   using namespace hb;
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    gpuTimeoutSeconds();  // a malformed HYBRIDBENCH_GPU_TIMEOUT_S is bad input before anything is written
     if (*devices) return cmdDevices(devicesJson);
     if (*renderCmd) {
       render.sceneGiven = sceneOpt->count() > 0;

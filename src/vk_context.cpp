@@ -206,7 +206,20 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::debugCallback(VkDebugUtilsMessageS
   return VK_FALSE;
 }
 
+// How long one submission may take before the device counts as hung. Generous by default: an
+// analysis frame at 3840x2160 on lavapipe takes minutes; a GPU finishes any of ours in seconds.
+double gpuTimeoutSeconds() {
+  const char* v = std::getenv("HYBRIDBENCH_GPU_TIMEOUT_S");
+  if (!v) return 300.0;
+  char* end = nullptr;
+  const double s = std::strtod(v, &end);
+  if (end == v || *end != '\0' || !(s > 0.0))
+    throw InputError(std::string("HYBRIDBENCH_GPU_TIMEOUT_S=") + v + ": expected a number of seconds > 0, e.g. 60");
+  return s;
+}
+
 VulkanContext::VulkanContext(uint32_t deviceIndex) {
+  timeoutSeconds_ = gpuTimeoutSeconds();  // a bad value is an InputError before any work
   validation_ = validationRequested();
   instance_ = createInstance(validation_);
   if (validation_) {
@@ -359,7 +372,7 @@ VulkanContext::~VulkanContext() {
   if (instance_) vkDestroyInstance(instance_, nullptr);
 }
 
-void VulkanContext::submitAndWait(const std::function<void(VkCommandBuffer)>& fn) const {
+void VulkanContext::submitAndWait(const std::function<void(VkCommandBuffer)>& fn, const char* what) const {
   VkCommandBufferAllocateInfo ai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   ai.commandPool = pool_;
   ai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
@@ -376,7 +389,19 @@ void VulkanContext::submitAndWait(const std::function<void(VkCommandBuffer)>& fn
   si.pCommandBuffers = &cmd;
   VK_CHECK(vkResetFences(device_, 1, &fence_));
   VK_CHECK(vkQueueSubmit(queue_, 1, &si, fence_));
-  VK_CHECK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
+  const double limit = timeoutSeconds_;
+  const VkResult r = vkWaitForFences(device_, 1, &fence_, VK_TRUE, uint64_t(limit * 1e9));
+  if (r == VK_TIMEOUT) {
+    std::fflush(stdout);
+    std::fprintf(stderr,
+                 "hybridbench: the GPU did not finish %s within %g s on %s; the device may be hung, so the run "
+                 "stops here (files already written stay; a sweep continues with --resume; raise "
+                 "HYBRIDBENCH_GPU_TIMEOUT_S if the device is merely slow)\n",
+                 what, limit, info_.name.c_str());
+    std::fflush(stderr);
+    std::_Exit(kExitDeviceFailure);
+  }
+  VK_CHECK(r);
   vkFreeCommandBuffers(device_, pool_, 1, &cmd);
 }
 

@@ -17,6 +17,10 @@ void vkCheck(VkResult result, const char* call);
 #define VK_CHECK(call) ::hb::vkCheck((call), #call)
 const char* vkResultName(VkResult r);
 
+// HYBRIDBENCH_GPU_TIMEOUT_S (default 300): how long VulkanContext::submitAndWait waits for one
+// submission. Throws InputError when it is not a number > 0.
+double gpuTimeoutSeconds();
+
 struct DeviceInfo {
   uint32_t index = 0;
   std::string name;
@@ -76,7 +80,12 @@ class VulkanContext {
   uint32_t validationMessages() const { return validationMessages_.load(); }
 
   // Records with fn into a fresh primary command buffer, submits, waits. Throws DeviceError.
-  void submitAndWait(const std::function<void(VkCommandBuffer)>& fn) const;
+  // Records fn into a one-time command buffer, submits it and waits for it, at most
+  // HYBRIDBENCH_GPU_TIMEOUT_S seconds (default 300). Past that the device may be hung and nothing
+  // may touch it again (freeing what it still uses crashes some drivers): one line on stderr names
+  // `what`, and the process ends at once with exit 3. What is written stays written (a sweep
+  // writes its files after every variant; --resume reruns the rest).
+  void submitAndWait(const std::function<void(VkCommandBuffer)>& fn, const char* what = "a GPU submission") const;
 
   uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags flags) const;
 
@@ -92,6 +101,7 @@ class VulkanContext {
   uint32_t queueFamily_ = 0;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
+  double timeoutSeconds_ = 300.0;
   DeviceInfo info_;
   RtFunctions rt_;
   VkPhysicalDeviceProperties props_{};

@@ -103,7 +103,7 @@ Buffer uploadBuffer(const VulkanContext& ctx, const void* data, VkDeviceSize siz
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     VkBufferCopy region{0, 0, size};
     vkCmdCopyBuffer(cmd, staging.handle(), dst.handle(), 1, &region);
-  });
+  }, "a buffer upload");
   return dst;
 }
 
@@ -225,7 +225,7 @@ std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image,
     imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT,
                  VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
                  VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
-  });
+  }, "an image readback");
   std::vector<uint8_t> out(size);
   std::memcpy(out.data(), staging.mapped(), size);
   return out;
@@ -238,7 +238,7 @@ std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buff
                   VK_ACCESS_2_TRANSFER_READ_BIT);
     VkBufferCopy region{0, 0, buffer.size()};
     vkCmdCopyBuffer(cmd, buffer.handle(), staging.handle(), 1, &region);
-  });
+  }, "a buffer readback");
   std::vector<uint8_t> out(buffer.size());
   std::memcpy(out.data(), staging.mapped(), buffer.size());
   return out;

@@ -221,6 +221,24 @@ TEST_F(Cli, SetTakesOneValueSoAConfigMayFollowIt) {
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 
+// A device that does not finish a submission in HYBRIDBENCH_GPU_TIMEOUT_S stops the run with one
+// line and exit 3 instead of waiting forever (a hung GPU); 1 ns is shorter than any submission
+// (lavapipe executes on another thread, so the wait returns VK_TIMEOUT before the work is done).
+TEST_F(Cli, GpuThatDoesNotFinishInTimeStopsTheRunWithOneLineAndExit3) {
+  ::setenv("HYBRIDBENCH_GPU_TIMEOUT_S", "1e-9", 1);
+  const RunResult r = run(renderArgs({}, dir / "out"));
+  ::setenv("HYBRIDBENCH_GPU_TIMEOUT_S", "soon", 1);
+  const RunResult bad = run(renderArgs({}, dir / "out2"));
+  ::unsetenv("HYBRIDBENCH_GPU_TIMEOUT_S");
+  EXPECT_EQ(r.exitCode, 3) << r.err;
+  EXPECT_NE(r.err.find("the GPU did not finish"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("HYBRIDBENCH_GPU_TIMEOUT_S"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_EQ(bad.err, "hybridbench: HYBRIDBENCH_GPU_TIMEOUT_S=soon: expected a number of seconds > 0, e.g. 60\n");
+  EXPECT_FALSE(fs::exists(dir / "out2"));
+}
+
 TEST_F(Cli, FailedRenderLosesNothingAlreadyWritten) {
   const fs::path out = dir / "out";
   fs::create_directories(out);
