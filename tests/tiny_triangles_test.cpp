@@ -2,7 +2,10 @@
 // a field of ~1.9 px triangles and 1-px strips against the sky. Reconstructed normals must be
 // finite unit vectors or flagged as missing (exactly zero), never NaN; the error they do have is
 // measured and printed, not hidden.
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 #include <cstdio>
 
 #include <gtest/gtest.h>
@@ -59,6 +62,59 @@ TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
                 acc.compared ? 100.0 * double(over10) / double(acc.compared) : 0.0);
     EXPECT_EQ(bad, 0u);
     EXPECT_GT(unit, 0u);
+  }
+}
+
+// Hard case "sky pixels at odd and even widths": the tiny-triangles scene is mostly sky. At an odd
+// and an even size (the odd width puts a pixel centre exactly on ndc.x = 0), every sky pixel gets
+// no position, no normal, no ray and an empty mask; every other pixel's position and normal are
+// finite; the colour image has no NaN/Inf; and a tile with no geometry lists no light.
+TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) {
+  const Scene scene = makeBuiltinScene("tiny-triangles");
+  for (auto [w, h] : {std::pair<uint32_t, uint32_t>{321, 181}, {320, 180}}) {
+    for (uint32_t method : {gpu::kNormalsOff, gpu::kNormalsImproved}) {
+      RenderSettings s;
+      s.width = w;
+      s.height = h;
+      s.tileSize = 16;
+      s.normals = method;
+      Renderer renderer(*ctx, scene, s);
+      renderer.renderFrame(true);
+      const std::vector<float> depth = renderer.readDepth();
+      const ShadowReadback sh = renderer.readShadows();
+      const CullingReadback cull = renderer.readCulling();
+      const std::vector<float> color = renderer.readColor();
+      uint64_t sky = 0, skyWithSomething = 0, surface = 0, nonFinite = 0;
+      for (size_t i = 0; i < depth.size(); ++i) {
+        const float* p = &sh.positions[4 * i];
+        const float* n = &sh.normals[4 * i];
+        for (int c = 0; c < 4; ++c) nonFinite += !std::isfinite(p[c]) + !std::isfinite(n[c]) + !std::isfinite(color[4 * i + c]);
+        if (depth[i] > 0.0f) {
+          ++surface;
+          continue;
+        }
+        ++sky;
+        skyWithSomething += sh.visibility[i] != 0u || sh.accounting[i] != 0u || p[0] != 0.0f || p[1] != 0.0f ||
+                            p[2] != 0.0f || p[3] != 0.0f || n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f;
+      }
+      uint64_t emptyTiles = 0, emptyTilesWithLights = 0;
+      for (uint32_t ty = 0; ty < cull.tilesY; ++ty)
+        for (uint32_t tx = 0; tx < cull.tilesX; ++tx) {
+          bool any = false;
+          for (uint32_t y = ty * 16; y < std::min(h, ty * 16 + 16) && !any; ++y)
+            for (uint32_t x = tx * 16; x < std::min(w, tx * 16 + 16) && !any; ++x) any = depth[size_t(y) * w + x] > 0.0f;
+          if (any) continue;
+          ++emptyTiles;
+          emptyTilesWithLights += cull.count[ty * cull.tilesX + tx] != 0u;
+        }
+      const std::string what = std::to_string(w) + "x" + std::to_string(h) + " normals=" + std::to_string(method);
+      EXPECT_GT(sky, depth.size() / 2) << what;  // the case is about sky: most of the image
+      EXPECT_GT(surface, 0u) << what;
+      EXPECT_EQ(skyWithSomething, 0u) << what << ": sky pixels with a position, normal, ray or mask bit";
+      EXPECT_EQ(nonFinite, 0u) << what << ": NaN/Inf in positions, normals or colour";
+      EXPECT_GT(emptyTiles, 0u) << what;
+      EXPECT_EQ(emptyTilesWithLights, 0u) << what << ": tiles without geometry that list a light";
+    }
   }
 }
 
