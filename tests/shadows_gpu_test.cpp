@@ -276,6 +276,38 @@ TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
               (unsigned long long)(ref.matched + ref.unmatched));
 }
 
+// The target, at the thesis's resolution: the improved method's mean normal error at most
+// 0.28 x the naive one's (the thesis's image-difference ratio is 0.02264 / 0.07975 = 0.284). The
+// ratio depends on the resolution (at 320x180 far more pixels lie next to a depth edge: 0.57 above)
+// and hardly on the device (H100 0.279, lavapipe 0.278 at 1920x1080). A target, not a derived
+// tolerance: the test fails if either method's quality changes.
+TEST_F(ShadowNormals, ImprovedMeanAngularErrorIsAtMost028OfNaiveOnTheAtriumAt1080p) {
+  const Scene& scene = sceneNamed("atrium");
+  const TriangleBvh bvh = buildTriangleBvh(scene);
+  NormalAccuracy acc[2];
+  ReferenceSurface ref;
+  for (int k = 0; k < 2; ++k) {
+    RenderSettings s;
+    s.width = 1920;
+    s.height = 1080;
+    s.tileSize = 8;
+    s.normals = k == 0 ? gpu::kNormalsNaive : gpu::kNormalsImproved;
+    Renderer r(*ctx, scene, s);
+    r.renderFrame(true);
+    if (k == 0)
+      ref = referenceSurface(bvh, r.readDepth(),
+                             reconstructionCamera<double>(glm::dmat4(r.view()), glm::dmat4(r.proj()), s.width, s.height));
+    acc[k] = normalAccuracy(r.readShadows().normals, ref);
+  }
+  const double ratio = acc[1].meanAngleDeg / acc[0].meanAngleDeg;
+  std::printf("[ normals ] atrium 1920x1080: naive mean %.3f deg, image diff %.5f | improved mean %.3f deg, image diff "
+              "%.5f | ratio %.3f (image %.3f)\n",
+              acc[0].meanAngleDeg, acc[0].meanImageDifference, acc[1].meanAngleDeg, acc[1].meanImageDifference, ratio,
+              acc[1].meanImageDifference / acc[0].meanImageDifference);
+  EXPECT_EQ(acc[0].compared, acc[1].compared);
+  EXPECT_LE(ratio, 0.28);
+}
+
 // ---- world positions ----------------------------------------------------------------------------
 
 class ShadowPositions : public testing::GpuTest {};
