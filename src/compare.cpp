@@ -8,6 +8,7 @@
 #include <limits>
 #include <span>
 
+#include "config.h"
 #include "errors.h"
 #include "stats.h"
 
@@ -52,6 +53,19 @@ void requireResultsFile(const json& r, const char* side) {
                             "complete results.json", side));
 }
 
+// A results file written before a parameter existed lacks its key; its runs used that parameter's
+// default (the behaviour before it was added), so the key is filled in with the default before
+// configs are compared.
+json withParamDefaults(json variants) {
+  if (!variants.is_array()) return variants;
+  const json defaults = toJson(VariantParams{});
+  for (json& v : variants)
+    if (v.is_object() && v.contains("params") && v["params"].is_object())
+      for (const auto& [key, value] : defaults.items())
+        if (!v["params"].contains(key)) v["params"][key] = value;
+  return variants;
+}
+
 // Fields that must agree for a comparison to mean anything: same scene bytes, same config.
 void checkComparable(const json& a, const json& b, const CompareOptions& options,
                      std::vector<std::string>& warnings) {
@@ -60,7 +74,8 @@ void checkComparable(const json& a, const json& b, const CompareOptions& options
       {"context", "resolution"},      {"context", "config", "resolution"},
       {"context", "config", "variants"}, {"context", "config", "sweep"}};
   for (const auto& path : fields) {
-    const json va = valueAt(a, path), vb = valueAt(b, path);
+    json va = valueAt(a, path), vb = valueAt(b, path);
+    if (path.back() == "variants") va = withParamDefaults(va), vb = withParamDefaults(vb);
     if (va == vb) continue;
     std::string name;
     for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "config.h"
 #include "errors.h"
 #include "stats.h"
 
@@ -129,6 +130,24 @@ TEST(CompareResults, DifferentResolutionsAreRefused) {
   json b = makeResults("abc", 2, 30, 1.0);
   b["context"]["config"]["resolution"] = {1280, 720};
   EXPECT_THROW(compareResults(a, b, {}), InputError);
+}
+
+// A results file from before a parameter existed (no "t_min" key) compares with a newer one whose
+// runs carry that parameter's default; a non-default value is still a different config.
+TEST(CompareResults, AParameterMissingFromAnOlderFileCountsAsItsDefault) {
+  json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.0);
+  json params = toJson(VariantParams{});
+  b["context"]["config"]["variants"] = json::array({{{"name", "v"}, {"params", params}}});
+  params.erase("t_min");
+  a["context"]["config"]["variants"] = json::array({{{"name", "v"}, {"params", params}}});
+  EXPECT_NO_THROW(compareResults(a, b, {}));
+  b["context"]["config"]["variants"][0]["params"]["t_min"] = "scaled";
+  try {
+    compareResults(a, b, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("context.config.variants"), std::string::npos) << e.what();
+  }
 }
 
 TEST(CompareResults, ForceComparesDifferentScenesWithAWarning) {
