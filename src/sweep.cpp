@@ -145,7 +145,21 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
 
-  for (uint32_t i = 0; i < warmup && !gInterrupted; ++i) renderer.renderFrame(false);
+  // Warm-up: the configured frames and, on a GPU, at least kMinWarmupSeconds of them. A GPU's
+  // clocks drop during the previous variant's CPU-side analysis; 30 frames of 2.5 ms once left the
+  // first 6-7 measured frames 3x slow (H100, configs/depth-slices.json). warmup 0 means none.
+  constexpr double kMinWarmupSeconds = 0.5;
+  constexpr uint32_t kMaxWarmupFrames = 100000;  // the config's own limit on "warmup"
+  const bool gpu = ctx.info().type != "cpu";
+  const auto warmStart = std::chrono::steady_clock::now();
+  auto warmSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - warmStart).count(); };
+  uint32_t warmed = 0;
+  while (warmup > 0 && !gInterrupted && warmed < kMaxWarmupFrames &&
+         (warmed < warmup || (gpu && warmSeconds() < kMinWarmupSeconds))) {
+    renderer.renderFrame(false);
+    ++warmed;
+  }
+  const double warmupSeconds = warmSeconds();
   std::vector<double> frameMs;
   std::map<std::string, std::vector<double>> passMs;
   std::vector<std::string> passOrder;
@@ -173,7 +187,8 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   run["name"] = v.name;
   run["params"] = toJson(v.params);
   run["frames"] = measured;
-  run["warmup_frames"] = warmup;
+  run["warmup_frames"] = warmed;  // rendered: at least the configured count (see above)
+  run["warmup_s"] = warmupSeconds;
   Summary fs_ = summarize(frameMs);
   run["frame_ms"] = toJson(fs_, frameMs);
   run["passes"] = json::object();
