@@ -387,6 +387,11 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
 
 }  // namespace
 
+bool Config::sceneIsHardCase() const {
+  const std::vector<std::string> builtins = builtinSceneNames();
+  return !sceneIsBuiltin() && std::find(builtins.begin(), builtins.end(), scene) != builtins.end();
+}
+
 void checkParamsFitScene(const Config& c, const VariantParams& p, const std::string& where) {
   if (!c.sceneIsBuiltin()) {
     for (auto [set, key] : {std::pair{p.lightCount.has_value(), "light_count"},

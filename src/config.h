@@ -149,7 +149,7 @@ struct Config {
   std::string scene = "atrium";
   bool sceneIsBuiltin() const { return scene == "atrium"; }
   // A built-in hard case (hard_cases.h: "grazing", "far-planes", ...): its own camera and lights.
-  bool sceneIsHardCase() const { return !sceneIsBuiltin() && scene.find('.') == std::string::npos && scene.find('/') == std::string::npos; }
+  bool sceneIsHardCase() const;
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights

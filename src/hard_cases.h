@@ -42,9 +42,9 @@ Scene makeGrazing();
 // reconstruction errs along the surface normal: a 1400 x 700 m quad centred kGrazingFarDepth =
 // 500 m in front of a camera at the origin looking down -z (znear 0.1, zfar 1000), turned 30
 // degrees about the vertical so that its depth varies (normal grazingFarNormal() = (sin 30, 0,
-// cos 30); at least 433 m away, it fills the view but for sky on the right). One light 10 m above the plane's
-// surface (along the normal), 1000 m from its centre along the plane: N.L = 0.01 at the centre
-// (about 0.006 at the far edge, 0.02 at the near one); 4e6 cd, range 2000.
+// cos 30); at least 433 m away, it fills the view but for sky on the right). One light 10 m
+// above the plane's surface (along the normal), 1000 m from its centre along the plane: N.L =
+// 0.01 at the centre (about 0.006 at the far edge, 0.02 at the near one); 4e6 cd, range 2000.
 inline constexpr double kGrazingFarDepth = 500.0;
 glm::dvec3 grazingFarNormal();
 Scene makeGrazingFar();

@@ -164,8 +164,8 @@ nlohmann::json toJson(const PositionAccuracy& acc);
 // (shaders/shadows_common.glsl.inc): per pixel, per light i of its tile list, the same at-light,
 // range/cone (rangeTest), N·L and castShadows decisions, then Bvh::occluded(P, L, tMin, tMax)
 // with tMin = gpu::shadowTMin(cameraPos, P) (cameraPos as in FrameConstants: w = 0 gives the
-// thesis's constant kShadowTMin, w = kShadowTMinPerMetre the scaled one); then compared with the GPU's mask. A mismatching pair is EXPLAINED when float rounding
-// may decide it either way, with δ = kFloatRayShift · (|P| + min(tMax, scene diagonal)):
+// thesis's constant kShadowTMin, w = kShadowTMinPerMetre the scaled one); then compared with the
+// GPU's mask. A mismatching pair is EXPLAINED when float rounding may decide it either way, with δ = kFloatRayShift · (|P| + min(tMax, scene diagonal)):
 //  - nearTie: |N·L| or the range/cone margin is within 16 float ulps of its operands (the GPU
 //    takes these decisions in float);
 //  - endpoint: the CPU answer for [tMin − δ, tMax + δ] differs from [tMin + δ, tMax − δ] (a hit

@@ -25,7 +25,9 @@ class ShadowGrazing : public testing::GpuTest {
     uint64_t nearPixels = 0, nearAcne = 0, farPixels = 0, farAcne = 0;
     uint64_t steepPixels = 0, steepAcne = 0;  // pixels where N·L >= 0.01 (any distance)
     double maxDistance = 0;
-    double minHeight = 1e30, maxHeight = -1e30;  // signed distance of the GPU positions to the plane
+    // Signed distance of the GPU positions to the plane through vertex 0 (itself rounded to float,
+    // so a diagnostic, not a test): below zero the ray may start under the surface.
+    double minHeight = 1e30, maxHeight = -1e30;
   };
 
   // Renders a grazing scene (normal culling off: every lit pixel traces its ray, so acne is the
@@ -45,6 +47,7 @@ class ShadowGrazing : public testing::GpuTest {
     const std::vector<float> depth = renderer.readDepth();
     const glm::dvec3 eye(glm::inverse(glm::dmat4(scene.cameras[0].view))[3]);
     const glm::dvec3 light(scene.lights[0].position);
+    const double planeOffset = glm::dot(glm::dvec3(scene.vertices[0].position), normal);
     Acne a;
     for (size_t i = 0; i < depth.size(); ++i) {
       if (!(depth[i] > 0.0f)) continue;
@@ -58,8 +61,9 @@ class ShadowGrazing : public testing::GpuTest {
       (d < safeDistance ? a.nearAcne : a.farAcne) += dark;
       if (nDotL >= 0.01) a.steepPixels++, a.steepAcne += dark;
       a.maxDistance = std::max(a.maxDistance, d);
-      a.minHeight = std::min(a.minHeight, glm::dot(p, normal) - glm::dot(glm::dvec3(scene.vertices[0].position), normal));
-      a.maxHeight = std::max(a.maxHeight, glm::dot(p, normal) - glm::dot(glm::dvec3(scene.vertices[0].position), normal));
+      const double height = glm::dot(p, normal) - planeOffset;
+      a.minHeight = std::min(a.minHeight, height);
+      a.maxHeight = std::max(a.maxHeight, height);
     }
     std::printf("%s, %s t_min: %llu/%llu acne pixels within %.1f m of the eye, %llu/%llu beyond (to %.0f m); "
                 "%llu/%llu where N.L >= 0.01; heights %.3g..%.3g m\n",

@@ -22,15 +22,22 @@ namespace {
 
 class ShadowTinyTriangles : public testing::GpuTest {};
 
+// An analysis frame of the tiny-triangles scene at w x h, 16x16 tiles, with the given normals.
+RenderSettings tinySettings(uint32_t w, uint32_t h, uint32_t normals) {
+  RenderSettings s;
+  s.width = w;
+  s.height = h;
+  s.tileSize = 16;
+  s.normals = normals;
+  return s;
+}
+
 TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
   const Scene scene = makeBuiltinScene("tiny-triangles");
   const TriangleBvh bvh = buildTriangleBvh(scene);
   for (uint32_t method : {gpu::kNormalsNaive, gpu::kNormalsImproved}) {
-    RenderSettings s;
-    s.width = 1920;  // the scene's triangles are ~1.9 px wide at 1920x1080 (hard_cases.h)
-    s.height = 1080;
-    s.tileSize = 16;
-    s.normals = method;
+    // The scene's triangles are ~1.9 px wide at 1920x1080 (hard_cases.h).
+    const RenderSettings s = tinySettings(1920, 1080, method);
     Renderer renderer(*ctx, scene, s);
     renderer.renderFrame(true);
     const std::vector<float> depth = renderer.readDepth();
@@ -73,11 +80,7 @@ TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) 
   const Scene scene = makeBuiltinScene("tiny-triangles");
   for (auto [w, h] : {std::pair<uint32_t, uint32_t>{321, 181}, {320, 180}}) {
     for (uint32_t method : {gpu::kNormalsOff, gpu::kNormalsImproved}) {
-      RenderSettings s;
-      s.width = w;
-      s.height = h;
-      s.tileSize = 16;
-      s.normals = method;
+      const RenderSettings s = tinySettings(w, h, method);
       Renderer renderer(*ctx, scene, s);
       renderer.renderFrame(true);
       const std::vector<float> depth = renderer.readDepth();
@@ -101,8 +104,9 @@ TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) 
       for (uint32_t ty = 0; ty < cull.tilesY; ++ty)
         for (uint32_t tx = 0; tx < cull.tilesX; ++tx) {
           bool any = false;
-          for (uint32_t y = ty * 16; y < std::min(h, ty * 16 + 16) && !any; ++y)
-            for (uint32_t x = tx * 16; x < std::min(w, tx * 16 + 16) && !any; ++x) any = depth[size_t(y) * w + x] > 0.0f;
+          const uint32_t t = s.tileSize;
+          for (uint32_t y = ty * t; y < std::min(h, ty * t + t) && !any; ++y)
+            for (uint32_t x = tx * t; x < std::min(w, tx * t + t) && !any; ++x) any = depth[size_t(y) * w + x] > 0.0f;
           if (any) continue;
           ++emptyTiles;
           emptyTilesWithLights += cull.count[ty * cull.tilesX + tx] != 0u;
