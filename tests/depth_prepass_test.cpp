@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "camera.h"
+#include "scene/camera.h"
 #include "gpu_fixture.h"
-#include "renderer.h"
+#include "frame/renderer.h"
 
 namespace hb {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "vk_context.h"
+#include "gpu/vk_context.h"
 
 namespace hb::testing {
 

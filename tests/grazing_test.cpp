@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
-#include "hard_cases.h"
-#include "renderer.h"
+#include "scene/hard_cases.h"
+#include "frame/renderer.h"
 #include "shared/gpu_types.h"
 
 namespace hb {

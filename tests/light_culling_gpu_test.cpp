@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
-#include "atrium.h"
-#include "camera.h"
-#include "culling_analysis.h"
+#include "scene/atrium.h"
+#include "scene/camera.h"
+#include "analysis/culling_analysis.h"
 #include "gpu_fixture.h"
-#include "mesh_builder.h"
-#include "renderer.h"
+#include "scene/mesh_builder.h"
+#include "frame/renderer.h"
 
 namespace hb {
 namespace {

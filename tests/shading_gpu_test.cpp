@@ -12,12 +12,12 @@
 
 #include <gtest/gtest.h>
 
-#include "atrium.h"
-#include "camera.h"
+#include "scene/atrium.h"
+#include "scene/camera.h"
 #include "gpu_fixture.h"
-#include "image_io.h"
-#include "mesh_builder.h"
-#include "renderer.h"
+#include "base/image_io.h"
+#include "scene/mesh_builder.h"
+#include "frame/renderer.h"
 
 namespace hb {
 namespace {

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
-#include "gpu_lights.h"
-#include "hard_cases.h"
-#include "ray_analysis.h"
-#include "renderer.h"
+#include "gpu/gpu_lights.h"
+#include "scene/hard_cases.h"
+#include "analysis/ray_analysis.h"
+#include "frame/renderer.h"
 #include "shared/gpu_types.h"
 
 namespace hb {

@@ -11,10 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "gpu_fixture.h"
-#include "hard_cases.h"
-#include "ray_analysis.h"
-#include "reconstruct_ref.h"
-#include "renderer.h"
+#include "scene/hard_cases.h"
+#include "analysis/ray_analysis.h"
+#include "reference/reconstruct_ref.h"
+#include "frame/renderer.h"
 #include "shared/gpu_types.h"
 
 namespace hb {

@@ -1,0 +1,287 @@
+#include "analysis/render_outputs.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "analysis/culling_analysis.h"
+#include "reference/flip.h"
+#include "base/image_io.h"
+#include "analysis/ray_analysis.h"
+#include "reference/reconstruct_ref.h"
+#include "shared/gpu_types.h"
+#include "base/version.h"
+
+namespace hb {
+
+namespace {
+
+ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr, const std::vector<float>& depth,
+                             uint32_t w, uint32_t h, uint32_t tileSize, uint32_t light) {
+  // White: lit (in the tile's list, ray reached the light); dark red: in the list but shadowed or
+  // culled by the normal/range test; black: not in the tile's list; dark blue: sky.
+  ImageRGBA8 img{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)};
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      uint8_t* px = &img.px[(size_t(y) * w + x) * 4];
+      const size_t i = size_t(y) * w + x;
+      if (!(depth[i] > 0.0f)) {
+        px[0] = 16, px[1] = 24, px[2] = 80;
+        continue;
+      }
+      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
+      int slot = -1;
+      for (uint32_t k = 0; k < cr.count[tile]; ++k)
+        if (cr.indices[cr.offset[tile] + k] == light) slot = int(k);
+      if (slot < 0) {
+        px[0] = px[1] = px[2] = 0;
+      } else if ((sh.visibility[i] >> slot) & 1u) {
+        px[0] = px[1] = px[2] = 255;
+      } else {
+        px[0] = 110, px[1] = 20, px[2] = 20;
+      }
+    }
+  return img;
+}
+
+// Per pixel, the scene lights whose bit is set in the pixel's visibility mask (the mask indexes the
+// pixel's tile list). Sky: 0. Precondition: every light index < 64.
+std::vector<uint64_t> visibleSceneLights(const ShadowReadback& sh, const CullingReadback& cr,
+                                         const std::vector<float>& depth, uint32_t w, uint32_t h, uint32_t tileSize) {
+  std::vector<uint64_t> out(size_t(w) * h, 0);
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!(depth[i] > 0.0f)) continue;
+      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
+      for (uint32_t k = 0; k < cr.count[tile]; ++k)
+        if ((sh.visibility[i] >> k) & 1u) out[i] |= 1ull << cr.indices[cr.offset[tile] + k];
+    }
+  return out;
+}
+
+// Does light l send light to the true surface point p with true normal n (range, cone, N·L)? Only
+// those (pixel, light) pairs change the image, so only they count as shadow mismatches.
+bool lightReaches(const Light& l, const glm::dvec3& p, const glm::dvec3& n) {
+  if (l.type == LightType::Directional) return glm::dot(n, -glm::dvec3(l.direction)) > 0.0;
+  glm::dvec3 d = glm::dvec3(l.position) - p;
+  const double dist = glm::length(d);
+  if (!(dist > 0.0) || dist > l.range) return false;
+  d /= dist;
+  if (l.type == LightType::Spot && glm::dot(-d, glm::normalize(glm::dvec3(l.direction))) < std::cos(double(l.outerConeAngle)))
+    return false;
+  return glm::dot(n, d) > 0.0;
+}
+
+}  // namespace
+
+VariantParams referenceParams(const VariantParams& params) {
+  VariantParams r = params;
+  r.lightCulling = false;
+  r.aabb = false;
+  r.normalCulling = NormalCulling::Off;
+  r.rangeTest = false;
+  r.depthSlices = 0;  // only acts with culling on; keeps one reference for sliced and unsliced variants
+  // The t_min that cannot self-intersect down to N·L = 0.01 (gpu_types.h kShadowTMinPerMetre): a
+  // constant-t_min variant's acne then counts as wrongly dark. Within 41.9 m of the eye both are
+  // the thesis's 0.001 m, so on such scenes (the atrium) the reference is the same either way.
+  r.tMin = ShadowTMin::Scaled;
+  return r;
+}
+
+ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
+  ReferenceFrame ref;
+  const RenderSettings& s = renderer.settings();
+  ref.width = s.width;
+  ref.height = s.height;
+  ref.lightCount = uint32_t(scene.lights.size());
+  const std::vector<float> depth = renderer.readDepth();
+  if (renderer.hasCulling() && renderer.hasShadows() && ref.lightCount <= 64)
+    ref.visible = visibleSceneLights(renderer.readShadows(), renderer.readCulling(), depth, s.width, s.height,
+                                     s.tileSize);
+  ImageF hdr{s.width, s.height, 4, renderer.readColor()};
+  ref.color = toneMapToSrgb(hdr, 0.0f, ToneMapOperator::AcesFitted).image;
+  return ref;
+}
+
+RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
+                                 const VariantParams& params, const std::string& dir, bool writeImages,
+                                 const ReferenceFrame* reference) {
+  namespace fs = std::filesystem;
+  RenderOutputs out;
+  const RenderSettings& s = renderer.settings();
+  const uint32_t w = s.width, h = s.height;
+  if (writeImages) fs::create_directories(dir);
+  auto write = [&](const std::string& name, const ImageRGBA8& img, std::map<std::string, std::string> text = {}) {
+    if (!writeImages) return;
+    text["Software"] = "hybridbench " + toolVersion() + " (" + gitRevision() + ")";
+    text["Device"] = ctx.info().name + " / " + ctx.info().driverInfo;
+    writePng(fs::path(dir) / name, img, text);
+    out.files.push_back(name);
+  };
+
+  nlohmann::json j;
+  j["passes_run"] = renderer.passesRun();
+  j["passes_skipped"] = nlohmann::json::object();
+  for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
+  j["backend"] = renderer.backendUsed();
+  if (const AccelerationStructures* as = renderer.accel())
+    j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
+                                    {"build_ms_source", "wall clock, submit to fence"}};
+
+  const std::vector<float> depth = renderer.readDepth();
+  const Camera& cam = renderer.camera();
+  write("depth.png", depthToImage(depth, w, h, cam.znear, cam.zfar),
+        {{"Description", "reverse-Z depth: log view distance to grey (white = near), sky dark blue"}});
+
+  // Colour: linear HDR → ACES (Narkowicz fit) at exposure 0 → sRGB.
+  const std::vector<float> hdr = renderer.readColor();
+  ImageF hdrImage{w, h, 4, hdr};
+  ToneMapResult tm = toneMapToSrgb(hdrImage, 0.0f, ToneMapOperator::AcesFitted);
+  write("color.png", tm.image, {{"ToneMapping", "aces-fitted (Narkowicz 2015), exposure 0 EV, then sRGB OETF"}});
+  j["color"] = {{"tone_mapping", "aces-fitted"}, {"exposure_ev", 0.0}, {"non_finite_pixels", tm.nonFinitePixels}};
+  nlohmann::json accuracy = nlohmann::json::object();
+  if (reference && reference->width == w && reference->height == h) {
+    // LDR-FLIP (Andersson et al. 2020) of this variant's image against the reference render,
+    // at the default viewing setup (flip.h kDefaultPpd).
+    FlipResult flip = ldrFlip(reference->color, tm.image);
+    accuracy["image_error"] = flip.mean;
+    accuracy["image_error_flip"] = {{"mean", flip.mean}, {"p50", flip.p50}, {"p95", flip.p95}, {"max", flip.max},
+                                    {"ppd", kDefaultPpd}, {"reference", "same scene/camera/resolution/backend, no culling"}};
+    std::vector<float> e(flip.errorMap.px.begin(), flip.errorMap.px.end());
+    write("flip_error.png", errorMapToImage(e, w, h, 1.0f),
+          {{"Description", "LDR-FLIP error against the no-culling reference render, viridis 0..1"}});
+  }
+
+  if (renderer.hasCulling()) {
+    // Culling statistics against the CPU reference of the same method and the exact test.
+    const CullingReadback cr = renderer.readCulling();
+    CullingInputs ci;
+    ci.depth = &depth;
+    ci.lights = &scene.lights;
+    ci.view = renderer.view();
+    ci.proj = renderer.proj();
+    ci.width = w;
+    ci.height = h;
+    ci.tileSize = s.tileSize;
+    ci.aabb = s.aabb;
+    ci.lightCulling = s.lightCulling;
+    ci.depthSlices = s.depthSlices;
+    ci.capacity = cr.capacity;
+    CullingAnalysis ca = analyzeCulling(ci, cr);
+    j["culling"] = ca.json;
+    write("lights_per_tile.png", ca.heatmap,
+          {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %% "
+                  "(reaching no pixel %.1f %%), false negatives %llu%s",
+                  (unsigned long long)ca.stats.tiles, ca.stats.meanLightsPerTile, ca.stats.maxLightsPerTile,
+                  (unsigned long long)ca.stats.overflowTiles, 100.0 * ca.stats.falsePositiveRate,
+                  100.0 * ca.stats.uselessRate, (unsigned long long)ca.stats.falseNegatives,
+                  s.depthSlices ? (", " + std::to_string(ca.stats.slicedAway) + " cut by " +
+                                   std::to_string(s.depthSlices) + " depth slices")
+                                      .c_str()
+                                : "");
+    out.summary.push_back(line);
+  }
+  if (renderer.hasCulling() && renderer.hasShadows()) {
+    const CullingReadback cr = renderer.readCulling();
+    const ShadowReadback sh = renderer.readShadows();
+    // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
+    const uint32_t lightCount = uint32_t(scene.lights.size());
+    RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
+    const TriangleBvh bvh = buildTriangleBvh(scene);
+    const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
+    const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
+    const OracleRays oracle = oracleRays(scene, surface);
+    nlohmann::json rays = toJson(acc);
+    rays["adds_up"] = acc.addsUp();
+    rays["oracle"] = oracle.total;
+    rays["oracle_pixels_without_true_normal"] = oracle.pixelsWithoutNormal;
+    rays["efficiency"] = rayEfficiency(oracle.total, acc.traced);
+    j["rays"] = rays;
+    write("rays.png", rayHeatmap(acc.perPixel, w, h, lightCount),
+          {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-3, cyan/green 4-7, yellow/red 8-10 "
+                           "of 10; red = the light count)"}});
+    write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, lightCount),
+          {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
+    if (reference && !reference->visible.empty() && reference->width == w && reference->height == h) {
+      // (pixel, light) pairs whose visibility differs from the reference, among the pairs that
+      // change the image (the light reaches the true surface): wrongly dark = the reference sees
+      // the light, this variant does not (culled or shadowed); wrongly lit = the reverse.
+      const std::vector<uint64_t> mine = visibleSceneLights(sh, cr, depth, w, h, s.tileSize);
+      uint64_t dark = 0, lit = 0, pairs = 0;
+      for (size_t i = 0; i < mine.size(); ++i) {
+        if (surface.state[i] != SurfaceState::Matched) continue;
+        for (uint32_t l = 0; l < lightCount; ++l) {
+          if (!lightReaches(scene.lights[l], surface.position[i], surface.normal[i])) continue;
+          ++pairs;
+          const bool a = (reference->visible[i] >> l) & 1ull, b = (mine[i] >> l) & 1ull;
+          dark += a && !b;
+          lit += !a && b;
+        }
+      }
+      accuracy["shadow_mismatches"] = {{"wrongly_dark", dark}, {"wrongly_lit", lit}, {"pairs_compared", pairs}};
+    }
+    PositionAccuracy pa = positionAccuracy(sh.positions, depth, rcam);
+    accuracy["world_pos"] = toJson(pa);
+    accuracy["world_pos_rel_error"] = pa.maxRelative;
+    if (params.normalCulling != NormalCulling::Off) {
+      NormalAccuracy na = normalAccuracy(sh.normals, surface);
+      accuracy["normals"] = toJson(na);
+      accuracy["normal_angular_error_deg"] = na.meanAngleDeg;
+      accuracy["normal_image_error"] = na.meanImageDifference;
+      write(std::string("normal_error_") + toString(params.normalCulling) + ".png",
+            errorMapToImage(na.angleDeg, w, h, 45.0f),
+            {{"Description", "angle between reconstructed and true normal, viridis 0..45 degrees"}});
+      char line[200];
+      std::snprintf(line, sizeof line, "normals (%s): mean %.3f deg, p95 %.3f deg, image difference %.5f",
+                    toString(params.normalCulling), na.meanAngleDeg, na.p95AngleDeg, na.meanImageDifference);
+      out.summary.push_back(line);
+    }
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "rays: %llu candidates, %llu culled by tile, %llu by normal, %llu traced; oracle %llu "
+                  "(efficiency %.3f); accounting %s",
+                  (unsigned long long)acc.candidates, (unsigned long long)acc.culledByTile,
+                  (unsigned long long)acc.culledByNormal, (unsigned long long)acc.traced,
+                  (unsigned long long)oracle.total, rayEfficiency(oracle.total, acc.traced),
+                  acc.addsUp() ? "adds up" : "DOES NOT ADD UP");
+    out.summary.push_back(line);
+
+    const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
+    for (uint32_t l = 0; l < shown; ++l) {
+      char name[64];
+      std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
+      write(name, visibilityOfLight(sh, cr, depth, w, h, s.tileSize, l),
+            {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
+                             "tile's light list, blue sky"}});
+    }
+    if (params.normalCulling != NormalCulling::Off) {
+      std::vector<uint8_t> valid(size_t(w) * h);
+      std::vector<float> n3(size_t(w) * h * 3);
+      for (size_t i = 0; i < valid.size(); ++i) {
+        for (int c = 0; c < 3; ++c) n3[i * 3 + c] = sh.normals[i * 4 + c];
+        valid[i] = (n3[i * 3] != 0.0f || n3[i * 3 + 1] != 0.0f || n3[i * 3 + 2] != 0.0f) ? 1 : 0;
+      }
+      write(std::string("normals_") + toString(params.normalCulling) + ".png", normalsToImage(n3, valid, w, h));
+    }
+  }
+  {
+    const std::vector<float> ref = renderer.readRefNormals();
+    std::vector<uint8_t> valid(size_t(w) * h);
+    std::vector<float> n3(size_t(w) * h * 3);
+    for (size_t i = 0; i < valid.size(); ++i) {
+      for (int c = 0; c < 3; ++c) n3[i * 3 + c] = ref[i * 4 + c];
+      valid[i] = ref[i * 4 + 3] > 0.5f && depth[i] > 0.0f;
+    }
+    write("normals_reference.png", normalsToImage(n3, valid, w, h),
+          {{"Description", "true face normals of the visible triangles (analysis pass)"}});
+  }
+  if (!accuracy.empty()) j["accuracy"] = accuracy;
+  out.json = j;
+  return out;
+}
+
+}  // namespace hb

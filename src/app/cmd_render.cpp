@@ -1,0 +1,99 @@
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/atrium.h"
+#include "app/commands.h"
+#include "config/config.h"
+#include "base/errors.h"
+#include "scene/gltf/gltf_io.h"
+#include "base/image_io.h"
+#include "analysis/render_outputs.h"
+#include "frame/renderer.h"
+#include "app/scene_setup.h"
+#include "gpu/vk_context.h"
+
+namespace hb {
+
+int cmdRender(const RenderOptions& options) {
+  if (options.out.empty()) throw InputError("render: --out DIR is required (the directory the images and JSON go to)");
+  // Parameters: the config's defaults (or the built-in ones), then --size, then each --set.
+  Config config;
+  bool haveConfig = !options.config.empty();
+  if (haveConfig) config = loadConfig(options.config);
+  VariantParams params = haveConfig ? config.defaults : VariantParams{};
+  if (!options.size.empty()) {
+    uint32_t w = 0, h = 0;
+    parseSize(options.size, w, h, "--size");
+    params.resolution = {w, h};
+  }
+  bool shadows = haveConfig ? config.shadows : true;
+  for (const std::string& set : options.sets) {
+    if (set == "shadows=false" || set == "shadows=true") {  // effects.shadows, for a quick look
+      shadows = set == "shadows=true";
+      continue;
+    }
+    applySetOverride(params, set);
+  }
+  const bool sceneFlagGiven = options.sceneGiven || !haveConfig;
+  bool setsAtriumParams = false;
+  for (const std::string& set : options.sets)
+    setsAtriumParams |= set.rfind("light_count=", 0) == 0 || set.rfind("triangle_scale=", 0) == 0;
+  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && setsAtriumParams)
+    throw InputError("--set light_count/triangle_scale apply only to the built-in atrium, not to \"" + options.scene + "\"");
+  Scene scene;
+  if (haveConfig && !sceneFlagGiven) {
+    checkParamsFitScene(config, params, "--set");
+    scene = sceneForVariant(config, params);
+  } else if (options.scene == "atrium") {
+    AtriumParams ap;
+    if (params.lightCount) ap.lightCount = *params.lightCount;
+    if (params.triangleScale) ap.triangleScale = *params.triangleScale;
+    scene = makeAtrium(ap);
+  } else {
+    scene = loadSceneArg(options.scene);
+  }
+  RenderSettings settings = renderSettingsFor(params, shadows);
+
+  std::vector<DeviceInfo> devices = enumerateDevices();
+  uint32_t deviceIndex = resolveDevice(devices, options.device);
+  std::filesystem::create_directories(options.out);
+  VulkanContext ctx(deviceIndex);
+  std::printf("device: %s (%s)\n", ctx.info().name.c_str(), ctx.info().driverInfo.c_str());
+  std::printf("scene: %s, %llu triangles, %zu lights, %ux%u\n", scene.name.c_str(),
+              (unsigned long long)scene.triangleCount(), scene.lights.size(), settings.width, settings.height);
+  std::fflush(stdout);
+  Renderer renderer(ctx, scene, settings);
+  renderer.renderFrame(false);                        // warm: pipelines and caches
+  FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation
+  renderer.renderFrame(true);                         // the analysis frame (not timed)
+
+  RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, params, options.out);
+  nlohmann::json report = outputs.json;
+  report["timing_ms"] = nlohmann::json::object();
+  for (const auto& [pass, ms] : timing.passMs) report["timing_ms"][pass] = ms;
+  report["timing_ms"]["frame"] = timing.frameMs;
+  report["params"] = toJson(params);
+  report["effects"] = {{"shadows", shadows}};
+  const std::filesystem::path jsonPath = std::filesystem::path(options.out) / "render.json";
+  {
+    std::ofstream f(jsonPath.string() + ".tmp");
+    f << report.dump(2) << "\n";
+  }
+  std::filesystem::rename(jsonPath.string() + ".tmp", jsonPath);
+
+  for (const auto& [pass, ms] : timing.passMs) std::printf("%-16s %9.3f ms\n", pass.c_str(), ms);
+  std::printf("%-16s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
+  for (const auto& [pass, why] : renderer.passesSkipped()) std::printf("skipped %s: %s\n", pass.c_str(), why.c_str());
+  for (const std::string& line : outputs.summary) std::printf("%s\n", line.c_str());
+  std::printf("wrote %s (%zu files)\n", options.out.c_str(), outputs.files.size() + 1);
+  if (ctx.validationMessages()) {
+    std::fprintf(stderr, "hybridbench: %u validation message(s) (see above)\n", ctx.validationMessages());
+    return kExitDeviceFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace hb

@@ -1,0 +1,46 @@
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "report/accuracy_report.h"
+#include "app/commands.h"
+#include "report/compare.h"
+#include "base/errors.h"
+#include "report/tables.h"
+
+namespace hb {
+
+static nlohmann::json readResults(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw InputError(path + ": cannot open; pass a results.json written by 'hybridbench sweep'");
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); pass a results.json written by 'hybridbench sweep'");
+  }
+}
+
+int cmdTables(const std::string& resultsPath, const std::string& format) {
+  nlohmann::json results = readResults(resultsPath);
+  if (format == "csv") {
+    std::cout << thesisTablesCsv(results);
+  } else if (format == "svg") {
+    std::cout << accuracyReportSvg(results);
+  } else {
+    std::cout << thesisTablesMarkdown(results) << "\n" << accuracyReportMarkdown(results);
+  }
+  return kExitOk;
+}
+
+int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json) {
+  CompareReport report = compareResults(readResults(a), readResults(b), options);
+  if (json)
+    std::cout << toJson(report).dump(2) << "\n";
+  else
+    std::cout << formatCompare(report);
+  return report.regression ? kExitRegression : kExitOk;
+}
+
+}  // namespace hb

@@ -1,0 +1,37 @@
+// The subcommands of the CLI (main.cpp parses flags and calls these). Each returns the process
+// exit code; user errors throw InputError (exit 2), device failures DeviceError (exit 3).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "report/compare.h"
+#include "scene/scene.h"
+
+namespace hb {
+
+int cmdDevices(bool json);
+
+struct RenderOptions {
+  std::string config;              // optional config file; its defaults apply
+  std::string scene = "atrium";    // built-in name or glTF path
+  bool sceneGiven = false;         // --scene was on the command line (it wins over a config's scene)
+  std::string size;                // "WxH" (empty: config's or 1920x1080)
+  std::string device;              // index or name substring
+  std::vector<std::string> sets;   // key=value overrides
+  std::string out;                 // output directory (required)
+};
+int cmdRender(const RenderOptions& options);
+
+int cmdTables(const std::string& resultsPath, const std::string& format);
+int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json);
+
+int cmdSceneExport(const std::string& name, const std::string& out);
+int cmdSceneInfo(const std::string& path, bool json);
+
+// A built-in scene name (see builtinSceneNames) or a path to a .gltf/.glb file.
+Scene loadSceneArg(const std::string& nameOrPath);
+
+// "1920x1080" → width, height. Throws InputError naming the flag.
+void parseSize(const std::string& text, uint32_t& width, uint32_t& height, const std::string& what);
+
+}  // namespace hb

@@ -1,0 +1,114 @@
+// hybridbench: a headless benchmark of a Forward+ hybrid renderer (see README.md).
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+#include "app/sweep.h"
+#include "base/errors.h"
+#include "base/version.h"
+#include "gpu/vk_context.h"
+
+int main(int argc, char** argv) {
+  using namespace hb;
+  CLI::App app{"hybridbench: a headless Vulkan benchmark of a Forward+ renderer with ray-traced shadows"};
+  app.set_version_flag("--version", toolVersion() + " (" + gitRevision() + ")");
+  app.require_subcommand(0, 1);
+
+  bool devicesJson = false;
+  auto* devices = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
+  devices->add_flag("--json", devicesJson, "machine-readable output");
+
+  RenderOptions render;
+  auto* renderCmd = app.add_subcommand("render", "render one frame and write its images and statistics");
+  renderCmd->add_option("config", render.config, "config file whose defaults apply");
+  auto* sceneOpt = renderCmd->add_option("--scene", render.scene, "built-in scene name or .gltf/.glb path");
+  renderCmd->add_option("--size", render.size, "resolution WxH, e.g. 1920x1080");
+  renderCmd->add_option("--device", render.device, "device index or name substring");
+  renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)")->allow_extra_args(false);
+  renderCmd->add_option("--out", render.out, "output directory")->required();
+
+  SweepOptions sweep;
+  bool noImages = false;
+  auto* sweepCmd = app.add_subcommand("sweep", "run a benchmark sweep from a config (default: the embedded thesis.json)");
+  sweepCmd->add_option("config", sweep.config, "config file (JSON)");
+  sweepCmd->add_option("--device", sweep.device, "device index, name substring, or all");
+  sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
+  sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
+  sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)")
+      ->check(CLI::Range(1, 1000000));
+  sweepCmd->add_option("--warmup", sweep.warmup, "warm-up frames per variant (overrides the config)")
+      ->check(CLI::Range(0, 100000));
+  sweepCmd->add_flag("--no-images", noImages, "write no per-variant images");
+
+  std::string tablesPath, tablesFormat = "md";
+  auto* tablesCmd = app.add_subcommand("tables", "regenerate the thesis tables from a results file");
+  tablesCmd->add_option("results", tablesPath, "results.json")->required();
+  tablesCmd->add_option("--format", tablesFormat, "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
+      ->check(CLI::IsMember({"md", "csv", "svg"}));
+
+  std::string compareA, compareB;
+  CompareOptions compareOpts;
+  bool compareJson = false;
+  auto* compareCmd = app.add_subcommand("compare", "compare two results files (B against A); exit 1 on a regression");
+  compareCmd->add_option("a", compareA, "baseline results.json")->required();
+  compareCmd->add_option("b", compareB, "candidate results.json")->required();
+  compareCmd->add_option("--threshold", compareOpts.thresholdPct, "slower beyond this many percent is a regression (default 5)");
+  compareCmd->add_option("--alpha", compareOpts.alpha, "significance level of the Mann-Whitney U test (default 0.05)");
+  compareCmd->add_flag("--force", compareOpts.force, "compare even when scenes or configs differ");
+  compareCmd->add_flag("--json", compareJson, "machine-readable report");
+
+  auto* sceneCmd = app.add_subcommand("scene", "export or inspect scenes");
+  sceneCmd->require_subcommand(1);
+  std::string exportName, exportOut, infoPath;
+  bool infoJson = false;
+  auto* exportCmd = sceneCmd->add_subcommand("export", "write a built-in scene as glTF");
+  exportCmd->add_option("name", exportName, "built-in scene name")->required();
+  exportCmd->add_option("out", exportOut, "output .gltf or .glb")->required();
+  auto* infoCmd = sceneCmd->add_subcommand("info", "print a scene's statistics");
+  infoCmd->add_option("path", infoPath, "built-in scene name or .gltf/.glb path")->required();
+  infoCmd->add_flag("--json", infoJson, "machine-readable output");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "hybridbench: %s (see hybridbench --help)\n", e.what());
+    return kExitBadInput;
+  }
+
+  try {
+    gpuTimeoutSeconds();  // a malformed HYBRIDBENCH_GPU_TIMEOUT_S is bad input before anything is written
+    if (*devices) return cmdDevices(devicesJson);
+    if (*renderCmd) {
+      render.sceneGiven = sceneOpt->count() > 0;
+      return cmdRender(render);
+    }
+    if (*sweepCmd) {
+      sweep.images = !noImages;
+      return cmdSweep(sweep);
+    }
+    if (*tablesCmd) return cmdTables(tablesPath, tablesFormat);
+    if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson);
+    if (*exportCmd) return cmdSceneExport(exportName, exportOut);
+    if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
+    // No subcommand: the main job, the embedded default sweep (configs/thesis.json) on device 0.
+    return cmdSweep(SweepOptions{});
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "hybridbench: %s\n", e.what());
+    return kExitBadInput;
+  } catch (const DeviceError& e) {
+    std::fprintf(stderr, "hybridbench: device failure: %s\n", e.what());
+    return kExitDeviceFailure;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hybridbench: internal error: %s\n", e.what());
+    return kExitDeviceFailure;
+  }
+}

@@ -1,0 +1,78 @@
+#include "app/scene_setup.h"
+
+#include <filesystem>
+
+#include "scene/atrium.h"
+#include "base/errors.h"
+#include "scene/gltf/gltf_io.h"
+#include "scene/hard_cases.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+void applySceneOverrides(const Config& config, Scene& scene) {
+  if (config.lights) scene.lights = *config.lights;
+  if (config.camera.explicitPose) {
+    scene.cameras.insert(scene.cameras.begin(), cameraFromSpec(config.camera));
+  } else if (config.camera.index > 0) {
+    if (config.camera.index >= scene.cameras.size())
+      throw InputError(config.sourceName + ": camera.index: " + std::to_string(config.camera.index) +
+                       " but the scene has " + std::to_string(scene.cameras.size()) + " camera(s)");
+    std::swap(scene.cameras[0], scene.cameras[config.camera.index]);
+  }
+}
+
+Scene sceneForVariant(const Config& config, const VariantParams& params) {
+  Scene scene;
+  if (config.sceneIsBuiltin()) {
+    AtriumParams ap = config.sceneParams;
+    if (params.lightCount) ap.lightCount = *params.lightCount;
+    if (params.triangleScale) ap.triangleScale = *params.triangleScale;
+    scene = makeAtrium(ap);
+  } else if (config.sceneIsHardCase()) {
+    scene = makeBuiltinScene(config.scene);
+  } else {
+    if (!std::filesystem::exists(config.scene)) {
+      std::string hint = config.scene.find("ponza") != std::string::npos
+                             ? "; fetch it with scripts/fetch-sponza.sh (needs internet) or point \"scene\" at your copy"
+                             : "; check the path (relative paths resolve against the config's directory)";
+      throw InputError(config.sourceName + ": scene: \"" + config.scene + "\" does not exist" + hint);
+    }
+    scene = loadGltf(config.scene);
+  }
+  applySceneOverrides(config, scene);
+  return scene;
+}
+
+RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
+  if (p.maxLightsPerTile != gpu::kMaxLightsPerTile)
+    throw InputError("max_lights_per_tile=" + std::to_string(p.maxLightsPerTile) +
+                     ": only 32 (one 32-bit visibility mask per texel) is implemented; overflowing tiles are "
+                     "counted and reported instead of truncated silently");
+  RenderSettings s;
+  s.width = p.resolution[0];
+  s.height = p.resolution[1];
+  s.tileSize = p.tileSize;
+  s.lightCulling = p.lightCulling;
+  s.aabb = p.aabb;
+  s.shadows = shadows;
+  s.backend = toString(p.backend);
+  s.normals = p.normalCulling == NormalCulling::Off     ? gpu::kNormalsOff
+              : p.normalCulling == NormalCulling::Naive ? gpu::kNormalsNaive
+                                                        : gpu::kNormalsImproved;
+  s.worldPos = p.worldPos == WorldPosMethod::Alg41 ? gpu::kWorldPosAlg41 : gpu::kWorldPosMatrix;
+  s.rangeTest = p.rangeTest;
+  s.depthSlices = p.depthSlices;
+  s.scaledTMin = p.tMin == ShadowTMin::Scaled;
+  return s;
+}
+
+const Scene& SceneCache::get(const Config& config, const VariantParams& params) {
+  auto key = std::make_tuple(params.lightCount.value_or(0), params.triangleScale.value_or(0.0));
+  auto it = scenes_.find(key);
+  if (it == scenes_.end())
+    it = scenes_.emplace(key, std::make_unique<Scene>(sceneForVariant(config, params))).first;
+  return *it->second;
+}
+
+}  // namespace hb

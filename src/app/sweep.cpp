@@ -1,0 +1,411 @@
+#include "app/sweep.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/utsname.h>
+
+#include "report/accuracy_report.h"
+#include "base/errors.h"
+#include "scene/gltf/gltf_io.h"
+#include "analysis/render_outputs.h"
+#include "frame/renderer.h"
+#include "app/scene_setup.h"
+#include "shared/gpu_types.h"
+#include "report/stats.h"
+#include "report/tables.h"
+#include "base/version.h"
+#include "gpu/vk_context.h"
+#include "gpu/vk_resources.h"
+
+namespace hb {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+void writeFileAtomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!f) throw InputError("cannot write " + path + "; check that the directory exists and is writable");
+    f << text;
+    f.flush();
+    if (!f) throw InputError("cannot write " + path + " (disk full?)");
+  }
+  fs::rename(tmp, path);
+}
+
+namespace {
+
+std::string slug(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (std::isalnum(static_cast<unsigned char>(c))) out += char(std::tolower(static_cast<unsigned char>(c)));
+    else if (!out.empty() && out.back() != '-') out += '-';
+  }
+  while (!out.empty() && out.back() == '-') out.pop_back();
+  return out.empty() ? "run" : out;
+}
+
+json hostJson() {
+  json h;
+  char name[256] = {};
+  gethostname(name, sizeof name - 1);
+  h["hostname"] = name;
+  struct utsname u {};
+  if (uname(&u) == 0) h["os"] = std::string(u.sysname) + " " + u.release + " " + u.machine;
+  std::ifstream cpu("/proc/cpuinfo");
+  for (std::string line; std::getline(cpu, line);)
+    if (line.rfind("model name", 0) == 0) {
+      h["cpu"] = line.substr(line.find(':') + 2);
+      break;
+    }
+  h["cores"] = sysconf(_SC_NPROCESSORS_ONLN);
+  std::time_t now = std::time(nullptr);
+  char date[64];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  h["date"] = date;
+  return h;
+}
+
+json deviceJson(const DeviceInfo& d, const std::string& backend) {
+  return {{"name", d.name},         {"vendor", d.vendor},          {"vendor_id", d.vendorId},
+          {"device_id", d.deviceId}, {"uuid", d.uuid},              {"type", d.type},
+          {"driver", d.driverName + " " + d.driverVersion + " (" + d.driverInfo + ")"},
+          {"api_version", d.apiVersion}, {"rt_backend", backend},   {"timestamp_period_ns", d.timestampPeriodNs},
+          {"timestamp_valid_bits", d.timestampValidBits}};
+}
+
+volatile std::sig_atomic_t gInterrupted = 0;
+void onSignal(int) { gInterrupted = 1; }
+
+class Progress {
+ public:
+  Progress(size_t total) : total_(total), tty_(isatty(fileno(stdout))), start_(std::chrono::steady_clock::now()) {}
+  void update(size_t done, const std::string& what) {
+    double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    double eta = done ? elapsed / double(done) * double(total_ - done) : 0.0;
+    if (tty_) {
+      const int width = 28;
+      int filled = total_ ? int(width * done / total_) : width;
+      std::printf("\r[%s%s] %zu/%zu  %-44.44s  elapsed %4.0fs  eta %4.0fs", std::string(filled, '#').c_str(),
+                  std::string(width - filled, '.').c_str(), done, total_, what.c_str(), elapsed, eta);
+      if (done == total_) std::printf("\n");
+    } else {
+      std::printf("[%zu/%zu] %s (elapsed %.0fs, eta %.0fs)\n", done, total_, what.c_str(), elapsed, eta);
+    }
+    std::fflush(stdout);
+  }
+
+ private:
+  size_t total_;
+  bool tty_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// The no-culling reference of each (scene, resolution, backend), rendered once (design.md
+// "Accuracy"). None for scenes with more lights than one tile list holds: with culling off such a
+// reference would itself drop lights.
+class ReferenceCache {
+ public:
+  const ReferenceFrame* get(const VulkanContext& ctx, const Config& config, const VariantParams& params,
+                            SceneCache& scenes) {
+    const Scene& scene = scenes.get(config, params);
+    if (scene.lights.size() > gpu::kMaxLightsPerTile || !config.shadows) return nullptr;
+    VariantParams rp = referenceParams(params);
+    const std::string key = toJson(rp).dump();
+    auto it = frames_.find(key);
+    if (it == frames_.end()) {
+      Renderer renderer(ctx, scene, renderSettingsFor(rp, config.shadows));
+      renderer.renderFrame(true);
+      it = frames_.emplace(key, captureReference(renderer, scene)).first;
+    }
+    return &it->second;
+  }
+
+ private:
+  std::map<std::string, ReferenceFrame> frames_;
+};
+
+// Runs one variant; returns its run record (status ok) or throws.
+json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v, SceneCache& scenes,
+                ReferenceCache& references, const std::string& imageDir, bool images, uint32_t warmup,
+                uint32_t measured) {
+  const Scene& scene = scenes.get(config, v.params);
+  const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
+  RenderSettings settings = renderSettingsFor(v.params, config.shadows);
+  Renderer renderer(ctx, scene, settings);
+  std::map<std::string, uint64_t> memory = memoryByClass();
+
+  // Warm-up: the configured frames and, on a GPU, at least kMinWarmupSeconds of them. A GPU's
+  // clocks drop during the previous variant's CPU-side analysis; 30 frames of 2.5 ms once left the
+  // first 6-7 measured frames 3x slow (H100, configs/depth-slices.json). warmup 0 means none.
+  constexpr double kMinWarmupSeconds = 0.5;
+  constexpr uint32_t kMaxWarmupFrames = 100000;  // the config's own limit on "warmup"
+  const bool gpu = ctx.info().type != "cpu";
+  const auto warmStart = std::chrono::steady_clock::now();
+  auto warmSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - warmStart).count(); };
+  uint32_t warmed = 0;
+  while (warmup > 0 && !gInterrupted && warmed < kMaxWarmupFrames &&
+         (warmed < warmup || (gpu && warmSeconds() < kMinWarmupSeconds))) {
+    renderer.renderFrame(false);
+    ++warmed;
+  }
+  const double warmupSeconds = warmSeconds();
+  std::vector<double> frameMs;
+  std::map<std::string, std::vector<double>> passMs;
+  std::vector<std::string> passOrder;
+  for (uint32_t i = 0; i < measured && !gInterrupted; ++i) {
+    FrameTiming t = renderer.renderFrame(false);
+    frameMs.push_back(t.frameMs);
+    for (const auto& [pass, ms] : t.passMs) {
+      if (!passMs.count(pass)) passOrder.push_back(pass);
+      passMs[pass].push_back(ms);
+    }
+  }
+  if (gInterrupted) throw std::runtime_error("interrupted");
+  renderer.renderFrame(true);  // analysis frame: counters, readbacks, images
+  // Ray throughput right after it, while the GPU is as warm as in the measured frames (the CPU
+  // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
+  std::vector<double> rb;
+  if (renderer.hasShadows()) {
+    const bool cpu = ctx.info().type == "cpu";
+    renderer.rayBench(cpu ? 1 : 30);
+    rb = renderer.rayBench(cpu ? 2 : 30);
+  }
+  RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
+
+  json run = outputs.json;
+  run["name"] = v.name;
+  run["params"] = toJson(v.params);
+  run["frames"] = measured;
+  run["warmup_frames"] = warmed;  // rendered: at least the configured count (see above)
+  run["warmup_s"] = warmupSeconds;
+  Summary fs_ = summarize(frameMs);
+  run["frame_ms"] = toJson(fs_, frameMs);
+  run["passes"] = json::object();
+  double sumOfMedians = 0;
+  for (const std::string& pass : passOrder) {
+    Summary s = summarize(passMs[pass]);
+    run["passes"][pass] = toJson(s, passMs[pass]);
+    sumOfMedians += s.median;
+  }
+  run["pass_order"] = passOrder;
+  // What the frame spends outside the timed passes (barriers, gaps between passes).
+  run["frame_minus_passes_ms"] = fs_.median - sumOfMedians;
+  run["memory_bytes"] = memory;
+  // Ray throughput: the analysis frame's own rays re-traced alone, against the shadow pass.
+  if (!rb.empty() && run.contains("rays") && passMs.count("shadows")) {
+    const size_t reps = rb.size();
+    const double rays = run["rays"].value("traced", 0.0);
+    const double benchMs = summarize(rb).median, shadowMs = summarize(passMs["shadows"]).median;
+    run["raybench"] = {{"rays", rays},
+                       {"repetitions", reps},
+                       {"ms", toJson(summarize(rb), rb)},
+                       {"rays_per_s", benchMs > 0 ? rays / (benchMs * 1e-3) : 0.0},
+                       {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
+                       {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
+  }
+  run["scene"] = {{"triangles", scene.triangleCount()}, {"lights", scene.lights.size()}};
+  if (!images) run.erase("images");
+  run["status"] = "ok";
+  return run;
+}
+
+}  // namespace
+
+std::string resultsCsv(const json& results) {
+  std::ostringstream o;
+  o << "run,status,tile_size,light_culling,aabb,normal_culling,backend,width,height,world_pos,range_test,"
+       "depth_slices,t_min,light_count,triangle_scale,pass,median_ms,mean_ms,stddev_ms,min_ms,max_ms,p95_ms,samples,rays_traced,"
+       "rays_oracle\n";
+  auto q = [](const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string r = "\"";
+    for (char c : s) r += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return r + "\"";
+  };
+  auto num = [](const json& j, const char* key) -> std::string {
+    if (!j.is_object() || !j.contains(key) || !j[key].is_number()) return "";
+    std::ostringstream s;
+    s.precision(9);
+    s << j[key].get<double>();
+    return s.str();
+  };
+  const json runs = results.value("runs", json::array());
+  for (const json& run : runs) {
+    const json p = run.value("params", json::object());
+    std::ostringstream prefix;
+    auto str = [](const json& j) { return j.is_string() ? j.get<std::string>() : j.is_null() ? "" : j.dump(); };
+    prefix << q(run.value("name", "")) << "," << run.value("status", "") << "," << str(p.value("tile_size", json()))
+           << "," << str(p.value("light_culling", json())) << "," << str(p.value("aabb", json())) << ","
+           << str(p.value("normal_culling", json())) << "," << str(p.value("backend", json())) << ",";
+    json res = p.value("resolution", json::array({0, 0}));
+    prefix << res[0] << "," << res[1] << "," << str(p.value("world_pos", json())) << ","
+           << str(p.value("range_test", json())) << "," << str(p.value("depth_slices", json())) << ","
+           << str(p.value("t_min", json())) << "," << str(p.value("light_count", json())) << ","
+           << str(p.value("triangle_scale", json()));
+    const json rays = run.value("rays", json::object());
+    const std::string tail = "," + num(rays, "traced") + "," + num(rays, "oracle") + "\n";
+    auto row = [&](const std::string& pass, const json& s) {
+      o << prefix.str() << "," << pass << "," << num(s, "median") << "," << num(s, "mean") << "," << num(s, "stddev")
+        << "," << num(s, "min") << "," << num(s, "max") << "," << num(s, "p95") << ","
+        << (s.contains("samples") ? s["samples"].size() : 0) << tail;
+    };
+    if (run.value("status", "") != "ok") {
+      o << prefix.str() << ",,,,,,,,0,,\n";
+      continue;
+    }
+    row("frame", run["frame_ms"]);
+    const json passes = run.value("passes", json::object());
+    for (const auto& [pass, s] : passes.items()) row(pass, s);
+  }
+  return o.str();
+}
+
+static void writeOutputs(const std::string& dir, const json& results) {
+  writeFileAtomic((fs::path(dir) / "results.json").string(), results.dump(1) + "\n");
+  writeFileAtomic((fs::path(dir) / "results.csv").string(), resultsCsv(results));
+  writeFileAtomic((fs::path(dir) / "tables.md").string(), thesisTablesMarkdown(results));
+  writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
+  writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
+}
+
+static int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
+  VulkanContext ctx(device.index);
+  if (device.type == "cpu") {
+    config = lowerForCpuDevice(config);
+    std::printf("note: %s\n", config.notes.back().c_str());
+  }
+  if (options.frames > 0) config.measuredFrames = uint32_t(options.frames);
+  if (options.warmup >= 0) config.warmupFrames = uint32_t(options.warmup);
+  std::vector<Variant> variants = expandVariants(config);
+  fs::create_directories(outDir);
+  const std::string resultsPath = (fs::path(outDir) / "results.json").string();
+
+  // The scene of the config's defaults names the results file's scene (variants may scale it).
+  SceneCache scenes;
+  const Scene& baseScene = scenes.get(config, config.defaults);
+  json results;
+  results["schema_version"] = 1;
+  json context;
+  context["tool"] = {{"name", "hybridbench"}, {"version", toolVersion()}, {"git", gitRevision()}};
+  context["host"] = hostJson();
+  const std::string backend = ctx.info().rayQuery ? "rayquery" : ctx.info().rayTracingPipeline ? "pipeline" : "none";
+  context["device"] = deviceJson(ctx.info(), backend);
+  context["scene"] = {{"name", baseScene.name},
+                      {"sha256", sceneSha256(baseScene)},
+                      {"triangles", baseScene.triangleCount()},
+                      {"lights", baseScene.lights.size()}};
+  context["resolution"] = variants.front().params.resolution;
+  context["config"] = toJson(config);
+  context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
+  context["timing_source"] = "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
+  if (ctx.info().type == "cpu")
+    context["timing_caveat"] =
+        "CPU implementation (lavapipe): its timestamps do not bracket compute and ray-tracing work (those passes read "
+        "~0.01 ms while the frame takes hundreds of ms), so per-pass times, shadow-pass shares and "
+        "raybench.shadow_pass_fraction_of_peak are not meaningful here; frame times, counts and accuracy are.";
+  results["context"] = context;
+  results["runs"] = json::array();
+
+  std::map<std::string, json> done;
+  if (options.resume && fs::exists(resultsPath)) {
+    std::ifstream f(resultsPath);
+    json old;
+    try {
+      old = json::parse(f);
+    } catch (const std::exception& e) {
+      throw InputError(resultsPath + ": cannot resume, not valid JSON (" + e.what() + "); remove it or use another --out");
+    }
+    const json& oc = old.value("context", json::object());
+    if (oc.value("config", json()) != context["config"] ||
+        oc.value("device", json::object()).value("uuid", "") != ctx.info().uuid)
+      throw InputError(resultsPath + ": --resume needs the same config (frame counts included) and device as the interrupted sweep; use another --out");
+    for (const json& run : old.value("runs", json::array()))
+      if (run.value("status", "") == "ok") done[run.value("name", "")] = run;
+    std::printf("resume: %zu of %zu variants already done\n", done.size(), variants.size());
+  }
+
+  std::printf("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n", config.name.c_str(),
+              ctx.info().name.c_str(), variants.size(), config.warmupFrames, config.measuredFrames, outDir.c_str());
+  ReferenceCache references;
+  Progress progress(variants.size());
+  size_t index = 0, failures = 0;
+  for (const Variant& v : variants) {
+    if (gInterrupted) break;
+    progress.update(index, v.name);
+    if (done.count(v.name)) {
+      results["runs"].push_back(done[v.name]);
+    } else {
+      json run;
+      try {
+        run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(),
+                         options.images, config.warmupFrames, config.measuredFrames);
+      } catch (const std::exception& e) {
+        if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
+        run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
+        ++failures;
+        std::printf("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) ? "\n" : "", v.name.c_str(), e.what());
+      }
+      results["runs"].push_back(run);
+    }
+    writeOutputs(outDir, results);  // after every variant: nothing finished is ever lost
+    ++index;
+  }
+  if (gInterrupted) {
+    std::printf("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n", index,
+                variants.size(), outDir.c_str(), outDir.c_str());
+    return 130;
+  }
+  progress.update(variants.size(), "done");
+  std::printf("%s", thesisTablesMarkdown(results).c_str());
+  std::printf("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
+              options.images ? " and images per variant" : "");
+  if (failures) std::printf("%zu variant(s) failed: see status \"error\" in results.json\n", failures);
+  if (ctx.validationMessages()) {
+    std::fprintf(stderr, "hybridbench: %u validation message(s)\n", ctx.validationMessages());
+    return kExitDeviceFailure;
+  }
+  return kExitOk;
+}
+
+int cmdSweep(const SweepOptions& options) {
+  if (options.resume && options.out.empty())
+    throw InputError("sweep --resume needs --out DIR: the directory of the interrupted sweep");
+  if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
+  Config config = options.config.empty() ? embeddedDefaultConfig() : loadConfig(options.config);
+  std::vector<DeviceInfo> devices = enumerateDevices();
+  std::vector<DeviceInfo> chosen;
+  if (options.device == "all") chosen = devices;
+  else chosen.push_back(devices[resolveDevice(devices, options.device)]);
+  if (chosen.empty()) throw DeviceError("no Vulkan device found");
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  int rc = kExitOk;
+  for (const DeviceInfo& d : chosen) {
+    std::string dir = options.out;
+    if (dir.empty()) {
+      std::time_t now = std::time(nullptr);
+      char stamp[32];
+      std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
+      dir = "out/" + config.name + "-" + slug(d.name) + "-" + stamp + "-" + gitRevision();
+    } else if (chosen.size() > 1) {
+      dir = (fs::path(options.out) / slug(d.name)).string();
+    }
+    int r = sweepOneDevice(options, config, d, dir);
+    if (r != kExitOk) rc = r;
+    if (gInterrupted) break;
+  }
+  return rc;
+}
+
+}  // namespace hb

@@ -1,0 +1,33 @@
+// `hybridbench sweep`: runs every variant of a config on one device — warm-up frames, measured
+// frames (GPU timestamps per pass and per frame, nothing else in them), then one analysis frame
+// (not timed) for ray accounting, culling statistics, accuracy and images. Each finished variant
+// is written at once (temporary file + rename) to results.json, results.csv and tables.md, so an
+// interrupted sweep loses nothing and `--resume` skips what is done.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "config/config.h"
+
+namespace hb {
+
+struct SweepOptions {
+  std::string config;      // empty: the embedded default (configs/thesis.json)
+  std::string device;      // index, name substring, or "all"
+  std::string out;         // empty: out/<config>-<device>-<time>-<git>
+  bool resume = false;
+  int frames = -1;         // override measured frames (-1: config's)
+  int warmup = -1;         // override warm-up frames
+  bool images = true;      // write per-variant images
+};
+
+int cmdSweep(const SweepOptions& options);
+
+// results.csv: one row per run and pass (and "frame"), flattened parameters.
+std::string resultsCsv(const nlohmann::json& results);
+
+// Writes text to path atomically (temporary beside it, then rename).
+void writeFileAtomic(const std::string& path, const std::string& text);
+
+}  // namespace hb

@@ -1,0 +1,122 @@
+#include "frame/passes/shading.h"
+
+#include "base/errors.h"
+#include "frame/passes/depth_prepass.h"
+#include "gpu/raster_pipeline.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+namespace {
+std::vector<Binding> shadingBindings() {
+  const VkShaderStageFlags fs = VK_SHADER_STAGE_FRAGMENT_BIT;
+  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
+          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs},
+          {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+}
+}  // namespace
+
+ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32_t width, uint32_t height,
+                         const ShadingInputs& in)
+    : ctx_(ctx),
+      scene_(scene),
+      in_(in),
+      width_(width),
+      height_(height),
+      textures_(ctx, scene.scene()),
+      color_(ctx, width, height, kHdrFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+             VK_IMAGE_ASPECT_COLOR_BIT),
+      refNormals_(ctx, width, height, kRefNormalFormat,
+                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      dummyVisibility_(ctx, 1, 1, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
+                       VK_IMAGE_ASPECT_COLOR_BIT),
+      sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
+      layout_(ctx) {
+  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
+  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
+  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.indices ? in.indices : in.lights)->handle());
+  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+                   (in.visibility ? in.visibility : &dummyVisibility_)->view(), VK_IMAGE_LAYOUT_GENERAL,
+                   in.pointSampler);
+  sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  for (uint32_t i = 0; i < textures_.images().size(); ++i)
+    sets_.writeImage(0, 8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
+  layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
+  timed_ = createPipeline(false);
+  analysis_ = createPipeline(true);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    for (const Image* img : {&color_, &refNormals_})
+      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    imageBarrier(cmd, dummyVisibility_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
+                 0, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+  });
+}
+
+ShadingPass::~ShadingPass() {
+  if (timed_) vkDestroyPipeline(ctx_.device(), timed_, nullptr);
+  if (analysis_) vkDestroyPipeline(ctx_.device(), analysis_, nullptr);
+}
+
+VkPipeline ShadingPass::createPipeline(bool analysis) {
+  ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
+  SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u}};
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo si = specializationInfo(spec, entries);
+  RasterPipelineDesc desc;
+  desc.layout = layout_.layout();
+  desc.vertex = vert.handle();
+  desc.fragment = frag.handle();
+  desc.fragmentSpec = &si;
+  desc.vertexAttributes = 3;
+  desc.depthWrite = false;
+  desc.depthCompare = VK_COMPARE_OP_EQUAL;  // only the fragment the prepass kept (thesis 4.4)
+  desc.colorFormats = {kHdrFormat};
+  if (analysis) desc.colorFormats.push_back(kRefNormalFormat);
+  desc.depthFormat = kDepthFormat;
+  return createRasterPipeline(ctx_, desc);
+}
+
+void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const {
+  VkRenderingAttachmentInfo ca[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
+                                     {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
+  const Image* targets[2] = {&color_, &refNormals_};
+  for (int i = 0; i < 2; ++i) {
+    ca[i].imageView = targets[i]->view();
+    ca[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    ca[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // sky: black, no normal
+    ca[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    ca[i].clearValue.color = {{0.0f, 0.0f, 0.0f, i == 0 ? 1.0f : 0.0f}};  // opaque black sky; no normal
+  }
+  VkRenderingAttachmentInfo da{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  da.imageView = in_.depth->view();
+  da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
+  da.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+  da.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {width_, height_}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = analysis ? 2 : 1;
+  ri.pColorAttachments = ca;
+  ri.pDepthAttachment = &da;
+  vkCmdBeginRendering(cmd, &ri);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, analysis ? analysis_ : timed_);
+  VkDescriptorSet set = sets_.set();
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0, nullptr);
+  drawScene(cmd, scene_, layout_.layout(), viewProj, width_, height_);
+  vkCmdEndRendering(cmd);
+}
+
+}  // namespace hb

@@ -1,0 +1,50 @@
+// Pass 5 (thesis 4.4): the forward shading pass — the scene drawn again with depth test EQUAL
+// against the prepass depth (writes off), Cook-Torrance with bindless textures, visibility from
+// the shadow pass's bitmask. Writes a linear HDR colour target (RGBA16F); the analysis variant
+// also writes each pixel's true face normal (the reference for normal reconstruction).
+#pragma once
+#include <memory>
+
+#include "gpu/gpu_scene.h"
+#include "gpu/gpu_textures.h"
+#include "gpu/vk_pipeline.h"
+
+namespace hb {
+
+struct ShadingInputs {
+  const Buffer* frameConstants;
+  const Buffer* lights;
+  const Buffer* grid;        // nullptr: no culling pass ran (every pixel loops over every light)
+  const Buffer* indices;     // nullptr with grid
+  const Image* visibility;   // nullptr: no shadow pass (every light visible); else GENERAL layout
+  const Image* depth;        // DEPTH_READ_ONLY_OPTIMAL
+  uint32_t tileSize;
+  VkSampler pointSampler;    // nearest, for the integer visibility mask
+};
+
+constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kRefNormalFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+class ShadingPass {
+ public:
+  ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32_t width, uint32_t height,
+              const ShadingInputs& inputs);
+  ~ShadingPass();
+  void record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const;
+  const Image& color() const { return color_; }          // COLOR_ATTACHMENT_OPTIMAL after record
+  const Image& refNormals() const { return refNormals_; }
+
+ private:
+  VkPipeline createPipeline(bool analysis);
+  const VulkanContext& ctx_;
+  const GpuScene& scene_;
+  ShadingInputs in_;
+  uint32_t width_, height_;
+  GpuTextures textures_;
+  Image color_, refNormals_, dummyVisibility_;
+  DescriptorSets sets_;
+  Pipeline layout_;
+  VkPipeline timed_ = VK_NULL_HANDLE, analysis_ = VK_NULL_HANDLE;
+};
+
+}  // namespace hb

@@ -1,0 +1,111 @@
+#include "frame/passes/shadows.h"
+
+#include <cstring>
+
+#include "base/errors.h"
+#include "gpu/rt_pipeline.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+const char* toString(ShadowBackend b) { return b == ShadowBackend::RayQuery ? "rayquery" : "pipeline"; }
+
+namespace {
+
+
+std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
+  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+          {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages}};
+}
+
+VkShaderStageFlags stagesFor(ShadowBackend b) {
+  return b == ShadowBackend::RayQuery ? VK_SHADER_STAGE_COMPUTE_BIT
+                                      : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
+}
+
+}  // namespace
+
+struct ShadowPass::Variant {
+  Pipeline compute;                              // rayquery backend
+  std::unique_ptr<RaygenMissPipeline> rtProgram;  // pipeline backend
+
+  Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
+    SpecConstants spec{{s.tileSize, s.normals, s.worldPos, s.rangeTest ? 1u : 0u, analysis ? 1u : 0u}};
+    if (s.backend == ShadowBackend::RayQuery) {
+      compute.createLayout({layout}, 0);
+      compute.createCompute("shadows_rayquery.comp", spec);
+    } else {
+      rtProgram = std::make_unique<RaygenMissPipeline>(c, layout, "shadows.rgen", "shadows.rmiss", spec);
+    }
+  }
+  const Pipeline& pipeline() const { return rtProgram ? rtProgram->pipeline() : compute; }
+};
+
+ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings, uint32_t width, uint32_t height,
+                       const ShadowInputs& in)
+    : ctx_(ctx),
+      settings_(settings),
+      width_(width),
+      height_(height),
+      visibility_(ctx, width, height, VK_FORMAT_R32_UINT,
+                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                  VK_IMAGE_ASPECT_COLOR_BIT),
+      accounting_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                  VK_IMAGE_ASPECT_COLOR_BIT),
+      normals_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
+               VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
+                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      traced_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+              VK_IMAGE_ASPECT_COLOR_BIT),
+      sets_(ctx, shadowBindings(stagesFor(settings.backend))) {
+  if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
+    throw InputError("backend=rayquery: device \"" + ctx.info().name +
+                     "\" has no VK_KHR_ray_query; use backend=pipeline or backend=auto");
+  if (settings.backend == ShadowBackend::Pipeline && !ctx.info().rayTracingPipeline)
+    throw InputError("backend=pipeline: device \"" + ctx.info().name +
+                     "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
+  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+                   VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+  sets_.writeAccelerationStructure(0, 5, in.tlas);
+  const Image* images[5] = {&visibility_, &accounting_, &normals_, &positions_, &traced_};
+  for (uint32_t i = 0; i < 5; ++i)
+    sets_.writeImage(0, 6 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
+  timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
+  analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    for (const Image* img : images)
+      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  });
+}
+
+ShadowPass::~ShadowPass() = default;
+
+void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
+  const Variant& v = analysis ? *analysis_ : *timed_;
+  VkDescriptorSet set = sets_.set();
+  vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
+  vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
+  if (settings_.backend == ShadowBackend::RayQuery) {
+    const uint32_t t = settings_.tileSize;
+    vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
+  } else {
+    v.rtProgram->traceRays(cmd, width_, height_);
+  }
+}
+
+}  // namespace hb

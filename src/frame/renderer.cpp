@@ -1,0 +1,257 @@
+#include "frame/renderer.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include <glm/gtc/packing.hpp>
+
+#include "base/errors.h"
+#include "gpu/gpu_lights.h"
+
+namespace hb {
+
+static Camera pickCamera(const Scene& scene, uint32_t index) {
+  if (scene.cameras.empty())
+    throw InputError("scene \"" + scene.name + "\" has no camera; add one to the glTF or set a camera in the config");
+  if (index >= scene.cameras.size())
+    throw InputError("camera index " + std::to_string(index) + " does not exist; the scene has " +
+                     std::to_string(scene.cameras.size()));
+  return scene.cameras[index];
+}
+
+Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
+    : ctx_(ctx),
+      scene_(scene),
+      settings_(settings),
+      camera_(pickCamera(scene, settings.cameraIndex)),
+      view_(camera_.view),
+      proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
+                               camera_.zfar)),
+      gpuScene_(ctx, scene),
+      depth_(ctx, settings.width, settings.height, kDepthFormat,
+             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+             VK_IMAGE_ASPECT_DEPTH_BIT),
+      frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
+      lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+              true, MemClass::Other),
+      depthPrepass_(ctx),
+      timer_(ctx, 16) {
+  VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+  si.magFilter = si.minFilter = VK_FILTER_NEAREST;
+  si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+  VK_CHECK(vkCreateSampler(ctx.device(), &si, nullptr, &pointSampler_));
+
+  const uint32_t lightCount = uint32_t(scene.lights.size());
+  gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
+                                              settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f);
+  std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
+  std::vector<gpu::GpuLight> packed = packLights(scene.lights);
+  if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
+
+  // Effects select passes (design.md): no culling when there are no lights or only directional ones.
+  const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const Light& l) { return l.type != LightType::Directional; });
+  if (!anyLocalLight) {
+    passesSkipped_.push_back({"light_culling", scene.lights.empty() ? "the scene has no lights"
+                                                                    : "every light is directional (never culled)"});
+  } else {
+    CullingSettings cs;
+    cs.tileSize = settings.tileSize;
+    cs.lightCulling = settings.lightCulling;
+    cs.aabb = settings.aabb;
+    cs.depthSlices = settings.depthSlices;
+    culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
+                                              depth_, pointSampler_);
+  }
+
+  // Shadows need rays: acceleration structures and the shadow pass only when an effect asks.
+  const bool anyShadowCaster =
+      std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; });
+  if (!settings.shadows) {
+    passesSkipped_.push_back({"shadows", "effects.shadows is off"});
+  } else if (!anyShadowCaster) {
+    passesSkipped_.push_back({"shadows", scene.lights.empty() ? "the scene has no lights" : "no light casts shadows"});
+  } else if (!culling_) {
+    passesSkipped_.push_back({"shadows", "every light is directional: not supported by the tiled shadow pass yet"});
+  } else {
+    if (!ctx.canTrace())
+      throw InputError("device \"" + ctx.info().name +
+                       "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: "
+                       "set effects.shadows=false (--set shadows=false)");
+    ShadowSettings ss;
+    if (settings.backend == "auto")
+      ss.backend = ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
+    else if (settings.backend == "rayquery")
+      ss.backend = ShadowBackend::RayQuery;
+    else if (settings.backend == "pipeline")
+      ss.backend = ShadowBackend::Pipeline;
+    else
+      throw InputError("backend \"" + settings.backend + "\" is not one of auto, rayquery, pipeline");
+    ss.tileSize = settings.tileSize;
+    ss.normals = settings.normals;
+    ss.worldPos = settings.worldPos;
+    ss.rangeTest = settings.rangeTest;
+    accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
+    CullingOutputs co = culling_->outputs();
+    shadowInputs_ = {&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
+    shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, shadowInputs_);
+  }
+  CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
+  ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
+                   shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
+                          pointSampler_};
+  shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
+}
+
+Renderer::~Renderer() {
+  vkDeviceWaitIdle(ctx_.device());
+  vkDestroySampler(ctx_.device(), pointSampler_, nullptr);
+}
+
+FrameTiming Renderer::renderFrame(bool analysis) {
+  passesRun_.clear();
+  const uint32_t lightCount = uint32_t(scene_.lights.size());
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    timer_.reset(cmd);
+    if (culling_ && !frustumsDone_) culling_->recordFrustums(cmd);  // once per camera/resolution/tile size
+    frustumsDone_ = true;
+    timer_.frameBegin(cmd);
+
+    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    timer_.begin(cmd, "depth_prepass");
+    depthPrepass_.record(cmd, gpuScene_, proj_ * view_, depth_);
+    timer_.end(cmd);
+    passesRun_.push_back("depth_prepass");
+    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                     VK_ACCESS_2_TRANSFER_READ_BIT);
+
+    if (culling_) {
+      timer_.begin(cmd, "light_culling");
+      culling_->recordCulling(cmd, lightCount);
+      timer_.end(cmd);
+      passesRun_.push_back("light_culling");
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
+    if (shadows_) {
+      timer_.begin(cmd, "shadows");
+      shadows_->record(cmd, analysis);
+      timer_.end(cmd);
+      passesRun_.push_back("shadows");
+      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                    VK_ACCESS_2_SHADER_WRITE_BIT,
+                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
+                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
+    timer_.begin(cmd, "shading");
+    shading_->record(cmd, proj_ * view_, analysis);
+    timer_.end(cmd);
+    passesRun_.push_back("shading");
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    timer_.frameEnd(cmd);
+  });
+  FrameTiming t;
+  t.passMs = timer_.read(&t.frameMs);
+  return t;
+}
+
+std::vector<double> Renderer::rayBench(uint32_t repetitions) {
+  HB_ASSERT(shadows_);
+  if (!rayBench_)
+    rayBench_ = std::make_unique<RayBenchPass>(ctx_, shadows_->settings().backend, settings_.width, settings_.height,
+                                               shadowInputs_, *shadows_);
+  std::vector<double> ms;
+  for (uint32_t r = 0; r < repetitions; ++r) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      timer_.frameBegin(cmd);
+      timer_.begin(cmd, "raybench");
+      rayBench_->record(cmd);
+      timer_.end(cmd);
+      timer_.frameEnd(cmd);
+    });
+    auto t = timer_.read(nullptr);
+    ms.push_back(t.empty() ? 0.0 : t[0].second);
+  }
+  return ms;
+}
+
+std::vector<float> Renderer::readDepth() const {
+  std::vector<uint8_t> bytes = readbackImage(ctx_, depth_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, 4);
+  std::vector<float> out(bytes.size() / 4);
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+CullingReadback Renderer::readCulling() const {
+  HB_ASSERT(culling_);
+  CullingOutputs o = culling_->outputs();
+  CullingReadback r;
+  r.tilesX = o.tilesX;
+  r.tilesY = o.tilesY;
+  r.capacity = culling_->settings().capacity;
+  std::vector<uint8_t> grid = readbackBuffer(ctx_, *o.grid);
+  std::vector<uint8_t> idx = readbackBuffer(ctx_, *o.indices);
+  const size_t tiles = size_t(o.tilesX) * o.tilesY;
+  std::vector<gpu::LightGridEntry> entries(tiles);
+  std::memcpy(entries.data(), grid.data(), tiles * sizeof(gpu::LightGridEntry));
+  for (const auto& e : entries) {
+    r.offset.push_back(e.offset);
+    r.count.push_back(e.count);
+    r.total.push_back(e.total);
+  }
+  r.indices.resize(idx.size() / 4);
+  std::memcpy(r.indices.data(), idx.data(), idx.size());
+  return r;
+}
+
+template <typename T>
+static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, uint32_t bytesPerPixel) {
+  std::vector<uint8_t> bytes = readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, bytesPerPixel);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+std::vector<float> Renderer::readColor() const {
+  std::vector<uint8_t> bytes = readbackImage(ctx_, shading_->color(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 8);
+  std::vector<float> out(bytes.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) {
+    uint16_t h;
+    std::memcpy(&h, bytes.data() + 2 * i, 2);
+    out[i] = glm::unpackHalf1x16(h);
+  }
+  return out;
+}
+
+std::vector<float> Renderer::readRefNormals() const {
+  std::vector<uint8_t> bytes =
+      readbackImage(ctx_, shading_->refNormals(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 16);
+  std::vector<float> out(bytes.size() / 4);
+  std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+ShadowReadback Renderer::readShadows() const {
+  HB_ASSERT(shadows_);
+  ShadowReadback r;
+  r.visibility = readImageAs<uint32_t>(ctx_, shadows_->visibility(), 4);
+  r.accounting = readImageAs<uint32_t>(ctx_, shadows_->accounting(), 4);
+  r.normals = readImageAs<float>(ctx_, shadows_->normals(), 16);
+  r.positions = readImageAs<float>(ctx_, shadows_->positions(), 16);
+  return r;
+}
+
+}  // namespace hb

@@ -1,0 +1,112 @@
+// The frame: a flat list of passes in frame order (design.md "The frame"), the resources they
+// share, and per-pass GPU timestamps. Which passes run follows from the settings and the scene's
+// effects; passesRun() and passesSkipped() say which and why.
+#pragma once
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene/camera.h"
+#include "gpu/gpu_scene.h"
+#include "gpu/gpu_timer.h"
+#include "frame/passes/depth_prepass.h"
+#include "gpu/accel.h"
+#include "frame/passes/light_culling.h"
+#include "frame/passes/shading.h"
+#include "frame/passes/raybench.h"
+#include "frame/passes/shadows.h"
+
+namespace hb {
+
+struct RenderSettings {
+  uint32_t width = 1920;
+  uint32_t height = 1080;
+  uint32_t cameraIndex = 0;
+  uint32_t tileSize = 16;
+  bool lightCulling = true;
+  bool aabb = false;
+  bool shadows = true;                 // effects.shadows: false skips the BLAS/TLAS and the shadow pass
+  std::string backend = "auto";        // auto | rayquery | pipeline
+  uint32_t normals = 0;                // gpu::kNormalsOff / Naive / Improved
+  uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
+  bool rangeTest = false;
+  uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
+  bool scaledTMin = false;             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
+};
+
+// Readbacks of the shadow pass (analysis frames).
+struct ShadowReadback {
+  std::vector<uint32_t> visibility;  // per pixel bitmask over the tile's light list
+  std::vector<uint32_t> accounting;  // packed per-pixel counts (gpu_types.h kAccount*)
+  std::vector<float> normals;        // xyzw per pixel (w unused; zero = none)
+  std::vector<float> positions;      // xyzw per pixel (w = 1 where not sky)
+};
+
+struct FrameTiming {
+  double frameMs = 0;
+  std::vector<std::pair<std::string, double>> passMs;  // in frame order
+};
+
+struct CullingReadback {
+  uint32_t tilesX = 0, tilesY = 0, capacity = 0;
+  std::vector<uint32_t> offset, count, total;  // per tile
+  std::vector<uint32_t> indices;               // tiles × capacity
+};
+
+class Renderer {
+ public:
+  Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
+  ~Renderer();
+
+  // Records, submits and waits for one frame; returns its GPU timings. An analysis frame also
+  // writes the shadow pass's accounting, normals and positions (never timed in a sweep).
+  FrameTiming renderFrame(bool analysis = false);
+
+  const glm::mat4& view() const { return view_; }
+  const glm::mat4& proj() const { return proj_; }
+  const Camera& camera() const { return camera_; }
+  const RenderSettings& settings() const { return settings_; }
+  const std::vector<std::string>& passesRun() const { return passesRun_; }
+  const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
+  bool hasCulling() const { return bool(culling_); }
+  bool hasShadows() const { return bool(shadows_); }
+  const AccelerationStructures* accel() const { return accel_.get(); }
+  std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
+
+  // Ray throughput: re-traces the rays of the last analysis frame `repetitions` times as a pure
+  // ray workload (passes/raybench.h); returns each repetition's GPU time in ms.
+  // Precondition: hasShadows() and the last frame was an analysis frame.
+  std::vector<double> rayBench(uint32_t repetitions);
+
+  // Readbacks (analysis frames only).
+  std::vector<float> readDepth() const;
+  CullingReadback readCulling() const;
+  ShadowReadback readShadows() const;
+  std::vector<float> readColor() const;       // linear HDR RGBA per pixel
+  std::vector<float> readRefNormals() const;  // analysis frames: true face normal xyz, w = 1 where valid
+
+ private:
+  const VulkanContext& ctx_;
+  const Scene& scene_;
+  RenderSettings settings_;
+  Camera camera_;
+  glm::mat4 view_, proj_;
+  GpuScene gpuScene_;
+  Image depth_;
+  VkSampler pointSampler_ = VK_NULL_HANDLE;
+  Buffer frameConstants_, lights_;
+  DepthPrepass depthPrepass_;
+  std::unique_ptr<LightCulling> culling_;
+  std::unique_ptr<AccelerationStructures> accel_;
+  std::unique_ptr<ShadowPass> shadows_;
+  std::unique_ptr<ShadingPass> shading_;
+  std::unique_ptr<RayBenchPass> rayBench_;
+  ShadowInputs shadowInputs_{};
+  GpuTimer timer_;
+  bool frustumsDone_ = false;
+  std::vector<std::string> passesRun_;
+  std::vector<std::pair<std::string, std::string>> passesSkipped_;
+};
+
+}  // namespace hb

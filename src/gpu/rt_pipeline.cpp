@@ -1,0 +1,73 @@
+#include "gpu/rt_pipeline.h"
+
+#include <cstring>
+
+#include "base/errors.h"
+
+namespace hb {
+
+static VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
+RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLayout layout, const std::string& raygen,
+                                       const std::string& miss, const SpecConstants& spec)
+    : ctx_(c), pipeline_(c) {
+  HB_ASSERT(c.info().rayTracingPipeline);
+  pipeline_.createLayout({layout}, 0);
+  // Ray-tracing pipeline: group 0 = ray generation, group 1 = miss; no hit groups (the rays skip
+  // closest-hit shaders and all geometry is opaque).
+  ShaderModule rgen(c, raygen), rmiss(c, miss);
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo si = specializationInfo(spec, entries);
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+  stages[0].module = rgen.handle();
+  stages[0].pName = "main";
+  stages[0].pSpecializationInfo = &si;
+  stages[1].stage = VK_SHADER_STAGE_MISS_BIT_KHR;
+  stages[1].module = rmiss.handle();
+  stages[1].pName = "main";
+  VkRayTracingShaderGroupCreateInfoKHR groups[2] = {{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
+                                                    {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR}};
+  for (uint32_t g = 0; g < 2; ++g) {
+    groups[g].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
+    groups[g].generalShader = g;
+    groups[g].closestHitShader = VK_SHADER_UNUSED_KHR;
+    groups[g].anyHitShader = VK_SHADER_UNUSED_KHR;
+    groups[g].intersectionShader = VK_SHADER_UNUSED_KHR;
+  }
+  VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
+  ci.stageCount = 2;
+  ci.pStages = stages;
+  ci.groupCount = 2;
+  ci.pGroups = groups;
+  ci.maxPipelineRayRecursionDepth = 1;
+  ci.layout = pipeline_.layout();
+  VK_CHECK(c.rt().createRayTracingPipelines(c.device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
+                                             &pipeline_.pipeline_));
+  pipeline_.bindPoint_ = VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
+
+  // Shader binding table: each region starts at a shaderGroupBaseAlignment boundary.
+  const auto& props = c.rtPipelineProps();
+  const uint32_t handleSize = props.shaderGroupHandleSize;
+  const VkDeviceSize stride = alignUp(handleSize, props.shaderGroupHandleAlignment);
+  const VkDeviceSize base = props.shaderGroupBaseAlignment;
+  std::vector<uint8_t> handles(2 * handleSize);
+  VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline_.handle(), 0, 2, handles.size(), handles.data()));
+  const VkDeviceSize missOffset = alignUp(stride, base);
+  sbt_ = Buffer(c, missOffset + alignUp(stride, base) + base,
+               VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
+               MemClass::Other);
+  const VkDeviceAddress start = alignUp(sbt_.address(), base);
+  uint8_t* mapped = static_cast<uint8_t*>(sbt_.mapped()) + (start - sbt_.address());
+  std::memcpy(mapped, handles.data(), handleSize);
+  std::memcpy(mapped + missOffset, handles.data() + handleSize, handleSize);
+  raygen_ = {start, stride, stride};  // the raygen region's size must equal its stride
+  miss_ = {start + missOffset, stride, stride};
+}
+
+void RaygenMissPipeline::traceRays(VkCommandBuffer cmd, uint32_t width, uint32_t height) const {
+  ctx_.rt().cmdTraceRays(cmd, &raygen_, &miss_, &hit_, &callable_, width, height, 1);
+}
+
+}  // namespace hb

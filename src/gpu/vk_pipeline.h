@@ -1,0 +1,88 @@
+// Shader modules from the embedded SPIR-V, descriptor sets and pipelines: the small amount of
+// plumbing each pass needs, with every handle owned by the object that created it.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gpu/vk_context.h"
+
+namespace hb {
+
+// SPIR-V words of shaders/<name>.glsl (name like "depth.vert"); throws if it was not embedded.
+std::vector<uint32_t> embeddedSpirv(const std::string& name);
+std::vector<std::string> embeddedShaderNames();
+
+class ShaderModule {
+ public:
+  ShaderModule(const VulkanContext& ctx, const std::string& name);
+  ~ShaderModule();
+  ShaderModule(const ShaderModule&) = delete;
+  VkShaderModule handle() const { return module_; }
+
+ private:
+  const VulkanContext& ctx_;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+};
+
+struct Binding {
+  uint32_t binding;
+  VkDescriptorType type;
+  VkShaderStageFlags stages;
+  uint32_t count = 1;
+  bool variableCount = false;  // last binding only: a variable-length (bindless) array
+};
+
+// One descriptor set layout, a pool sized for `sets` sets of it, and those sets.
+class DescriptorSets {
+ public:
+  DescriptorSets(const VulkanContext& ctx, const std::vector<Binding>& bindings, uint32_t sets = 1,
+                 uint32_t variableCount = 0);
+  ~DescriptorSets();
+  DescriptorSets(const DescriptorSets&) = delete;
+  VkDescriptorSetLayout layout() const { return layout_; }
+  VkDescriptorSet set(uint32_t i = 0) const { return sets_[i]; }
+
+  void writeBuffer(uint32_t set, uint32_t binding, VkDescriptorType type, VkBuffer buffer,
+                   VkDeviceSize size = VK_WHOLE_SIZE) const;
+  void writeImage(uint32_t set, uint32_t binding, VkDescriptorType type, VkImageView view, VkImageLayout layout,
+                  VkSampler sampler = VK_NULL_HANDLE, uint32_t arrayElement = 0) const;
+  void writeAccelerationStructure(uint32_t set, uint32_t binding, VkAccelerationStructureKHR as) const;
+
+ private:
+  const VulkanContext& ctx_;
+  VkDescriptorSetLayout layout_ = VK_NULL_HANDLE;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  std::vector<VkDescriptorSet> sets_;
+};
+
+// Specialization constants: ids 0..n-1 in order, each a 32-bit value.
+struct SpecConstants {
+  std::vector<uint32_t> values;
+};
+
+class Pipeline {
+ public:
+  Pipeline(const VulkanContext& ctx) : ctx_(ctx) {}
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  VkPipeline handle() const { return pipeline_; }
+  VkPipelineLayout layout() const { return layout_; }
+  VkPipelineBindPoint bindPoint() const { return bindPoint_; }
+
+  // Creates the layout (set layouts + one push-constant range of pushBytes for all stages).
+  void createLayout(const std::vector<VkDescriptorSetLayout>& setLayouts, uint32_t pushBytes);
+  void createCompute(const std::string& shader, const SpecConstants& spec = {});
+
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipelineBindPoint bindPoint_ = VK_PIPELINE_BIND_POINT_COMPUTE;
+
+ private:
+  const VulkanContext& ctx_;
+};
+
+// Fills a VkSpecializationInfo for SpecConstants (entries must outlive the call using it).
+VkSpecializationInfo specializationInfo(const SpecConstants& spec, std::vector<VkSpecializationMapEntry>& entries);
+
+}  // namespace hb

@@ -1,0 +1,247 @@
+#include "gpu/vk_resources.h"
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+
+#include "base/errors.h"
+
+namespace hb {
+
+namespace {
+std::mutex gMemMutex;
+std::map<std::string, uint64_t> gMem;
+void account(MemClass c, int64_t bytes) {
+  std::lock_guard<std::mutex> lock(gMemMutex);
+  gMem[memClassName(c)] += uint64_t(bytes);
+}
+}  // namespace
+
+const char* memClassName(MemClass c) {
+  switch (c) {
+    case MemClass::Geometry: return "geometry";
+    case MemClass::AccelerationStructure: return "acceleration_structures";
+    case MemClass::Culling: return "culling";
+    case MemClass::Images: return "images";
+    case MemClass::Staging: return "staging";
+    default: return "other";
+  }
+}
+
+std::map<std::string, uint64_t> memoryByClass() {
+  std::lock_guard<std::mutex> lock(gMemMutex);
+  return gMem;
+}
+
+Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, MemClass cls)
+    : ctx_(&ctx), size_(size), cls_(cls) {
+  HB_ASSERT(size > 0);
+  VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bi.size = size;
+  bi.usage = usage;
+  bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VK_CHECK(vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer_));
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) ai.pNext = &flags;
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = ctx.findMemoryType(
+      req.memoryTypeBits, hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                      : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_));
+  VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
+  if (hostVisible) VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
+    VkBufferDeviceAddressInfo dai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+    dai.buffer = buffer_;
+    address_ = vkGetBufferDeviceAddress(ctx.device(), &dai);
+  }
+  account(cls_, int64_t(size_));
+}
+
+void Buffer::release() {
+  if (!ctx_) return;
+  if (buffer_) {
+    vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
+    account(cls_, -int64_t(size_));
+  }
+  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+  ctx_ = nullptr;
+}
+
+Buffer::~Buffer() { release(); }
+Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    release();
+    ctx_ = o.ctx_;
+    buffer_ = o.buffer_;
+    memory_ = o.memory_;
+    size_ = o.size_;
+    mapped_ = o.mapped_;
+    address_ = o.address_;
+    cls_ = o.cls_;
+    o.ctx_ = nullptr;
+    o.buffer_ = VK_NULL_HANDLE;
+    o.memory_ = VK_NULL_HANDLE;
+    o.mapped_ = nullptr;
+  }
+  return *this;
+}
+
+Buffer uploadBuffer(const VulkanContext& ctx, const void* data, VkDeviceSize size, VkBufferUsageFlags usage,
+                    MemClass cls) {
+  Buffer staging(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, MemClass::Staging);
+  std::memcpy(staging.mapped(), data, size);
+  Buffer dst(ctx, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, cls);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    VkBufferCopy region{0, 0, size};
+    vkCmdCopyBuffer(cmd, staging.handle(), dst.handle(), 1, &region);
+  }, "a buffer upload");
+  return dst;
+}
+
+Image::Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
+             VkImageAspectFlags aspect, uint32_t mipLevels, MemClass cls)
+    : ctx_(&ctx), format_(format), width_(width), height_(height), mips_(mipLevels), aspect_(aspect), cls_(cls) {
+  VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  ci.imageType = VK_IMAGE_TYPE_2D;
+  ci.format = format;
+  ci.extent = {width, height, 1};
+  ci.mipLevels = mipLevels;
+  ci.arrayLayers = 1;
+  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.tiling = VK_IMAGE_TILING_OPTIMAL;
+  ci.usage = usage;
+  ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  VK_CHECK(vkCreateImage(ctx.device(), &ci, nullptr, &image_));
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(ctx.device(), image_, &req);
+  VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  ai.allocationSize = req.size;
+  ai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_));
+  VK_CHECK(vkBindImageMemory(ctx.device(), image_, memory_, 0));
+  bytes_ = req.size;
+  VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  vi.image = image_;
+  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  vi.format = format;
+  vi.subresourceRange = {aspect, 0, mipLevels, 0, 1};
+  VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &view_));
+  account(cls_, int64_t(bytes_));
+}
+
+void Image::release() {
+  if (!ctx_) return;
+  if (view_) vkDestroyImageView(ctx_->device(), view_, nullptr);
+  if (image_) {
+    vkDestroyImage(ctx_->device(), image_, nullptr);
+    account(cls_, -int64_t(bytes_));
+  }
+  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
+  view_ = VK_NULL_HANDLE;
+  image_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  ctx_ = nullptr;
+}
+
+Image::~Image() { release(); }
+Image::Image(Image&& o) noexcept { *this = std::move(o); }
+Image& Image::operator=(Image&& o) noexcept {
+  if (this != &o) {
+    release();
+    ctx_ = o.ctx_;
+    image_ = o.image_;
+    view_ = o.view_;
+    memory_ = o.memory_;
+    format_ = o.format_;
+    width_ = o.width_;
+    height_ = o.height_;
+    mips_ = o.mips_;
+    bytes_ = o.bytes_;
+    aspect_ = o.aspect_;
+    cls_ = o.cls_;
+    o.ctx_ = nullptr;
+    o.image_ = VK_NULL_HANDLE;
+    o.view_ = VK_NULL_HANDLE;
+    o.memory_ = VK_NULL_HANDLE;
+  }
+  return *this;
+}
+
+void imageBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout from, VkImageLayout to,
+                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+                  VkAccessFlags2 dstAccess) {
+  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image.handle();
+  b.subresourceRange = {image.aspect(), 0, image.mipLevels(), 0, 1};
+  VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  di.imageMemoryBarrierCount = 1;
+  di.pImageMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &di);
+}
+
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  b.srcStageMask = srcStage;
+  b.srcAccessMask = srcAccess;
+  b.dstStageMask = dstStage;
+  b.dstAccessMask = dstAccess;
+  VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  di.memoryBarrierCount = 1;
+  di.pMemoryBarriers = &b;
+  vkCmdPipelineBarrier2(cmd, &di);
+}
+
+std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout,
+                                   uint32_t bytesPerPixel) {
+  VkDeviceSize size = VkDeviceSize(image.width()) * image.height() * bytesPerPixel;
+  Buffer staging(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {image.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT)
+                                                                          : image.aspect(),
+                               0, 0, 1};
+    region.imageExtent = {image.width(), image.height(), 1};
+    vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &region);
+    imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  }, "an image readback");
+  std::vector<uint8_t> out(size);
+  std::memcpy(out.data(), staging.mapped(), size);
+  return out;
+}
+
+std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buffer) {
+  Buffer staging(ctx, buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT);
+    VkBufferCopy region{0, 0, buffer.size()};
+    vkCmdCopyBuffer(cmd, buffer.handle(), staging.handle(), 1, &region);
+  }, "a buffer readback");
+  std::vector<uint8_t> out(buffer.size());
+  std::memcpy(out.data(), staging.mapped(), buffer.size());
+  return out;
+}
+
+}  // namespace hb

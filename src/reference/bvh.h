@@ -1,0 +1,67 @@
+// CPU bounding-volume hierarchy over world-space triangles, in double precision, for the shadow
+// reference (oracle and visibility checks). Ray/triangle test: Woop, Benthin, Wald 2013,
+// "Watertight Ray/Triangle Intersection" (JCGT 2(1)): a ray through a shared edge or vertex of a
+// closed mesh always hits at least one of the triangles that share it.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace hb {
+
+struct BvhTriangle {
+  glm::dvec3 v0, v1, v2;
+};
+
+// Zero area up to rounding: |cross(e1, e2)| <= 8 eps |e1| |e2| (the cross product's own rounding
+// error is about 2 eps |e1||e2|, so anything below is indistinguishable from collinear), or a
+// non-finite vertex. Such triangles are dropped when building and never hit.
+bool isDegenerate(const BvhTriangle& tri);
+
+// Watertight test, both faces. Hits iff the ray meets the closed triangle (edges included) at
+// t in [tMin, tMax]; then writes t. Degenerate triangles (isDegenerate) and a zero `dir` never hit;
+// no NaN escapes (every NaN comparison falls to "miss").
+bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& origin, const glm::dvec3& dir,
+                                 double tMin, double tMax, double& t);
+
+class Bvh {
+ public:
+  Bvh() = default;
+  // Median split on the widest centroid axis, leaves of at most 4 triangles. Degenerate triangles
+  // are dropped (droppedDegenerate() counts them).
+  explicit Bvh(std::vector<BvhTriangle> triangles);
+
+  // Any hit with t in [tMin, tMax] (opaque, both faces, first hit ends the search), as a shadow
+  // ray with gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT. dir need not be unit.
+  bool occluded(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax) const;
+  // Nearest hit in [tMin, tMax]; false when none.
+  bool closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t) const;
+
+  size_t triangleCount() const { return triangles_.size(); }
+  size_t droppedDegenerate() const { return dropped_; }
+  const std::vector<BvhTriangle>& triangles() const { return triangles_; }
+
+ private:
+  struct Node {
+    glm::dvec3 lo, hi;
+    uint32_t firstOrRight;  // leaf: first triangle; interior: right child (left = this + 1)
+    uint32_t count;         // > 0: leaf
+  };
+  uint32_t build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& centroids);
+  template <bool AnyHit>
+  bool traverse(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t) const;
+
+  std::vector<BvhTriangle> triangles_;
+  std::vector<Node> nodes_;
+  size_t dropped_ = 0;
+};
+
+// Flattens every instance × primitive of the scene into world-space triangles (object positions
+// transformed by the instance matrix in double). Precondition: the scene's indices are in range
+// (HB_ASSERT otherwise).
+Bvh buildBvh(const Scene& scene);
+
+}  // namespace hb

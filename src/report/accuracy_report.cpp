@@ -1,0 +1,382 @@
+#include "report/results_json.h"
+#include "base/text_format.h"
+#include "report/accuracy_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+
+#include "base/errors.h"
+
+namespace hb {
+
+using nlohmann::json;
+
+namespace {
+
+using results::at;
+using results::csvField;
+using results::escapeCell;
+using results::medianOf;
+using results::numberAt;
+using results::requireResultsFile;
+
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+const char* const kDash = "—";
+
+bool isOk(const json& run) { return at(run, "status") == "ok"; }
+
+double measureOf(const json& run, AccuracyMeasure m) {
+  const json& acc = at(run, "accuracy");
+  switch (m) {
+    case AccuracyMeasure::ImageError:
+      return numberAt(acc, "image_error");
+    case AccuracyMeasure::ShadowMismatchRate: {
+      const json& sm = at(acc, "shadow_mismatches");
+      const double pairs = numberAt(sm, "pairs_compared");
+      if (!(pairs > 0)) return kNaN;
+      return (numberAt(sm, "wrongly_dark") + numberAt(sm, "wrongly_lit")) / pairs;
+    }
+    case AccuracyMeasure::RayDeficit: {
+      const json& rays = at(run, "rays");
+      const double oracle = numberAt(rays, "oracle"), traced = numberAt(rays, "traced");
+      if (!(oracle > 0) || !std::isfinite(traced)) return kNaN;
+      return std::max(0.0, oracle - traced) / oracle;
+    }
+    case AccuracyMeasure::None:
+      break;
+  }
+  return kNaN;
+}
+
+std::string escapeXml(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default:
+        // Control characters other than tab/newline are not allowed in XML 1.0.
+        if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n') out += ' ';
+        else out += ch;
+    }
+  }
+  return out;
+}
+
+std::string cell(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : kDash; }
+
+std::string stringOr(const json& v, const std::string& fallback) {
+  return v.is_string() ? v.get<std::string>() : fallback;
+}
+
+// "NVIDIA H100 80GB HBM3, 1920×1080, scene atrium" from the context block; absent parts left out.
+std::string contextLine(const json& results) {
+  const json& ctx = at(results, "context");
+  std::string s = stringOr(at(at(ctx, "device"), "name"), "unknown device");
+  const json& res = at(ctx, "resolution");
+  if (res.is_array() && res.size() == 2 && res[0].is_number() && res[1].is_number())
+    s += format(", %d×%d", res[0].get<int>(), res[1].get<int>());
+  const json& scene = at(at(ctx, "scene"), "name");
+  if (scene.is_string()) s += ", scene " + scene.get<std::string>();
+  return s;
+}
+
+std::string sweepName(const json& results) {
+  return stringOr(at(at(at(results, "context"), "config"), "name"), "sweep");
+}
+
+}  // namespace
+
+const char* accuracyMeasureLabel(AccuracyMeasure m) {
+  switch (m) {
+    case AccuracyMeasure::ImageError: return "image error (FLIP mean)";
+    case AccuracyMeasure::ShadowMismatchRate: return "shadow mismatch rate";
+    case AccuracyMeasure::RayDeficit: return "ray deficit (1 − traced/oracle, ≥ 0)";
+    case AccuracyMeasure::None: break;
+  }
+  return "no accuracy measure";
+}
+
+std::string accuracyMeasureDefinition(AccuracyMeasure m) {
+  switch (m) {
+    case AccuracyMeasure::ImageError:
+      return "accuracy.image_error, the mean FLIP error against the reference render (same "
+             "scene, camera and resolution, no culling)";
+    case AccuracyMeasure::ShadowMismatchRate:
+      return "(wrongly dark + wrongly lit) / pairs compared, the fraction of (pixel, light) pairs "
+             "whose shadow test differs from the reference; used because not every run carries "
+             "an image error";
+    case AccuracyMeasure::RayDeficit:
+      return "max(0, oracle − traced) / oracle rays, a lower bound on the fraction of needed "
+             "shadow rays not traced; used because not every run carries an image error or shadow "
+             "mismatches";
+    case AccuracyMeasure::None: break;
+  }
+  return "none: not every ok run carries an image error, shadow mismatches or traced and oracle "
+         "ray counts, so no front is marked";
+}
+
+AccuracyFront accuracyFront(const json& results) {
+  requireResultsFile(results);
+  const json& runs = results["runs"];
+  AccuracyFront front;
+
+  // The first measure that every ok run with a frame time carries, so all points share a scale.
+  front.measure = AccuracyMeasure::None;
+  for (AccuracyMeasure m : {AccuracyMeasure::ImageError, AccuracyMeasure::ShadowMismatchRate,
+                            AccuracyMeasure::RayDeficit}) {
+    bool all = true, any = false;
+    for (const json& run : runs) {
+      if (!isOk(run) || !std::isfinite(medianOf(at(run, "frame_ms")))) continue;
+      any = true;
+      all = all && std::isfinite(measureOf(run, m));
+    }
+    if (any && all) {
+      front.measure = m;
+      break;
+    }
+  }
+
+  for (const json& run : runs) {
+    AccuracyPoint p;
+    p.name = stringOr(at(run, "name"), "(unnamed)");
+    p.ok = isOk(run);
+    if (!p.ok)
+      p.failure = stringOr(at(run, "error"), "status " + at(run, "status").dump());
+    p.frameMs = medianOf(at(run, "frame_ms"));
+    p.error = measureOf(run, front.measure);
+    front.points.push_back(p);
+  }
+
+  // O(n²) dominance test; sweeps have tens of runs.
+  auto eligible = [](const AccuracyPoint& p) {
+    return p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error);
+  };
+  for (AccuracyPoint& p : front.points) {
+    if (!eligible(p)) continue;
+    p.onFront = true;
+    for (const AccuracyPoint& q : front.points) {
+      if (&q == &p || !eligible(q)) continue;
+      const bool noWorse = q.frameMs <= p.frameMs && q.error <= p.error;
+      const bool better = q.frameMs < p.frameMs || q.error < p.error;
+      if (noWorse && better) {
+        p.onFront = false;
+        break;
+      }
+    }
+  }
+  return front;
+}
+
+std::string accuracyReportMarkdown(const json& results) {
+  const AccuracyFront front = accuracyFront(results);
+  const json& runs = results["runs"];
+
+  bool anyImage = false, anyShadow = false;
+  for (const json& run : runs) {
+    const json& acc = at(run, "accuracy");
+    anyImage = anyImage || at(acc, "image_error").is_number();
+    anyShadow = anyShadow || at(acc, "shadow_mismatches").is_object();
+  }
+
+  std::string out = "## Accuracy vs frame time — " + escapeCell(sweepName(results)) + "\n\n" +
+                    escapeCell(contextLine(results)) + "\n\n";
+  out += "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | Lights reaching no "
+         "pixel | False negatives | Normal error (°) | Normal image error | World-pos error";
+  std::string rule = "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:";
+  if (anyImage) out += " | Image error (FLIP)", rule += "|--:";
+  if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
+  out += " | Pareto |\n" + rule + "|:-:|\n";
+
+  std::vector<const AccuracyPoint*> failed;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const json& run = runs[i];
+    const AccuracyPoint& p = front.points[i];
+    const int extra = (anyImage ? 1 : 0) + (anyShadow ? 2 : 0);
+    out += "| " + escapeCell(p.name) + " | ";
+    if (!p.ok) {
+      failed.push_back(&p);
+      out += "failed";
+      for (int c = 0; c < 9 + extra; ++c) out += std::string(" | ") + kDash;
+      out += std::string(" | ") + kDash + " |\n";
+      continue;
+    }
+    const json& rays = at(run, "rays");
+    const json& cull = at(run, "culling");
+    const json& acc = at(run, "accuracy");
+    const json& sm = at(acc, "shadow_mismatches");
+    out += cell(p.frameMs, "%.3f") + " | " + cell(numberAt(rays, "traced"), "%.0f") + " | " +
+           cell(numberAt(rays, "efficiency"), "%.3f") + " | " +
+           cell(numberAt(cull, "false_positive_rate"), "%.3f") + " | " +
+           cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
+           cell(numberAt(cull, "false_negatives"), "%.0f") + " | " +
+           cell(numberAt(acc, "normal_angular_error_deg"), "%.2f") + " | " +
+           cell(numberAt(acc, "normal_image_error"), "%.4g") + " | " +
+           cell(numberAt(acc, "world_pos_rel_error"), "%.2e");
+    if (anyImage) out += " | " + cell(numberAt(acc, "image_error"), "%.4g");
+    if (anyShadow)
+      out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " +
+             cell(numberAt(sm, "wrongly_lit"), "%.0f");
+    const bool placed = std::isfinite(p.frameMs) && std::isfinite(p.error);
+    out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
+  }
+
+  out += std::string("\nPareto front: frame time (median ms) against ") +
+         accuracyMeasureLabel(front.measure) + " = " + accuracyMeasureDefinition(front.measure) +
+         ". A run is on the front when no other ok run is at least as fast and at least as "
+         "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
+         "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
+         "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
+         "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
+         "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
+         "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
+         "variant reconstructs no normals).\n";
+  if (!failed.empty()) {
+    out += "\nFailed runs (not on the front):\n";
+    for (const AccuracyPoint* p : failed)
+      out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";
+  }
+  return out;
+}
+
+namespace {
+
+struct Axis {
+  double lo, hi, step;
+  int decimals;
+};
+
+// Ticks at 1, 2 or 5 × 10^k, about `target` of them, covering [lo, hi].
+Axis niceAxis(double lo, double hi, int target) {
+  if (!(hi > lo)) {  // one value (or none): open a window around it
+    const double pad = std::abs(hi) > 0 ? std::abs(hi) * 0.1 : 1.0;
+    lo = lo >= 0 && lo - pad < 0 ? 0 : lo - pad;
+    hi += pad;
+  }
+  const double raw = (hi - lo) / target;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double f = raw / mag;
+  const double step = (f <= 1 ? 1 : f <= 2 ? 2 : f <= 5 ? 5 : 10) * mag;
+  Axis a{std::floor(lo / step) * step, std::ceil(hi / step) * step, step, 0};
+  a.decimals = std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9)));
+  return a;
+}
+
+}  // namespace
+
+std::string accuracyReportSvg(const json& results) {
+  const AccuracyFront front = accuracyFront(results);
+
+  // Layout (px): plot area left 80..620, top 70..470; legend to the right.
+  constexpr double kW = 1040, kH = 540, kL = 80, kR = 620, kT = 70, kB = 470;
+  std::vector<const AccuracyPoint*> pts;
+  for (const AccuracyPoint& p : front.points)
+    if (p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error)) pts.push_back(&p);
+
+  double xMin = INFINITY, xMax = -INFINITY, yMax = 0;
+  for (const AccuracyPoint* p : pts) {
+    xMin = std::min(xMin, p->frameMs);
+    xMax = std::max(xMax, p->frameMs);
+    yMax = std::max(yMax, p->error);
+  }
+  if (pts.empty()) xMin = 0, xMax = 1;
+  const Axis xa = niceAxis(xMin, xMax, 6);
+  const Axis ya = niceAxis(0, yMax, 5);  // errors are ≥ 0; the axis starts at 0
+  auto px = [&](double x) { return kL + (x - xa.lo) / (xa.hi - xa.lo) * (kR - kL); };
+  auto py = [&](double y) { return kB - (y - ya.lo) / (ya.hi - ya.lo) * (kB - kT); };
+
+  std::string s =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" " +
+      format("width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\"", kW, kH, kW, kH) +
+      " font-family=\"sans-serif\" font-size=\"12\">\n"
+      "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  s += format("<text x=\"%.0f\" y=\"28\" font-size=\"16\" font-weight=\"bold\">", kL) +
+       escapeXml("Accuracy vs frame time — " + contextLine(results)) + "</text>\n";
+  s += format("<text x=\"%.0f\" y=\"48\">", kL) +
+       escapeXml("sweep " + sweepName(results) + "; red: Pareto front (lower-left is better)") +
+       "</text>\n";
+
+  // Grid, ticks and tick labels.
+  for (int i = 0; xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
+    const double v = xa.lo + i * xa.step, x = px(v);
+    s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x,
+                kT, x, kB);
+    s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18,
+                xa.decimals, v);
+  }
+  for (int i = 0; ya.lo + i * ya.step <= ya.hi + 0.5 * ya.step; ++i) {
+    const double v = ya.lo + i * ya.step, y = py(v);
+    s += format("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", kL,
+                y, kR, y);
+    s += format("<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.*f</text>\n", kL - 6, y + 4,
+                ya.decimals, v);
+  }
+  s += format("<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" "
+              "stroke=\"black\"/>\n",
+              kL, kT, kR - kL, kB - kT);
+  s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">frame time, median (ms)</text>\n",
+              0.5 * (kL + kR), kB + 42);
+  s += format("<text transform=\"translate(20 %.0f) rotate(-90)\" text-anchor=\"middle\">",
+              0.5 * (kT + kB)) +
+       escapeXml(accuracyMeasureLabel(front.measure)) + "</text>\n";
+
+  // Staircase through the front, sorted by time: right at the current error, then down — the
+  // boundary of the region the front dominates.
+  std::vector<const AccuracyPoint*> fr;
+  for (const AccuracyPoint* p : pts)
+    if (p->onFront) fr.push_back(p);
+  std::sort(fr.begin(), fr.end(),
+            [](auto* a, auto* b) { return a->frameMs < b->frameMs || (a->frameMs == b->frameMs && a->error > b->error); });
+  if (fr.size() > 1) {
+    s += format("<path d=\"M %.1f %.1f", px(fr[0]->frameMs), py(fr[0]->error));
+    for (size_t i = 1; i < fr.size(); ++i)
+      s += format(" H %.1f V %.1f", px(fr[i]->frameMs), py(fr[i]->error));
+    s += "\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n";
+  }
+
+  // Points numbered in results order, with a legend of full names.
+  if (pts.empty())
+    s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">", 0.5 * (kL + kR),
+                0.5 * (kT + kB)) +
+         escapeXml(front.measure == AccuracyMeasure::None ? "no accuracy measure in the results"
+                                                          : "no ok runs to plot") +
+         "</text>\n";
+  std::vector<std::pair<double, double>> labels;  // placed number labels, to avoid overprinting
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const AccuracyPoint& p = *pts[i];
+    const char* color = p.onFront ? "#d62728" : "#1f77b4";
+    const double x = px(p.frameMs), y = py(p.error);
+    s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.7\" "
+                "stroke=\"%s\"><title>",
+                x, y, color, color) +
+         escapeXml(p.name + format(": %.3f ms, %.4g", p.frameMs, p.error)) + "</title></circle>\n";
+    double lx = x + 6;  // shift right past labels already placed at about the same spot
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (const auto& [ox, oy] : labels)
+        if (std::abs(ox - lx) < 12 && std::abs(oy - (y - 6)) < 11) lx = ox + 12, moved = true;
+    }
+    labels.emplace_back(lx, y - 6);
+    s += format("<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">%zu</text>\n", lx,
+                y - 6, color, i + 1);
+    s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">", kR + 20, kT + 10 + 18.0 * i, color) +
+         escapeXml(format("%zu  ", i + 1) + p.name + (p.onFront ? " (front)" : "")) + "</text>\n";
+  }
+  size_t row = pts.size();
+  for (const AccuracyPoint& p : front.points)
+    if (!p.ok)
+      s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"#777777\">", kR + 20, kT + 10 + 18.0 * row++) +
+           escapeXml("failed: " + p.name) + "</text>\n";
+  s += "</svg>\n";
+  return s;
+}
+
+}  // namespace hb

@@ -1,0 +1,309 @@
+#include "base/text_format.h"
+#include "report/compare.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+#include <span>
+
+#include "config/config.h"
+#include "base/errors.h"
+#include "report/stats.h"
+
+namespace hb {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Passes in frame order (design.md "The frame"); others follow alphabetically.
+const std::vector<std::string> kPassOrder = {"depth_prepass", "tile_frustums", "light_culling",
+                                             "shadows", "shading", "analysis"};
+
+
+// The value at a dotted path, or null where any step is missing (never throws).
+json valueAt(const json& root, const std::vector<std::string>& path) {
+  const json* node = &root;
+  for (const std::string& key : path) {
+    if (!node->is_object() || !node->contains(key)) return nullptr;
+    node = &(*node)[key];
+  }
+  return *node;
+}
+
+std::string shortDump(const json& v) {
+  std::string s = v.dump();
+  return s.size() > 80 ? s.substr(0, 77) + "..." : s;
+}
+
+void requireResultsFile(const json& r, const char* side) {
+  if (!r.is_object() || !r.contains("schema_version"))
+    throw InputError(format("results %s: not a hybridbench results file (no schema_version); "
+                            "pass a results.json written by 'hybridbench sweep'", side));
+  if (r["schema_version"] != 1)
+    throw InputError(format("results %s: schema_version %s is not supported (expected 1); "
+                            "regenerate it with this version of hybridbench",
+                            side, shortDump(r["schema_version"]).c_str()));
+  if (!r.contains("runs") || !r["runs"].is_array())
+    throw InputError(format("results %s: field 'runs' is missing or not an array; pass a "
+                            "complete results.json", side));
+}
+
+// A results file written before a parameter existed lacks its key; its runs used that parameter's
+// default (the behaviour before it was added), so the key is filled in with the default before
+// configs are compared.
+json withParamDefaults(json variants) {
+  if (!variants.is_array()) return variants;
+  const json defaults = toJson(VariantParams{});
+  for (json& v : variants)
+    if (v.is_object() && v.contains("params") && v["params"].is_object())
+      for (const auto& [key, value] : defaults.items())
+        if (!v["params"].contains(key)) v["params"][key] = value;
+  return variants;
+}
+
+// Fields that must agree for a comparison to mean anything: same scene bytes, same config.
+void checkComparable(const json& a, const json& b, const CompareOptions& options,
+                     std::vector<std::string>& warnings) {
+  const std::vector<std::vector<std::string>> fields = {
+      {"context", "scene", "sha256"}, {"context", "config", "scene"},
+      {"context", "resolution"},      {"context", "config", "resolution"},
+      {"context", "config", "variants"}, {"context", "config", "sweep"}};
+  for (const auto& path : fields) {
+    json va = valueAt(a, path), vb = valueAt(b, path);
+    if (path.back() == "variants") va = withParamDefaults(va), vb = withParamDefaults(vb);
+    if (va == vb) continue;
+    std::string name;
+    for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;
+    const std::string what = format("%s differs (A: %s, B: %s)", name.c_str(),
+                                    shortDump(va).c_str(), shortDump(vb).c_str());
+    if (!options.force)
+      throw InputError("cannot compare: " + what +
+                       "; compare runs of the same scene and config, or pass --force");
+    warnings.push_back("forced comparison: " + what);
+  }
+}
+
+struct Timing {
+  std::vector<double> samples;
+  double median = kNaN, cv = kNaN;
+};
+
+// Samples and aggregates of a stats block ({median, cv, samples, ...}). Aggregates are recomputed
+// from the samples when present so that the table and the test see the same numbers.
+Timing timingOf(const json& stats) {
+  Timing t;
+  if (!stats.is_object()) return t;
+  if (stats.contains("samples") && stats["samples"].is_array())
+    for (const json& v : stats["samples"])
+      if (v.is_number()) t.samples.push_back(v.get<double>());
+  if (!t.samples.empty()) {
+    const Summary s = summarize(t.samples);
+    t.median = s.median;
+    t.cv = s.cv;
+  } else {
+    if (stats.contains("median") && stats["median"].is_number()) t.median = stats["median"];
+    if (stats.contains("cv") && stats["cv"].is_number()) t.cv = stats["cv"];
+  }
+  return t;
+}
+
+std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
+  const bool significant = r.p < o.alpha;  // false for NaN (no samples)
+  const bool noisy = r.nA < kMinSamplesForVerdict || r.nB < kMinSamplesForVerdict ||
+                     !(r.cvA <= kMaxQuietCv) || !(r.cvB <= kMaxQuietCv);
+  if (noisy && !significant) return "too noisy";
+  const double t = o.thresholdPct / 100;
+  if (significant && r.ratio > 1 + t) return "slower";
+  if (significant && r.ratio < 1 - t) return "faster";
+  return "same";
+}
+
+CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta,
+                          const Timing& tb, const CompareOptions& o,
+                          std::vector<std::string>& warnings) {
+  CompareRow r;
+  r.variant = variant;
+  r.pass = pass;
+  r.nA = ta.samples.size();
+  r.nB = tb.samples.size();
+  r.medianA = ta.median;
+  r.medianB = tb.median;
+  r.cvA = ta.cv;
+  r.cvB = tb.cv;
+  r.ratio = tb.median / ta.median;
+  r.ciLow = r.ciHigh = r.p = kNaN;
+  if (r.nA > 0 && r.nB > 0) {
+    r.p = mannWhitneyU(ta.samples, tb.samples).p;
+    const RatioInterval ci = ratioInterval(ta.samples, tb.samples, o.alpha);
+    r.ciLow = ci.low;
+    r.ciHigh = ci.high;
+  }
+  if (pass == "frame" && (r.nA < kFewSamplesWarning || r.nB < kFewSamplesWarning))
+    warnings.push_back(format("%s: only %zu (A) and %zu (B) frame samples; fewer than %zu leaves "
+                              "the U test little power, measure more frames",
+                              variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
+  r.verdict = verdictFor(r, o);
+  return r;
+}
+
+std::vector<std::string> passesInFrameOrder(const json& passesA, const json& passesB,
+                                            const std::string& variant,
+                                            std::vector<std::string>& warnings) {
+  std::vector<std::string> common, extra;
+  auto keysOf = [](const json& p) {
+    std::vector<std::string> k;
+    if (p.is_object())
+      for (auto it = p.begin(); it != p.end(); ++it) k.push_back(it.key());
+    return k;
+  };
+  for (const std::string& k : keysOf(passesA)) {
+    if (passesB.is_object() && passesB.contains(k))
+      common.push_back(k);
+    else
+      warnings.push_back(variant + ": pass '" + k + "' only in A");
+  }
+  for (const std::string& k : keysOf(passesB))
+    if (!passesA.is_object() || !passesA.contains(k))
+      warnings.push_back(variant + ": pass '" + k + "' only in B");
+  auto rank = [](const std::string& p) {
+    auto it = std::find(kPassOrder.begin(), kPassOrder.end(), p);
+    return static_cast<size_t>(it - kPassOrder.begin());
+  };
+  std::stable_sort(common.begin(), common.end(),
+                   [&](const std::string& x, const std::string& y) { return rank(x) < rank(y); });
+  return common;  // keys come alphabetically from json, so ties in rank stay alphabetical
+}
+
+const json* findRun(const json& runs, const std::string& name) {
+  for (const json& run : runs)
+    if (run.value("name", std::string()) == name) return &run;
+  return nullptr;
+}
+
+std::string deviceName(const json& r) {
+  const json v = valueAt(r, {"context", "device", "name"});
+  return v.is_string() ? v.get<std::string>() : "unknown";
+}
+
+std::string num(double v, const char* fmt) {
+  return std::isfinite(v) ? format(fmt, v) : std::string("n/a");
+}
+
+json numOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+}  // namespace
+
+CompareReport compareResults(const json& a, const json& b, const CompareOptions& options) {
+  requireResultsFile(a, "A");
+  requireResultsFile(b, "B");
+  if (!(options.alpha > 0 && options.alpha < 1))
+    throw InputError(format("--alpha %g is outside (0, 1); use e.g. 0.05", options.alpha));
+  if (!(options.thresholdPct >= 0))
+    throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5",
+                            options.thresholdPct));
+  CompareReport report;
+  report.deviceA = deviceName(a);
+  report.deviceB = deviceName(b);
+  report.thresholdPct = options.thresholdPct;
+  report.alpha = options.alpha;
+  checkComparable(a, b, options, report.warnings);
+
+  double logRatioSum = 0;
+  size_t logRatioCount = 0;
+  for (const json& runA : a["runs"]) {
+    const std::string name = runA.value("name", std::string());
+    const json* runB = findRun(b["runs"], name);
+    if (!runB) {
+      report.warnings.push_back("variant '" + name + "' only in A");
+      continue;
+    }
+    const std::string statusA = runA.value("status", std::string("ok"));
+    const std::string statusB = runB->value("status", std::string("ok"));
+    if (statusA != "ok" || statusB != "ok") {
+      report.warnings.push_back(format("variant '%s' skipped: status %s in A, %s in B",
+                                       name.c_str(), statusA.c_str(), statusB.c_str()));
+      continue;
+    }
+    CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
+                                      timingOf(runB->value("frame_ms", json())), options,
+                                      report.warnings);
+    if (frame.verdict == "slower") report.regression = true;
+    if (std::isfinite(frame.ratio) && frame.ratio > 0) {
+      logRatioSum += std::log(frame.ratio);
+      ++logRatioCount;
+    }
+    report.rows.push_back(std::move(frame));
+    const json passesA = runA.value("passes", json::object());
+    const json passesB = runB->value("passes", json::object());
+    for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
+      report.rows.push_back(compareTimings(name, pass, timingOf(passesA[pass]),
+                                           timingOf(passesB[pass]), options, report.warnings));
+  }
+  for (const json& runB : b["runs"]) {
+    const std::string name = runB.value("name", std::string());
+    if (!findRun(a["runs"], name)) report.warnings.push_back("variant '" + name + "' only in B");
+  }
+  report.geomeanRatio =
+      logRatioCount ? std::exp(logRatioSum / static_cast<double>(logRatioCount)) : kNaN;
+  return report;
+}
+
+std::string formatCompare(const CompareReport& r) {
+  const double confidencePct = 100 * (1 - r.alpha);
+  std::string out = format("A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g\n\n", r.deviceA.c_str(),
+                           r.deviceB.c_str(), r.thresholdPct, r.alpha);
+  out += format("| variant | pass | A median (ms) | B median (ms) | B/A | %.4g %% CI of B/A | p | "
+                "verdict |\n",
+                confidencePct);
+  out += "|---|---|---:|---:|---:|---|---:|---|\n";
+  for (const CompareRow& row : r.rows) {
+    const std::string p = !std::isfinite(row.p) ? "n/a"
+                          : row.p < 1e-4        ? "<0.0001"
+                                                : format("%.4f", row.p);
+    out += "| " + row.variant + " | " + row.pass + " | " + num(row.medianA, "%.3f") + " | " +
+           num(row.medianB, "%.3f") + " | " + num(row.ratio, "%.3f") + " | [" +
+           num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "] | " + p + " | " +
+           row.verdict + " |\n";
+  }
+  out += "\ngeometric mean of frame-time ratios B/A: " + num(r.geomeanRatio, "%.4f") + "\n";
+  out += std::string("regression (a frame time slower beyond the threshold): ") +
+         (r.regression ? "yes" : "no") + "\n";
+  if (!r.warnings.empty()) {
+    out += "\nwarnings:\n";
+    for (const std::string& w : r.warnings) out += "- " + w + "\n";
+  }
+  return out;
+}
+
+json toJson(const CompareReport& r) {
+  json rows = json::array();
+  for (const CompareRow& row : r.rows)
+    rows.push_back({{"variant", row.variant},
+                    {"pass", row.pass},
+                    {"n_a", row.nA},
+                    {"n_b", row.nB},
+                    {"median_a", numOrNull(row.medianA)},
+                    {"median_b", numOrNull(row.medianB)},
+                    {"cv_a", numOrNull(row.cvA)},
+                    {"cv_b", numOrNull(row.cvB)},
+                    {"ratio", numOrNull(row.ratio)},
+                    {"ci_low", numOrNull(row.ciLow)},
+                    {"ci_high", numOrNull(row.ciHigh)},
+                    {"p", numOrNull(row.p)},
+                    {"verdict", row.verdict}});
+  return {{"device_a", r.deviceA},
+          {"device_b", r.deviceB},
+          {"threshold_pct", r.thresholdPct},
+          {"alpha", r.alpha},
+          {"rows", rows},
+          {"geomean_ratio", numOrNull(r.geomeanRatio)},
+          {"warnings", r.warnings},
+          {"regression", r.regression}};
+}
+
+}  // namespace hb

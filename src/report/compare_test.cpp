@@ -1,0 +1,212 @@
+#include "report/compare.h"
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "config/config.h"
+#include "base/errors.h"
+#include "report/stats.h"
+
+namespace hb {
+namespace {
+
+using nlohmann::json;
+
+// Frame times around `centerMs` with relative spread `cv`, Box-Muller on mt19937 (whose output is
+// fixed by the standard, unlike std::normal_distribution's) so the samples are the same everywhere.
+std::vector<double> noisyTimes(std::mt19937& rng, size_t n, double centerMs, double cv) {
+  auto uniform = [&] { return (static_cast<double>(rng()) + 0.5) / 4294967296.0; };
+  std::vector<double> v;
+  for (size_t i = 0; i < n; ++i) {
+    const double radius = std::sqrt(-2 * std::log(uniform()));
+    const double g = radius * std::cos(2 * std::numbers::pi * uniform());
+    v.push_back(centerMs * (1 + cv * g));
+  }
+  return v;
+}
+
+json statsBlock(const std::vector<double>& samples) { return toJson(summarize(samples), samples); }
+
+// A minimal schema-1 results file: one run per (name, frame-time center), a "shadows" pass at
+// 90 % of the frame.
+json makeResults(const std::string& sceneSha, uint32_t seed, size_t n, double scale,
+                 double cv = 0.02) {
+  std::mt19937 rng(seed);
+  json runs = json::array();
+  for (const auto& [name, center] : {std::pair<const char*, double>{"no_opt_t8", 16.0},
+                                     {"all_on_t8", 9.44}}) {
+    runs.push_back({{"name", name},
+                    {"params", {{"tile_size", 8}}},
+                    {"frames", n},
+                    {"frame_ms", statsBlock(noisyTimes(rng, n, center * scale, cv))},
+                    {"passes",
+                     {{"shadows", statsBlock(noisyTimes(rng, n, 0.9 * center * scale, cv))},
+                                {"depth_prepass", statsBlock(noisyTimes(rng, n, 0.3, cv))}}},
+                    {"status", "ok"}});
+  }
+  return {{"schema_version", 1},
+          {"context",
+           {{"device", {{"name", "Test GPU"}}},
+            {"scene", {{"name", "atrium"}, {"sha256", sceneSha}}},
+            {"resolution", {1920, 1080}},
+            {"config", {{"scene", "atrium"}, {"resolution", {1920, 1080}}}}}},
+          {"runs", runs}};
+}
+
+TEST(CompareResults, SameDistributionIsSameEverywhereAndNoRegression) {
+  // Two independent draws (different seeds) of the same distribution, CV 2 %, 30 samples each.
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.0);
+  const CompareReport r = compareResults(a, b, {});
+  ASSERT_EQ(r.rows.size(), 6u);  // 2 variants x (frame, depth_prepass, shadows)
+  for (const CompareRow& row : r.rows) EXPECT_EQ(row.verdict, "same") << row.variant << row.pass;
+  EXPECT_FALSE(r.regression);
+  // Medians of 30 draws with CV 2 % have a standard error ~1.25 * 2 % / sqrt(30) = 0.46 %; the
+  // ratio of two is within 4 of those (1.3 %) of 1 with probability > 0.99.
+  EXPECT_NEAR(r.geomeanRatio, 1.0, 0.013);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(CompareResults, TwentyPercentSlowerIsARegression) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
+  const CompareReport r = compareResults(a, b, {});
+  EXPECT_TRUE(r.regression);
+  for (const CompareRow& row : r.rows) {
+    if (row.pass == "depth_prepass") continue;  // not scaled in B
+    EXPECT_EQ(row.verdict, "slower") << row.variant << " " << row.pass;
+    EXPECT_LT(row.p, 0.05);
+    // Same 1.3 % bound as above on the ratio's sampling error.
+    EXPECT_NEAR(row.ratio, 1.2, 1.2 * 0.013);
+    EXPECT_LT(row.ciLow, row.ratio);
+    EXPECT_GT(row.ciHigh, row.ratio);
+    EXPECT_GT(row.ciLow, 1.05);
+  }
+  EXPECT_NEAR(r.geomeanRatio, 1.2, 1.2 * 0.013);
+}
+
+TEST(CompareResults, TwentyPercentFasterIsNotARegression) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 0.8);
+  const CompareReport r = compareResults(a, b, {});
+  EXPECT_FALSE(r.regression);
+  EXPECT_EQ(r.rows.front().verdict, "faster");
+}
+
+TEST(CompareResults, SlowdownBelowThresholdIsSame) {
+  // +20 % with a 25 % threshold: significant, but within the threshold.
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
+  CompareOptions o;
+  o.thresholdPct = 25;
+  const CompareReport r = compareResults(a, b, o);
+  EXPECT_FALSE(r.regression);
+  EXPECT_EQ(r.rows.front().verdict, "same");
+  EXPECT_LT(r.rows.front().p, 0.05);
+}
+
+TEST(CompareResults, FewNoisySamplesAreTooNoisyAndWarn) {
+  // 4 samples a side, CV 30 %, same center: not significant and below 5 samples.
+  const json a = makeResults("abc", 1, 4, 1.0, 0.3), b = makeResults("abc", 2, 4, 1.0, 0.3);
+  const CompareReport r = compareResults(a, b, {});
+  EXPECT_EQ(r.rows.front().verdict, "too noisy");
+  EXPECT_FALSE(r.regression);
+  EXPECT_FALSE(r.warnings.empty());  // fewer than 20 samples
+}
+
+TEST(CompareResults, DifferentScenesAreRefusedNamingTheField) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("def", 2, 30, 1.0);
+  try {
+    compareResults(a, b, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("context.scene.sha256"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CompareResults, DifferentResolutionsAreRefused) {
+  const json a = makeResults("abc", 1, 30, 1.0);
+  json b = makeResults("abc", 2, 30, 1.0);
+  b["context"]["config"]["resolution"] = {1280, 720};
+  EXPECT_THROW(compareResults(a, b, {}), InputError);
+}
+
+// A results file from before a parameter existed (no "t_min" key) compares with a newer one whose
+// runs carry that parameter's default; a non-default value is still a different config.
+TEST(CompareResults, AParameterMissingFromAnOlderFileCountsAsItsDefault) {
+  json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.0);
+  json params = toJson(VariantParams{});
+  b["context"]["config"]["variants"] = json::array({{{"name", "v"}, {"params", params}}});
+  params.erase("t_min");
+  a["context"]["config"]["variants"] = json::array({{{"name", "v"}, {"params", params}}});
+  EXPECT_NO_THROW(compareResults(a, b, {}));
+  b["context"]["config"]["variants"][0]["params"]["t_min"] = "scaled";
+  try {
+    compareResults(a, b, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("context.config.variants"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CompareResults, ForceComparesDifferentScenesWithAWarning) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("def", 2, 30, 1.2);
+  CompareOptions o;
+  o.force = true;
+  const CompareReport r = compareResults(a, b, o);
+  EXPECT_EQ(r.rows.size(), 6u);
+  EXPECT_TRUE(r.regression);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.front().find("context.scene.sha256"), std::string::npos);
+}
+
+TEST(CompareResults, UnmatchedAndFailedVariantsAreWarnedAndSkipped) {
+  const json a = makeResults("abc", 1, 30, 1.0);
+  json b = makeResults("abc", 2, 30, 1.0);
+  b["runs"][0]["name"] = "renamed";
+  b["runs"][1]["status"] = "error";
+  const CompareReport r = compareResults(a, b, {});
+  EXPECT_TRUE(r.rows.empty());
+  EXPECT_TRUE(std::isnan(r.geomeanRatio));
+  EXPECT_EQ(r.warnings.size(), 3u);  // only in A, skipped for status, only in B
+}
+
+TEST(CompareResults, NotAResultsFileIsInputError) {
+  const json a = makeResults("abc", 1, 30, 1.0);
+  EXPECT_THROW(compareResults(a, json{{"runs", json::array()}}, {}), InputError);
+  json wrongVersion = a;
+  wrongVersion["schema_version"] = 2;
+  EXPECT_THROW(compareResults(a, wrongVersion, {}), InputError);
+}
+
+TEST(FormatCompare, MarkdownTableHasOneLinePerRowAndTheVerdict) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
+  const CompareReport r = compareResults(a, b, {});
+  const std::string text = formatCompare(r);
+  EXPECT_NE(text.find("| variant | pass | A median (ms) | B median (ms) | B/A | 95 % CI of B/A"),
+            std::string::npos) << text;
+  size_t tableLines = 0;
+  for (size_t pos = 0; (pos = text.find("\n| ", pos)) != std::string::npos; ++pos) ++tableLines;
+  EXPECT_EQ(tableLines, r.rows.size() + 1);  // + header line (the separator starts with "|-")
+  EXPECT_NE(text.find("| no_opt_t8 | frame |"), std::string::npos);
+  EXPECT_NE(text.find("| slower |"), std::string::npos);
+  EXPECT_NE(text.find("regression (a frame time slower beyond the threshold): yes"),
+            std::string::npos);
+  // Frame row first, then passes in frame order.
+  EXPECT_LT(text.find("| no_opt_t8 | depth_prepass |"), text.find("| no_opt_t8 | shadows |"));
+}
+
+TEST(CompareToJson, CarriesRowsAndTheRegressionFlag) {
+  const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
+  const json j = toJson(compareResults(a, b, {}));
+  EXPECT_TRUE(j["regression"].get<bool>());
+  ASSERT_EQ(j["rows"].size(), 6u);
+  for (const char* key : {"variant", "pass", "median_a", "median_b", "ratio", "ci_low", "ci_high",
+                          "p", "verdict"})
+    EXPECT_TRUE(j["rows"][0].contains(key)) << key;
+  EXPECT_EQ(j["rows"][0]["verdict"], "slower");
+}
+
+}  // namespace
+}  // namespace hb

@@ -1,0 +1,51 @@
+#include "report/results_json.h"
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "base/errors.h"
+#include "report/stats.h"
+
+namespace hb::results {
+
+const json& at(const json& j, const char* key) {
+  static const json kNull;
+  return j.is_object() && j.contains(key) ? j[key] : kNull;
+}
+
+double numberAt(const json& j, const char* key) {
+  const json& v = at(j, key);
+  return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+}
+
+double medianOf(const json& stats) {
+  const double m = numberAt(stats, "median");
+  if (std::isfinite(m)) return m;
+  std::vector<double> samples;
+  for (const json& v : at(stats, "samples"))
+    if (v.is_number()) samples.push_back(v.get<double>());
+  return samples.empty() ? std::numeric_limits<double>::quiet_NaN() : summarize(samples).median;
+}
+
+void requireResultsFile(const json& r) {
+  if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())
+    throw InputError("results: not a schema_version 1 results file with a 'runs' array; pass a "
+                     "results.json written by 'hybridbench sweep'");
+}
+
+std::string escapeCell(std::string s) {
+  for (size_t pos = 0; (pos = s.find('|', pos)) != std::string::npos; pos += 2) s.insert(pos, "\\");
+  for (char& ch : s)
+    if (ch == '\n') ch = ' ';
+  return s;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+}  // namespace hb::results

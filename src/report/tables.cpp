@@ -1,0 +1,243 @@
+#include "report/results_json.h"
+#include "base/text_format.h"
+#include "report/tables.h"
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+
+#include "base/errors.h"
+#include "report/stats.h"
+
+namespace hb {
+
+using nlohmann::json;
+
+namespace {
+
+using results::at;
+using results::csvField;
+using results::escapeCell;
+using results::medianOf;
+using results::numberAt;
+using results::requireResultsFile;
+
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct ThesisConfig {
+  const char* table;
+  const char* label;
+  int tileSize;
+  bool lightCulling, aabb;
+  const char* normalCulling;
+  double thesisMs, thesisDiffPct;
+};
+
+// reference-figures.md, Tables 5.1 and 5.2 (RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights).
+// "shadow ray culling" is the naive normal reconstruction, "improved" the five-sample one.
+const ThesisConfig kThesis[] = {
+    {"5.1", "no optimisations", 8, false, false, "off", 16, 0.00},
+    {"5.1", "light culling", 8, true, false, "off", 11.52, -28.00},
+    {"5.1", "light culling + AABB", 8, true, true, "off", 10.93, -31.69},
+    {"5.1", "light culling + AABB + shadow ray culling", 8, true, true, "naive", 9.59, -40.06},
+    {"5.1", "light culling + AABB + improved shadow ray culling", 8, true, true, "improved", 9.67,
+     -39.56},
+    {"5.1", "improved shadow ray culling", 8, false, false, "improved", 13.55, -15.31},
+    {"5.2", "8x8", 8, true, true, "improved", 9.44, kNaN},
+    {"5.2", "16x16", 16, true, true, "improved", 9.56, kNaN},
+    {"5.2", "32x32", 32, true, true, "improved", 9.99, kNaN},
+};
+
+
+std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
+
+std::string stringAt(const json& j, const char* key) {
+  const json& v = at(j, key);
+  return v.is_string() ? v.get<std::string>() : v.is_null() ? "unknown" : v.dump();
+}
+
+// Median of a stats block: the recorded one, else recomputed from its samples.
+
+// Params match a configuration. Without light culling there are no tiles to test against an
+// AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway). A run with
+// an option beyond the thesis (the per-pixel range test, depth slices, a scaled t_min) is not the thesis's method
+// and never stands in for one of its rows.
+bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
+  if (const auto it = params.find("range_test"); it != params.end() && *it == true) return false;
+  if (const auto it = params.find("depth_slices"); it != params.end() && it->is_number() && it->get<double>() != 0)
+    return false;
+  if (const auto it = params.find("t_min"); it != params.end() && *it != "constant") return false;
+  const json& tile = at(params, "tile_size");
+  const json& lc = at(params, "light_culling");
+  const json& aabb = at(params, "aabb");
+  const json& nc = at(params, "normal_culling");
+  if (!tile.is_number_integer() || tile.get<int>() != c.tileSize) return false;
+  if (!lc.is_boolean() || lc.get<bool>() != c.lightCulling) return false;
+  if (!nc.is_string() || nc.get<std::string>() != c.normalCulling) return false;
+  aabbExact = aabb.is_boolean() && aabb.get<bool>() == c.aabb;
+  return aabbExact || !c.lightCulling;
+}
+
+const json* pickRun(const json& runs, const ThesisConfig& c, size_t& matches) {
+  const json* best = nullptr;
+  int bestScore = -1;
+  matches = 0;
+  for (const json& run : runs) {
+    bool aabbExact = false;
+    if (!paramsMatch(at(run, "params"), c, aabbExact)) continue;
+    ++matches;
+    const int score = (at(run, "status") == "ok" ? 2 : 0) + (aabbExact ? 1 : 0);
+    if (score > bestScore) {  // strict: the first of equals wins
+      best = &run;
+      bestScore = score;
+    }
+  }
+  return best;
+}
+
+std::string bytes(double b) {
+  if (!std::isfinite(b)) return "";
+  if (b < 1024) return format("%.0f B", b);
+  if (b < 1024 * 1024) return format("%.1f KiB", b / 1024);
+  return format("%.2f MiB", b / (1024 * 1024));
+}
+
+std::string headerLine(const json& results) {
+  const json& ctx = at(results, "context");
+  const json& device = at(ctx, "device");
+  const json& scene = at(ctx, "scene");
+  const json& tool = at(ctx, "tool");
+  const json& res = at(ctx, "resolution");
+  const std::string resolution =
+      res.is_array() && res.size() == 2 ? res[0].dump() + "x" + res[1].dump() : "unknown";
+  std::string sha = stringAt(scene, "sha256");
+  if (sha.size() > 12) sha = sha.substr(0, 12) + "…";
+  return "Device: " + stringAt(device, "name") + ", driver " + stringAt(device, "driver") +
+         ", ray tracing " + stringAt(device, "rt_backend") + " · resolution " + resolution +
+         " · scene " + stringAt(scene, "name") + " (sha256 " + sha + ") · hybridbench " +
+         stringAt(tool, "version") + ", git " + stringAt(tool, "git");
+}
+
+std::string frameCell(const ThesisRow& r) {
+  if (r.status == "missing") return "missing (not in results)";
+  if (r.status == "error") return "failed (run '" + r.runName + "')";
+  return num(r.frameMs, "%.3f");
+}
+
+std::string shareCell(double share) { return num(100 * share, "%.1f %%"); }
+
+}  // namespace
+
+std::vector<ThesisRow> thesisRows(const json& results) {
+  requireResultsFile(results);
+  const json& runs = results["runs"];
+  std::vector<ThesisRow> rows;
+  for (const ThesisConfig& c : kThesis) {
+    ThesisRow r;
+    r.table = c.table;
+    r.label = c.label;
+    r.tileSize = c.tileSize;
+    r.lightCulling = c.lightCulling;
+    r.aabb = c.aabb;
+    r.normalCulling = c.normalCulling;
+    r.thesisMs = c.thesisMs;
+    r.thesisDiffPct = c.thesisDiffPct;
+    r.frameMs = r.diffPct = r.raysTraced = r.efficiency = r.shadowShare = r.memoryBytes = kNaN;
+    size_t matches = 0;
+    const json* run = pickRun(runs, c, matches);
+    if (!run) {
+      r.status = "missing";
+    } else {
+      r.runName = at(*run, "name").is_string() ? at(*run, "name").get<std::string>() : "";
+      r.status = at(*run, "status") == "ok" ? "ok" : "error";
+      if (r.status == "error")
+        r.note = "run '" + r.runName + "' failed: " + stringAt(*run, "error");
+      if (matches > 1)
+        r.note += (r.note.empty() ? "" : "; ") +
+                  format("%zu runs match; showing '%s'", matches, r.runName.c_str());
+      if (r.status == "ok") {
+        r.frameMs = medianOf(at(*run, "frame_ms"));
+        r.raysTraced = numberAt(at(*run, "rays"), "traced");
+        r.efficiency = numberAt(at(*run, "rays"), "efficiency");
+        r.shadowShare = medianOf(at(at(*run, "passes"), "shadows")) / r.frameMs;
+        r.memoryBytes = numberAt(at(*run, "culling"), "memory_bytes");
+      }
+    }
+    rows.push_back(std::move(r));
+  }
+  // Baselines: "no optimisations" for 5.1, 8x8 for 5.2 (NaN when missing, so the diffs are too).
+  const double base51 = rows[0].frameMs, base52 = rows[6].frameMs;
+  for (ThesisRow& r : rows) {
+    const double base = r.table == "5.1" ? base51 : base52;
+    r.diffPct = 100 * (r.frameMs - base) / base;
+  }
+  return rows;
+}
+
+std::string thesisTablesMarkdown(const json& results) {
+  const std::vector<ThesisRow> rows = thesisRows(results);
+  std::string out = "# Thesis tables\n\n" + headerLine(results) + "\n\n";
+  out += "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
+         "of the frame).\n";
+  if (results.contains("context") && results["context"].contains("timing_caveat") &&
+      results["context"]["timing_caveat"].is_string())
+    out += "\nCaveat: " + results["context"]["timing_caveat"].get<std::string>() + "\n";
+  std::vector<std::string> notes;
+  auto extraCells = [&](const ThesisRow& r) {
+    if (!r.note.empty()) notes.push_back(r.table + " " + r.label + ": " + r.note);
+    return " | " + num(r.raysTraced, "%.0f") + " | " + num(r.efficiency, "%.3f") + " | " +
+           shareCell(r.shadowShare) + " | " + bytes(r.memoryBytes) + " |\n";
+  };
+  auto diffCell = [](const ThesisRow& r) {
+    return r.status != "ok" ? std::string() : std::isfinite(r.diffPct) ? format("%.2f", r.diffPct)
+                                                                        : std::string("n/a");
+  };
+  const std::string extraHeader =
+      " | rays traced | ray efficiency (oracle/traced) | shadow pass share | culling memory |\n";
+  out += "\n## Table 5.1 — tile size 8x8\n\n";
+  out += "| enabled optimisations | frame time (ms) | diff (%) | thesis frame time (ms) | thesis "
+         "diff (%)" + extraHeader;
+  out += "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const ThesisRow& r : rows) {
+    if (r.table != "5.1") continue;
+    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " +
+           format("%g", r.thesisMs) + " | " + format("%.2f", r.thesisDiffPct) + extraCells(r);
+  }
+  out += "\n## Table 5.2 — all optimisations on (light culling, AABB, improved shadow ray "
+         "culling)\n\n";
+  out += "| tile size | frame time (ms) | diff vs 8x8 (%) | thesis frame time (ms)" + extraHeader;
+  out += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const ThesisRow& r : rows) {
+    if (r.table != "5.2") continue;
+    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " +
+           format("%g", r.thesisMs) + extraCells(r);
+  }
+  if (!notes.empty()) {
+    out += "\nNotes:\n";
+    for (const std::string& n : notes) out += "- " + escapeCell(n) + "\n";
+  }
+  return out;
+}
+
+std::string thesisTablesCsv(const json& results) {
+  const std::vector<ThesisRow> rows = thesisRows(results);
+  std::string out =
+      "table,configuration,tile_size,light_culling,aabb,normal_culling,status,run,"
+      "frame_ms_median,diff_pct,thesis_frame_ms,thesis_diff_pct,rays_traced,ray_efficiency,"
+      "shadow_share,culling_memory_bytes,note\n";
+  for (const ThesisRow& r : rows) {
+    const std::vector<std::string> fields = {
+        r.table, r.label, std::to_string(r.tileSize), r.lightCulling ? "true" : "false",
+        r.aabb ? "true" : "false", r.normalCulling, r.status, r.runName,
+        num(r.frameMs, "%.6g"), num(r.diffPct, "%.2f"), format("%g", r.thesisMs),
+        num(r.thesisDiffPct, "%.2f"), num(r.raysTraced, "%.0f"), num(r.efficiency, "%.6g"),
+        num(r.shadowShare, "%.6g"), num(r.memoryBytes, "%.0f"), r.note};
+    for (size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + csvField(fields[i]);
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace hb

@@ -1,0 +1,142 @@
+// loadGltf on accessors and mesh primitives: component types, byte ranges of accessors and
+// bufferViews, index ranges, non-finite positions, computed normals and indices, skipped modes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/gltf/gltf_io.h"
+#include "scene/gltf/gltf_test_util.h"
+
+namespace hb::gltf_test {
+namespace {
+
+TEST(GltfLoad, ComputesNormalsAndSequentialIndicesWhenMissing) {
+  TestDir dir;
+  GltfBuilder b;
+  // Two triangles of a quad facing +z, no NORMAL and no indices.
+  json prim = {{"attributes",
+                {{"POSITION",
+                  b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
+  b.doc["meshes"] = json::array({{{"primitives", json::array({prim})}}});
+  b.scene({b.node({{"mesh", 0}})});
+  Scene s = loadGltf(b.writeGltf(dir / "bare.gltf").string());
+  EXPECT_EQ(s.indices, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5}));
+  for (const Vertex& v : s.vertices) EXPECT_EQ(v.normal, glm::vec3(0, 0, 1));
+  for (const Vertex& v : s.vertices) EXPECT_EQ(v.uv, glm::vec2(0, 0));
+  ASSERT_EQ(s.materials.size(), 1u);  // the "default" material the primitive falls back to
+  EXPECT_EQ(s.meshes[0].primitives[0].material, 0u);
+}
+
+TEST(GltfLoad, ReadsU8AndU32Indices) {
+  TestDir dir;
+  GltfBuilder b;
+  int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3);
+  int i8 = b.accessor(b.view(std::vector<uint8_t>{0, 1, 2}), kU8, "SCALAR", 3);
+  int i32 = b.accessor(b.view(std::vector<uint32_t>{0, 2, 3}), kU32, "SCALAR", 3);
+  b.doc["meshes"] = json::array({{{"primitives",
+                                   {{{"attributes", {{"POSITION", pos}}}, {"indices", i8}},
+                                    {{"attributes", {{"POSITION", pos}}}, {"indices", i32}}}}}});
+  b.scene({b.node({{"mesh", 0}})});
+  Scene s = loadGltf(b.writeGltf(dir / "idx.gltf").string());
+  EXPECT_EQ(s.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+  EXPECT_EQ(s.meshes[0].primitives[1].vertexOffset, 4u);
+}
+
+TEST(GltfLoad, SkipsNonTriangleModesAndCountsThem) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  json lines = b.doc["meshes"][0]["primitives"][0];
+  lines["mode"] = 1;  // LINES
+  b.doc["meshes"][0]["primitives"].push_back(lines);
+  b.scene({b.node({{"mesh", 0}})});
+  GltfLoadWarnings warnings;
+  Scene s = loadGltf(b.writeGltf(dir / "lines.gltf").string(), &warnings);
+  EXPECT_EQ(warnings.skippedPrimitives, 1u);
+  ASSERT_EQ(warnings.messages.size(), 1u);
+  EXPECT_NE(warnings.messages[0].find("meshes[0].primitives[1]"), std::string::npos);
+  EXPECT_EQ(s.meshes[0].primitives.size(), 1u);
+}
+
+TEST(GltfLoadErrors, AccessorPastItsBufferViewNamesTheAttribute) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  b.doc["accessors"][0]["count"] = 5;  // POSITION: 5 * 12 bytes > the 48-byte bufferView
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "short.gltf"),
+                   {"meshes[0].primitives[0].attributes.POSITION", "accessors[0]", "60"});
+}
+
+TEST(GltfLoadErrors, AccessorByteOffsetPastItsBufferViewNamesTheIndices) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  b.doc["accessors"][3]["byteOffset"] = 2;  // indices: 2 + 6 * 2 = 14 > 12 bytes
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "offset.gltf"), {"meshes[0].primitives[0].indices"});
+}
+
+TEST(GltfLoadErrors, StridedAccessorPastItsBufferViewIsCaught) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  b.doc["bufferViews"][0]["byteStride"] = 16;  // 16 * 3 + 12 = 60 > 48
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "stride.gltf"), {"attributes.POSITION", "stride 16"});
+}
+
+TEST(GltfLoadErrors, BufferViewPastItsBufferIsCaught) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  b.doc["bufferViews"][0]["byteLength"] = 4096;  // the whole buffer is far shorter
+  b.doc["accessors"][0]["count"] = 300;
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "view.gltf"), {"bufferViews[0]"});
+}
+
+TEST(GltfLoadErrors, IndexPastTheVertexCountNamesTheIndices) {
+  TestDir dir;
+  GltfBuilder b;
+  int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0}, "VEC3", 3);
+  int idx = b.accessor(b.view(std::vector<uint16_t>{0, 1, 7}), kU16, "SCALAR", 3);
+  b.doc["meshes"] =
+      json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}}}});
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "index.gltf"),
+                   {"meshes[0].primitives[0].indices", "7", "3 vertices"});
+}
+
+TEST(GltfLoadErrors, NonFinitePositionsNameThePositionAttribute) {
+  TestDir dir;
+  for (float bad : {std::nanf(""), INFINITY}) {
+    GltfBuilder b;
+    b.floats({0, 0, 0, 1, 0, 0, 1, bad, 0}, "VEC3", 3);
+    b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", 0}}}}}}}});
+    b.scene({b.node({{"mesh", 0}})});
+    expectInputError(b.writeGltf(dir / "nan.gltf"),
+                     {"meshes[0].primitives[0].attributes.POSITION", "vertex 2", "not finite"});
+  }
+}
+
+TEST(GltfLoadErrors, UnsupportedComponentTypeNamesTheAccessor) {
+  TestDir dir;
+  GltfBuilder b;
+  b.quad();
+  b.doc["accessors"][3]["componentType"] = kFloat;  // float indices
+  b.doc["accessors"][3]["count"] = 3;
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / "floatidx.gltf"),
+                   {"meshes[0].primitives[0].indices", "componentType 5126"});
+
+  GltfBuilder c;
+  c.quad();
+  c.doc["accessors"][0]["componentType"] = kU16;  // quantized positions (KHR_mesh_quantization)
+  c.scene({c.node({{"mesh", 0}})});
+  expectInputError(c.writeGltf(dir / "u16pos.gltf"),
+                   {"attributes.POSITION", "componentType 5123", "FLOAT"});
+}
+
+}  // namespace
+}  // namespace hb::gltf_test

@@ -1,0 +1,292 @@
+// exportGltf round trips (.gltf and .glb), sceneInfoJson/sceneInfoText and sceneSha256.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "base/errors.h"
+#include "scene/gltf/gltf_io.h"
+#include "scene/gltf/gltf_test_util.h"
+#include "base/sha256.h"
+
+namespace hb::gltf_test {
+namespace {
+
+// Two meshes (one with two primitives), three instances, two textures, three materials, a spot,
+// a point light with an eq. 4.1 range, a directional light without shadows and a look-at camera,
+// laid out mesh by mesh as loadGltf lays scenes out.
+Scene handBuiltScene() {
+  Scene s;
+  s.name = "handbuilt";
+  auto addQuad = [&](float z, uint32_t material) {
+    Primitive p;
+    p.firstIndex = static_cast<uint32_t>(s.indices.size());
+    p.vertexOffset = static_cast<uint32_t>(s.vertices.size());
+    p.vertexCount = 4;
+    p.indexCount = 6;
+    p.material = material;
+    const glm::vec3 n =
+        glm::normalize(glm::vec3(0.1f, 0.2f, 1.0f));  // deliberately not axis-aligned
+    for (int i = 0; i < 4; ++i)
+      s.vertices.push_back(
+          {glm::vec3(0.3f * (i & 1), 0.7f * (i >> 1), z), n, glm::vec2(0.1f * i, 1.0f / 3.0f * i)});
+    for (uint32_t i : {0u, 1u, 3u, 0u, 3u, 2u}) s.indices.push_back(i);
+    return p;
+  };
+  s.meshes.push_back({"two-prims", {addQuad(0.0f, 0), addQuad(0.5f, 1)}});
+  s.meshes.push_back({"one-prim", {addQuad(-1.25f, 2)}});
+  s.instances.push_back({0, glm::mat4(1.0f)});
+  s.instances.push_back({1, glm::translate(glm::mat4(1.0f), glm::vec3(3.1f, -2.0f, 0.7f))});
+  s.instances.push_back({1, glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)) *
+                                glm::scale(glm::mat4(1.0f), glm::vec3(1.5f))});
+
+  Texture tex;
+  tex.name = "checker";
+  tex.width = 4;
+  tex.height = 3;
+  tex.srgb = true;
+  for (uint32_t i = 0; i < 12; ++i)
+    tex.rgba.insert(tex.rgba.end(),
+                    {uint8_t(i * 20), uint8_t(255 - i * 7), uint8_t(i * i), uint8_t(200 + i)});
+  s.textures.push_back(tex);
+  Texture mr = tex;
+  mr.name = "metal-rough";
+  mr.srgb = false;
+  mr.width = 3;
+  mr.height = 4;
+  s.textures.push_back(mr);
+
+  Material a;
+  a.name = "textured";
+  a.baseColorFactor = glm::vec4(0.9f, 0.8f, 0.7f, 1.0f);
+  a.metallicFactor = 0.1f;
+  a.roughnessFactor = 0.65f;
+  a.baseColorTexture = 0;
+  a.metallicRoughnessTexture = 1;
+  Material b;
+  b.name = "plain";
+  b.baseColorFactor = glm::vec4(0.2f, 0.3f, 1.0f / 3.0f, 0.5f);
+  b.doubleSided = true;
+  Material c;
+  c.name = "defaults";
+  s.materials = {a, b, c};
+
+  Light spot;
+  spot.name = "spot";
+  spot.type = LightType::Spot;
+  spot.position = glm::vec3(1.5f, 4.25f, -0.3f);
+  spot.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  spot.color = glm::vec3(1.0f, 0.9f, 0.7f);
+  spot.intensity = 40.0f;
+  spot.range = 12.5f;
+  spot.innerConeAngle = 0.2f;
+  spot.outerConeAngle = 0.6f;
+  Light point;
+  point.name = "point";
+  point.position = glm::vec3(-2.0f, 1.0f, 0.1f);
+  point.intensity = 7.0f;
+  point.range = static_cast<float>(rangeFromIntensity(7.0));
+  point.rangeFromEq41 = true;
+  Light sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(glm::vec3(-0.2f, -1.0f, -0.1f));
+  sun.intensity = 2.0f;
+  sun.range = 0.0f;
+  sun.castShadows = false;
+  s.lights = {spot, point, sun};
+
+  Camera cam;
+  cam.name = "main";
+  cam.view =
+      glm::lookAt(glm::vec3(6.0f, 2.5f, 7.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0));
+  cam.yfov = 0.9f;
+  cam.znear = 0.05f;
+  cam.zfar = 250.0f;
+  s.cameras = {cam};
+  return s;
+}
+
+void expectSameScene(const Scene &a, const Scene &b) {
+  EXPECT_EQ(a.name, b.name);
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
+  EXPECT_EQ(0,
+            std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)));
+  EXPECT_EQ(a.indices, b.indices);
+  ASSERT_EQ(a.meshes.size(), b.meshes.size());
+  for (size_t m = 0; m < a.meshes.size(); ++m) {
+    EXPECT_EQ(a.meshes[m].name, b.meshes[m].name);
+    ASSERT_EQ(a.meshes[m].primitives.size(), b.meshes[m].primitives.size());
+    for (size_t p = 0; p < a.meshes[m].primitives.size(); ++p) {
+      const Primitive &x = a.meshes[m].primitives[p], &y = b.meshes[m].primitives[p];
+      EXPECT_EQ(x.firstIndex, y.firstIndex);
+      EXPECT_EQ(x.indexCount, y.indexCount);
+      EXPECT_EQ(x.vertexOffset, y.vertexOffset);
+      EXPECT_EQ(x.vertexCount, y.vertexCount);
+      EXPECT_EQ(x.material, y.material);
+    }
+  }
+  ASSERT_EQ(a.instances.size(), b.instances.size());
+  for (size_t i = 0; i < a.instances.size(); ++i) {
+    EXPECT_EQ(a.instances[i].mesh, b.instances[i].mesh);
+    EXPECT_EQ(a.instances[i].transform,
+              b.instances[i].transform);  // float -> JSON double -> float is exact
+  }
+  ASSERT_EQ(a.materials.size(), b.materials.size());
+  for (size_t i = 0; i < a.materials.size(); ++i) {
+    const Material &x = a.materials[i], &y = b.materials[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.baseColorFactor, y.baseColorFactor);
+    EXPECT_EQ(x.metallicFactor, y.metallicFactor);
+    EXPECT_EQ(x.roughnessFactor, y.roughnessFactor);
+    EXPECT_EQ(x.baseColorTexture, y.baseColorTexture);
+    EXPECT_EQ(x.metallicRoughnessTexture, y.metallicRoughnessTexture);
+    EXPECT_EQ(x.doubleSided, y.doubleSided);
+  }
+  ASSERT_EQ(a.textures.size(), b.textures.size());
+  for (size_t i = 0; i < a.textures.size(); ++i) {
+    EXPECT_EQ(a.textures[i].name, b.textures[i].name);
+    EXPECT_EQ(a.textures[i].width, b.textures[i].width);
+    EXPECT_EQ(a.textures[i].height, b.textures[i].height);
+    EXPECT_EQ(a.textures[i].srgb, b.textures[i].srgb);
+    EXPECT_EQ(a.textures[i].rgba, b.textures[i].rgba);  // PNG is lossless
+  }
+  ASSERT_EQ(a.lights.size(), b.lights.size());
+  for (size_t i = 0; i < a.lights.size(); ++i) {
+    const Light &x = a.lights[i], &y = b.lights[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.type, y.type);
+    EXPECT_EQ(x.position, y.position);  // the node's translation column, exact
+    // The loader normalises the exported -Z column (= the float direction d) in double. A float
+    // normalize leaves | |d| - 1 | <= 3·2^-24, so dividing by |d| moves each component (|c| <= 1)
+    // by at most 3·2^-24, and rounding back to float adds at most 2^-25: below 2^-22.
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(x.direction[k], y.direction[k], 0x1p-22f) << "light " << i;
+    EXPECT_EQ(x.color, y.color);
+    EXPECT_EQ(x.intensity, y.intensity);
+    EXPECT_EQ(x.range, y.range);
+    EXPECT_EQ(x.rangeFromEq41, y.rangeFromEq41);
+    EXPECT_EQ(x.innerConeAngle, y.innerConeAngle);
+    EXPECT_EQ(x.outerConeAngle, y.outerConeAngle);
+    EXPECT_EQ(x.castShadows, y.castShadows);
+  }
+  ASSERT_EQ(a.cameras.size(), b.cameras.size());
+  for (size_t i = 0; i < a.cameras.size(); ++i) {
+    const Camera &x = a.cameras[i], &y = b.cameras[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.yfov, y.yfov);
+    EXPECT_EQ(x.znear, y.znear);
+    EXPECT_EQ(x.zfar, y.zfar);
+    // view -> inverse (double, exported) -> inverse (double, loaded) -> float. Two 4x4 inverses
+    // of a rigid transform with |t| <= T have error <= c·n·2^-53·kappa·||V|| with kappa <=
+    // (1 + T)^2, ||V|| <= 1 + T; with c·n = 64 and T = 10 (|eye| = 9.5) that is 64·2^-53·1331 ~
+    // 1e-11, far below a float ulp, so an entry comes back as the same float or, where it is 0,
+    // as a number within that bound; the test allows 1 float ulp of the entry plus 1e-11.
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r) {
+        const float e = x.view[c][r];
+        const float ulp = std::nextafter(std::abs(e), INFINITY) - std::abs(e);
+        EXPECT_NEAR(e, y.view[c][r], ulp + 1e-11) << "view[" << c << "][" << r << "]";
+      }
+  }
+}
+
+TEST(GltfExport, GltfRoundTripGivesTheSameScene) {
+  TestDir dir;
+  const Scene original = handBuiltScene();
+  exportGltf(original, (dir / "scene.gltf").string());
+  // The .gltf is self-contained: one data-URI buffer, no side files.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1);
+  GltfLoadWarnings warnings;
+  const Scene loaded = loadGltf((dir / "scene.gltf").string(), &warnings);
+  EXPECT_TRUE(warnings.messages.empty());
+  expectSameScene(original, loaded);
+}
+
+TEST(GltfExport, GlbRoundTripGivesTheSameScene) {
+  TestDir dir;
+  const Scene original = handBuiltScene();
+  exportGltf(original, (dir / "scene.GLB").string());
+  std::ifstream in(dir / "scene.GLB", std::ios::binary);
+  char magic[4] = {};
+  in.read(magic, 4);
+  EXPECT_EQ(std::string(magic, 4), "glTF");
+  expectSameScene(original, loadGltf((dir / "scene.GLB").string()));
+}
+
+TEST(GltfExport, WritesRangesAndDeclaresTheLightsExtension) {
+  TestDir dir;
+  exportGltf(handBuiltScene(), (dir / "scene.gltf").string());
+  json doc = json::parse(std::ifstream(dir / "scene.gltf"));
+  EXPECT_NE(
+      std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_lights_punctual"),
+      doc["extensionsUsed"].end());
+  const json &lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_EQ(lights[0]["range"].get<float>(), 12.5f);
+  EXPECT_EQ(lights[1]["range"].get<float>(), static_cast<float>(rangeFromIntensity(7.0)));
+  EXPECT_EQ(doc["asset"]["version"], "2.0");
+  EXPECT_EQ(
+      doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0),
+      0u);
+}
+
+TEST(GltfExport, UnwritablePathIsAnInputError) {
+  TestDir dir;
+  EXPECT_THROW(exportGltf(handBuiltScene(), (dir / "missing" / "x.gltf").string()), InputError);
+}
+
+// ---- info and hash ------------------------------------------------------------------------------
+
+TEST(SceneInfo, CountsAndBoundsOfTheQuad) {
+  TestDir dir;
+  Scene s = loadGltf(
+      quadWithLight({{"type", "point"}, {"intensity", 50}}).writeGltf(dir / "q.gltf").string());
+  json j = sceneInfoJson(s);
+  EXPECT_EQ(j["triangles"], 2);
+  EXPECT_EQ(j["vertices"], 4);
+  EXPECT_EQ(j["meshes"], 1);
+  EXPECT_EQ(j["instances"], 1);
+  EXPECT_EQ(j["materials"], 1);
+  EXPECT_EQ(j["lights"]["point"], 1);
+  EXPECT_EQ(j["lights"]["ranges_from_eq41"], 1);
+  EXPECT_EQ(j["lights"]["range_max"].get<float>(), 50.0f);  // sqrt(50 * 50)
+  EXPECT_EQ(j["bounds"]["size_m"], json({1.0, 1.0, 0.0}));
+  const std::string text = sceneInfoText(s);
+  EXPECT_NE(text.find("triangles  2"), std::string::npos) << text;
+  EXPECT_NE(text.find("eq. 4.1"), std::string::npos) << text;
+}
+
+TEST(SceneHash, IsDeterministicAndSeesEveryChange) {
+  const Scene s = handBuiltScene();
+  const std::string h = sceneSha256(s);
+  EXPECT_EQ(h.size(), 64u);
+  EXPECT_EQ(h, sceneSha256(handBuiltScene()));
+  Scene renamed = s;
+  renamed.name = "other";
+  EXPECT_EQ(h, sceneSha256(renamed));  // names do not render
+  Scene moved = s;
+  moved.vertices[5].position.x = std::nextafter(moved.vertices[5].position.x, 1.0f);
+  EXPECT_NE(h, sceneSha256(moved));
+  Scene dimmer = s;
+  dimmer.lights[1].intensity *= 0.5f;
+  EXPECT_NE(h, sceneSha256(dimmer));
+  Scene shadowless = s;
+  shadowless.lights[0].castShadows = false;
+  EXPECT_NE(h, sceneSha256(shadowless));
+  Scene zoomed = s;
+  zoomed.cameras[0].yfov = 0.5f;
+  EXPECT_NE(h, sceneSha256(zoomed));
+}
+
+TEST(SceneHash, MatchesTheFips180ExampleForAbc) {
+  EXPECT_EQ(sha256Hex("abc", 3),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+}
+
+}  // namespace
+}  // namespace hb::gltf_test

@@ -1,0 +1,66 @@
+// glTF 2.0 scenes in and out (tinygltf), plus a summary and a content hash of any hb::Scene.
+#pragma once
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+
+namespace hb {
+
+// What loadGltf skipped without failing. Each kind of skip is counted, and one line per kind
+// says what was skipped and where it first happened.
+struct GltfLoadWarnings {
+  uint32_t skippedPrimitives = 0;  // mode other than TRIANGLES (points, lines, strips, fans)
+  uint32_t skippedCameras = 0;     // orthographic cameras
+  std::vector<std::string> messages;
+};
+
+// Loads a .gltf (JSON, external or data-URI buffers) or .glb file; the container is recognised by
+// its first bytes, not its extension. Reads the default scene (or, with no scenes, every root
+// node): each glTF mesh becomes one hb::Mesh whose TRIANGLES primitives append to the shared
+// Scene::vertices/indices; each node with a mesh becomes an Instance with its world transform;
+// perspective cameras and KHR_lights_punctual lights attached to nodes take the node's world
+// transform (camera view = inverse world; light position = world translation, direction = world
+// -Z). Missing NORMALs are computed (area-weighted), missing TEXCOORD_0 is (0,0), missing indices
+// are 0..n-1, a point/spot light with no range gets rangeFromIntensity(intensity) (thesis eq.
+// 4.1), a directional light gets range 0. Light extras {"castShadows": false} turn its shadows off.
+// Textures are decoded to RGBA8; the ones used as base colour are flagged sRGB. Primitives with
+// no material use a "default" material appended to Scene::materials.
+// Non-triangle primitives and orthographic cameras are skipped: they are counted in *warnings if
+// given, otherwise one line per kind goes to stderr.
+// Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file,
+// malformed JSON or not glTF, an index that points past its array, an accessor that does not fit
+// its bufferView or buffer, an unsupported component type or accessor type, a vertex index past
+// the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node
+// graph.
+Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings = nullptr);
+
+// Writes `scene` as glTF 2.0: a .glb if path ends in ".glb" (case-insensitive), else a .gltf with
+// its one buffer embedded as a base64 data URI. Every texture is embedded as PNG; every instance,
+// camera and light is a root node of the one scene; lights are KHR_lights_punctual (listed in
+// extensionsUsed) with their range always written for point/spot, and extras {castShadows,
+// rangeFromEq41} so that loading gives back the same hb::Light. Loading the file gives the same
+// scene back when its primitives are laid out mesh by mesh in vertex and index order (what
+// loadGltf produces); camera views and light directions come back to within a float ulp (they go
+// through a matrix inverse and a normalisation). Throws InputError if the file cannot be written
+// and HB_ASSERT's logic_error if the scene is inconsistent (an index past its array).
+void exportGltf(const Scene& scene, const std::string& path);
+
+// A summary for people: counts (triangles over instances, vertices, meshes, instances, materials,
+// textures, cameras), lights by type with their ranges, world bounds and size in metres.
+std::string sceneInfoText(const Scene& scene);
+
+// The same summary as JSON: {name, triangles, vertices, indices, meshes, instances, materials,
+// textures, cameras, lights: {total, point, spot, directional, range_min, range_max,
+// ranges_from_eq41, list: [{name, type, range, range_from_eq41, intensity, cast_shadows}]},
+// bounds: {min: [x,y,z], max: [x,y,z], size_m: [x,y,z]} or null for a scene with no instances}.
+nlohmann::json sceneInfoJson(const Scene& scene);
+
+// SHA-256 (hex) of the scene's content: vertices, indices, meshes' primitives, instances,
+// materials, textures (size, sRGB flag, pixels), lights and cameras, in a fixed little-endian
+// layout. Names are not hashed: renaming changes nothing that renders. Deterministic across runs.
+std::string sceneSha256(const Scene& scene);
+
+}  // namespace hb

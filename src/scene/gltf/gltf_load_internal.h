@@ -1,0 +1,97 @@
+// Internals of loadGltf (gltf_io.h), shared by the files it is split into: the Loader declared
+// here has its members defined by concern in gltf_io.cpp (entry, node graph, cameras, lights),
+// gltf_accessors.cpp (accessor/bufferView validation and reading), gltf_meshes.cpp (primitives)
+// and gltf_materials.cpp (images, textures, materials). Not for use outside those files.
+#pragma once
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "scene/gltf/gltf_io.h"
+
+namespace hb::gltf_detail {
+
+// tinygltf's image loader callback (userData = the tinygltf::Model being parsed): fails with a
+// message naming the image if its bufferView lies outside its buffer, else decodes to RGBA.
+bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err,
+                        std::string* warn, int width, int height, const unsigned char* bytes,
+                        int size, void* userData);
+
+// A validated accessor: `count` elements of `elementSize` bytes, `stride` apart from `data`.
+struct AccessorView {
+  const uint8_t* data = nullptr;
+  size_t count = 0;
+  size_t stride = 0;
+  size_t elementSize = 0;
+  int componentType = 0;
+};
+
+// Converts one parsed tinygltf::Model into an hb::Scene, checking every index and byte range it
+// reads. `model` and `rawLights` must outlive the Loader; load() is called once.
+class Loader {
+ public:
+  Loader(std::string path, const tinygltf::Model& model, const nlohmann::json& rawLights)
+      : path_(std::move(path)), model_(model), rawLights_(rawLights) {}
+
+  Scene load(GltfLoadWarnings& warnings);
+
+ private:
+  // ---- errors (gltf_io.cpp) ----
+  [[noreturn]] void fail(const std::string& field, const std::string& problem,
+                         const std::string& fix) const;
+  // Checks that `index` names an element of an array of `size` (the array `arrayName` at top
+  // level) and returns it as size_t.
+  size_t checkIndex(int index, size_t size, const std::string& field,
+                    const std::string& arrayName) const;
+
+  // ---- accessors (gltf_accessors.cpp) ----
+  // Validates accessor `index` for `field`: its type must be `type` (TINYGLTF_TYPE_*), its
+  // component type one of `componentTypes`, and the glTF spec's byte range
+  //   accessor.byteOffset + stride * (count - 1) + elementSize <= bufferView.byteLength,
+  //   bufferView.byteOffset + bufferView.byteLength <= buffer size
+  // must hold, all in 64-bit arithmetic after bounding count so nothing can overflow.
+  AccessorView accessor(int index, const std::string& field, int type,
+                        std::initializer_list<int> componentTypes) const;
+  // Reads float, or normalized unsigned byte/short, vectors (instantiated for N = 2 and 3).
+  template <int N>
+  std::vector<glm::vec<N, float>> readVectors(const AccessorView& view) const;
+  // Reads unsigned byte/short/int indices.
+  std::vector<uint32_t> readIndices(const AccessorView& view) const;
+
+  // ---- textures and materials (gltf_materials.cpp) ----
+  void loadTextures();
+  int textureIndex(const tinygltf::TextureInfo& info, const std::string& field) const;
+  void loadMaterials();
+  // The "default" material for primitives without one, appended on first use.
+  uint32_t defaultMaterial();
+  void markSrgbTextures();
+
+  // ---- meshes (gltf_meshes.cpp) ----
+  void loadMesh(int meshIndex);
+  Primitive loadPrimitive(const tinygltf::Primitive& prim, const std::string& field);
+
+  // ---- nodes, cameras, lights (gltf_io.cpp) ----
+  void loadNodes();
+  glm::dmat4 localTransform(const tinygltf::Node& node, const std::string& field) const;
+  void visitNode(int nodeIndex, const glm::dmat4& parent, int depth);
+  void addCamera(size_t c, const glm::dmat4& world);
+  void addLight(size_t l, const glm::dmat4& world);
+
+  std::string path_;
+  const tinygltf::Model& model_;
+  const nlohmann::json& rawLights_;
+  GltfLoadWarnings* warnings_ = nullptr;
+  Scene scene_;
+  int defaultMaterial_ = -1;
+  std::string firstSkippedPrimitive_, firstSkippedCamera_;
+  std::vector<uint8_t> onPath_;
+};
+
+}  // namespace hb::gltf_detail

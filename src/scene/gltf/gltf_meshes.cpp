@@ -1,0 +1,134 @@
+// glTF meshes: TRIANGLES primitives appended to the scene's shared vertex and index arrays,
+// with computed normals and sequential indices where the file has none (Loader members
+// declared in gltf_load_internal.h).
+#include <cmath>
+#include <limits>
+
+#include "scene/gltf/gltf_load_internal.h"
+
+namespace hb::gltf_detail {
+namespace {
+
+// Smooth normals: each vertex sums the unnormalised face normals (cross products, whose length
+// is twice the triangle's area, hence area-weighted) of the triangles around it. A vertex with
+// only degenerate triangles gets +Z so that the normal is always unit.
+std::vector<glm::vec3> areaWeightedNormals(const std::vector<glm::vec3>& positions,
+                                           const std::vector<uint32_t>& indices) {
+  std::vector<glm::dvec3> sum(positions.size(), glm::dvec3(0.0));
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    glm::dvec3 a(positions[indices[t]]), b(positions[indices[t + 1]]), c(positions[indices[t + 2]]);
+    glm::dvec3 n = glm::cross(b - a, c - a);
+    for (int k = 0; k < 3; ++k) sum[indices[t + k]] += n;
+  }
+  std::vector<glm::vec3> out(positions.size());
+  for (size_t i = 0; i < sum.size(); ++i) {
+    double len = glm::length(sum[i]);
+    out[i] = len > 0.0 ? glm::vec3(sum[i] / len) : glm::vec3(0.0f, 0.0f, 1.0f);
+  }
+  return out;
+}
+
+}  // namespace
+
+void Loader::loadMesh(int meshIndex) {
+  const tinygltf::Mesh& mesh = model_.meshes[static_cast<size_t>(meshIndex)];
+  Mesh out;
+  out.name = mesh.name;
+  for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+    const std::string field =
+        "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
+    const tinygltf::Primitive& prim = mesh.primitives[p];
+    if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+      if (warnings_->skippedPrimitives++ == 0)
+        firstSkippedPrimitive_ = field + " (mode " + std::to_string(prim.mode) + ")";
+      continue;
+    }
+    out.primitives.push_back(loadPrimitive(prim, field));
+  }
+  scene_.meshes.push_back(std::move(out));
+}
+
+Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::string& field) {
+  auto attribute = [&](const char* name) {
+    auto it = prim.attributes.find(name);
+    return it == prim.attributes.end() ? -1 : it->second;
+  };
+  const int positionAccessor = attribute("POSITION");
+  if (positionAccessor < 0)
+    fail(field + ".attributes", "has no POSITION", "give every primitive a POSITION accessor");
+  const std::string positionField = field + ".attributes.POSITION";
+  std::vector<glm::vec3> positions = readVectors<3>(accessor(
+      positionAccessor, positionField, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+  for (size_t i = 0; i < positions.size(); ++i)
+    if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) ||
+        !std::isfinite(positions[i].z))
+      fail(positionField, "vertex " + std::to_string(i) + " is not finite (NaN or Inf)",
+           "re-export the mesh with finite positions");
+  const size_t vertexCount = positions.size();
+
+  std::vector<glm::vec3> normals;
+  if (int a = attribute("NORMAL"); a >= 0) {
+    normals = readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3,
+                                      {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+    if (normals.size() != vertexCount)
+      fail(field + ".attributes.NORMAL",
+           "count " + std::to_string(normals.size()) + " differs from POSITION's " +
+               std::to_string(vertexCount),
+           "give every attribute of a primitive the same count");
+  }
+  std::vector<glm::vec2> uvs;
+  if (int a = attribute("TEXCOORD_0"); a >= 0) {
+    // The spec allows normalized unsigned byte/short texture coordinates besides float.
+    uvs = readVectors<2>(
+        accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                 {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
+    if (uvs.size() != vertexCount)
+      fail(field + ".attributes.TEXCOORD_0",
+           "count " + std::to_string(uvs.size()) + " differs from POSITION's " +
+               std::to_string(vertexCount),
+           "give every attribute of a primitive the same count");
+  }
+
+  std::vector<uint32_t> indices;
+  const std::string indicesField = field + ".indices";
+  if (prim.indices >= 0) {
+    indices = readIndices(
+        accessor(prim.indices, indicesField, TINYGLTF_TYPE_SCALAR,
+                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}));
+    for (size_t i = 0; i < indices.size(); ++i)
+      if (indices[i] >= vertexCount)
+        fail(indicesField,
+             "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
+                 " but the primitive has only " + std::to_string(vertexCount) + " vertices",
+             "fix the index buffer or the POSITION accessor's count");
+  } else {
+    indices.resize(vertexCount);
+    for (size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<uint32_t>(i);
+  }
+  if (indices.size() % 3 != 0)
+    fail(prim.indices >= 0 ? indicesField : positionField,
+         std::to_string(indices.size()) + " vertices do not make whole triangles",
+         "give TRIANGLES primitives a multiple of 3 indices (or vertices)");
+  if (normals.empty()) normals = areaWeightedNormals(positions, indices);
+
+  Primitive out;
+  if (scene_.vertices.size() + vertexCount > std::numeric_limits<uint32_t>::max() ||
+      scene_.indices.size() + indices.size() > std::numeric_limits<uint32_t>::max())
+    fail(field, "the scene exceeds 2^32 vertices or indices", "split or simplify the scene");
+  out.firstIndex = static_cast<uint32_t>(scene_.indices.size());
+  out.indexCount = static_cast<uint32_t>(indices.size());
+  out.vertexOffset = static_cast<uint32_t>(scene_.vertices.size());
+  out.vertexCount = static_cast<uint32_t>(vertexCount);
+  out.material = prim.material >= 0
+                     ? static_cast<uint32_t>(checkIndex(prim.material, model_.materials.size(),
+                                                        field + ".material", "materials"))
+                     : defaultMaterial();
+  for (size_t i = 0; i < vertexCount; ++i)
+    scene_.vertices.push_back({positions[i], normals[i], uvs.empty() ? glm::vec2(0.0f) : uvs[i]});
+  scene_.indices.insert(scene_.indices.end(), indices.begin(), indices.end());
+  return out;
+}
+
+}  // namespace hb::gltf_detail

@@ -1,0 +1,77 @@
+// The folders of src/ follow the frame's data flow (README "Layout"): a file includes only headers
+// of its own folder or of folders lower in this order. The order is the one the code has, checked
+// here on every include so that a move cannot quietly put a file in the wrong place.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#ifndef HYBRIDBENCH_SOURCE_DIR
+#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Lowest first. scene/gltf sits just above scene: the glTF loader builds Scenes, scene/ never
+// reads glTF.
+const std::vector<std::string> kOrder = {"base",  "scene",    "scene/gltf", "effects", "config", "reference",
+                                         "gpu",   "frame",    "analysis",   "report",  "app"};
+
+int rankOf(const std::string& relPath) {  // "gpu/accel.h" -> rank of "gpu"; -1 if not in a folder
+  int best = -1;
+  size_t bestLen = 0;
+  for (size_t i = 0; i < kOrder.size(); ++i) {
+    const std::string prefix = kOrder[i] + "/";
+    if (relPath.rfind(prefix, 0) == 0 && prefix.size() > bestLen) {
+      best = int(i);
+      bestLen = prefix.size();
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST(Layout, EveryFileOfSrcIsInAFolderOfTheFrameOrder) {
+  const fs::path src = fs::path(HYBRIDBENCH_SOURCE_DIR) / "src";
+  size_t files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(src)) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), src).generic_string();
+    EXPECT_GE(rankOf(rel), 0) << rel << " is not in any folder of the layout (tests/layout_test.cpp kOrder)";
+    ++files;
+  }
+  EXPECT_GT(files, 50u);
+}
+
+TEST(Layout, AFolderIncludesOnlyItselfAndFoldersBelowIt) {
+  const fs::path src = fs::path(HYBRIDBENCH_SOURCE_DIR) / "src";
+  const std::regex include(R"re(^\s*#\s*include\s+"([^"]+)")re");
+  size_t checked = 0;
+  for (const auto& e : fs::recursive_directory_iterator(src)) {
+    if (!e.is_regular_file()) continue;
+    const std::string rel = fs::relative(e.path(), src).generic_string();
+    const int own = rankOf(rel);
+    std::ifstream in(e.path());
+    std::string line;
+    int lineNo = 0;
+    while (std::getline(in, line)) {
+      ++lineNo;
+      std::smatch m;
+      if (!std::regex_search(line, m, include)) continue;
+      const std::string target = m[1];
+      if (!fs::exists(src / target)) continue;  // shaders/shared/*.h, generated headers
+      ++checked;
+      const int theirs = rankOf(target);
+      EXPECT_LE(theirs, own) << rel << ":" << lineNo << " includes " << target << ", which is above "
+                             << kOrder[std::max(own, 0)] << "/ in the frame order";
+    }
+  }
+  EXPECT_GT(checked, 100u);
+}
