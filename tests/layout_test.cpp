@@ -18,10 +18,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Lowest first. scene/gltf sits just above scene: the glTF loader builds Scenes, scene/ never
-// reads glTF.
-const std::vector<std::string> kOrder = {"base",  "scene",    "scene/gltf", "effects", "config", "reference",
-                                         "gpu",   "frame",    "analysis",   "report",  "app"};
+// Lowest first. effects/ reads scenes (can an effect act on this one?); scene/gltf sits above it:
+// the glTF loader builds Scenes and checks their extras.effects against the effects schema.
+const std::vector<std::string> kOrder = {"base", "scene", "effects", "scene/gltf", "config", "reference",
+                                         "gpu",  "frame", "analysis", "report",     "app"};
 
 int rankOf(const std::string& relPath) {  // "gpu/accel.h" -> rank of "gpu"; -1 if not in a folder
   int best = -1;

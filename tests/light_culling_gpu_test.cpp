@@ -40,7 +40,7 @@ std::unique_ptr<CullRun> cull(const VulkanContext& ctx, const Scene& scene, uint
   rs.lightCulling = lightCulling;
   rs.aabb = aabb;
   rs.depthSlices = depthSlices;
-  rs.shadows = false;
+  rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
   Renderer renderer(ctx, scene, rs);
   renderer.renderFrame(true);
   auto run = std::make_unique<CullRun>();

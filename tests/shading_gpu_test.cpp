@@ -515,7 +515,7 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
   Scene noCaster = shadowed;
   noCaster.lights[0].castShadows = false;
   RenderSettings off;
-  off.shadows = false;
+  off.effects.add(EffectSource::Config, "test", {{"shadows", false}});
 
   struct Case {
     const char* name;
@@ -531,7 +531,7 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
     r.renderFrame();
     reference = r.readColor();
   }
-  for (const Case& c : {Case{"settings.shadows = false", &shadowed, off}, Case{"castShadows = false", &noCaster, {}}}) {
+  for (const Case& c : {Case{"effects.shadows = false", &shadowed, off}, Case{"castShadows = false", &noCaster, {}}}) {
     SCOPED_TRACE(c.name);
     RenderSettings s = c.settings;
     s.width = s.height = kSize;

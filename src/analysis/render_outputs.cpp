@@ -121,6 +121,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   };
 
   nlohmann::json j;
+  j["effects"] = renderer.plan().effectsJson();
   j["passes_run"] = renderer.passesRun();
   j["passes_skipped"] = nlohmann::json::object();
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;

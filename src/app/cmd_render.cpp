@@ -29,10 +29,11 @@ int cmdRender(const RenderOptions& options) {
     parseSize(options.size, w, h, "--size");
     params.resolution = {w, h};
   }
-  bool shadows = haveConfig ? config.shadows : true;
+  // Effects: the scene's own (planFrame adds them) < the config's < each --set that names one.
+  EffectsRequest effects = haveConfig ? effectsRequestFor(config) : EffectsRequest{};
   for (const std::string& set : options.sets) {
-    if (set == "shadows=false" || set == "shadows=true") {  // effects.shadows, for a quick look
-      shadows = set == "shadows=true";
+    if (isEffectSet(set)) {
+      effects.layers.push_back(parseEffectSet(set));
       continue;
     }
     applySetOverride(params, set);
@@ -55,7 +56,7 @@ int cmdRender(const RenderOptions& options) {
   } else {
     scene = loadSceneArg(options.scene);
   }
-  RenderSettings settings = renderSettingsFor(params, shadows);
+  RenderSettings settings = renderSettingsFor(params, effects);
 
   std::vector<DeviceInfo> devices = enumerateDevices();
   uint32_t deviceIndex = resolveDevice(devices, options.device);
@@ -76,7 +77,6 @@ int cmdRender(const RenderOptions& options) {
   for (const auto& [pass, ms] : timing.passMs) report["timing_ms"][pass] = ms;
   report["timing_ms"]["frame"] = timing.frameMs;
   report["params"] = toJson(params);
-  report["effects"] = {{"shadows", shadows}};
   const std::filesystem::path jsonPath = std::filesystem::path(options.out) / "render.json";
   {
     std::ofstream f(jsonPath.string() + ".tmp");
@@ -86,6 +86,9 @@ int cmdRender(const RenderOptions& options) {
 
   for (const auto& [pass, ms] : timing.passMs) std::printf("%-16s %9.3f ms\n", pass.c_str(), ms);
   std::printf("%-16s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
+  for (const EffectState& e : renderer.plan().effects)
+    std::printf("effect %s: %s (%s%s%s)\n", e.name.c_str(), e.runs ? "runs" : e.calledFor ? "called for, skipped" : "off",
+                toString(e.source), e.origin.empty() ? "" : ": ", e.origin.c_str());
   for (const auto& [pass, why] : renderer.passesSkipped()) std::printf("skipped %s: %s\n", pass.c_str(), why.c_str());
   for (const std::string& line : outputs.summary) std::printf("%s\n", line.c_str());
   std::printf("wrote %s (%zu files)\n", options.out.c_str(), outputs.files.size() + 1);

@@ -44,7 +44,13 @@ Scene sceneForVariant(const Config& config, const VariantParams& params) {
   return scene;
 }
 
-RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
+EffectsRequest effectsRequestFor(const Config& config) {
+  EffectsRequest request;
+  if (!config.effects.empty()) request.add(EffectSource::Config, config.sourceName, config.effects);
+  return request;
+}
+
+RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& effects) {
   if (p.maxLightsPerTile != gpu::kMaxLightsPerTile)
     throw InputError("max_lights_per_tile=" + std::to_string(p.maxLightsPerTile) +
                      ": only 32 (one 32-bit visibility mask per texel) is implemented; overflowing tiles are "
@@ -55,7 +61,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, bool shadows) {
   s.tileSize = p.tileSize;
   s.lightCulling = p.lightCulling;
   s.aabb = p.aabb;
-  s.shadows = shadows;
+  s.effects = effects;
   s.backend = toString(p.backend);
   s.normals = p.normalCulling == NormalCulling::Off     ? gpu::kNormalsOff
               : p.normalCulling == NormalCulling::Naive ? gpu::kNormalsNaive

@@ -19,7 +19,10 @@ Scene sceneForVariant(const Config& config, const VariantParams& params);
 // Applies the config's camera and light overrides to a loaded scene.
 void applySceneOverrides(const Config& config, Scene& scene);
 
-RenderSettings renderSettingsFor(const VariantParams& params, bool shadows);
+// The config's "effects" as the request layer above the scene's own (effects/effects.h).
+EffectsRequest effectsRequestFor(const Config& config);
+
+RenderSettings renderSettingsFor(const VariantParams& params, const EffectsRequest& effects);
 
 // Builds each distinct scene once (the atrium at ×16 takes seconds).
 class SceneCache {

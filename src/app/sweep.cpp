@@ -119,12 +119,13 @@ class ReferenceCache {
   const ReferenceFrame* get(const VulkanContext& ctx, const Config& config, const VariantParams& params,
                             SceneCache& scenes) {
     const Scene& scene = scenes.get(config, params);
-    if (scene.lights.size() > gpu::kMaxLightsPerTile || !config.shadows) return nullptr;
+    const EffectsRequest effects = effectsRequestFor(config);
+    if (scene.lights.size() > gpu::kMaxLightsPerTile || !planFrame(scene, effects).runs("shadows")) return nullptr;
     VariantParams rp = referenceParams(params);
     const std::string key = toJson(rp).dump();
     auto it = frames_.find(key);
     if (it == frames_.end()) {
-      Renderer renderer(ctx, scene, renderSettingsFor(rp, config.shadows));
+      Renderer renderer(ctx, scene, renderSettingsFor(rp, effects));
       renderer.renderFrame(true);
       it = frames_.emplace(key, captureReference(renderer, scene)).first;
     }
@@ -141,7 +142,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
                 uint32_t measured) {
   const Scene& scene = scenes.get(config, v.params);
   const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
-  RenderSettings settings = renderSettingsFor(v.params, config.shadows);
+  RenderSettings settings = renderSettingsFor(v.params, effectsRequestFor(config));
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
 

@@ -1,4 +1,4 @@
-#include "config/config_reader.h"
+#include "base/json_reader.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "base/errors.h"
 
-namespace hb::config_reader {
+namespace hb::json_reader {
 
 Where Where::key(std::string_view k) const {
   return {source, path.empty() ? std::string(k) : path + "." + std::string(k)};
@@ -232,4 +232,4 @@ Json parseText(const std::string& text, const std::string& source) {
   }
 }
 
-}  // namespace hb::config_reader
+}  // namespace hb::json_reader

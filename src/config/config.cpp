@@ -14,6 +14,7 @@
 
 #include "scene/camera.h"
 #include "config/config_reader.h"
+#include "effects/effects.h"
 #include "base/errors.h"
 
 namespace hb {
@@ -320,9 +321,8 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
           .fail("cannot be combined with an explicit \"lights\" list; remove one");
   }
   if (doc.contains("effects")) {
-    Where w = top.key("effects");
-    requireObjectWithKeys(doc["effects"], w, {"shadows"});
-    if (doc["effects"].contains("shadows")) c.shadows = readBool(doc["effects"]["shadows"], w.key("shadows"));
+    validateEffects(doc["effects"], top.key("effects"));  // the schema of effects/effects.h
+    c.effects = nlohmann::json(doc["effects"]);
   }
   if (doc.contains("frames")) {
     Where w = top.key("frames");
@@ -460,7 +460,7 @@ nlohmann::json toJson(const Config& c) {
   } else {
     j["lights"] = "scene";
   }
-  j["effects"] = {{"shadows", c.shadows}};
+  j["effects"] = c.effects;  // as the file says: what it leaves out stays the scene's (or the default)
   j["frames"] = {{"warmup", c.warmupFrames}, {"measured", c.measuredFrames}};
   j["defaults"] = toJson(c.defaults);
   j["variants"] = nlohmann::json::array();

@@ -33,7 +33,9 @@
 //                "inner_cone_deg": 0, "outer_cone_deg": 45,  // spot; 0 <= inner < outer <= 90
 //                "cast_shadows": true } ],
 //   "resolution": [1920, 1080],       // shorthand for defaults.resolution (not both)
-//   "effects": {"shadows": true},     // ray-traced shadows; false skips the BLAS/TLAS and shadow pass
+//   "effects": {"shadows": true},     // effects/effects.h: what to simulate; over the scene's
+//                                     // extras.effects, under --set. shadows false: no BLAS/TLAS,
+//                                     // no shadow pass
 //   "frames": {"warmup": 50, "measured": 300},   // warmup 0..100000, measured 1..1000000
 //   "defaults": { params },           // applied to every variant, on top of the built-in defaults
 //   "variants": [ {"name": "no optimisations", "params": { params }}, ... ],
@@ -153,7 +155,9 @@ struct Config {
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights
-  bool shadows = true;
+  // The "effects" object as the file gives it (validated): keys it leaves out stay the scene's
+  // or the built-in default (effects/effects.h). An EffectsRequest layer of source Config.
+  nlohmann::json effects = nlohmann::json::object();
   uint32_t warmupFrames = 50;
   uint32_t measuredFrames = 300;
   // Built-in defaults, then "resolution", then scene_params (light_count, triangle_scale), then

@@ -23,6 +23,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     : ctx_(ctx),
       scene_(scene),
       settings_(settings),
+      plan_(planFrame(scene, settings.effects)),
       camera_(pickCamera(scene, settings.cameraIndex)),
       view_(camera_.view),
       proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
@@ -48,13 +49,10 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   std::vector<gpu::GpuLight> packed = packLights(scene.lights);
   if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
 
-  // Effects select passes (design.md): no culling when there are no lights or only directional ones.
-  const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
-                                         [](const Light& l) { return l.type != LightType::Directional; });
-  if (!anyLocalLight) {
-    passesSkipped_.push_back({"light_culling", scene.lights.empty() ? "the scene has no lights"
-                                                                    : "every light is directional (never culled)"});
-  } else {
+  // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
+  // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
+  passesSkipped_ = plan_.skipped;
+  if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;
     cs.lightCulling = settings.lightCulling;
@@ -63,17 +61,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
                                               depth_, pointSampler_);
   }
-
-  // Shadows need rays: acceleration structures and the shadow pass only when an effect asks.
-  const bool anyShadowCaster =
-      std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; });
-  if (!settings.shadows) {
-    passesSkipped_.push_back({"shadows", "effects.shadows is off"});
-  } else if (!anyShadowCaster) {
-    passesSkipped_.push_back({"shadows", scene.lights.empty() ? "the scene has no lights" : "no light casts shadows"});
-  } else if (!culling_) {
-    passesSkipped_.push_back({"shadows", "every light is directional: not supported by the tiled shadow pass yet"});
-  } else {
+  if (plan_.hasPass("shadows")) {
+    HB_ASSERT(culling_ && plan_.needs(FrameResource::AccelerationStructures));
     if (!ctx.canTrace())
       throw InputError("device \"" + ctx.info().name +
                        "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: "

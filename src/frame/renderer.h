@@ -1,12 +1,13 @@
 // The frame: a flat list of passes in frame order (design.md "The frame"), the resources they
-// share, and per-pass GPU timestamps. Which passes run follows from the settings and the scene's
-// effects; passesRun() and passesSkipped() say which and why.
+// share, and per-pass GPU timestamps. Which passes run, and which resources exist, follow from the
+// effects the scene calls for (planFrame); passesRun() and passesSkipped() say which and why.
 #pragma once
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "effects/effects.h"
 #include "scene/camera.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
@@ -26,7 +27,9 @@ struct RenderSettings {
   uint32_t tileSize = 16;
   bool lightCulling = true;
   bool aabb = false;
-  bool shadows = true;                 // effects.shadows: false skips the BLAS/TLAS and the shadow pass
+  // The effects asked for above the scene's own (config, --set); the frame is planned from them
+  // and the scene (effects/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
+  EffectsRequest effects;
   std::string backend = "auto";        // auto | rayquery | pipeline
   uint32_t normals = 0;                // gpu::kNormalsOff / Naive / Improved
   uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
@@ -67,6 +70,7 @@ class Renderer {
   const glm::mat4& proj() const { return proj_; }
   const Camera& camera() const { return camera_; }
   const RenderSettings& settings() const { return settings_; }
+  const FramePlan& plan() const { return plan_; }
   const std::vector<std::string>& passesRun() const { return passesRun_; }
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
   bool hasCulling() const { return bool(culling_); }
@@ -90,6 +94,7 @@ class Renderer {
   const VulkanContext& ctx_;
   const Scene& scene_;
   RenderSettings settings_;
+  FramePlan plan_;
   Camera camera_;
   glm::mat4 view_, proj_;
   GpuScene gpuScene_;

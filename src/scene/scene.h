@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 namespace hb {
 
@@ -89,6 +90,10 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Light> lights;
   std::vector<Camera> cameras;  // cameras[0] is the one a render uses unless told otherwise
+  // The effects the scene calls for (a glTF's scenes[s].extras.effects, checked against
+  // effects/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
+  nlohmann::json effects;
+  std::string effectsOrigin;
 
   uint64_t triangleCount() const;  // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances

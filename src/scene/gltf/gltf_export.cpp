@@ -14,6 +14,25 @@
 namespace hb {
 namespace {
 
+// nlohmann::json → tinygltf::Value (for extras): null, booleans, numbers, strings, arrays, objects.
+tinygltf::Value toValue(const nlohmann::json& j) {
+  if (j.is_boolean()) return tinygltf::Value(j.get<bool>());
+  if (j.is_number_integer()) return tinygltf::Value(j.get<int>());
+  if (j.is_number()) return tinygltf::Value(j.get<double>());
+  if (j.is_string()) return tinygltf::Value(j.get<std::string>());
+  if (j.is_array()) {
+    tinygltf::Value::Array a;
+    for (const auto& e : j) a.push_back(toValue(e));
+    return tinygltf::Value(std::move(a));
+  }
+  if (j.is_object()) {
+    tinygltf::Value::Object o;
+    for (const auto& [k, v] : j.items()) o[k] = toValue(v);
+    return tinygltf::Value(std::move(o));
+  }
+  return tinygltf::Value();
+}
+
 class Exporter {
  public:
   explicit Exporter(const Scene& scene) : scene_(scene) {}
@@ -35,6 +54,11 @@ class Exporter {
     }
     for (const Camera& c : scene_.cameras) gscene.nodes.push_back(addCamera(c));
     for (const Light& l : scene_.lights) gscene.nodes.push_back(addLight(l));
+    if (!scene_.effects.is_null()) {  // what the scene calls for travels with it (effects/effects.h)
+      tinygltf::Value::Object extras;
+      extras["effects"] = toValue(scene_.effects);
+      gscene.extras = tinygltf::Value(std::move(extras));
+    }
     model_.scenes.push_back(std::move(gscene));
     model_.defaultScene = 0;
     if (!bin_.empty()) {

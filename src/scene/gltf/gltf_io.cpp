@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "effects/effects.h"
 #include "scene/gltf/gltf_load_internal.h"
 
 namespace hb {
@@ -51,7 +52,9 @@ std::string num(double v) {  // shortest readable form: 5, -2, 0.25, 1e+30, nan
 
 // The KHR_lights_punctual light array as written, read past tinygltf to see which lights have a
 // "range" (tinygltf stores a missing range as 0). Null when the file has none.
-nlohmann::json rawLightsJson(const std::vector<char>& bytes, bool binary) {
+// The file's JSON as nlohmann::json (tinygltf's Value drops what these readers need to check),
+// or null when it cannot be read (tinygltf has then already failed with its own message).
+nlohmann::json rawDocument(const std::vector<char>& bytes, bool binary) {
   std::string text;
   if (binary) {
     // GLB: 12-byte header, then chunk 0 = JSON: uint32 length, uint32 type, data.
@@ -64,6 +67,10 @@ nlohmann::json rawLightsJson(const std::vector<char>& bytes, bool binary) {
     text.assign(bytes.begin(), bytes.end());
   }
   nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+  return doc.is_object() ? doc : nlohmann::json();
+}
+
+nlohmann::json rawLightsJson(const nlohmann::json& doc) {
   if (!doc.is_object()) return nullptr;
   auto ext = doc.find("extensions");
   if (ext == doc.end() || !ext->is_object()) return nullptr;
@@ -71,6 +78,23 @@ nlohmann::json rawLightsJson(const std::vector<char>& bytes, bool binary) {
   if (lights == ext->end() || !lights->is_object()) return nullptr;
   auto array = lights->find("lights");
   return array != lights->end() ? *array : nlohmann::json();
+}
+
+// The effects the scene calls for: scenes[s].extras.effects of the scene that is loaded, checked
+// against the effects schema (effects/effects.h) with the file and key path in every message.
+void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path,
+                      Scene& scene) {
+  if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || model.scenes.empty()) return;
+  const size_t s = static_cast<size_t>(model.defaultScene >= 0 ? model.defaultScene : 0);
+  if (s >= doc["scenes"].size()) return;
+  const nlohmann::json& gscene = doc["scenes"][s];
+  if (!gscene.is_object() || !gscene.contains("extras") || !gscene["extras"].is_object() ||
+      !gscene["extras"].contains("effects"))
+    return;
+  const nlohmann::json& effects = gscene["extras"]["effects"];
+  validateEffects(effects, json_reader::Where{path, "scenes[" + std::to_string(s) + "].extras.effects"});
+  scene.effects = effects;
+  scene.effectsOrigin = path;
 }
 
 }  // namespace
@@ -325,8 +349,10 @@ Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings) {
                      "' is not 2.x; re-export it as glTF 2.0");
 
   GltfLoadWarnings local;
-  const nlohmann::json rawLights = rawLightsJson(bytes, binary);
+  const nlohmann::json doc = rawDocument(bytes, binary);
+  const nlohmann::json rawLights = rawLightsJson(doc);
   Scene scene = gltf_detail::Loader(path, model, rawLights).load(warnings ? *warnings : local);
+  readSceneEffects(doc, model, path, scene);
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
   if (!warnings)
     for (const std::string& line : local.messages) std::cerr << "warning: " << line << "\n";

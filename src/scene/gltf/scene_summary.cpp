@@ -103,6 +103,8 @@ nlohmann::json sceneInfoJson(const Scene& scene) {
   lights["ranges_from_eq41"] = fromEq41;
   lights["list"] = std::move(list);
   j["lights"] = std::move(lights);
+  // What the scene calls for (extras.effects); {} when it says nothing (the defaults apply).
+  j["effects"] = scene.effects.is_null() ? nlohmann::json::object() : scene.effects;
 
   if (scene.triangleCount() > 0) {
     glm::vec3 lo, hi;
@@ -141,6 +143,8 @@ std::string sceneInfoText(const Scene& scene) {
       out << " range " << l.range << " m" << (l.rangeFromEq41 ? " (eq. 4.1)" : "");
     out << (l.castShadows ? "" : " no shadows") << "\n";
   }
+  out << "effects    " << (scene.effects.is_null() ? std::string("(none: the defaults apply)") : scene.effects.dump())
+      << "\n";
   if (j["bounds"].is_null()) {
     out << "bounds     (empty)\n";
   } else {
@@ -219,6 +223,11 @@ std::string sceneSha256(const Scene& scene) {
     h.f32(l.innerConeAngle);
     h.f32(l.outerConeAngle);
     h.u32(l.castShadows ? 1 : 0);
+  }
+  if (!scene.effects.is_null()) {  // only when present: hashes of scenes without it stay as they were
+    h.tag("effects");
+    const std::string text = scene.effects.dump();
+    h.bytes(text.data(), text.size());
   }
   h.tag("cameras");
   h.u64(scene.cameras.size());

@@ -1,0 +1,183 @@
+#include "effects/effects.h"
+
+#include <algorithm>
+
+#include "base/errors.h"
+#include "effects/shadows.h"
+
+namespace hb {
+
+const std::vector<const EffectDef*>& allEffects() {
+  static const std::vector<const EffectDef*> effects = {
+      &shadowsEffect(),
+  };
+  return effects;
+}
+
+const EffectDef* findEffect(std::string_view name) {
+  for (const EffectDef* e : allEffects())
+    if (name == e->name) return e;
+  return nullptr;
+}
+
+const std::vector<const char*>& framePassOrder() {
+  static const std::vector<const char*> order = {"depth_prepass", "light_culling", "shadows", "shading"};
+  return order;
+}
+
+const char* toString(FrameResource r) {
+  switch (r) {
+    case FrameResource::Depth: return "depth";
+    case FrameResource::LightLists: return "light_lists";
+    case FrameResource::AccelerationStructures: return "acceleration_structures";
+  }
+  return "?";
+}
+
+const char* toString(EffectSource source) {
+  switch (source) {
+    case EffectSource::Default: return "default";
+    case EffectSource::Scene: return "scene";
+    case EffectSource::Config: return "config";
+    case EffectSource::Set: return "--set";
+  }
+  return "?";
+}
+
+static std::vector<std::string_view> effectNames() {
+  std::vector<std::string_view> names;
+  for (const EffectDef* e : allEffects()) names.push_back(e->name);
+  return names;
+}
+
+void validateEffects(const nlohmann::ordered_json& object, const json_reader::Where& where) {
+  json_reader::requireObjectWithKeys(object, where, effectNames());
+  for (const auto& [key, value] : object.items()) findEffect(key)->validate(value, where.key(key));
+}
+
+void validateEffects(const nlohmann::json& object, const json_reader::Where& where) {
+  validateEffects(nlohmann::ordered_json(object), where);
+}
+
+EffectsRequest& EffectsRequest::add(EffectSource source, std::string origin, const nlohmann::json& object) {
+  validateEffects(object, {origin, ""});
+  layers.push_back({source, std::move(origin), object});
+  return *this;
+}
+
+static std::string effectKeyOf(const std::string& keyEqualsValue) {
+  const size_t eq = keyEqualsValue.find('=');
+  std::string key = keyEqualsValue.substr(0, eq);
+  if (key.rfind("effects.", 0) == 0) key = key.substr(8);
+  return key;
+}
+
+bool isEffectSet(const std::string& keyEqualsValue) {
+  if (keyEqualsValue.rfind("effects.", 0) == 0) return true;  // an unknown effect fails in parseEffectSet
+  return findEffect(effectKeyOf(keyEqualsValue)) != nullptr;
+}
+
+EffectsLayer parseEffectSet(const std::string& keyEqualsValue) {
+  const std::string where = "--set " + keyEqualsValue;
+  const size_t eq = keyEqualsValue.find('=');
+  if (eq == std::string::npos)
+    throw InputError(where + ": expected effect=value, e.g. --set shadows=false");
+  const std::string key = effectKeyOf(keyEqualsValue);
+  const std::string text = keyEqualsValue.substr(eq + 1);
+  nlohmann::ordered_json value = nlohmann::ordered_json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;  // a bare word: the effect's validator names what it wants
+  nlohmann::ordered_json object = {{key, value}};
+  json_reader::Where w{where, "effects"};
+  validateEffects(object, w);
+  return {EffectSource::Set, where, nlohmann::json(object)};
+}
+
+bool FramePlan::runs(std::string_view effect) const {
+  return std::any_of(effects.begin(), effects.end(), [&](const EffectState& e) { return e.name == effect && e.runs; });
+}
+
+bool FramePlan::hasPass(std::string_view pass) const {
+  return std::find(passes.begin(), passes.end(), pass) != passes.end();
+}
+
+bool FramePlan::needs(FrameResource r) const { return std::find(resources.begin(), resources.end(), r) != resources.end(); }
+
+nlohmann::json FramePlan::effectsJson() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const EffectState& e : effects) {
+    nlohmann::json s = {{"called_for", e.calledFor}, {"runs", e.runs}, {"value", e.value},
+                        {"source", toString(e.source)}};
+    if (!e.origin.empty()) s["origin"] = e.origin;
+    if (!e.skippedBecause.empty()) s["skipped_because"] = e.skippedBecause;
+    j[e.name] = s;
+  }
+  return j;
+}
+
+FramePlan planFrame(const Scene& scene, const EffectsRequest& request) {
+  std::vector<EffectsLayer> layers;
+  if (!scene.effects.is_null()) layers.push_back({EffectSource::Scene, scene.effectsOrigin, scene.effects});
+  layers.insert(layers.end(), request.layers.begin(), request.layers.end());
+
+  FramePlan plan;
+  auto addResource = [&](FrameResource r) {
+    if (!plan.needs(r)) plan.resources.push_back(r);
+  };
+  std::vector<std::pair<std::string, std::string>> effectPassSkipped;
+  std::vector<std::string> effectPasses;
+  for (const EffectDef* def : allEffects()) {
+    EffectState s;
+    s.name = def->name;
+    s.value = def->defaultValue;
+    for (const EffectsLayer& layer : layers) {
+      if (!layer.object.contains(def->name)) continue;
+      s.value = layer.object[def->name];
+      s.source = layer.source;
+      s.origin = layer.origin;
+    }
+    s.calledFor = isCalledFor(s.value);
+    if (!s.calledFor) {
+      s.skippedBecause = std::string("effects.") + def->name + " is off (" + toString(s.source) +
+                         (s.origin.empty() ? "" : ": " + s.origin) + ")";
+    } else {
+      s.skippedBecause = def->cannotAct(scene, s.value);
+    }
+    s.runs = s.calledFor && s.skippedBecause.empty();
+    for (const char* pass : def->passes) {
+      if (s.runs)
+        effectPasses.push_back(pass);
+      else
+        effectPassSkipped.push_back({pass, s.skippedBecause});
+    }
+    if (s.runs)
+      for (FrameResource r : def->needs) addResource(r);
+    plan.effects.push_back(std::move(s));
+  }
+
+  // The base frame: primary visibility and shading always; tile light lists for direct light
+  // when some light can be culled into tiles (a directional light reaches every pixel).
+  addResource(FrameResource::Depth);
+  const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                         [](const Light& l) { return l.type != LightType::Directional; });
+  if (anyLocalLight) addResource(FrameResource::LightLists);
+
+  for (const char* pass : framePassOrder()) {
+    const std::string p = pass;
+    const bool byEffect = std::find(effectPasses.begin(), effectPasses.end(), p) != effectPasses.end();
+    if (p == "depth_prepass" || p == "shading" || byEffect) {
+      plan.passes.push_back(p);
+    } else if (p == "light_culling") {
+      if (plan.needs(FrameResource::LightLists))
+        plan.passes.push_back(p);
+      else
+        plan.skipped.push_back({p, scene.lights.empty() ? "the scene has no lights"
+                                                        : "every light is directional (never culled)"});
+    } else {
+      for (const auto& [skippedPass, why] : effectPassSkipped)
+        if (skippedPass == p) plan.skipped.push_back({p, why});
+    }
+  }
+  return plan;
+}
+
+}  // namespace hb

@@ -1,0 +1,128 @@
+#include "effects/effects.h"
+
+#include <gtest/gtest.h>
+
+#include "base/errors.h"
+
+namespace hb {
+namespace {
+
+Scene sceneWithLights(std::vector<Light> lights) {
+  Scene s;
+  s.name = "test";
+  s.lights = std::move(lights);
+  return s;
+}
+
+Light pointLight(bool castShadows = true) {
+  Light l;
+  l.type = LightType::Point;
+  l.range = 5.0f;
+  l.castShadows = castShadows;
+  return l;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const EffectState& stateOf(const FramePlan& plan, const std::string& name) {
+  for (const EffectState& e : plan.effects)
+    if (e.name == name) return e;
+  throw std::runtime_error("no effect " + name);
+}
+
+TEST(Effects, DefaultsCallForShadowsAndTheFrameHasEveryPassInFrameOrder) {
+  const FramePlan plan = planFrame(sceneWithLights({pointLight()}), {});
+  EXPECT_EQ(plan.passes, (std::vector<std::string>{"depth_prepass", "light_culling", "shadows", "shading"}));
+  EXPECT_TRUE(plan.skipped.empty());
+  EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
+  const EffectState& s = stateOf(plan, "shadows");
+  EXPECT_EQ(s.source, EffectSource::Default);
+  EXPECT_TRUE(s.runs);
+}
+
+TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
+  Scene scene = sceneWithLights({pointLight()});
+  scene.effects = {{"shadows", false}};
+  scene.effectsOrigin = "scene.gltf";
+  FramePlan plan = planFrame(scene, {});
+  EXPECT_FALSE(plan.runs("shadows"));
+  EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Scene);
+  EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));  // nothing allocated for an effect that is off
+  EXPECT_FALSE(plan.hasPass("shadows"));
+  ASSERT_EQ(plan.skipped.size(), 1u);
+  EXPECT_EQ(plan.skipped[0].first, "shadows");
+  EXPECT_EQ(plan.skipped[0].second, "effects.shadows is off (scene: scene.gltf)");
+
+  EffectsRequest request;
+  request.add(EffectSource::Config, "c.json", {{"shadows", true}});
+  plan = planFrame(scene, request);
+  EXPECT_TRUE(plan.runs("shadows"));
+  EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Config);
+  EXPECT_EQ(stateOf(plan, "shadows").origin, "c.json");
+
+  request.layers.push_back(parseEffectSet("shadows=false"));
+  plan = planFrame(scene, request);
+  EXPECT_FALSE(plan.runs("shadows"));
+  EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Set);
+  EXPECT_EQ(stateOf(plan, "shadows").origin, "--set shadows=false");
+}
+
+TEST(Effects, ACalledForEffectThatCannotActIsSkippedWithItsReason) {
+  struct Case {
+    std::vector<Light> lights;
+    const char* why;
+    bool lightCulling;
+  };
+  Light sun;
+  sun.type = LightType::Directional;
+  for (const Case& c : {Case{{}, "the scene has no lights", false},
+                        Case{{pointLight(false), pointLight(false)}, "no light casts shadows", true},
+                        Case{{sun}, "every light is directional: not supported by the tiled shadow pass yet", false}}) {
+    SCOPED_TRACE(c.why);
+    const FramePlan plan = planFrame(sceneWithLights(c.lights), {});
+    const EffectState& s = stateOf(plan, "shadows");
+    EXPECT_TRUE(s.calledFor);
+    EXPECT_FALSE(s.runs);
+    EXPECT_EQ(s.skippedBecause, c.why);
+    EXPECT_FALSE(plan.hasPass("shadows"));
+    EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));
+    EXPECT_EQ(plan.hasPass("light_culling"), c.lightCulling);
+    EXPECT_TRUE(plan.hasPass("depth_prepass"));
+    EXPECT_TRUE(plan.hasPass("shading"));
+    const nlohmann::json j = plan.effectsJson();
+    EXPECT_EQ(j["shadows"]["skipped_because"], c.why);
+    EXPECT_EQ(j["shadows"]["runs"], false);
+  }
+}
+
+TEST(Effects, AnUnknownEffectOrABadValueIsOneLineNamingSourceAndKeyPath) {
+  const json_reader::Where where{"scene.gltf", "scenes[0].extras.effects"};
+  EXPECT_EQ(errorOf([&] { validateEffects(nlohmann::json{{"shadow", true}}, where); }),
+            "scene.gltf: scenes[0].extras.effects: unknown key \"shadow\" (did you mean \"shadows\"?)");
+  const std::string bad = errorOf([&] { validateEffects(nlohmann::json{{"shadows", {{"x", 1}}}}, where); });
+  EXPECT_EQ(bad.rfind("scene.gltf: scenes[0].extras.effects.shadows: ", 0), 0u) << bad;
+  EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
+  EXPECT_NE(errorOf([&] { validateEffects(nlohmann::json::array(), where); }).find("scenes[0].extras.effects"),
+            std::string::npos);
+  EXPECT_NE(errorOf([] { parseEffectSet("effects.bloom=true"); }).find("--set effects.bloom=true"), std::string::npos);
+  EXPECT_NE(errorOf([] { parseEffectSet("shadows=maybe"); }).find("--set shadows=maybe: effects.shadows"),
+            std::string::npos);
+}
+
+TEST(Effects, SetNamesAnEffectByItsNameOrUnderEffects) {
+  EXPECT_TRUE(isEffectSet("shadows=false"));
+  EXPECT_TRUE(isEffectSet("effects.shadows=true"));
+  EXPECT_TRUE(isEffectSet("effects.bloom=true"));  // and fails in parseEffectSet, naming it
+  EXPECT_FALSE(isEffectSet("tile_size=8"));
+  EXPECT_EQ(parseEffectSet("effects.shadows=true").object, (nlohmann::json{{"shadows", true}}));
+}
+
+}  // namespace
+}  // namespace hb
