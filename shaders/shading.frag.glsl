@@ -13,6 +13,9 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;  // 0: no culling pass ran, loop over all lights
 layout(constant_id = 2) const uint SHADOWS = 1;   // 0: every light visible
 layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference normal
+// 1: primary visibility came from 3D rasterization (frame/passes/primary_3dr.h): the depth test
+// is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
+layout(constant_id = 4) const uint ID_MATCH = 0;
 
 layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
 layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
@@ -22,7 +25,8 @@ layout(set = 0, binding = 4) uniform usampler2D visibilityTex;
 layout(set = 0, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
 layout(set = 0, binding = 6) readonly buffer Positions { float vertexData[]; };  // Vertex: 8 floats
 layout(set = 0, binding = 7) readonly buffer SceneIndices { uint sceneIndices[]; };
-layout(set = 0, binding = 8) uniform sampler2D textures[];
+layout(set = 0, binding = 9) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 layout(location = 0) in vec3 inWorldPos;
@@ -49,13 +53,26 @@ vec3 vertexPosition(uint index) {
   return vec3(vertexData[v], vertexData[v + 1], vertexData[v + 2]);
 }
 
+vec4 sampleTexture(int index, vec2 uvDx, vec2 uvDy) {
+  // ID_MATCH: derivatives were taken before the discard, in uniform control flow.
+  if (ID_MATCH == 1) return textureGrad(textures[nonuniformEXT(index)], inUv, uvDx, uvDy);
+  return texture(textures[nonuniformEXT(index)], inUv);
+}
+
 void main() {
+  vec2 uvDx = vec2(0.0), uvDy = vec2(0.0);
+  if (ID_MATCH == 1) {
+    uvDx = dFdx(inUv);
+    uvDy = dFdy(inUv);
+    const uint pixel = uint(gl_FragCoord.y) * uint(frame.extent.x) + uint(gl_FragCoord.x);
+    if (visWords[2u * pixel] != draw.triangleBase + uint(gl_PrimitiveID)) discard;  // low word: the id
+  }
   GpuMaterial m = materials[draw.material];
   vec4 base = m.baseColorFactor;
-  if (m.baseColorTexture >= 0) base *= texture(textures[nonuniformEXT(m.baseColorTexture)], inUv);
+  if (m.baseColorTexture >= 0) base *= sampleTexture(m.baseColorTexture, uvDx, uvDy);
   float metallic = m.metallicFactor, roughness = m.roughnessFactor;
   if (m.metallicRoughnessTexture >= 0) {
-    vec4 mr = texture(textures[nonuniformEXT(m.metallicRoughnessTexture)], inUv);
+    vec4 mr = sampleTexture(m.metallicRoughnessTexture, uvDx, uvDy);
     roughness *= mr.g;  // glTF: green = roughness, blue = metallic
     metallic *= mr.b;
   }

@@ -119,12 +119,42 @@ struct DrawConstants {
   uint material;
   uint firstIndex;    // of the draw's first index in the scene's index buffer
   uint vertexOffset;  // added to each index
-  uint pad;
+  uint triangleBase;  // global id of the draw's first triangle (3D rasterization's triangle ids)
 };
+
+// 3D rasterization (Davidovic et al. 2012; frame/passes/primary_3dr.h). Rays from the eye through
+// pixel centres: d(x, y) = rayD0 + x·rayDx + y·rayDy for pixel indices x, y, with d's component
+// along the camera's forward axis 1, so a hit's ray parameter t is its view depth.
+struct Raster3dConstants {
+  vec4 rayD0;     // xyz: world direction through the centre of pixel (0, 0)
+  vec4 rayDx;     // xyz: its step per pixel in x
+  vec4 rayDy;     // xyz: its step per pixel in y (down)
+  vec4 eye;       // xyz: world eye; vertices are made eye-relative in float before setup
+  vec4 forward;   // xyz: unit view direction (view -z) in world space
+  vec4 right;     // xyz: unit view +x in world space
+  vec4 up;        // xyz: unit view +y in world space
+  vec4 depth;     // x znear, y zfar, z C, w D: reverse-Z depth = D / t - C (camera.h)
+  vec4 project;   // x W/(2·a·tan(fov/2)), y H/(2·tan(fov/2)), z W/2 - 0.5, w H/2 - 0.5
+  uint width;
+  uint height;
+  uint triangleCount;
+  uint smallArea;  // screen boxes of at most this many pixels are rasterized by their own thread
+};
+
+// Counters of an analysis frame of the 3DR pass (never written in timed frames).
+HB_CONST uint kR3dCounterSetups = 0u;        // triangles set up (not culled before setup)
+HB_CONST uint kR3dCounterEdgeEvals = 1u;     // edge-function evaluations (3 per pixel tested)
+HB_CONST uint kR3dCounterFallbacks = 2u;     // of those, re-evaluated in double
+HB_CONST uint kR3dCounterPixelsTested = 3u;  // pixels tested (in screen boxes)
+HB_CONST uint kR3dCounterCovered = 4u;       // (triangle, pixel) pairs covered, depth-tested or not
+HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs within [znear, zfar])
+HB_CONST uint kR3dCounterBig = 6u;           // triangles handed to the big-triangle pass
+HB_CONST uint kR3dCounterCount = 8u;
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
+static_assert(sizeof(Raster3dConstants) == 9 * 16 + 16, "Raster3dConstants layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");

@@ -70,6 +70,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.rangeTest = p.rangeTest;
   s.depthSlices = p.depthSlices;
   s.scaledTMin = p.tMin == ShadowTMin::Scaled;
+  s.primary = toString(p.primary);
   return s;
 }
 

@@ -55,6 +55,9 @@
 //   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
 //                                    max(0.001 m, 400u · distance to the eye); beyond the thesis)
 //                                                    default "constant"
+//   "primary": "hardware" | "3dr"  (primary visibility: the hardware depth prepass, or 3D
+//                                    rasterization in compute, Davidovic et al. 2012)
+//                                                    default "hardware"
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -95,11 +98,13 @@ enum class NormalCulling { Off, Naive, Improved };
 enum class RtBackend { Auto, RayQuery, Pipeline };
 enum class WorldPosMethod { Alg41, Matrix };
 enum class ShadowTMin { Constant, Scaled };
+enum class PrimaryMethod { Hardware, Raster3d };
 
 const char* toString(NormalCulling);
 const char* toString(RtBackend);
 const char* toString(WorldPosMethod);
 const char* toString(ShadowTMin);
+const char* toString(PrimaryMethod);
 
 struct VariantParams {
   uint32_t tileSize = 8;
@@ -112,6 +117,7 @@ struct VariantParams {
   bool rangeTest = false;
   uint32_t depthSlices = 0;
   ShadowTMin tMin = ShadowTMin::Constant;
+  PrimaryMethod primary = PrimaryMethod::Hardware;
   uint32_t maxLightsPerTile = 32;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.

@@ -36,6 +36,14 @@ const char* toString(WorldPosMethod v) {
   return "?";
 }
 
+const char* toString(PrimaryMethod v) {
+  switch (v) {
+    case PrimaryMethod::Hardware: return "hardware";
+    case PrimaryMethod::Raster3d: return "3dr";
+  }
+  return "?";
+}
+
 const char* toString(ShadowTMin v) {
   switch (v) {
     case ShadowTMin::Constant: return "constant";
@@ -49,7 +57,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "max_lights_per_tile", "light_count", "triangle_scale"};
   return keys;
 }
 
@@ -79,6 +87,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.depthSlices = uint32_t(n);
   } else if (key == "t_min") {
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
+  } else if (key == "primary") {
+    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr"}));
   } else if (key == "max_lights_per_tile") {
     int64_t n = readInt(v, where, 32, 1024);
     // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
@@ -120,6 +130,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["range_test"] = p.rangeTest;
   j["depth_slices"] = p.depthSlices;
   j["t_min"] = toString(p.tMin);
+  j["primary"] = toString(p.primary);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;

@@ -21,7 +21,7 @@ const EffectDef* findEffect(std::string_view name) {
 }
 
 const std::vector<const char*>& framePassOrder() {
-  static const std::vector<const char*> order = {"depth_prepass", "light_culling", "shadows", "shading"};
+  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "light_culling", "shadows", "shading"};
   return order;
 }
 
@@ -114,7 +114,7 @@ nlohmann::json FramePlan::effectsJson() const {
   return j;
 }
 
-FramePlan planFrame(const Scene& scene, const EffectsRequest& request) {
+FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std::string& primaryPass) {
   std::vector<EffectsLayer> layers;
   if (!scene.effects.is_null()) layers.push_back({EffectSource::Scene, scene.effectsOrigin, scene.effects});
   layers.insert(layers.end(), request.layers.begin(), request.layers.end());
@@ -164,7 +164,9 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request) {
   for (const char* pass : framePassOrder()) {
     const std::string p = pass;
     const bool byEffect = std::find(effectPasses.begin(), effectPasses.end(), p) != effectPasses.end();
-    if (p == "depth_prepass" || p == "shading" || byEffect) {
+    if (p == "depth_prepass" || p == "raster3d") {
+      if (p == primaryPass) plan.passes.push_back(p);  // the other methods are not "skipped": not asked for
+    } else if (p == "shading" || byEffect) {
       plan.passes.push_back(p);
     } else if (p == "light_culling") {
       if (plan.needs(FrameResource::LightLists))

@@ -83,6 +83,8 @@ struct FramePlan {
 
 // The effects of a scene under a request, and the frame they make. scene.effects (the glTF's
 // extras.effects, validated by the loader) is the Scene layer.
-FramePlan planFrame(const Scene& scene, const EffectsRequest& request);
+// primaryPass: the pass that computes primary visibility ("depth_prepass" or "raster3d").
+FramePlan planFrame(const Scene& scene, const EffectsRequest& request,
+                    const std::string& primaryPass = "depth_prepass");
 
 }  // namespace hb

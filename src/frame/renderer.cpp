@@ -10,6 +10,12 @@
 
 namespace hb {
 
+static std::string primaryPassName(const std::string& primary) {
+  if (primary == "hardware") return "depth_prepass";
+  if (primary == "3dr") return "raster3d";
+  throw InputError("primary \"" + primary + "\" is not one of hardware, 3dr");
+}
+
 static Camera pickCamera(const Scene& scene, uint32_t index) {
   if (scene.cameras.empty())
     throw InputError("scene \"" + scene.name + "\" has no camera; add one to the glTF or set a camera in the config");
@@ -23,14 +29,15 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     : ctx_(ctx),
       scene_(scene),
       settings_(settings),
-      plan_(planFrame(scene, settings.effects)),
+      plan_(planFrame(scene, settings.effects, primaryPassName(settings.primary))),
       camera_(pickCamera(scene, settings.cameraIndex)),
       view_(camera_.view),
       proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
                                camera_.zfar)),
       gpuScene_(ctx, scene),
       depth_(ctx, settings.width, settings.height, kDepthFormat,
-             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_DST_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT),
       frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
       lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -52,6 +59,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
   // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
   passesSkipped_ = plan_.skipped;
+  if (plan_.hasPass("raster3d"))
+    raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height);
   if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;
@@ -88,7 +97,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
   ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
                    shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
-                          pointSampler_};
+                          pointSampler_, raster3d_ ? &raster3d_->visibility() : nullptr};
   shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
 }
 
@@ -106,20 +115,27 @@ FrameTiming Renderer::renderFrame(bool analysis) {
     frustumsDone_ = true;
     timer_.frameBegin(cmd);
 
-    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-    timer_.begin(cmd, "depth_prepass");
-    depthPrepass_.record(cmd, gpuScene_, proj_ * view_, depth_);
-    timer_.end(cmd);
-    passesRun_.push_back("depth_prepass");
-    imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                     VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                     VK_ACCESS_2_TRANSFER_READ_BIT);
+    if (raster3d_) {
+      timer_.begin(cmd, "raster3d");
+      raster3d_->record(cmd, depth_, analysis);  // leaves depth_ in DEPTH_READ_ONLY_OPTIMAL
+      timer_.end(cmd);
+      passesRun_.push_back("raster3d");
+    } else {
+      imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                   VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+      timer_.begin(cmd, "depth_prepass");
+      depthPrepass_.record(cmd, gpuScene_, proj_ * view_, depth_);
+      timer_.end(cmd);
+      passesRun_.push_back("depth_prepass");
+      imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                       VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
 
     if (culling_) {
       timer_.begin(cmd, "light_culling");

@@ -12,6 +12,7 @@
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "frame/passes/depth_prepass.h"
+#include "frame/passes/primary_3dr.h"
 #include "gpu/accel.h"
 #include "frame/passes/light_culling.h"
 #include "frame/passes/shading.h"
@@ -35,7 +36,8 @@ struct RenderSettings {
   uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
-  bool scaledTMin = false;             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
+  bool scaledTMin = false;
+  std::string primary = "hardware";    // hardware (depth prepass) | 3dr (3D rasterization in compute)             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
 };
 
 // Readbacks of the shadow pass (analysis frames).
@@ -75,6 +77,7 @@ class Renderer {
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
   bool hasCulling() const { return bool(culling_); }
   bool hasShadows() const { return bool(shadows_); }
+  const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr only
   const AccelerationStructures* accel() const { return accel_.get(); }
   std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
 
@@ -102,6 +105,7 @@ class Renderer {
   VkSampler pointSampler_ = VK_NULL_HANDLE;
   Buffer frameConstants_, lights_;
   DepthPrepass depthPrepass_;
+  std::unique_ptr<Raster3dPass> raster3d_;
   std::unique_ptr<LightCulling> culling_;
   std::unique_ptr<AccelerationStructures> accel_;
   std::unique_ptr<ShadowPass> shadows_;

@@ -82,10 +82,12 @@ void drawScene(VkCommandBuffer cmd, const GpuScene& scene, VkPipelineLayout layo
   VkBuffer vb = scene.vertices().handle();
   vkCmdBindVertexBuffers(cmd, 0, 1, &vb, &offset);
   vkCmdBindIndexBuffer(cmd, scene.indices().handle(), 0, VK_INDEX_TYPE_UINT32);
+  uint32_t triangleBase = 0;  // the order of GpuScene::worldTriangles()
   for (const DrawItem& d : scene.draws()) {
-    gpu::DrawConstants dc{viewProj * d.model, d.model, d.material, d.firstIndex, d.vertexOffset, 0};
+    gpu::DrawConstants dc{viewProj * d.model, d.model, d.material, d.firstIndex, d.vertexOffset, triangleBase};
     vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof dc, &dc);
     vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, int32_t(d.vertexOffset), 0);
+    triangleBase += d.indexCount / 3;
   }
 }
 

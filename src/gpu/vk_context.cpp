@@ -266,6 +266,8 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   }
   if (info_.rayQuery && !rqF.rayQuery) info_.rayQuery = false;
   if (info_.rayTracingPipeline && !rtpF.rayTracingPipeline) info_.rayTracingPipeline = false;
+  info_.bufferInt64Atomics = f12.shaderBufferInt64Atomics;  // 3D rasterization's depth|id atomicMin
+  info_.shaderFloat64 = f2.features.shaderFloat64;          // its fp64 fallback at shared vertices
 
   VkPhysicalDeviceFeatures2 en2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   VkPhysicalDeviceVulkan11Features en11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
@@ -278,6 +280,8 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   en11.pNext = &en12;
   en12.pNext = &en13;
   en2.features.shaderInt64 = f2.features.shaderInt64;
+  en2.features.shaderFloat64 = f2.features.shaderFloat64;
+  en12.shaderBufferInt64Atomics = f12.shaderBufferInt64Atomics;
   en2.features.geometryShader = f2.features.geometryShader;  // gl_PrimitiveID in fragment shaders (analysis)
   en2.features.fragmentStoresAndAtomics = f2.features.fragmentStoresAndAtomics;
   en2.features.samplerAnisotropy = f2.features.samplerAnisotropy;

@@ -34,6 +34,8 @@ struct DeviceInfo {
   bool rayQuery = false;
   bool rayTracingPipeline = false;
   bool timestamps = false;
+  bool bufferInt64Atomics = false;  // set by VulkanContext (the device actually opened)
+  bool shaderFloat64 = false;
   uint32_t timestampValidBits = 0;
   double timestampPeriodNs = 0;
   std::string rtBackends() const;  // "rayquery+pipeline", "pipeline", "none"

@@ -69,6 +69,7 @@ bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
   if (const auto it = params.find("depth_slices"); it != params.end() && it->is_number() && it->get<double>() != 0)
     return false;
   if (const auto it = params.find("t_min"); it != params.end() && *it != "constant") return false;
+  if (const auto it = params.find("primary"); it != params.end() && *it != "hardware") return false;
   const json& tile = at(params, "tile_size");
   const json& lc = at(params, "light_culling");
   const json& aabb = at(params, "aabb");

@@ -24,6 +24,21 @@ void Scene::bounds(glm::vec3& lo, glm::vec3& hi) const {
       }
 }
 
+std::vector<glm::vec3> Scene::worldTriangles() const {
+  std::vector<glm::vec3> out;
+  out.reserve(size_t(triangleCount()) * 3);
+  for (const Instance& inst : instances) {
+    const glm::dmat4 m(inst.transform);
+    for (const Primitive& p : meshes[inst.mesh].primitives)
+      for (uint32_t i = 0; i + 2 < p.indexCount; i += 3)
+        for (uint32_t k = 0; k < 3; ++k) {
+          const glm::vec3& v = vertices[p.vertexOffset + indices[p.firstIndex + i + k]].position;
+          out.push_back(glm::vec3(m * glm::dvec4(glm::dvec3(v), 1.0)));  // one rounding per coordinate
+        }
+  }
+  return out;
+}
+
 double rangeFromIntensity(double intensity) { return 50.0 * std::sqrt(0.02 * intensity); }
 
 }  // namespace hb

@@ -97,6 +97,10 @@ struct Scene {
 
   uint64_t triangleCount() const;  // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances
+  // Every triangle in world space, 3 vertices each, in draw order (instance × primitive, as
+  // GpuScene draws them): triangle k is the k-th triangle drawn, the id the 3D rasterizer reports.
+  // The transform runs in double and rounds once per coordinate.
+  std::vector<glm::vec3> worldTriangles() const;
 };
 
 // Thesis eq. 4.1: the distance at which I/D^2 falls to 0.02, D = 50*sqrt(0.02*I) = sqrt(50*I).

@@ -18,7 +18,8 @@ std::vector<Binding> shadingBindings() {
           {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
 
@@ -49,8 +50,11 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
   sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
   sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  // Without a visibility buffer binding 8 is never read (ID_MATCH = 0); any buffer will do.
+  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.visibilityIds ? in.visibilityIds : &scene.indices())->handle());
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, 8, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    sets_.writeImage(0, 9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   timed_ = createPipeline(false);
@@ -72,7 +76,8 @@ ShadingPass::~ShadingPass() {
 
 VkPipeline ShadingPass::createPipeline(bool analysis) {
   ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
-  SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u}};
+  SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
+                      in_.visibilityIds ? 1u : 0u}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -82,7 +87,8 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   desc.fragmentSpec = &si;
   desc.vertexAttributes = 3;
   desc.depthWrite = false;
-  desc.depthCompare = VK_COMPARE_OP_EQUAL;  // only the fragment the prepass kept (thesis 4.4)
+  // Only the fragment the prepass kept (thesis 4.4); after 3D rasterization the id test decides.
+  desc.depthCompare = in_.visibilityIds ? VK_COMPARE_OP_ALWAYS : VK_COMPARE_OP_EQUAL;
   desc.colorFormats = {kHdrFormat};
   if (analysis) desc.colorFormats.push_back(kRefNormalFormat);
   desc.depthFormat = kDepthFormat;

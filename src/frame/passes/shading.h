@@ -1,5 +1,5 @@
 // Pass 5 (thesis 4.4): the forward shading pass — the scene drawn again with depth test EQUAL
-// against the prepass depth (writes off), Cook-Torrance with bindless textures, visibility from
+// against the prepass depth (writes off; after 3D rasterization: the visibility buffer's id instead), Cook-Torrance with bindless textures, visibility from
 // the shadow pass's bitmask. Writes a linear HDR colour target (RGBA16F); the analysis variant
 // also writes each pixel's true face normal (the reference for normal reconstruction).
 #pragma once
@@ -20,6 +20,11 @@ struct ShadingInputs {
   const Image* depth;        // DEPTH_READ_ONLY_OPTIMAL
   uint32_t tileSize;
   VkSampler pointSampler;    // nearest, for the integer visibility mask
+  // 3D rasterization's visibility buffer (uint64 per pixel: t bits << 32 | triangle id), or
+  // nullptr after the hardware prepass. Given: no depth test; a fragment is shaded only where its
+  // triangle is the pixel's (the depths of two rasterizers differ in their last bits, so EQUAL
+  // cannot be used).
+  const Buffer* visibilityIds = nullptr;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
