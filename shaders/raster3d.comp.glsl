@@ -1,10 +1,11 @@
 #version 460
 // Primary visibility by 3D rasterization (raster3d.glsl.inc), brute force over each triangle's
 // screen box (the paper's "3DR"). Two dispatches of this shader:
-//   PASS 0: one thread per triangle: setup, screen box; a box of at most smallArea pixels is
-//           rasterized by the thread itself, a larger one is appended to the big-triangle list
-//           (whose count is the x of an indirect dispatch);
-//   PASS 1: one workgroup per big triangle: its threads stride over the box.
+//   PASS 0: one thread per triangle: setup and screen box; a box of at most smallArea pixels is
+//           rasterized by the thread itself; a larger one is cut into 8x8-pixel tiles, appended
+//           as (triangle, tile) work items (one atomicAdd per triangle). When the list is full
+//           the thread rasterizes its box itself: slower, never a dropped pixel (counted).
+//   PASS 1: tileWorkgroups workgroups of 64 threads stride over the work items, one pixel each.
 // A covered pixel within [znear, zfar] takes atomicMin of (t bits << 32 | triangle id): the nearest
 // hit, ties to the smaller id, the same on every run (t > 0, and positive floats order like their
 // bits). ANALYSIS = 1 also counts (kR3dCounter*) and adds coverage per pixel (depth-test free).
@@ -12,69 +13,97 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared/gpu_types.h"
-#include "raster3d.glsl.inc"
 
 layout(constant_id = 0) const uint PASS = 0;
 layout(constant_id = 1) const uint ANALYSIS = 0;
+layout(constant_id = 2) const uint FALLBACK = 1;  // 0: no fp64 re-evaluation (to measure what it prevents)
+const bool R3D_FALLBACK = FALLBACK == 1;
+#include "raster3d.glsl.inc"
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0) uniform Constants { Raster3dConstants r3; };
 layout(set = 0, binding = 1) readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, xyz world
 layout(set = 0, binding = 2) buffer Visibility { uint64_t vis[]; };
-layout(set = 0, binding = 3) buffer Big { uint bigDispatch[3]; uint bigIds[]; };
+layout(set = 0, binding = 3) buffer Items { uint itemCount; uint itemPad[3]; uvec2 items[]; };  // (id, tx | ty << 16)
 layout(set = 0, binding = 4) buffer Counters { uint64_t counters[kR3dCounterCount]; };
 layout(set = 0, binding = 5) buffer Coverage { uint coverage[]; };
 
-void rasterizePixels(uint id, R3dSetup s, ivec2 lo, ivec2 hi, uint first, uint stride) {
-  const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1), area = w * h;
-  uint fallbacks = 0u, covered = 0u, atomics = 0u;
-  for (uint i = first; i < area; i += stride) {
-    const uint x = uint(lo.x) + i % w, y = uint(lo.y) + i / w;
-    float t;
-    if (!r3dCovers(s, float(x), float(y), r3, t, fallbacks)) continue;
-    const uint pixel = y * r3.width + x;
-    if (ANALYSIS == 1) {
-      atomicAdd(coverage[pixel], 1u);
-      ++covered;
-    }
-    if (t < r3.depth.x || t > r3.depth.y) continue;  // the near and far planes clip
-    atomicMin(vis[pixel], (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(id));
-    ++atomics;
-  }
+struct Tally {
+  uint tested, fallbacks, covered, atomics;
+};
+
+void testPixel(uint id, R3dSetup s, uint x, uint y, inout Tally tally) {
+  ++tally.tested;
+  float t;
+  if (!r3dCovers(s, float(x), float(y), r3, t, tally.fallbacks)) return;
+  const uint pixel = y * r3.width + x;
   if (ANALYSIS == 1) {
-    const uint tested = first < area ? (area - first + stride - 1) / stride : 0u;
-    atomicAdd(counters[kR3dCounterPixelsTested], uint64_t(tested));
-    atomicAdd(counters[kR3dCounterEdgeEvals], uint64_t(3u * tested));
-    atomicAdd(counters[kR3dCounterFallbacks], uint64_t(fallbacks));
-    atomicAdd(counters[kR3dCounterCovered], uint64_t(covered));
-    atomicAdd(counters[kR3dCounterAtomics], uint64_t(atomics));
+    atomicAdd(coverage[pixel], 1u);
+    ++tally.covered;
   }
+  if (!(t >= r3.depth.x && t <= r3.depth.y)) return;  // the near and far planes clip (and NaN)
+  atomicMin(vis[pixel], (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(id));
+  ++tally.atomics;
+}
+
+void flush(Tally tally) {
+  if (ANALYSIS == 0) return;
+  atomicAdd(counters[kR3dCounterPixelsTested], uint64_t(tally.tested));
+  atomicAdd(counters[kR3dCounterEdgeEvals], uint64_t(3u * tally.tested));
+  atomicAdd(counters[kR3dCounterFallbacks], uint64_t(tally.fallbacks));
+  atomicAdd(counters[kR3dCounterCovered], uint64_t(tally.covered));
+  atomicAdd(counters[kR3dCounterAtomics], uint64_t(tally.atomics));
+}
+
+bool setupTriangle(uint id, out R3dSetup s, out ivec2 lo, out ivec2 hi) {
+  if (!r3dSetup(triVerts[3u * id].xyz, triVerts[3u * id + 1u].xyz, triVerts[3u * id + 2u].xyz, r3, s)) return false;
+  r3dScreenBox(s, r3, lo, hi);
+  return hi.x >= lo.x && hi.y >= lo.y;
+}
+
+void perTriangle() {
+  const uint id = gl_GlobalInvocationID.x;
+  if (id >= r3.triangleCount) return;
+  R3dSetup s;
+  ivec2 lo, hi;
+  if (!setupTriangle(id, s, lo, hi)) return;
+  if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterSetups], 1ul);
+  const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
+  if (w * h > r3.smallArea) {
+    const uint tw = (w + 7u) / 8u, th = (h + 7u) / 8u;
+    const uint first = atomicAdd(itemCount, tw * th);
+    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterBig], 1ul);
+    if (first + tw * th <= r3.itemCapacity) {
+      for (uint ty = 0u; ty < th; ++ty)
+        for (uint tx = 0u; tx < tw; ++tx) items[first + ty * tw + tx] = uvec2(id, tx | (ty << 16));
+      return;
+    }
+    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
+  }
+  Tally tally = Tally(0u, 0u, 0u, 0u);
+  for (uint y = uint(lo.y); y <= uint(hi.y); ++y)
+    for (uint x = uint(lo.x); x <= uint(hi.x); ++x) testPixel(id, s, x, y, tally);
+  flush(tally);
+}
+
+void perTile() {
+  const uint count = min(itemCount, r3.itemCapacity);
+  Tally tally = Tally(0u, 0u, 0u, 0u);
+  for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
+    const uvec2 it = items[item];
+    R3dSetup s;
+    ivec2 lo, hi;
+    if (!setupTriangle(it.x, s, lo, hi)) continue;  // never: PASS 0 set it up the same way
+    const uint x = uint(lo.x) + (it.y & 0xFFFFu) * 8u + gl_LocalInvocationID.x % 8u;
+    const uint y = uint(lo.y) + (it.y >> 16) * 8u + gl_LocalInvocationID.x / 8u;
+    if (x <= uint(hi.x) && y <= uint(hi.y)) testPixel(it.x, s, x, y, tally);
+  }
+  flush(tally);
 }
 
 void main() {
-  uint id;
-  uint first = 0u, stride = 1u;
-  if (PASS == 0) {
-    id = gl_GlobalInvocationID.x;
-    if (id >= r3.triangleCount) return;
-  } else {
-    id = bigIds[gl_WorkGroupID.x];
-    first = gl_LocalInvocationID.x;
-    stride = gl_WorkGroupSize.x;
-  }
-  R3dSetup s;
-  if (!r3dSetup(triVerts[3u * id].xyz, triVerts[3u * id + 1u].xyz, triVerts[3u * id + 2u].xyz, r3, s)) return;
-  ivec2 lo, hi;
-  r3dScreenBox(s, r3, lo, hi);
-  if (hi.x < lo.x || hi.y < lo.y) return;
-  if (PASS == 0) {
-    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterSetups], 1ul);
-    const uint area = uint(hi.x - lo.x + 1) * uint(hi.y - lo.y + 1);
-    if (area > r3.smallArea) {
-      bigIds[atomicAdd(bigDispatch[0], 1u)] = id;
-      if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterBig], 1ul);
-      return;
-    }
-  }
-  rasterizePixels(id, s, lo, hi, first, stride);
+  if (PASS == 0)
+    perTriangle();
+  else
+    perTile();
 }

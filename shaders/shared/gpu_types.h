@@ -139,6 +139,10 @@ struct Raster3dConstants {
   uint height;
   uint triangleCount;
   uint smallArea;  // screen boxes of at most this many pixels are rasterized by their own thread
+  uint itemCapacity;    // (triangle, 8x8 tile of its box) work items the big-box list holds
+  uint tileWorkgroups;  // workgroups of the tile dispatch (each strides over the items)
+  uint pad0;
+  uint pad1;
 };
 
 // Counters of an analysis frame of the 3DR pass (never written in timed frames).
@@ -148,13 +152,14 @@ HB_CONST uint kR3dCounterFallbacks = 2u;     // of those, re-evaluated in double
 HB_CONST uint kR3dCounterPixelsTested = 3u;  // pixels tested (in screen boxes)
 HB_CONST uint kR3dCounterCovered = 4u;       // (triangle, pixel) pairs covered, depth-tested or not
 HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs within [znear, zfar])
-HB_CONST uint kR3dCounterBig = 6u;           // triangles handed to the big-triangle pass
+HB_CONST uint kR3dCounterBig = 6u;           // triangles whose box went to the tile pass
+HB_CONST uint kR3dCounterOverflow = 7u;      // of those, rasterized by their own thread (list full)
 HB_CONST uint kR3dCounterCount = 8u;
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
-static_assert(sizeof(Raster3dConstants) == 9 * 16 + 16, "Raster3dConstants layout");
+static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32, "Raster3dConstants layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");

@@ -104,6 +104,30 @@ ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
   return ref;
 }
 
+// What primary visibility cost in the analysis frame (3D rasterization's counters; the hardware
+// prepass has none to read). Counters come from the analysis frame's own pipelines, never from
+// timed frames.
+static nlohmann::json primaryJson(const Renderer& renderer) {
+  const Raster3dPass* r3 = renderer.raster3d();
+  if (!r3) return {{"method", "hardware"}};
+  const Raster3dCounters c = r3->readCounters();
+  const double pixels = double(renderer.settings().width) * renderer.settings().height;
+  auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+  return {{"method", "3dr"},
+          {"triangles", r3->triangleCount()},
+          {"triangle_setups", c.setups},
+          {"big_triangles", c.bigTriangles},
+          {"tile_list_overflows", c.listOverflows},
+          {"pixels_tested", c.pixelsTested},
+          {"edge_evaluations", c.edgeEvaluations},
+          {"edge_evaluations_per_pixel", ratio(double(c.edgeEvaluations), pixels)},
+          {"fp64_fallbacks", c.fallbacks},
+          {"fp64_fallback_rate", ratio(double(c.fallbacks), double(c.edgeEvaluations))},
+          {"covered_pairs", c.covered},
+          {"atomics", c.atomics},
+          {"atomics_per_pixel", ratio(double(c.atomics), pixels)}};
+}
+
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
                                  const VariantParams& params, const std::string& dir, bool writeImages,
                                  const ReferenceFrame* reference) {
@@ -126,6 +150,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   j["passes_skipped"] = nlohmann::json::object();
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
   j["backend"] = renderer.backendUsed();
+  j["primary"] = primaryJson(renderer);
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};

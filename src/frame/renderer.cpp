@@ -60,7 +60,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
   passesSkipped_ = plan_.skipped;
   if (plan_.hasPass("raster3d"))
-    raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height);
+    raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height,
+                                               Raster3dPass::kDefaultSmallArea, settings.fp64Fallback);
   if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;

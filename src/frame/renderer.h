@@ -37,7 +37,8 @@ struct RenderSettings {
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
   bool scaledTMin = false;
-  std::string primary = "hardware";    // hardware (depth prepass) | 3dr (3D rasterization in compute)             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
+  std::string primary = "hardware";    // hardware (depth prepass) | 3dr (3D rasterization in compute)
+  bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
 };
 
 // Readbacks of the shadow pass (analysis frames).

@@ -39,6 +39,10 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   c.height = height;
   c.triangleCount = triangleCount;
   c.smallArea = smallArea;
+  // Work items of big boxes: 16 per 8x8 tile of the screen (boxes overlap; a full list is
+  // handled, not dropped: raster3d.comp.glsl); the tile pass's workgroups stride over them.
+  c.itemCapacity = 16u * ((width + 7) / 8) * ((height + 7) / 8);
+  c.tileWorkgroups = 4096;
   return c;
 }
 
@@ -62,7 +66,7 @@ std::vector<glm::vec4> packTriangles(const Scene& scene) {
 }  // namespace
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
-                           uint32_t height, uint32_t smallArea)
+                           uint32_t height, uint32_t smallArea, bool fp64Fallback)
     : ctx_(ctx),
       width_(width),
       height_(height),
@@ -87,8 +91,8 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   const VkBufferUsageFlags rw =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   vis_ = Buffer(ctx, pixels * sizeof(uint64_t), rw, false, MemClass::Images);
-  big_ = Buffer(ctx, (3 + size_t(triangleCount_)) * sizeof(uint32_t), rw | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false,
-                MemClass::Other);
+  tileWorkgroups_ = c.tileWorkgroups;
+  big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
   counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
@@ -102,11 +106,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   resolveSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
   resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
   resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
-  // Specialization constants (raster3d.comp.glsl): 0 pass (0 per triangle, 1 big triangles), 1 analysis.
+  // Specialization constants (raster3d.comp.glsl): 0 pass (0 per triangle, 1 tiles), 1 analysis,
+  // 2 fp64 fallback.
   for (auto [p, pass, analysis] : {std::tuple{&smallTimed_, 0u, 0u}, std::tuple{&smallAnalysis_, 0u, 1u},
                                    std::tuple{&bigTimed_, 1u, 0u}, std::tuple{&bigAnalysis_, 1u, 1u}}) {
     p->createLayout({rasterSets_.layout()}, 0);
-    p->createCompute("raster3d.comp", {{pass, analysis}});
+    p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u}});
   }
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");
@@ -115,9 +120,8 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
 Raster3dPass::~Raster3dPass() = default;
 
 void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis) const {
-  const uint32_t dispatchInit[3] = {0, 1, 1};
   vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
-  vkCmdUpdateBuffer(cmd, big_.handle(), 0, sizeof dispatchInit, dispatchInit);
+  vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);  // the item count
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -130,12 +134,11 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, small.layout(), 0, 1, &set, 0, nullptr);
   vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, 1, 1);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT);
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
   const Pipeline& big = analysis ? bigAnalysis_ : bigTimed_;
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, big.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, big.layout(), 0, 1, &set, 0, nullptr);
-  vkCmdDispatchIndirect(cmd, big_.handle(), 0);
+  vkCmdDispatch(cmd, tileWorkgroups_, 1, 1);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
   VkDescriptorSet rset = resolveSets_.set();
@@ -186,6 +189,7 @@ Raster3dCounters Raster3dPass::readCounters() const {
   r.covered = c[gpu::kR3dCounterCovered];
   r.atomics = c[gpu::kR3dCounterAtomics];
   r.bigTriangles = c[gpu::kR3dCounterBig];
+  r.listOverflows = c[gpu::kR3dCounterOverflow];
   return r;
 }
 

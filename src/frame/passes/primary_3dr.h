@@ -3,7 +3,8 @@
 // in a 64-bit visibility buffer (t bits << 32 | id, atomicMin), then its reverse-Z depth copied into
 // the frame's depth image, so every later pass reads depth as after the hardware prepass.
 // Brute force over each triangle's screen box ("3dr"): boxes of at most smallArea pixels are
-// rasterized by one thread, larger ones by a workgroup each (an indirect dispatch).
+// rasterized by one thread, larger ones cut into 8x8 tiles that a second dispatch rasterizes a
+// pixel per thread.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -23,7 +24,7 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
 
 struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0,
-           bigTriangles = 0;
+           bigTriangles = 0, listOverflows = 0;
 };
 
 class Raster3dPass {
@@ -31,8 +32,9 @@ class Raster3dPass {
   static constexpr uint32_t kDefaultSmallArea = 256;
 
   // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError).
+  // fp64Fallback false only measures what the fallback prevents (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
-               uint32_t smallArea = kDefaultSmallArea);
+               uint32_t smallArea = kDefaultSmallArea, bool fp64Fallback = true);
   ~Raster3dPass();
 
   // Rasterizes and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute, ray
@@ -49,7 +51,7 @@ class Raster3dPass {
 
  private:
   const VulkanContext& ctx_;
-  uint32_t width_, height_, triangleCount_;
+  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0;
   Buffer constants_, triangles_, vis_, big_, counters_, coverage_, depthStaging_;
   DescriptorSets rasterSets_, resolveSets_;
   Pipeline smallTimed_, smallAnalysis_, bigTimed_, bigAnalysis_, resolve_;
