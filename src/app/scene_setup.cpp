@@ -71,6 +71,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.depthSlices = p.depthSlices;
   s.scaledTMin = p.tMin == ShadowTMin::Scaled;
   s.primary = toString(p.primary);
+  s.r3dThreadBox = p.r3dThreadBox;
   return s;
 }
 

@@ -58,6 +58,9 @@
 //   "primary": "hardware" | "3dr"  (primary visibility: the hardware depth prepass, or 3D
 //                                    rasterization in compute, Davidovic et al. 2012)
 //                                                    default "hardware"
+//   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
+//                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
+//                                a pixel per thread)            default 64
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -118,6 +121,7 @@ struct VariantParams {
   uint32_t depthSlices = 0;
   ShadowTMin tMin = ShadowTMin::Constant;
   PrimaryMethod primary = PrimaryMethod::Hardware;
+  uint32_t r3dThreadBox = 64;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.

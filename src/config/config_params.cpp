@@ -57,7 +57,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "r3d_thread_box", "max_lights_per_tile", "light_count", "triangle_scale"};
   return keys;
 }
 
@@ -89,6 +89,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "primary") {
     p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr"}));
+  } else if (key == "r3d_thread_box") {
+    p.r3dThreadBox = uint32_t(readInt(v, where, 1, 65536));
   } else if (key == "max_lights_per_tile") {
     int64_t n = readInt(v, where, 32, 1024);
     // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
@@ -131,6 +133,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["depth_slices"] = p.depthSlices;
   j["t_min"] = toString(p.tMin);
   j["primary"] = toString(p.primary);
+  j["r3d_thread_box"] = p.r3dThreadBox;
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;

@@ -61,7 +61,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   passesSkipped_ = plan_.skipped;
   if (plan_.hasPass("raster3d"))
     raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height,
-                                               Raster3dPass::kDefaultSmallArea, settings.fp64Fallback);
+                                               settings.r3dThreadBox, settings.fp64Fallback);
   if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;

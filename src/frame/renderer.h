@@ -36,9 +36,10 @@ struct RenderSettings {
   uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
-  bool scaledTMin = false;
+  bool scaledTMin = false;            // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
   std::string primary = "hardware";    // hardware (depth prepass) | 3dr (3D rasterization in compute)
-  bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents             // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
+  bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents
+  uint32_t r3dThreadBox = Raster3dPass::kDefaultSmallArea;  // 3dr: largest box one thread rasterizes
 };
 
 // Readbacks of the shadow pass (analysis frames).

@@ -29,7 +29,7 @@ struct Raster3dCounters {
 
 class Raster3dPass {
  public:
-  static constexpr uint32_t kDefaultSmallArea = 256;
+  static constexpr uint32_t kDefaultSmallArea = 64;
 
   // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError).
   // fp64Fallback false only measures what the fallback prevents (holes, double covers).
