@@ -334,6 +334,32 @@ TEST_F(Raster3dTest, ATriangleCrossingTheEyePlaneCoversExactlyWhatTheRayCastHits
   EXPECT_EQ(wrong, 0u);
 }
 
+TEST_F(Raster3dTest, On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades) {
+  // The shading pass on top of 3dr keeps a fragment when its triangle is the pixel's; the biased
+  // early depth test in front of that must never remove the visible one. Same image, bit for bit.
+  AtriumParams ap;
+  const Scene scene = makeAtrium(ap);
+  auto colorOf = [&](bool depthTest) {
+    RenderSettings rs;
+    rs.width = 160;
+    rs.height = 90;
+    rs.primary = "3dr";
+    rs.r3dShadingDepthTest = depthTest;
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(false);
+    return r.readColor();
+  };
+  const std::vector<float> withTest = colorOf(true), idOnly = colorOf(false);
+  ASSERT_EQ(withTest.size(), idOnly.size());
+  size_t differ = 0, lit = 0;
+  for (size_t i = 0; i < withTest.size(); i += 4) {
+    differ += withTest[i] != idOnly[i] || withTest[i + 1] != idOnly[i + 1] || withTest[i + 2] != idOnly[i + 2];
+    lit += idOnly[i] + idOnly[i + 1] + idOnly[i + 2] > 0.0f;
+  }
+  EXPECT_GT(lit, 5000u);
+  EXPECT_EQ(differ, 0u);
+}
+
 TEST_F(Raster3dTest, AtriumFrameOnTopOf3drMatchesTheHardwarePrepassDepth) {
   AtriumParams ap;
   const Scene scene = makeAtrium(ap);

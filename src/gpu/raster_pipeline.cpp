@@ -35,6 +35,11 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
   rs.cullMode = VK_CULL_MODE_NONE;
   rs.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
   rs.lineWidth = 1.0f;
+  if (d.depthBiasConstant != 0.0f || d.depthBiasSlope != 0.0f) {
+    rs.depthBiasEnable = VK_TRUE;
+    rs.depthBiasConstantFactor = d.depthBiasConstant;
+    rs.depthBiasSlopeFactor = d.depthBiasSlope;
+  }
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};

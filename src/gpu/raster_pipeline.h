@@ -17,6 +17,8 @@ struct RasterPipelineDesc {
   uint32_t vertexAttributes = 1;                         // 1: position; 3: position, normal, uv
   bool depthWrite = true;
   VkCompareOp depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+  float depthBiasConstant = 0.0f;  // both 0: no depth bias
+  float depthBiasSlope = 0.0f;
   std::vector<VkFormat> colorFormats;
   VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
 };

@@ -25,6 +25,9 @@ struct ShadingInputs {
   // triangle is the pixel's (the depths of two rasterizers differ in their last bits, so EQUAL
   // cannot be used).
   const Buffer* visibilityIds = nullptr;
+  // With visibilityIds: an early depth test (biased towards the eye) before the id test; false
+  // shades every fragment up to the id test (only to check that the two agree).
+  bool idMatchDepthTest = true;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
