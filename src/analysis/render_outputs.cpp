@@ -125,7 +125,9 @@ static nlohmann::json primaryJson(const Renderer& renderer) {
           {"fp64_fallback_rate", ratio(double(c.fallbacks), double(c.edgeEvaluations))},
           {"covered_pairs", c.covered},
           {"atomics", c.atomics},
-          {"atomics_per_pixel", ratio(double(c.atomics), pixels)}};
+          {"atomics_per_pixel", ratio(double(c.atomics), pixels)},
+          // The paper's Fig. 10 scalar-operation counts times what this frame did.
+          {"paper_scalar_ops_estimate", 57.0 * double(c.setups) + 12.0 * double(c.pixelsTested)}};
 }
 
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,

@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "report/compare.h"
 #include "base/errors.h"
+#include "report/primary_table.h"
 #include "report/tables.h"
 
 namespace hb {
@@ -30,6 +31,7 @@ int cmdTables(const std::string& resultsPath, const std::string& format) {
     std::cout << accuracyReportSvg(results);
   } else {
     std::cout << thesisTablesMarkdown(results) << "\n" << accuracyReportMarkdown(results);
+    if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
   }
   return kExitOk;
 }

@@ -21,6 +21,7 @@
 #include "app/scene_setup.h"
 #include "shared/gpu_types.h"
 #include "report/stats.h"
+#include "report/primary_table.h"
 #include "report/tables.h"
 #include "base/version.h"
 #include "gpu/vk_context.h"
@@ -275,7 +276,11 @@ std::string resultsCsv(const json& results) {
 static void writeOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "results.json").string(), results.dump(1) + "\n");
   writeFileAtomic((fs::path(dir) / "results.csv").string(), resultsCsv(results));
-  writeFileAtomic((fs::path(dir) / "tables.md").string(), thesisTablesMarkdown(results));
+  {
+    std::string tables = thesisTablesMarkdown(results);
+    if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) tables += "\n" + primary;
+    writeFileAtomic((fs::path(dir) / "tables.md").string(), tables);
+  }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
 }

@@ -1,0 +1,39 @@
+#include "report/primary_table.h"
+
+#include <gtest/gtest.h>
+
+namespace hb {
+namespace {
+
+using nlohmann::json;
+
+json run(const char* name, const char* pass, double ms, json primary) {
+  return {{"name", name},
+          {"status", "ok"},
+          {"passes", {{pass, {{"median", ms}}}}},
+          {"frame_ms", {{"median", 4.0}}},
+          {"primary", primary}};
+}
+
+TEST(PrimaryTable, SpeedUpIsThePrepassTimeOverThePassTimeAndOpsFollowFig10) {
+  const json results = {
+      {"schema_version", 1},
+      {"runs",
+       {run("hardware", "depth_prepass", 0.9, {{"method", "hardware"}}),
+        run("3dr", "raster3d", 0.45,
+            {{"method", "3dr"}, {"triangle_setups", 1000000}, {"pixels_tested", 2000000},
+             {"edge_evaluations_per_pixel", 3.0}, {"atomics_per_pixel", 1.5}, {"fp64_fallback_rate", 0.001}})}}};
+  const std::string md = primaryTableMarkdown(results);
+  EXPECT_NE(md.find("| 3dr | 3dr | 0.450 | 2.00x | 4.000 | 1000000 | 2000000 | 3.0 | 1.50 | 0.1000 % | 81.0 |"),
+            std::string::npos)
+      << md;  // 57 x 1e6 + 12 x 2e6 = 81e6
+  EXPECT_NE(md.find("| hardware | hardware | 0.900 | 1.00x |"), std::string::npos) << md;
+}
+
+TEST(PrimaryTable, ResultsWithoutPrimaryBlocksGiveNoTable) {
+  const json results = {{"schema_version", 1}, {"runs", {{{"name", "a"}, {"status", "ok"}}}}};
+  EXPECT_EQ(primaryTableMarkdown(results), "");
+}
+
+}  // namespace
+}  // namespace hb
