@@ -7,13 +7,6 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
-  rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT, 0xFF, origin,
-                        tMin, dir, tMax);
-  while (rayQueryProceedEXT(rq)) {
-  }
-  return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
-}
+#include "rayquery_occluded.glsl.inc"
 
 void main() { traceStored(ivec2(gl_GlobalInvocationID.xy)); }

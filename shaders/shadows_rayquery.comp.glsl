@@ -35,14 +35,7 @@ float depthAt(ivec2 p) {
   return sDepth[q.y * kSide + q.x];
 }
 
-bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
-  rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT, 0xFF, origin,
-                        tMin, dir, tMax);
-  while (rayQueryProceedEXT(rq)) {
-  }
-  return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
-}
+#include "rayquery_occluded.glsl.inc"
 
 void main() {
   gTileOrigin = ivec2(gl_WorkGroupID.xy * TILE);

@@ -33,12 +33,7 @@ struct CullRun {
 std::unique_ptr<CullRun> cull(const VulkanContext& ctx, const Scene& scene, uint32_t width, uint32_t height,
                               uint32_t tileSize, bool lightCulling = true, bool aabb = false,
                               uint32_t depthSlices = 0) {
-  RenderSettings rs;
-  rs.width = width;
-  rs.height = height;
-  rs.tileSize = tileSize;
-  rs.lightCulling = lightCulling;
-  rs.aabb = aabb;
+  RenderSettings rs{.width = width, .height = height, .tileSize = tileSize, .lightCulling = lightCulling, .aabb = aabb};
   rs.depthSlices = depthSlices;
   rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
   Renderer renderer(ctx, scene, rs);

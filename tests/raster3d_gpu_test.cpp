@@ -149,6 +149,14 @@ FillResult checkGrid(const Coverage& cov, const Grid& g, const Rays& rays) {
   return r;
 }
 
+// Every pixel inside covered once, none twice, none outside.
+void expectExactlyOnce(const FillResult& r, size_t minInside) {
+  EXPECT_GT(r.inside, minInside);
+  EXPECT_EQ(r.holes, 0u);
+  EXPECT_EQ(r.doubleCovers, 0u);
+  EXPECT_EQ(r.spill, 0u);
+}
+
 class Raster3dTest : public testing::GpuTest {};
 
 TEST_F(Raster3dTest, QuadGridWithVerticesOnPixelCentresIsCoveredExactlyOnceAt16Angles) {
@@ -161,10 +169,7 @@ TEST_F(Raster3dTest, QuadGridWithVerticesOnPixelCentresIsCoveredExactlyOnceAt16A
     const Grid g = addGrid(s, rays, 16, 3.0, glm::rotate(glm::dmat4(1.0), angle, glm::dvec3(0, 0, 1)));
     const Coverage cov = rasterize(*ctx, s);
     const FillResult r = checkGrid(cov, g, rays);
-    EXPECT_GT(r.inside, 1500u);
-    EXPECT_EQ(r.holes, 0u);
-    EXPECT_EQ(r.doubleCovers, 0u);
-    EXPECT_EQ(r.spill, 0u);
+    expectExactlyOnce(r, 1500);
     fallbacks += cov.counters.fallbacks;
     evaluations += cov.counters.edgeEvaluations;
   }
@@ -188,10 +193,7 @@ TEST_F(Raster3dTest, DenseGridWithAVertexOnEveryPixelCentreIsCoveredExactlyOnce)
     const Grid g = addGrid(s, rays, 60, 1.0, pose);
     const Coverage cov = rasterize(*ctx, s);
     const FillResult r = checkGrid(cov, g, rays);
-    EXPECT_GT(r.inside, 3000u);
-    EXPECT_EQ(r.holes, 0u);
-    EXPECT_EQ(r.doubleCovers, 0u);
-    EXPECT_EQ(r.spill, 0u);
+    expectExactlyOnce(r, 3000);
     std::printf("dense grid: fp64 fallback on %.2f %% of edge evaluations\n",
                 100.0 * double(cov.counters.fallbacks) / double(cov.counters.edgeEvaluations));
   }
@@ -231,10 +233,7 @@ TEST_F(Raster3dTest, QuadGridUnderRandomPerspectiveIsCoveredExactlyOnce) {
     Scene s = emptyScene("grid", obliqueCamera());
     const Grid g = addGrid(s, rays, 12, 4.0, pose);
     const FillResult r = checkGrid(rasterize(*ctx, s), g, rays);
-    EXPECT_GT(r.inside, 300u);
-    EXPECT_EQ(r.holes, 0u);
-    EXPECT_EQ(r.doubleCovers, 0u);
-    EXPECT_EQ(r.spill, 0u);
+    expectExactlyOnce(r, 300);
   }
 }
 

@@ -33,13 +33,8 @@ struct Frame {
 
 Frame render(const VulkanContext& ctx, const Scene& scene, uint32_t normals, const std::string& backend,
              uint32_t tileSize = 16, bool scaledTMin = false) {
-  RenderSettings s;
+  RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = tileSize, .backend = backend, .normals = normals};
   s.scaledTMin = scaledTMin;
-  s.width = kWidth;
-  s.height = kHeight;
-  s.tileSize = tileSize;
-  s.normals = normals;
-  s.backend = backend;
   Renderer r(ctx, scene, s);
   EXPECT_EQ(r.backendUsed(), backend);
   r.renderFrame(true);
@@ -95,7 +90,7 @@ class ShadowBackends : public testing::GpuTest, public ::testing::WithParamInter
 TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
   const Scene& scene = sceneNamed(GetParam());
   const Bvh bvh = buildBvh(scene);
-  const TriangleBvh tbvh = buildTriangleBvh(scene);
+  const Bvh tbvh = buildBvh(scene);
   for (uint32_t normals : kNormalModes) {
     const std::string what = GetParam() + " normals=" + std::to_string(normals);
     const Frame rq = render(*ctx, scene, normals, "rayquery");
@@ -233,7 +228,7 @@ size_t pixelsBeyondPlaneBound(const Frame& f, const Scene& scene, const Referenc
 TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
   const Scene& scene = sceneNamed("plane");
   const Frame f = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
-  const ReferenceSurface ref = referenceSurface(buildTriangleBvh(scene), f.depth, f.cam);
+  const ReferenceSurface ref = referenceSurface(buildBvh(scene), f.depth, f.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
   EXPECT_EQ(pixelsBeyondPlaneBound(f, scene, ref, &ratio), 0u);
@@ -242,7 +237,7 @@ TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
 
 TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
   const Scene& scene = sceneNamed("depth-step");
-  const TriangleBvh bvh = buildTriangleBvh(scene);
+  const Bvh bvh = buildBvh(scene);
   const Frame improved = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, improved.depth, improved.cam);
   ASSERT_EQ(ref.unmatched, 0u);
@@ -258,7 +253,7 @@ TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
 
 TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
   const Scene& scene = sceneNamed("atrium");
-  const TriangleBvh bvh = buildTriangleBvh(scene);
+  const Bvh bvh = buildBvh(scene);
   const Frame naive = render(*ctx, scene, gpu::kNormalsNaive, "rayquery");
   const Frame improved = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, naive.depth, naive.cam);
@@ -283,7 +278,7 @@ TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
 // tolerance: the test fails if either method's quality changes.
 TEST_F(ShadowNormals, ImprovedMeanAngularErrorIsAtMost028OfNaiveOnTheAtriumAt1080p) {
   const Scene& scene = sceneNamed("atrium");
-  const TriangleBvh bvh = buildTriangleBvh(scene);
+  const Bvh bvh = buildBvh(scene);
   NormalAccuracy acc[2];
   ReferenceSurface ref;
   for (int k = 0; k < 2; ++k) {
@@ -416,7 +411,7 @@ class ShadowHardCases : public testing::GpuTest {};
 // under the box (the camera cannot see them: the box is in front).
 TEST_F(ShadowHardCases, ThinGapOccluderShadowsTheReceiverUnderIt) {
   const Scene& scene = sceneNamed("thin-gap");
-  const TriangleBvh bvh = buildTriangleBvh(scene);
+  const Bvh bvh = buildBvh(scene);
   const glm::dvec3 light(scene.lights[0].position);
   int occluded = 0, total = 0;
   for (double x = -0.19; x <= 0.19; x += 0.02)
@@ -440,7 +435,7 @@ TEST_F(ShadowHardCases, ThinGapOccluderShadowsTheReceiverUnderIt) {
 TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
   Scene scene = sceneNamed("thin-gap");
   scene.lights[0].position = {1.5f, 0.15f, 0.0f};
-  const TriangleBvh tbvh = buildTriangleBvh(scene);
+  const Bvh tbvh = buildBvh(scene);
   const Frame f = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
   const ShadowComparison cmp = compare(f, scene, buildBvh(scene));
   EXPECT_EQ(cmp.unexplained(), 0u);

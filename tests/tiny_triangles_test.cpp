@@ -34,7 +34,7 @@ RenderSettings tinySettings(uint32_t w, uint32_t h, uint32_t normals) {
 
 TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
   const Scene scene = makeBuiltinScene("tiny-triangles");
-  const TriangleBvh bvh = buildTriangleBvh(scene);
+  const Bvh bvh = buildBvh(scene);
   for (uint32_t method : {gpu::kNormalsNaive, gpu::kNormalsImproved}) {
     // The scene's triangles are ~1.9 px wide at 1920x1080 (hard_cases.h).
     const RenderSettings s = tinySettings(1920, 1080, method);

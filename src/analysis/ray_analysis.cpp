@@ -12,7 +12,6 @@ namespace hb {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kEpsD = std::numeric_limits<double>::epsilon();
 constexpr double kEpsF = 1.0 / 16777216.0;  // 2^-24: unit roundoff of float
 constexpr double kRadToDeg = 57.29577951308232;
 
@@ -87,107 +86,9 @@ ImageRGBA8 rayHeatmap(const std::vector<uint32_t>& perPixel, uint32_t width, uin
   return heatmapThesis(perPixel, width, height, std::min(sceneLightCount, gpu::kMaxLightsPerTile));
 }
 
-// ---- TriangleBvh ------------------------------------------------------------------------------
-
-TriangleBvh::TriangleBvh(std::vector<BvhTriangle> triangles) : triangles_(std::move(triangles)) {
-  if (triangles_.empty()) return;
-  order_.resize(triangles_.size());
-  std::vector<glm::dvec3> centroids(triangles_.size());
-  for (size_t i = 0; i < triangles_.size(); ++i) {
-    order_[i] = uint32_t(i);
-    centroids[i] = (triangles_[i].v0 + triangles_[i].v1 + triangles_[i].v2) / 3.0;
-  }
-  nodes_.reserve(2 * triangles_.size());
-  build(0, uint32_t(triangles_.size()), centroids);
-}
-
-// Median split on the widest centroid axis, leaves of at most 4 (as bvh.cpp); order_ is permuted,
-// triangles_ keeps the caller's order so that indices mean what the caller passed.
-uint32_t TriangleBvh::build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& centroids) {
-  const uint32_t index = uint32_t(nodes_.size());
-  nodes_.push_back({});
-  glm::dvec3 lo(kInf), hi(-kInf), clo(kInf), chi(-kInf);
-  for (uint32_t i = first; i < first + count; ++i) {
-    const BvhTriangle& t = triangles_[order_[i]];
-    lo = glm::min(lo, glm::min(t.v0, glm::min(t.v1, t.v2)));
-    hi = glm::max(hi, glm::max(t.v0, glm::max(t.v1, t.v2)));
-    clo = glm::min(clo, centroids[order_[i]]);
-    chi = glm::max(chi, centroids[order_[i]]);
-  }
-  nodes_[index].lo = lo;
-  nodes_[index].hi = hi;
-  const glm::dvec3 extent = chi - clo;
-  const int axis = extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
-  if (count <= 4 || !(extent[axis] > 0.0)) {
-    nodes_[index].firstOrRight = first;
-    nodes_[index].count = count;
-    return index;
-  }
-  const uint32_t half = count / 2;
-  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
-                   [&](uint32_t p, uint32_t q) { return centroids[p][axis] < centroids[q][axis]; });
-  build(first, half, centroids);
-  const uint32_t right = build(first + half, count - half, centroids);
-  nodes_[index].firstOrRight = right;
-  nodes_[index].count = 0;
-  return index;
-}
-
-// Slab test widened by (1 + 2γ3) on the far side (pbrt-v4 Bounds3::IntersectP, as bvh.cpp) so
-// that the box cannot reject a hit of the watertight test.
-static bool rayHitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& org, const glm::dvec3& dir,
-                       double tMin, double tMax) {
-  constexpr double kGamma3 = 3.0 * kEpsD / (1.0 - 3.0 * kEpsD);
-  double t0 = tMin, t1 = tMax;
-  for (int i = 0; i < 3; ++i) {
-    if (dir[i] == 0.0) {
-      if (org[i] < lo[i] || org[i] > hi[i]) return false;
-      continue;
-    }
-    double tNear = (lo[i] - org[i]) / dir[i], tFar = (hi[i] - org[i]) / dir[i];
-    if (tNear > tFar) std::swap(tNear, tFar);
-    tFar *= 1.0 + 2.0 * kGamma3;
-    t0 = std::max(t0, tNear);
-    t1 = std::min(t1, tFar);
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-bool TriangleBvh::closestHit(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax, double& t,
-                             uint32_t& triangle) const {
-  if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tMax)) return false;
-  bool hit = false;
-  double closest = tMax;
-  uint32_t stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!rayHitsBox(n.lo, n.hi, org, dir, tMin, closest)) continue;
-    if (n.count > 0) {
-      for (uint32_t i = n.firstOrRight; i < n.firstOrRight + n.count; ++i) {
-        double ti;
-        if (!intersectTriangleWatertight(triangles_[order_[i]], org, dir, tMin, closest, ti)) continue;
-        hit = true;
-        closest = ti;
-        triangle = order_[i];
-      }
-    } else {
-      HB_ASSERT(top + 2 <= 128);
-      stack[top++] = n.firstOrRight;
-      stack[top++] = uint32_t(&n - nodes_.data()) + 1;
-    }
-  }
-  if (hit) t = closest;
-  return hit;
-}
-
-TriangleBvh buildTriangleBvh(const Scene& scene) { return TriangleBvh(buildBvh(scene).triangles()); }
-
 // ---- reference surface ------------------------------------------------------------------------
 
-ReferenceSurface referenceSurface(const TriangleBvh& bvh, const std::vector<float>& depth,
+ReferenceSurface referenceSurface(const Bvh& bvh, const std::vector<float>& depth,
                                   const ReconstructionCamera<double>& cam) {
   const size_t pixels = size_t(cam.width) * cam.height;
   HB_ASSERT(depth.size() == pixels);
@@ -215,7 +116,7 @@ ReferenceSurface referenceSurface(const TriangleBvh& bvh, const std::vector<floa
       const double window = kSurfaceMatchTolerance * tDepth + kSurfaceMatchFarTerm * (glm::length(s.eye) + tDepth);
       const bool hit = bvh.closestHit(s.eye, dir, std::max(0.0, tDepth - window), kInf, t, tri);
       if (hit && t <= tDepth + window) {
-        const BvhTriangle& T = bvh.triangles()[tri];
+        const BvhTriangle& T = bvh.input(tri);
         s.position[i] = s.eye + t * dir;
         glm::dvec3 n = glm::normalize(glm::cross(T.v1 - T.v0, T.v2 - T.v0));
         if (glm::dot(n, s.eye - s.position[i]) < 0.0) n = -n;

@@ -55,28 +55,6 @@ ImageRGBA8 rayHeatmap(const std::vector<uint32_t>& perPixel, uint32_t width, uin
 
 // ---- the true surface seen by each pixel --------------------------------------------------------
 
-// A BVH over world-space triangles that also says WHICH triangle a ray hit (bvh.h's Bvh only says
-// where). Same watertight test (intersectTriangleWatertight), same median split.
-class TriangleBvh {
- public:
-  // Degenerate triangles are kept in the list but never hit (intersectTriangleWatertight).
-  explicit TriangleBvh(std::vector<BvhTriangle> triangles);
-  // Nearest hit with t in [tMin, tMax]; writes t and the index into triangles().
-  bool closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
-                  uint32_t& triangle) const;
-  const std::vector<BvhTriangle>& triangles() const { return triangles_; }
-
- private:
-  struct Node {
-    glm::dvec3 lo, hi;
-    uint32_t firstOrRight, count;  // count > 0: leaf over order_[first, first + count)
-  };
-  uint32_t build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& centroids);
-  std::vector<BvhTriangle> triangles_;
-  std::vector<uint32_t> order_;
-  std::vector<Node> nodes_;
-};
-
 enum class SurfaceState : uint8_t {
   Sky,        // depth 0: nothing rasterised
   Matched,    // the eye ray hits a triangle at the rasterised depth (within the window below)
@@ -105,10 +83,8 @@ struct ReferenceSurface {
   std::vector<glm::dvec3> normal;    // Matched: unit face normal facing the eye; else 0
   uint64_t matched = 0, unmatched = 0;
 };
-ReferenceSurface referenceSurface(const TriangleBvh& bvh, const std::vector<float>& depth,
+ReferenceSurface referenceSurface(const Bvh& bvh, const std::vector<float>& depth,
                                   const ReconstructionCamera<double>& cam);
-// Convenience: flattens the scene (buildBvh's triangles) and builds the TriangleBvh.
-TriangleBvh buildTriangleBvh(const Scene& scene);
 
 // ---- the oracle ---------------------------------------------------------------------------------
 

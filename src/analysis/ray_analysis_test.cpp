@@ -84,42 +84,6 @@ TEST(RayEfficiency, IsOracleOverTracedAndOneWhenNothingIsTraced) {
   EXPECT_DOUBLE_EQ(rayEfficiency(0, 0), 1.0);
 }
 
-// ---- TriangleBvh ---------------------------------------------------------------------------------
-
-TEST(TriangleBvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-5.0, 5.0), s(-0.5, 0.5);
-  std::vector<BvhTriangle> tris;
-  for (int i = 0; i < 300; ++i) {
-    const glm::dvec3 c(u(rng), u(rng), u(rng));
-    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
-                    c + glm::dvec3(s(rng), s(rng), s(rng))});
-  }
-  const TriangleBvh bvh(tris);
-  int hits = 0;
-  for (int r = 0; r < 500; ++r) {
-    const glm::dvec3 o(u(rng), u(rng), 8.0), target(u(rng), u(rng), u(rng));
-    const glm::dvec3 dir = target - o;
-    double bestT = std::numeric_limits<double>::infinity();
-    int best = -1;
-    for (size_t i = 0; i < tris.size(); ++i) {
-      double t;
-      if (intersectTriangleWatertight(tris[i], o, dir, 0.0, bestT, t)) bestT = t, best = int(i);
-    }
-    double t;
-    uint32_t tri;
-    const bool hit = bvh.closestHit(o, dir, 0.0, 1e30, t, tri);
-    ASSERT_EQ(hit, best >= 0) << "ray " << r;
-    if (!hit) continue;
-    ++hits;
-    EXPECT_EQ(t, bestT);
-    // Ties (two triangles at the same t) may name either; the hit distance must then agree.
-    double t2;
-    EXPECT_TRUE(intersectTriangleWatertight(tris[tri], o, dir, 0.0, 1e30, t2));
-    EXPECT_EQ(t2, bestT);
-  }
-  EXPECT_GT(hits, 50);  // the test exercised hits, not just misses
-}
 
 // ---- reference surface, oracle, accuracy on an analytic plane ----------------------------------
 
@@ -151,7 +115,7 @@ struct PlaneFixture {
 
 TEST(ReferenceSurface, FindsThePlaneAndItsNormalFacingTheCamera) {
   PlaneFixture f;
-  const TriangleBvh bvh = buildTriangleBvh(f.scene);
+  const Bvh bvh = buildBvh(f.scene);
   const ReferenceSurface s = referenceSurface(bvh, f.depth, f.cam);
   EXPECT_EQ(s.state[0], SurfaceState::Sky);
   EXPECT_EQ(s.matched, uint64_t(f.w) * f.h - 1);
@@ -186,7 +150,7 @@ TEST(Oracle, CountsLightsInRangeInsideTheConeAndInFrontOfTheSurface) {
   sun.type = LightType::Directional;
   sun.direction = {0, 0.6f, -0.8f};  // shines onto the +z face
   f.scene.lights.push_back(sun);
-  const ReferenceSurface s = referenceSurface(buildTriangleBvh(f.scene), f.depth, f.cam);
+  const ReferenceSurface s = referenceSurface(buildBvh(f.scene), f.depth, f.cam);
   const OracleRays o = oracleRays(f.scene, s);
   uint64_t expected = 0;
   for (size_t i = 1; i < s.state.size(); ++i) {
@@ -203,7 +167,7 @@ TEST(Oracle, CountsLightsInRangeInsideTheConeAndInFrontOfTheSurface) {
 
 TEST(NormalAccuracy, MeasuresAnglesAndTheImageDifference) {
   PlaneFixture f;
-  const ReferenceSurface s = referenceSurface(buildTriangleBvh(f.scene), f.depth, f.cam);
+  const ReferenceSurface s = referenceSurface(buildBvh(f.scene), f.depth, f.cam);
   const size_t n = s.state.size();
   std::vector<float> normals(4 * n, 0.0f);
   // Every pixel tilted by 10 degrees about x, except pixel 1 (no reconstruction).

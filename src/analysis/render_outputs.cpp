@@ -219,7 +219,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
     const uint32_t lightCount = uint32_t(scene.lights.size());
     RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
-    const TriangleBvh bvh = buildTriangleBvh(scene);
+    const Bvh bvh = buildBvh(scene);
     const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
     const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
     const OracleRays oracle = oracleRays(scene, surface);

@@ -30,8 +30,11 @@ int cmdTables(const std::string& resultsPath, const std::string& format) {
   } else if (format == "svg") {
     std::cout << accuracyReportSvg(results);
   } else {
-    std::cout << thesisTablesMarkdown(results) << "\n" << accuracyReportMarkdown(results);
+    // As sweep writes them: tables.md (the thesis's tables, then the primary-visibility table when
+    // the runs carry one), then accuracy.md.
+    std::cout << thesisTablesMarkdown(results);
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
+    std::cout << "\n" << accuracyReportMarkdown(results);
   }
   return kExitOk;
 }

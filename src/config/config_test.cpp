@@ -9,6 +9,7 @@
 
 #include "scene/atrium.h"
 #include "base/errors.h"
+#include "base/input_error_of.h"
 
 namespace hb {
 namespace {
@@ -21,16 +22,6 @@ std::string readFile(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-// The InputError message `f` throws, or "" when it throws none.
-std::string inputErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // Parses a config given as JSON text (keys kept in file order, as loadConfig does).

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "base/errors.h"
+#include "base/input_error_of.h"
 
 namespace hb {
 namespace {
@@ -20,15 +20,6 @@ Light pointLight(bool castShadows = true) {
   l.range = 5.0f;
   l.castShadows = castShadows;
   return l;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 const EffectState& stateOf(const FramePlan& plan, const std::string& name) {
@@ -104,15 +95,15 @@ TEST(Effects, ACalledForEffectThatCannotActIsSkippedWithItsReason) {
 
 TEST(Effects, AnUnknownEffectOrABadValueIsOneLineNamingSourceAndKeyPath) {
   const json_reader::Where where{"scene.gltf", "scenes[0].extras.effects"};
-  EXPECT_EQ(errorOf([&] { validateEffects(nlohmann::json{{"shadow", true}}, where); }),
+  EXPECT_EQ(inputErrorOf([&] { validateEffects(nlohmann::json{{"shadow", true}}, where); }),
             "scene.gltf: scenes[0].extras.effects: unknown key \"shadow\" (did you mean \"shadows\"?)");
-  const std::string bad = errorOf([&] { validateEffects(nlohmann::json{{"shadows", {{"x", 1}}}}, where); });
+  const std::string bad = inputErrorOf([&] { validateEffects(nlohmann::json{{"shadows", {{"x", 1}}}}, where); });
   EXPECT_EQ(bad.rfind("scene.gltf: scenes[0].extras.effects.shadows: ", 0), 0u) << bad;
   EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
-  EXPECT_NE(errorOf([&] { validateEffects(nlohmann::json::array(), where); }).find("scenes[0].extras.effects"),
+  EXPECT_NE(inputErrorOf([&] { validateEffects(nlohmann::json::array(), where); }).find("scenes[0].extras.effects"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { parseEffectSet("effects.bloom=true"); }).find("--set effects.bloom=true"), std::string::npos);
-  EXPECT_NE(errorOf([] { parseEffectSet("shadows=maybe"); }).find("--set shadows=maybe: effects.shadows"),
+  EXPECT_NE(inputErrorOf([] { parseEffectSet("effects.bloom=true"); }).find("--set effects.bloom=true"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { parseEffectSet("shadows=maybe"); }).find("--set shadows=maybe: effects.shadows"),
             std::string::npos);
 }
 

@@ -1,5 +1,7 @@
 #include "gpu/vk_resources.h"
 
+#include <utility>
+
 #include <atomic>
 #include <cstring>
 #include <mutex>
@@ -33,16 +35,18 @@ std::map<std::string, uint64_t> memoryByClass() {
   return gMem;
 }
 
-Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, MemClass cls)
-    : ctx_(&ctx), size_(size), cls_(cls) {
+Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize size, VkBufferUsageFlags usage, bool hostVisible, MemClass cls) {
+  f_.ctx = &ctx;
+  f_.size = size;
+  f_.cls = cls;
   HB_ASSERT(size > 0);
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = size;
   bi.usage = usage;
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VK_CHECK(vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer_));
+  VK_CHECK(vkCreateBuffer(ctx.device(), &bi, nullptr, &f_.buffer));
   VkMemoryRequirements req;
-  vkGetBufferMemoryRequirements(ctx.device(), buffer_, &req);
+  vkGetBufferMemoryRequirements(ctx.device(), f_.buffer, &req);
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
   flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
@@ -51,28 +55,25 @@ Buffer::Buffer(const VulkanContext& ctx, VkDeviceSize size, VkBufferUsageFlags u
   ai.memoryTypeIndex = ctx.findMemoryType(
       req.memoryTypeBits, hostVisible ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                       : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_));
-  VK_CHECK(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0));
-  if (hostVisible) VK_CHECK(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_));
+  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &f_.memory));
+  VK_CHECK(vkBindBufferMemory(ctx.device(), f_.buffer, f_.memory, 0));
+  if (hostVisible) VK_CHECK(vkMapMemory(ctx.device(), f_.memory, 0, VK_WHOLE_SIZE, 0, &f_.mapped));
   if (usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) {
     VkBufferDeviceAddressInfo dai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
-    dai.buffer = buffer_;
-    address_ = vkGetBufferDeviceAddress(ctx.device(), &dai);
+    dai.buffer = f_.buffer;
+    f_.address = vkGetBufferDeviceAddress(ctx.device(), &dai);
   }
-  account(cls_, int64_t(size_));
+  account(f_.cls, int64_t(f_.size));
 }
 
 void Buffer::release() {
-  if (!ctx_) return;
-  if (buffer_) {
-    vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
-    account(cls_, -int64_t(size_));
+  if (!f_.ctx) return;
+  if (f_.buffer) {
+    vkDestroyBuffer(f_.ctx->device(), f_.buffer, nullptr);
+    account(f_.cls, -int64_t(f_.size));
   }
-  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
-  buffer_ = VK_NULL_HANDLE;
-  memory_ = VK_NULL_HANDLE;
-  mapped_ = nullptr;
-  ctx_ = nullptr;
+  if (f_.memory) vkFreeMemory(f_.ctx->device(), f_.memory, nullptr);
+  f_ = Fields{};
 }
 
 Buffer::~Buffer() { release(); }
@@ -80,17 +81,7 @@ Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
     release();
-    ctx_ = o.ctx_;
-    buffer_ = o.buffer_;
-    memory_ = o.memory_;
-    size_ = o.size_;
-    mapped_ = o.mapped_;
-    address_ = o.address_;
-    cls_ = o.cls_;
-    o.ctx_ = nullptr;
-    o.buffer_ = VK_NULL_HANDLE;
-    o.memory_ = VK_NULL_HANDLE;
-    o.mapped_ = nullptr;
+    f_ = std::exchange(o.f_, Fields{});
   }
   return *this;
 }
@@ -108,8 +99,8 @@ Buffer uploadBuffer(const VulkanContext& ctx, const void* data, VkDeviceSize siz
 }
 
 Image::Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-             VkImageAspectFlags aspect, uint32_t mipLevels, MemClass cls)
-    : ctx_(&ctx), format_(format), width_(width), height_(height), mips_(mipLevels), aspect_(aspect), cls_(cls) {
+             VkImageAspectFlags aspect, uint32_t mipLevels, MemClass cls) {
+  f_ = {&ctx, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, format, width, height, mipLevels, 0, aspect, cls};
   VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   ci.imageType = VK_IMAGE_TYPE_2D;
   ci.format = format;
@@ -120,36 +111,33 @@ Image::Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat
   ci.tiling = VK_IMAGE_TILING_OPTIMAL;
   ci.usage = usage;
   ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  VK_CHECK(vkCreateImage(ctx.device(), &ci, nullptr, &image_));
+  VK_CHECK(vkCreateImage(ctx.device(), &ci, nullptr, &f_.image));
   VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(ctx.device(), image_, &req);
+  vkGetImageMemoryRequirements(ctx.device(), f_.image, &req);
   VkMemoryAllocateInfo ai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   ai.allocationSize = req.size;
   ai.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_));
-  VK_CHECK(vkBindImageMemory(ctx.device(), image_, memory_, 0));
-  bytes_ = req.size;
+  VK_CHECK(vkAllocateMemory(ctx.device(), &ai, nullptr, &f_.memory));
+  VK_CHECK(vkBindImageMemory(ctx.device(), f_.image, f_.memory, 0));
+  f_.bytes = req.size;
   VkImageViewCreateInfo vi{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  vi.image = image_;
+  vi.image = f_.image;
   vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
   vi.format = format;
   vi.subresourceRange = {aspect, 0, mipLevels, 0, 1};
-  VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &view_));
-  account(cls_, int64_t(bytes_));
+  VK_CHECK(vkCreateImageView(ctx.device(), &vi, nullptr, &f_.view));
+  account(f_.cls, int64_t(f_.bytes));
 }
 
 void Image::release() {
-  if (!ctx_) return;
-  if (view_) vkDestroyImageView(ctx_->device(), view_, nullptr);
-  if (image_) {
-    vkDestroyImage(ctx_->device(), image_, nullptr);
-    account(cls_, -int64_t(bytes_));
+  if (!f_.ctx) return;
+  if (f_.view) vkDestroyImageView(f_.ctx->device(), f_.view, nullptr);
+  if (f_.image) {
+    vkDestroyImage(f_.ctx->device(), f_.image, nullptr);
+    account(f_.cls, -int64_t(f_.bytes));
   }
-  if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);
-  view_ = VK_NULL_HANDLE;
-  image_ = VK_NULL_HANDLE;
-  memory_ = VK_NULL_HANDLE;
-  ctx_ = nullptr;
+  if (f_.memory) vkFreeMemory(f_.ctx->device(), f_.memory, nullptr);
+  f_ = Fields{};
 }
 
 Image::~Image() { release(); }
@@ -157,21 +145,7 @@ Image::Image(Image&& o) noexcept { *this = std::move(o); }
 Image& Image::operator=(Image&& o) noexcept {
   if (this != &o) {
     release();
-    ctx_ = o.ctx_;
-    image_ = o.image_;
-    view_ = o.view_;
-    memory_ = o.memory_;
-    format_ = o.format_;
-    width_ = o.width_;
-    height_ = o.height_;
-    mips_ = o.mips_;
-    bytes_ = o.bytes_;
-    aspect_ = o.aspect_;
-    cls_ = o.cls_;
-    o.ctx_ = nullptr;
-    o.image_ = VK_NULL_HANDLE;
-    o.view_ = VK_NULL_HANDLE;
-    o.memory_ = VK_NULL_HANDLE;
+    f_ = std::exchange(o.f_, Fields{});
   }
   return *this;
 }

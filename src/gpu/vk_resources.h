@@ -28,21 +28,24 @@ class Buffer {
   Buffer& operator=(Buffer&& o) noexcept;
   Buffer(const Buffer&) = delete;
 
-  VkBuffer handle() const { return buffer_; }
-  VkDeviceSize size() const { return size_; }
-  void* mapped() const { return mapped_; }
-  VkDeviceAddress address() const { return address_; }
-  explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
+  VkBuffer handle() const { return f_.buffer; }
+  VkDeviceSize size() const { return f_.size; }
+  void* mapped() const { return f_.mapped; }
+  VkDeviceAddress address() const { return f_.address; }
+  explicit operator bool() const { return f_.buffer != VK_NULL_HANDLE; }
 
  private:
   void release();
-  const VulkanContext* ctx_ = nullptr;
-  VkBuffer buffer_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkDeviceSize size_ = 0;
-  void* mapped_ = nullptr;
-  VkDeviceAddress address_ = 0;
-  MemClass cls_ = MemClass::Other;
+  // Everything a Buffer owns, in one value so that a move is one exchange.
+  struct Fields {
+    const VulkanContext* ctx = nullptr;
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize size = 0;
+    void* mapped = nullptr;
+    VkDeviceAddress address = 0;
+    MemClass cls = MemClass::Other;
+  } f_;
 };
 
 // Uploads bytes into a new device-local buffer (through a staging buffer).
@@ -59,26 +62,29 @@ class Image {
   Image& operator=(Image&& o) noexcept;
   Image(const Image&) = delete;
 
-  VkImage handle() const { return image_; }
-  VkImageView view() const { return view_; }
-  VkFormat format() const { return format_; }
-  uint32_t width() const { return width_; }
-  uint32_t height() const { return height_; }
-  uint32_t mipLevels() const { return mips_; }
-  VkImageAspectFlags aspect() const { return aspect_; }
-  explicit operator bool() const { return image_ != VK_NULL_HANDLE; }
+  VkImage handle() const { return f_.image; }
+  VkImageView view() const { return f_.view; }
+  VkFormat format() const { return f_.format; }
+  uint32_t width() const { return f_.width; }
+  uint32_t height() const { return f_.height; }
+  uint32_t mipLevels() const { return f_.mips; }
+  VkImageAspectFlags aspect() const { return f_.aspect; }
+  explicit operator bool() const { return f_.image != VK_NULL_HANDLE; }
 
  private:
   void release();
-  const VulkanContext* ctx_ = nullptr;
-  VkImage image_ = VK_NULL_HANDLE;
-  VkImageView view_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
-  VkFormat format_ = VK_FORMAT_UNDEFINED;
-  uint32_t width_ = 0, height_ = 0, mips_ = 1;
-  VkDeviceSize bytes_ = 0;
-  VkImageAspectFlags aspect_ = 0;
-  MemClass cls_ = MemClass::Images;
+  // Everything an Image owns, in one value so that a move is one exchange.
+  struct Fields {
+    const VulkanContext* ctx = nullptr;
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    uint32_t width = 0, height = 0, mips = 1;
+    VkDeviceSize bytes = 0;
+    VkImageAspectFlags aspect = 0;
+    MemClass cls = MemClass::Images;
+  } f_;
 };
 
 // A whole-image layout transition (all mips) with synchronization2 masks.

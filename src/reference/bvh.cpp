@@ -61,11 +61,15 @@ bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& org, 
   return true;
 }
 
-Bvh::Bvh(std::vector<BvhTriangle> triangles) {
-  triangles_.reserve(triangles.size());
-  for (const auto& t : triangles) {
-    if (isDegenerate(t)) ++dropped_;
-    else triangles_.push_back(t);
+Bvh::Bvh(std::vector<BvhTriangle> triangles) : inputs_(std::move(triangles)) {
+  triangles_.reserve(inputs_.size());
+  for (size_t i = 0; i < inputs_.size(); ++i) {
+    if (isDegenerate(inputs_[i])) {
+      ++dropped_;
+    } else {
+      triangles_.push_back(inputs_[i]);
+      ids_.push_back(uint32_t(i));
+    }
   }
   if (triangles_.empty()) return;
   std::vector<glm::dvec3> centroids(triangles_.size());
@@ -104,9 +108,12 @@ uint32_t Bvh::build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& cen
                    [&](uint32_t p, uint32_t q) { return centroids[p][axis] < centroids[q][axis]; });
   std::vector<BvhTriangle> tris(count);
   std::vector<glm::dvec3> cents(count);
-  for (uint32_t i = 0; i < count; ++i) tris[i] = triangles_[order[i]], cents[i] = centroids[order[i]];
+  std::vector<uint32_t> ids(count);
+  for (uint32_t i = 0; i < count; ++i)
+    tris[i] = triangles_[order[i]], cents[i] = centroids[order[i]], ids[i] = ids_[order[i]];
   std::copy(tris.begin(), tris.end(), triangles_.begin() + first);
   std::copy(cents.begin(), cents.end(), centroids.begin() + first);
+  std::copy(ids.begin(), ids.end(), ids_.begin() + first);
   build(first, half, centroids);
   const uint32_t right = build(first + half, count - half, centroids);
   nodes_[index].firstOrRight = right;
@@ -138,7 +145,8 @@ static bool rayHitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dv
 }
 
 template <bool AnyHit>
-bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax, double& t) const {
+bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax, double& t,
+                   uint32_t& triangle) const {
   if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tMax)) return false;
   const glm::dvec3 invDir = 1.0 / dir;
   bool hit = false;
@@ -155,6 +163,7 @@ bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, do
         if (!intersectTriangleWatertight(triangles_[i], org, dir, tMin, closest, ti)) continue;
         hit = true;
         closest = ti;
+        triangle = ids_[i];
         if (AnyHit) {
           t = ti;
           return true;
@@ -172,11 +181,18 @@ bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, do
 
 bool Bvh::occluded(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax) const {
   double t;
-  return traverse<true>(origin, dir, tMin, tMax, t);
+  uint32_t triangle;
+  return traverse<true>(origin, dir, tMin, tMax, t, triangle);
 }
 
 bool Bvh::closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t) const {
-  return traverse<false>(origin, dir, tMin, tMax, t);
+  uint32_t triangle;
+  return traverse<false>(origin, dir, tMin, tMax, t, triangle);
+}
+
+bool Bvh::closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
+                     uint32_t& triangle) const {
+  return traverse<false>(origin, dir, tMin, tMax, t, triangle);
 }
 
 Bvh buildBvh(const Scene& scene) {

@@ -39,10 +39,16 @@ class Bvh {
   bool occluded(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax) const;
   // Nearest hit in [tMin, tMax]; false when none.
   bool closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t) const;
+  // The same, and which triangle: its index in the list the Bvh was built from.
+  bool closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
+                  uint32_t& triangle) const;
 
   size_t triangleCount() const { return triangles_.size(); }
   size_t droppedDegenerate() const { return dropped_; }
+  // The triangles kept (degenerate ones dropped), in the tree's order.
   const std::vector<BvhTriangle>& triangles() const { return triangles_; }
+  // Triangle `index` of the list the Bvh was built from (degenerate ones included).
+  const BvhTriangle& input(uint32_t index) const { return inputs_[index]; }
 
  private:
   struct Node {
@@ -52,9 +58,12 @@ class Bvh {
   };
   uint32_t build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& centroids);
   template <bool AnyHit>
-  bool traverse(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t) const;
+  bool traverse(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
+                uint32_t& triangle) const;
 
-  std::vector<BvhTriangle> triangles_;
+  std::vector<BvhTriangle> inputs_;     // as passed
+  std::vector<BvhTriangle> triangles_;  // kept, in tree order
+  std::vector<uint32_t> ids_;           // triangles_[i] is inputs_[ids_[i]]
   std::vector<Node> nodes_;
   size_t dropped_ = 0;
 };

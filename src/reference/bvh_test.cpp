@@ -1,6 +1,7 @@
 #include "reference/bvh.h"
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -151,6 +152,43 @@ TEST(Bvh, BuildsFromSceneInstancesAndPrimitives) {
   EXPECT_EQ(bvh.triangleCount(), 48u);
   EXPECT_TRUE(bvh.occluded({10, 0, 5}, {0, 0, -1}, 0.0, 10.0));
   EXPECT_FALSE(bvh.occluded({5, 0, 5}, {0, 0, -1}, 0.0, 10.0));
+}
+
+// ---- which triangle ---------------------------------------------------------------------------------
+
+TEST(Bvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-5.0, 5.0), s(-0.5, 0.5);
+  std::vector<BvhTriangle> tris;
+  for (int i = 0; i < 300; ++i) {
+    const glm::dvec3 c(u(rng), u(rng), u(rng));
+    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
+                    c + glm::dvec3(s(rng), s(rng), s(rng))});
+  }
+  const Bvh bvh(tris);  // closestHit names the triangle by its index in `tris`
+  int hits = 0;
+  for (int r = 0; r < 500; ++r) {
+    const glm::dvec3 o(u(rng), u(rng), 8.0), target(u(rng), u(rng), u(rng));
+    const glm::dvec3 dir = target - o;
+    double bestT = std::numeric_limits<double>::infinity();
+    int best = -1;
+    for (size_t i = 0; i < tris.size(); ++i) {
+      double t;
+      if (intersectTriangleWatertight(tris[i], o, dir, 0.0, bestT, t)) bestT = t, best = int(i);
+    }
+    double t;
+    uint32_t tri;
+    const bool hit = bvh.closestHit(o, dir, 0.0, 1e30, t, tri);
+    ASSERT_EQ(hit, best >= 0) << "ray " << r;
+    if (!hit) continue;
+    ++hits;
+    EXPECT_EQ(t, bestT);
+    // Ties (two triangles at the same t) may name either; the hit distance must then agree.
+    double t2;
+    EXPECT_TRUE(intersectTriangleWatertight(tris[tri], o, dir, 0.0, 1e30, t2));
+    EXPECT_EQ(t2, bestT);
+  }
+  EXPECT_GT(hits, 50);  // the test exercised hits, not just misses
 }
 
 }  // namespace

@@ -16,12 +16,7 @@ using nlohmann::json;
 
 namespace {
 
-using results::at;
-using results::csvField;
-using results::escapeCell;
-using results::medianOf;
-using results::numberAt;
-using results::requireResultsFile;
+using namespace results;  // at, numberAt, medianOf, escapeCell, csvField, requireResultsFile
 
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

@@ -9,10 +9,7 @@
 namespace hb {
 
 using nlohmann::json;
-using results::at;
-using results::escapeCell;
-using results::medianOf;
-using results::numberAt;
+using namespace results;  // at, numberAt, medianOf, escapeCell
 
 namespace {
 

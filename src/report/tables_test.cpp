@@ -9,9 +9,6 @@
 
 #include "base/errors.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#define HYBRIDBENCH_SOURCE_DIR "."
-#endif
 
 namespace hb {
 namespace {
