@@ -1,6 +1,7 @@
 #version 460
 // Primary visibility by 3D rasterization (raster3d.glsl.inc), brute force over each triangle's
-// screen box (the paper's "3DR"). Two dispatches of this shader:
+// screen box (the paper's "3DR"), or binned (BINNED = 1: a big box keeps only the 8x8 tiles the
+// triangle can touch). Two dispatches of this shader:
 //   PASS 0: one thread per triangle: setup and screen box; a box of at most smallArea pixels is
 //           rasterized by the thread itself; a larger one is cut into 8x8-pixel tiles, appended
 //           as (triangle, tile) work items (one atomicAdd per triangle). When the list is full
@@ -17,6 +18,7 @@
 layout(constant_id = 0) const uint PASS = 0;
 layout(constant_id = 1) const uint ANALYSIS = 0;
 layout(constant_id = 2) const uint FALLBACK = 1;  // 0: no fp64 re-evaluation (to measure what it prevents)
+layout(constant_id = 3) const uint BINNED = 0;    // 1: only the 8x8 tiles of a big box that the triangle can touch
 const bool R3D_FALLBACK = FALLBACK == 1;
 #include "raster3d.glsl.inc"
 layout(local_size_x = 64) in;
@@ -55,6 +57,23 @@ void flush(Tally tally) {
   atomicAdd(counters[kR3dCounterAtomics], uint64_t(tally.atomics));
 }
 
+// Binning (BINNED = 1): can the triangle cover a pixel centre of the 8x8 tile whose first centre
+// is (x0, y0), clamped to hi? V_i is linear in (x, y), so over the tile's centres it is largest
+// at one of the four corner centres. If for some edge every corner has V_i < -bound (the rounding
+// bound of r3dCovers at the tile's far corner, which is the largest), no centre of the tile can
+// be inside, not even by the tie rule or the fp64 fallback: the tile is skipped. Conservative, so
+// the binned result equals brute force bit for bit.
+bool tileMayBeCovered(R3dSetup s, uint x0, uint y0, ivec2 hi) {
+  const float xa = float(x0), ya = float(y0);
+  const float xb = float(min(x0 + 7u, uint(hi.x))), yb = float(min(y0 + 7u, uint(hi.y)));
+  const vec3 bound = kR3dBound * (s.errA + xb * s.errB + yb * s.errC);
+  const vec3 v00 = s.rowA + xa * s.rowB + ya * s.rowC, v10 = s.rowA + xb * s.rowB + ya * s.rowC;
+  const vec3 v01 = s.rowA + xa * s.rowB + yb * s.rowC, v11 = s.rowA + xb * s.rowB + yb * s.rowC;
+  const vec3 vmax = max(max(v00, v10), max(v01, v11));
+  // 2·bound: the corners' own float evaluation is rounded too (each within bound of exact).
+  return all(greaterThanEqual(vmax, -2.0 * bound));
+}
+
 bool setupTriangle(uint id, out R3dSetup s, out ivec2 lo, out ivec2 hi) {
   if (!r3dSetup(triVerts[3u * id].xyz, triVerts[3u * id + 1u].xyz, triVerts[3u * id + 2u].xyz, r3, s)) return false;
   r3dScreenBox(s, r3, lo, hi);
@@ -71,11 +90,23 @@ void perTriangle() {
   const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
   if (w * h > r3.smallArea) {
     const uint tw = (w + 7u) / 8u, th = (h + 7u) / 8u;
-    const uint first = atomicAdd(itemCount, tw * th);
-    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterBig], 1ul);
-    if (first + tw * th <= r3.itemCapacity) {
+    // Brute force: every tile of the box. Binned: count the tiles the triangle can touch, then
+    // write them (one atomicAdd either way).
+    uint n = tw * th;
+    if (BINNED == 1) {
+      n = 0u;
       for (uint ty = 0u; ty < th; ++ty)
-        for (uint tx = 0u; tx < tw; ++tx) items[first + ty * tw + tx] = uvec2(id, tx | (ty << 16));
+        for (uint tx = 0u; tx < tw; ++tx)
+          if (tileMayBeCovered(s, uint(lo.x) + 8u * tx, uint(lo.y) + 8u * ty, hi)) ++n;
+    }
+    const uint first = atomicAdd(itemCount, n);
+    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterBig], 1ul);
+    if (first + n <= r3.itemCapacity) {
+      uint k = first;
+      for (uint ty = 0u; ty < th; ++ty)
+        for (uint tx = 0u; tx < tw; ++tx)
+          if (BINNED == 0 || tileMayBeCovered(s, uint(lo.x) + 8u * tx, uint(lo.y) + 8u * ty, hi))
+            items[k++] = uvec2(id, tx | (ty << 16));
       return;
     }
     if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);

@@ -71,10 +71,12 @@ struct Coverage {
   Raster3dCounters counters;
 };
 
-Coverage rasterize(const VulkanContext& ctx, const Scene& scene, bool fp64Fallback = true) {
+Coverage rasterize(const VulkanContext& ctx, const Scene& scene, bool fp64Fallback = true,
+                   const char* primary = "3dr", uint32_t width = kSize, uint32_t height = kSize) {
   RenderSettings rs;
-  rs.width = rs.height = kSize;
-  rs.primary = "3dr";
+  rs.width = width;
+  rs.height = height;
+  rs.primary = primary;
   rs.fp64Fallback = fp64Fallback;
   rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
   Renderer r(ctx, scene, rs);
@@ -331,6 +333,27 @@ TEST_F(Raster3dTest, ATriangleCrossingTheEyePlaneCoversExactlyWhatTheRayCastHits
     }
   EXPECT_GT(hits, 200u);
   EXPECT_EQ(wrong, 0u);
+}
+
+TEST_F(Raster3dTest, BinnedEqualsBruteForceBitForBitAndTestsFewerPixels) {
+  // Binning skips only tiles that no pixel centre of can be inside (tileMayBeCovered), so the
+  // visibility buffer and the coverage must be identical; it must also skip something.
+  const Rays rays(obliqueCamera());
+  Scene grid = emptyScene("grid", obliqueCamera());
+  addGrid(grid, rays, 8, 7.0, glm::rotate(glm::dmat4(1.0), 0.5, glm::dvec3(0, 0, 1)));
+  AtriumParams ap;
+  const Scene atrium = makeAtrium(ap);
+  for (const Scene* scene : {static_cast<const Scene*>(&grid), &atrium}) {
+    SCOPED_TRACE(scene->name);
+    const Coverage brute = rasterize(*ctx, *scene, true, "3dr", 160, 90);
+    const Coverage binned = rasterize(*ctx, *scene, true, "3dr-binned", 160, 90);
+    EXPECT_EQ(binned.vis, brute.vis);
+    EXPECT_EQ(binned.count, brute.count);
+    EXPECT_EQ(binned.counters.covered, brute.counters.covered);
+    EXPECT_LT(binned.counters.pixelsTested, brute.counters.pixelsTested);
+    std::printf("%s: pixels tested %llu binned, %llu brute force\n", scene->name.c_str(),
+                (unsigned long long)binned.counters.pixelsTested, (unsigned long long)brute.counters.pixelsTested);
+  }
 }
 
 TEST_F(Raster3dTest, On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades) {

@@ -113,7 +113,7 @@ static nlohmann::json primaryJson(const Renderer& renderer) {
   const Raster3dCounters c = r3->readCounters();
   const double pixels = double(renderer.settings().width) * renderer.settings().height;
   auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
-  return {{"method", "3dr"},
+  return {{"method", renderer.settings().primary},
           {"triangles", r3->triangleCount()},
           {"triangle_setups", c.setups},
           {"big_triangles", c.bigTriangles},

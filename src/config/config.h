@@ -55,8 +55,9 @@
 //   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
 //                                    max(0.001 m, 400u · distance to the eye); beyond the thesis)
 //                                                    default "constant"
-//   "primary": "hardware" | "3dr"  (primary visibility: the hardware depth prepass, or 3D
-//                                    rasterization in compute, Davidovic et al. 2012)
+//   "primary": "hardware" | "3dr" | "3dr-binned"  (primary visibility: the hardware depth
+//                                    prepass, or 3D rasterization in compute, Davidovic et al.
+//                                    2012: brute force over screen boxes, or binned into 8x8 tiles)
 //                                                    default "hardware"
 //   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
 //                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
@@ -101,7 +102,7 @@ enum class NormalCulling { Off, Naive, Improved };
 enum class RtBackend { Auto, RayQuery, Pipeline };
 enum class WorldPosMethod { Alg41, Matrix };
 enum class ShadowTMin { Constant, Scaled };
-enum class PrimaryMethod { Hardware, Raster3d };
+enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned };
 
 const char* toString(NormalCulling);
 const char* toString(RtBackend);

@@ -40,6 +40,7 @@ const char* toString(PrimaryMethod v) {
   switch (v) {
     case PrimaryMethod::Hardware: return "hardware";
     case PrimaryMethod::Raster3d: return "3dr";
+    case PrimaryMethod::Raster3dBinned: return "3dr-binned";
   }
   return "?";
 }
@@ -88,7 +89,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
   } else if (key == "t_min") {
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "primary") {
-    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr"}));
+    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned"}));
   } else if (key == "r3d_thread_box") {
     p.r3dThreadBox = uint32_t(readInt(v, where, 1, 65536));
   } else if (key == "max_lights_per_tile") {

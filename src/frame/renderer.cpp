@@ -12,8 +12,8 @@ namespace hb {
 
 static std::string primaryPassName(const std::string& primary) {
   if (primary == "hardware") return "depth_prepass";
-  if (primary == "3dr") return "raster3d";
-  throw InputError("primary \"" + primary + "\" is not one of hardware, 3dr");
+  if (primary == "3dr" || primary == "3dr-binned") return "raster3d";
+  throw InputError("primary \"" + primary + "\" is not one of hardware, 3dr, 3dr-binned");
 }
 
 static Camera pickCamera(const Scene& scene, uint32_t index) {
@@ -61,7 +61,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   passesSkipped_ = plan_.skipped;
   if (plan_.hasPass("raster3d"))
     raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height,
-                                               settings.r3dThreadBox, settings.fp64Fallback);
+                                               settings.r3dThreadBox, settings.fp64Fallback,
+                                               settings.primary == "3dr-binned");
   if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;

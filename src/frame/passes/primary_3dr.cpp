@@ -67,7 +67,7 @@ std::vector<glm::vec4> packTriangles(const Scene& scene) {
 }  // namespace
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
-                           uint32_t height, uint32_t smallArea, bool fp64Fallback)
+                           uint32_t height, uint32_t smallArea, bool fp64Fallback, bool binned)
     : ctx_(ctx),
       width_(width),
       height_(height),
@@ -108,11 +108,11 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
   resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
   // Specialization constants (raster3d.comp.glsl): 0 pass (0 per triangle, 1 tiles), 1 analysis,
-  // 2 fp64 fallback.
+  // 2 fp64 fallback, 3 binned.
   for (auto [p, pass, analysis] : {std::tuple{&smallTimed_, 0u, 0u}, std::tuple{&smallAnalysis_, 0u, 1u},
                                    std::tuple{&bigTimed_, 1u, 0u}, std::tuple{&bigAnalysis_, 1u, 1u}}) {
     p->createLayout({rasterSets_.layout()}, 0);
-    p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u}});
+    p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u}});
   }
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");

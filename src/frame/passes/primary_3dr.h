@@ -4,7 +4,8 @@
 // the frame's depth image, so every later pass reads depth as after the hardware prepass.
 // Brute force over each triangle's screen box ("3dr"): boxes of at most smallArea pixels are
 // rasterized by one thread, larger ones cut into 8x8 tiles that a second dispatch rasterizes a
-// pixel per thread.
+// pixel per thread. Binned ("3dr-binned"): of a larger box only the tiles the triangle can touch
+// (its edge functions at the tile's corners); the result is the same bit for bit.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -34,7 +35,7 @@ class Raster3dPass {
   // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError).
   // fp64Fallback false only measures what the fallback prevents (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
-               uint32_t smallArea = kDefaultSmallArea, bool fp64Fallback = true);
+               uint32_t smallArea = kDefaultSmallArea, bool fp64Fallback = true, bool binned = false);
   ~Raster3dPass();
 
   // Rasterizes and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute, ray
