@@ -1,7 +1,8 @@
 #version 460
 // Primary visibility by 3D rasterization (raster3d.glsl.inc), brute force over each triangle's
-// screen box (the paper's "3DR"), or binned (BINNED = 1: a big box keeps only the 8x8 tiles the
-// triangle can touch). Two dispatches of this shader:
+// screen box (the paper's "3DR"), or binned (BINNED = 1: of a big box only the 8x8 tiles the
+// triangle can touch are rasterized; the test runs per tile in PASS 1, so PASS 0 stays one short
+// loop per triangle). Two dispatches of this shader:
 //   PASS 0: one thread per triangle: setup and screen box; a box of at most smallArea pixels is
 //           rasterized by the thread itself; a larger one is cut into 8x8-pixel tiles, appended
 //           as (triangle, tile) work items (one atomicAdd per triangle). When the list is full
@@ -90,23 +91,12 @@ void perTriangle() {
   const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
   if (w * h > r3.smallArea) {
     const uint tw = (w + 7u) / 8u, th = (h + 7u) / 8u;
-    // Brute force: every tile of the box. Binned: count the tiles the triangle can touch, then
-    // write them (one atomicAdd either way).
-    uint n = tw * th;
-    if (BINNED == 1) {
-      n = 0u;
-      for (uint ty = 0u; ty < th; ++ty)
-        for (uint tx = 0u; tx < tw; ++tx)
-          if (tileMayBeCovered(s, uint(lo.x) + 8u * tx, uint(lo.y) + 8u * ty, hi)) ++n;
-    }
+    const uint n = tw * th;
     const uint first = atomicAdd(itemCount, n);
     if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterBig], 1ul);
     if (first + n <= r3.itemCapacity) {
-      uint k = first;
       for (uint ty = 0u; ty < th; ++ty)
-        for (uint tx = 0u; tx < tw; ++tx)
-          if (BINNED == 0 || tileMayBeCovered(s, uint(lo.x) + 8u * tx, uint(lo.y) + 8u * ty, hi))
-            items[k++] = uvec2(id, tx | (ty << 16));
+        for (uint tx = 0u; tx < tw; ++tx) items[first + ty * tw + tx] = uvec2(id, tx | (ty << 16));
       return;
     }
     if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
@@ -125,8 +115,10 @@ void perTile() {
     R3dSetup s;
     ivec2 lo, hi;
     if (!setupTriangle(it.x, s, lo, hi)) continue;  // never: PASS 0 set it up the same way
-    const uint x = uint(lo.x) + (it.y & 0xFFFFu) * 8u + gl_LocalInvocationID.x % 8u;
-    const uint y = uint(lo.y) + (it.y >> 16) * 8u + gl_LocalInvocationID.x / 8u;
+    const uint x0 = uint(lo.x) + (it.y & 0xFFFFu) * 8u, y0 = uint(lo.y) + (it.y >> 16) * 8u;
+    // Binned: the whole workgroup skips a tile the triangle cannot touch (uniform branch).
+    if (BINNED == 1 && !tileMayBeCovered(s, x0, y0, hi)) continue;
+    const uint x = x0 + gl_LocalInvocationID.x % 8u, y = y0 + gl_LocalInvocationID.x / 8u;
     if (x <= uint(hi.x) && y <= uint(hi.y)) testPixel(it.x, s, x, y, tally);
   }
   flush(tally);
