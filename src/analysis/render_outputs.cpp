@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "analysis/culling_analysis.h"
+#include "analysis/primary_analysis.h"
 #include "reference/flip.h"
 #include "base/image_io.h"
 #include "analysis/ray_analysis.h"
@@ -107,9 +108,12 @@ ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
 // What primary visibility cost in the analysis frame (3D rasterization's counters; the hardware
 // prepass has none to read). Counters come from the analysis frame's own pipelines, never from
 // timed frames.
-static nlohmann::json primaryJson(const Renderer& renderer) {
+static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) {
   const Raster3dPass* r3 = renderer.raster3d();
   if (!r3) return {{"method", "hardware"}};
+  const RenderSettings& rs = renderer.settings();
+  const PrimaryComparison exact =
+      comparePrimary(buildBvh(scene), r3->readVisibility(), raster3dConstants(renderer.camera(), rs.width, rs.height, 0, 0));
   const Raster3dCounters c = r3->readCounters();
   const double pixels = double(renderer.settings().width) * renderer.settings().height;
   auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
@@ -127,7 +131,8 @@ static nlohmann::json primaryJson(const Renderer& renderer) {
           {"atomics", c.atomics},
           {"atomics_per_pixel", ratio(double(c.atomics), pixels)},
           // The paper's Fig. 10 scalar-operation counts times what this frame did.
-          {"paper_scalar_ops_estimate", 57.0 * double(c.setups) + 12.0 * double(c.pixelsTested)}};
+          {"paper_scalar_ops_estimate", 57.0 * double(c.setups) + 12.0 * double(c.pixelsTested)},
+          {"against_ray_cast", toJson(exact)}};
 }
 
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
@@ -152,7 +157,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   j["passes_skipped"] = nlohmann::json::object();
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
   j["backend"] = renderer.backendUsed();
-  j["primary"] = primaryJson(renderer);
+  j["primary"] = primaryJson(renderer, scene);
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};

@@ -1,0 +1,83 @@
+#include "analysis/primary_analysis.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace hb {
+
+namespace {
+
+// Smallest barycentric coordinate of the ray's hit with the triangle's plane (negative outside);
+// -inf when the ray is parallel to the plane.
+double barycentricMargin(const BvhTriangle& tri, const glm::dvec3& org, const glm::dvec3& dir) {
+  const glm::dvec3 e1 = tri.v1 - tri.v0, e2 = tri.v2 - tri.v0, pv = glm::cross(dir, e2);
+  const double det = glm::dot(e1, pv);
+  if (det == 0.0) return -INFINITY;
+  const glm::dvec3 tv = org - tri.v0;
+  const double u = glm::dot(tv, pv) / det;
+  const double v = glm::dot(dir, glm::cross(tv, e1)) / det;
+  return std::min({u, v, 1.0 - u - v});
+}
+
+}  // namespace
+
+PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vis, const gpu::Raster3dConstants& c) {
+  PrimaryComparison r;
+  const glm::dvec3 eye(c.eye), d0(c.rayD0), dx(c.rayDx), dy(c.rayDy);
+  const double zn = c.depth.x, zf = c.depth.y;
+  std::vector<double> rel;
+  for (uint32_t y = 0; y < c.height; ++y)
+    for (uint32_t x = 0; x < c.width; ++x) {
+      const uint64_t key = vis[size_t(y) * c.width + x];
+      const glm::dvec3 dir = d0 + double(x) * dx + double(y) * dy;
+      double tCpu = 0;
+      uint32_t idCpu = 0;
+      const bool cpuHit = bvh.closestHit(eye, dir, zn, zf, tCpu, idCpu);
+      const bool gpuHit = key != ~0ull;
+      const uint32_t idGpu = uint32_t(key & 0xFFFFFFFFu);
+      const double tGpu = gpuHit ? double(std::bit_cast<float>(uint32_t(key >> 32))) : 0.0;
+      ++r.pixels;
+      auto nearEdge = [&](uint32_t id) { return std::abs(barycentricMargin(bvh.input(id), eye, dir)) <= kTieMargin; };
+      if (cpuHit && gpuHit) {
+        ++r.bothHit;
+        if (idCpu == idGpu) {
+          ++r.idsEqual;
+          rel.push_back(std::abs(tGpu - tCpu) / tCpu);
+        } else {
+          ++r.idMismatches;
+          const bool tie = std::abs(tGpu - tCpu) <= kTieDepth * tCpu || nearEdge(idCpu) || nearEdge(idGpu);
+          r.notTies += !tie;
+        }
+      } else if (cpuHit) {
+        ++r.holes;
+        r.notTies += !(nearEdge(idCpu) || std::abs(tCpu - zn) <= kTieDepth * zn || std::abs(tCpu - zf) <= kTieDepth * zf);
+      } else if (gpuHit) {
+        ++r.spurious;
+        r.notTies += !(nearEdge(idGpu) || std::abs(tGpu - zn) <= kTieDepth * zn || std::abs(tGpu - zf) <= kTieDepth * zf);
+      }
+    }
+  if (!rel.empty()) {
+    std::sort(rel.begin(), rel.end());
+    r.depthRelP999 = rel[std::min(rel.size() - 1, size_t(std::ceil(0.999 * double(rel.size()))) - 1)];
+    r.depthRelMax = rel.back();
+  }
+  return r;
+}
+
+nlohmann::json toJson(const PrimaryComparison& c) {
+  return {{"reference", "double-precision ray cast per pixel (watertight BVH), same rays, t in [znear, zfar]"},
+          {"pixels", c.pixels},
+          {"both_hit", c.bothHit},
+          {"ids_equal", c.idsEqual},
+          {"ids_equal_fraction", c.bothHit ? double(c.idsEqual) / double(c.bothHit) : 1.0},
+          {"id_mismatches", c.idMismatches},
+          {"holes", c.holes},
+          {"spurious", c.spurious},
+          {"not_ties", c.notTies},
+          {"tie_margin_barycentric", kTieMargin},
+          {"depth_rel_error_p999", c.depthRelP999},
+          {"depth_rel_error_max", c.depthRelMax}};
+}
+
+}  // namespace hb

@@ -1,0 +1,42 @@
+// Primary visibility against its exact counterpart (design.md "References"): a double-precision
+// ray cast per pixel (reference/bvh: watertight, both faces) along the same pixel-centre rays the
+// 3D rasterizer uses, t in [znear, zfar]. Per pixel the rasterizer's triangle id and view depth t
+// are compared with the ray cast's.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "reference/bvh.h"
+#include "scene/scene.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+struct PrimaryComparison {
+  uint64_t pixels = 0;
+  uint64_t bothHit = 0, idsEqual = 0;
+  uint64_t holes = 0;     // the ray cast hits, the rasterizer reports nothing
+  uint64_t spurious = 0;  // the rasterizer reports a triangle, the ray cast hits none
+  uint64_t idMismatches = 0;
+  // Of holes, spurious pixels and id mismatches: those that are not ties. A tie: the pixel's ray
+  // passes within kTieMargin (barycentric) of an edge of the triangle involved, or both hits lie
+  // within kTieDepth (relative t) of each other (coincident or touching surfaces).
+  uint64_t notTies = 0;
+  double depthRelP999 = 0, depthRelMax = 0;  // |t_gpu - t_cpu| / t_cpu where the ids are equal
+};
+
+// Tie thresholds. A float vertex is within u = 2^-24 relative of the double one, and 3DR works on
+// eye-relative float vertices (one more rounding): a barycentric coordinate of the rasterizer's
+// geometry differs from the exact one by about (|p| / edge length) · 4u. 1e-4 allows edges 100x
+// shorter than their distance to the eye (kTieMargin); kTieDepth is 64u relative.
+constexpr double kTieMargin = 1e-4;
+constexpr double kTieDepth = 64.0 * 5.9604644775390625e-8;
+
+// vis: the rasterizer's key per pixel (t bits << 32 | id, ~0 = nothing); rays: its constants.
+PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vis, const gpu::Raster3dConstants& rays);
+
+nlohmann::json toJson(const PrimaryComparison& c);
+
+}  // namespace hb
