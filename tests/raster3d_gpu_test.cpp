@@ -2,6 +2,7 @@
 // tests (every pixel inside a mesh is covered exactly once, counted additively over all triangles
 // whatever their depth), degenerate triangles, triangles crossing the eye plane, and the frame on
 // top of it. Scenes are built so that the answer is known exactly in double precision.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -11,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "analysis/primary_analysis.h"
+#include "base/errors.h"
 #include "frame/renderer.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
@@ -381,6 +383,39 @@ TEST_F(Raster3dTest, AtriumIdsAndDepthsMatchADoublePrecisionRayCast) {
   EXPECT_EQ(c.notTies, 0u);
   EXPECT_GE(double(c.idsEqual), 0.999 * double(c.bothHit));
   EXPECT_LE(c.depthRelP999, 1e-6);
+}
+
+TEST_F(Raster3dTest, GeometricNormalsAreTheVisibleTrianglesOwnAndHitPositionsNeed3dr) {
+  // normal_culling=geometric reads the triangle the visibility buffer names: its normal must be the
+  // shading pass's reference normal of that pixel (the same triangle's face normal, computed there
+  // from the drawn vertices: both are float cross products, so within a few u; 1e-4 rad allows
+  // triangles 100x longer than wide).
+  AtriumParams ap;
+  const Scene scene = makeAtrium(ap);
+  RenderSettings rs;
+  rs.width = 160;
+  rs.height = 90;
+  rs.primary = "3dr";
+  rs.normals = gpu::kNormalsGeometric;
+  rs.worldPos = gpu::kWorldPosHit;
+  Renderer r(*ctx, scene, rs);
+  r.renderFrame(true);
+  const ShadowReadback sh = r.readShadows();
+  const std::vector<float> ref = r.readRefNormals();
+  size_t compared = 0, off = 0;
+  for (size_t i = 0; i < ref.size() / 4; ++i) {
+    if (ref[4 * i + 3] != 1.0f) continue;
+    const glm::dvec3 a(sh.normals[4 * i], sh.normals[4 * i + 1], sh.normals[4 * i + 2]);
+    const glm::dvec3 b(ref[4 * i], ref[4 * i + 1], ref[4 * i + 2]);
+    if (glm::dot(a, a) == 0.0) continue;  // degenerate: no normal, no culling
+    ++compared;
+    off += std::acos(std::clamp(glm::dot(a, b) / (glm::length(a) * glm::length(b)), -1.0, 1.0)) > 1e-4;
+  }
+  EXPECT_GT(compared, 10000u);
+  EXPECT_EQ(off, 0u);
+  RenderSettings hw = rs;
+  hw.primary = "hardware";
+  EXPECT_THROW(Renderer(*ctx, scene, hw), InputError);
 }
 
 TEST_F(Raster3dTest, On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades) {

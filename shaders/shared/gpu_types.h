@@ -25,8 +25,10 @@ HB_CONST uint kMaxLightsPerTile = 32u;  // one 32-bit visibility mask per texel 
 HB_CONST uint kNormalsOff = 0u;
 HB_CONST uint kNormalsNaive = 1u;
 HB_CONST uint kNormalsImproved = 2u;
+HB_CONST uint kNormalsGeometric = 3u;  // the visible triangle's own normal (needs 3D rasterization's ids)
 HB_CONST uint kWorldPosAlg41 = 0u;   // thesis Algorithm 4.1
 HB_CONST uint kWorldPosMatrix = 1u;  // full inverse view-projection matrix
+HB_CONST uint kWorldPosHit = 2u;     // eye + t·d from 3D rasterization's hit (no reconstruction)
 
 // Per-pixel ray accounting (analysis frames only), packed 6 bits each into one r32ui texel:
 // traced rays, pairs removed by the normal test, pairs removed by the range/cone test, lights

@@ -1,5 +1,6 @@
 #include "analysis/render_outputs.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -260,6 +261,24 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     PositionAccuracy pa = positionAccuracy(sh.positions, depth, rcam);
     accuracy["world_pos"] = toJson(pa);
     accuracy["world_pos_rel_error"] = pa.maxRelative;
+    {
+      // Against the true surface (the eye ray's exact hit in double, where it matches the
+      // rasterized depth): what a method's positions are worth, whatever it computes them from.
+      double maxRel = 0, sumRel = 0;
+      uint64_t compared = 0;
+      for (size_t i = 0; i < surface.state.size(); ++i) {
+        if (surface.state[i] != SurfaceState::Matched || sh.positions[4 * i + 3] != 1.0f) continue;
+        const glm::dvec3 gpuPos(sh.positions[4 * i], sh.positions[4 * i + 1], sh.positions[4 * i + 2]);
+        const double rel = glm::length(gpuPos - surface.position[i]) / glm::length(surface.position[i] - surface.eye);
+        maxRel = std::max(maxRel, rel);
+        sumRel += rel;
+        ++compared;
+      }
+      accuracy["world_pos_vs_surface"] = {{"compared", compared},
+                                          {"max_relative", maxRel},
+                                          {"mean_relative", compared ? sumRel / double(compared) : 0.0},
+                                          {"reference", "the eye ray's exact hit (double, watertight BVH)"}};
+    }
     if (params.normalCulling != NormalCulling::Off) {
       NormalAccuracy na = normalAccuracy(sh.normals, surface);
       accuracy["normals"] = toJson(na);

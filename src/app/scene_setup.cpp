@@ -63,10 +63,13 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.aabb = p.aabb;
   s.effects = effects;
   s.backend = toString(p.backend);
-  s.normals = p.normalCulling == NormalCulling::Off     ? gpu::kNormalsOff
-              : p.normalCulling == NormalCulling::Naive ? gpu::kNormalsNaive
-                                                        : gpu::kNormalsImproved;
-  s.worldPos = p.worldPos == WorldPosMethod::Alg41 ? gpu::kWorldPosAlg41 : gpu::kWorldPosMatrix;
+  s.normals = p.normalCulling == NormalCulling::Off        ? gpu::kNormalsOff
+              : p.normalCulling == NormalCulling::Naive    ? gpu::kNormalsNaive
+              : p.normalCulling == NormalCulling::Improved ? gpu::kNormalsImproved
+                                                           : gpu::kNormalsGeometric;
+  s.worldPos = p.worldPos == WorldPosMethod::Alg41    ? gpu::kWorldPosAlg41
+               : p.worldPos == WorldPosMethod::Matrix ? gpu::kWorldPosMatrix
+                                                      : gpu::kWorldPosHit;
   s.rangeTest = p.rangeTest;
   s.depthSlices = p.depthSlices;
   s.scaledTMin = p.tMin == ShadowTMin::Scaled;

@@ -46,10 +46,12 @@
 //   "tile_size": 8 | 16 | 32                         default 8
 //   "light_culling": bool                            default true
 //   "aabb": bool        (tile-AABB test; only acts with light culling on)   default true
-//   "normal_culling": "off" | "naive" | "improved"   default "improved"
+//   "normal_culling": "off" | "naive" | "improved" | "geometric"   default "improved"
+//                       (geometric: the visible triangle's own normal; primary 3dr/3dr-binned only)
 //   "backend": "auto" | "rayquery" | "pipeline"      default "auto"
 //   "resolution": [w, h], 1..16384 each              default [1920, 1080]
-//   "world_pos": "alg41" | "matrix"                  default "alg41" (thesis Alg. 4.1)
+//   "world_pos": "alg41" | "matrix" | "hit"          default "alg41" (thesis Alg. 4.1)
+//                       (hit: eye + t·d from 3D rasterization's hit; primary 3dr/3dr-binned only)
 //   "range_test": bool  (per-pixel range test before tracing; beyond the thesis)   default false
 //   "depth_slices": 0 | 2..32  (2.5D depth-sliced culling; 0 = off; beyond the thesis) default 0
 //   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
@@ -98,9 +100,9 @@
 
 namespace hb {
 
-enum class NormalCulling { Off, Naive, Improved };
+enum class NormalCulling { Off, Naive, Improved, Geometric };
 enum class RtBackend { Auto, RayQuery, Pipeline };
-enum class WorldPosMethod { Alg41, Matrix };
+enum class WorldPosMethod { Alg41, Matrix, Hit };
 enum class ShadowTMin { Constant, Scaled };
 enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned };
 

@@ -15,6 +15,7 @@ const char* toString(NormalCulling v) {
     case NormalCulling::Off: return "off";
     case NormalCulling::Naive: return "naive";
     case NormalCulling::Improved: return "improved";
+    case NormalCulling::Geometric: return "geometric";
   }
   return "?";
 }
@@ -32,6 +33,7 @@ const char* toString(WorldPosMethod v) {
   switch (v) {
     case WorldPosMethod::Alg41: return "alg41";
     case WorldPosMethod::Matrix: return "matrix";
+    case WorldPosMethod::Hit: return "hit";
   }
   return "?";
 }
@@ -71,7 +73,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
   } else if (key == "aabb") {
     p.aabb = readBool(v, where);
   } else if (key == "normal_culling") {
-    p.normalCulling = NormalCulling(readChoice(v, where, {"off", "naive", "improved"}));
+    p.normalCulling = NormalCulling(readChoice(v, where, {"off", "naive", "improved", "geometric"}));
   } else if (key == "backend") {
     p.backend = RtBackend(readChoice(v, where, {"auto", "rayquery", "pipeline"}));
   } else if (key == "resolution") {
@@ -79,7 +81,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.resolution = {uint32_t(readInt(v[0], where.index(0), 1, kMaxResolution)),
                     uint32_t(readInt(v[1], where.index(1), 1, kMaxResolution))};
   } else if (key == "world_pos") {
-    p.worldPos = WorldPosMethod(readChoice(v, where, {"alg41", "matrix"}));
+    p.worldPos = WorldPosMethod(readChoice(v, where, {"alg41", "matrix", "hit"}));
   } else if (key == "range_test") {
     p.rangeTest = readBool(v, where);
   } else if (key == "depth_slices") {

@@ -272,7 +272,7 @@ TEST(ConfigErrors, OutOfRangeValuesSayWhatIsAllowed) {
   EXPECT_EQ(errorOfText(R"({"name": "n", "resolution": [20000, 1080]})"),
             "x.json: resolution[0]: 20000 is out of range 1..16384");
   EXPECT_EQ(errorOfText(R"({"name": "n", "grid": {"normal_culling": ["naive", "best"]}})"),
-            R"(x.json: grid.normal_culling[1]: "best" is not one of "off", "naive", "improved")");
+            R"(x.json: grid.normal_culling[1]: "best" is not one of "off", "naive", "improved", "geometric")");
   EXPECT_EQ(errorOfText(R"({"name": "n", "defaults": {"max_lights_per_tile": 48}})"),
             "x.json: defaults.max_lights_per_tile: 48 is not a multiple of 32");
   EXPECT_EQ(errorOfText(R"({"name": "n", "defaults": {"depth_slices": 1}})"),

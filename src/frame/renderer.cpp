@@ -94,6 +94,11 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
     CullingOutputs co = culling_->outputs();
     shadowInputs_ = {&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
+    if (raster3d_) {
+      shadowInputs_.hitIds = &raster3d_->visibility();
+      shadowInputs_.hitRays = &raster3d_->constants();
+      shadowInputs_.hitTriangles = &raster3d_->triangles();
+    }
     shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, shadowInputs_);
   }
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};

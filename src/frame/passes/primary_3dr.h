@@ -43,6 +43,8 @@ class Raster3dPass {
   void record(VkCommandBuffer cmd, const Image& depth, bool analysis) const;
 
   const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
+  const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
+  const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
   uint32_t triangleCount() const { return triangleCount_; }
 
   // Readbacks (after an analysis frame).

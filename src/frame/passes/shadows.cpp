@@ -24,7 +24,10 @@ std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
           {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages}};
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
 }
 
 VkShaderStageFlags stagesFor(ShadowBackend b) {
@@ -81,6 +84,15 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
   sets_.writeAccelerationStructure(0, 5, in.tlas);
+  const bool needsHits = settings.worldPos == gpu::kWorldPosHit || settings.normals == gpu::kNormalsGeometric;
+  if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
+    throw InputError("world_pos=hit and normal_culling=geometric need the triangle ids of 3D rasterization: "
+                     "set primary=3dr or primary=3dr-binned");
+  // Without them bindings 11-13 are never read; any buffer of the right type will do.
+  sets_.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? in.hitIds : in.lights)->handle());
+  sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
+  sets_.writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.hitTriangles ? in.hitTriangles : in.lights)->handle());
   const Image* images[5] = {&visibility_, &accounting_, &normals_, &positions_, &traced_};
   for (uint32_t i = 0; i < 5; ++i)
     sets_.writeImage(0, 6 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);

@@ -18,8 +18,8 @@ const char* toString(ShadowBackend);
 struct ShadowSettings {
   ShadowBackend backend = ShadowBackend::RayQuery;
   uint32_t tileSize = 16;
-  uint32_t normals = 0;   // gpu::kNormalsOff / Naive / Improved
-  uint32_t worldPos = 0;  // gpu::kWorldPosAlg41 / Matrix
+  uint32_t normals = 0;   // gpu::kNormalsOff / Naive / Improved / Geometric (needs hit ids)
+  uint32_t worldPos = 0;  // gpu::kWorldPosAlg41 / Matrix / Hit (needs hit ids)
   bool rangeTest = false;
 };
 
@@ -32,6 +32,11 @@ struct ShadowInputs {
   const Image* depth;  // DEPTH_READ_ONLY_OPTIMAL
   VkSampler sampler;
   VkAccelerationStructureKHR tlas;
+  // 3D rasterization's visibility buffer, ray constants and world triangles (nullptr after the
+  // hardware prepass): what world_pos=hit and normal_culling=geometric read.
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
 };
 
 class ShadowPass {
