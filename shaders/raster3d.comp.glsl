@@ -30,6 +30,7 @@ layout(set = 0, binding = 2) buffer Visibility { uint64_t vis[]; };
 layout(set = 0, binding = 3) buffer Items { uint itemCount; uint itemPad[3]; uvec2 items[]; };  // (id, tx | ty << 16)
 layout(set = 0, binding = 4) buffer Counters { uint64_t counters[kR3dCounterCount]; };
 layout(set = 0, binding = 5) buffer Coverage { uint coverage[]; };
+layout(set = 0, binding = 6) buffer Tested { uint testedPerPixel[]; };  // ANALYSIS: pixel tests per pixel
 
 struct Tally {
   uint tested, fallbacks, covered, atomics;
@@ -37,9 +38,10 @@ struct Tally {
 
 void testPixel(uint id, R3dSetup s, uint x, uint y, inout Tally tally) {
   ++tally.tested;
+  const uint pixel = y * r3.width + x;
+  if (ANALYSIS == 1) atomicAdd(testedPerPixel[pixel], 1u);
   float t;
   if (!r3dCovers(s, float(x), float(y), r3, t, tally.fallbacks)) return;
-  const uint pixel = y * r3.width + x;
   if (ANALYSIS == 1) {
     atomicAdd(coverage[pixel], 1u);
     ++tally.covered;

@@ -381,6 +381,10 @@ TEST_F(Raster3dTest, AtriumIdsAndDepthsMatchADoublePrecisionRayCast) {
               c.depthRelP999, c.depthRelMax);
   EXPECT_GT(c.bothHit, 10000u);
   EXPECT_EQ(c.notTies, 0u);
+  // The per-pixel test counts (edge_evaluations.png) add up to the frame's counter.
+  uint64_t tests = 0;
+  for (uint32_t n : r.raster3d()->readPixelTests()) tests += n;
+  EXPECT_EQ(tests, r.raster3d()->readCounters().pixelsTested);
   EXPECT_GE(double(c.idsEqual), 0.999 * double(c.bothHit));
   EXPECT_LE(c.depthRelP999, 1e-6);
 }

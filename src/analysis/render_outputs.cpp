@@ -159,6 +159,20 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
   j["backend"] = renderer.backendUsed();
   j["primary"] = primaryJson(renderer, scene);
+  if (const Raster3dPass* r3 = renderer.raster3d()) {
+    // Edge evaluations per pixel (3 per triangle tested there), viridis from 0 to the 99th
+    // percentile (the scale is in the PNG's description and in render.json).
+    const std::vector<uint32_t> tests = r3->readPixelTests();
+    std::vector<float> evals(tests.size());
+    for (size_t i = 0; i < tests.size(); ++i) evals[i] = 3.0f * float(tests[i]);
+    std::vector<float> sorted = evals;
+    std::sort(sorted.begin(), sorted.end());
+    const float p99 = sorted.empty() ? 1.0f : std::max(1.0f, sorted[size_t(0.99 * double(sorted.size() - 1))]);
+    j["primary"]["edge_evaluations_heatmap_max"] = p99;
+    write("edge_evaluations.png", errorMapToImage(evals, w, h, p99),
+          {{"Description", "3D rasterization: edge evaluations per pixel, viridis 0.." + std::to_string(int(p99)) +
+                               " (the 99th percentile; above it yellow)"}});
+  }
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};

@@ -52,7 +52,8 @@ std::vector<Binding> rasterBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
   return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
 }
 std::vector<Binding> resolveBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -96,6 +97,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
   counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
+  tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
 
   rasterSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
@@ -104,6 +106,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   rasterSets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, big_.handle());
   rasterSets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   rasterSets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
+  rasterSets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tested_.handle());
   resolveSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
   resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
   resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
@@ -126,6 +129,7 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, tested_.handle(), 0, VK_WHOLE_SIZE, 0);
   }
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
@@ -179,6 +183,7 @@ static std::vector<T> readAs(const VulkanContext& ctx, const Buffer& b) {
 
 std::vector<uint64_t> Raster3dPass::readVisibility() const { return readAs<uint64_t>(ctx_, vis_); }
 std::vector<uint32_t> Raster3dPass::readCoverage() const { return readAs<uint32_t>(ctx_, coverage_); }
+std::vector<uint32_t> Raster3dPass::readPixelTests() const { return readAs<uint32_t>(ctx_, tested_); }
 
 Raster3dCounters Raster3dPass::readCounters() const {
   const std::vector<uint64_t> c = readAs<uint64_t>(ctx_, counters_);

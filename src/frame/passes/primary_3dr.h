@@ -50,12 +50,13 @@ class Raster3dPass {
   // Readbacks (after an analysis frame).
   std::vector<uint64_t> readVisibility() const;
   std::vector<uint32_t> readCoverage() const;  // (triangle, pixel) pairs covered, per pixel
+  std::vector<uint32_t> readPixelTests() const;  // triangles tested at each pixel (3 edge evaluations each)
   Raster3dCounters readCounters() const;
 
  private:
   const VulkanContext& ctx_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, depthStaging_;
+  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_;
   DescriptorSets rasterSets_, resolveSets_;
   Pipeline smallTimed_, smallAnalysis_, bigTimed_, bigAnalysis_, resolve_;
 };
