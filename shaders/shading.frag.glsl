@@ -29,24 +29,13 @@ layout(set = 0, binding = 9) uniform sampler2D textures[];  // bindless: the las
 layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
 layout(push_constant) uniform Push { DrawConstants draw; };
 
+#include "shading_brdf.glsl.inc"
+
 layout(location = 0) in vec3 inWorldPos;
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) in vec2 inUv;
 layout(location = 0) out vec4 outColor;
 layout(location = 1) out vec4 outRefNormal;
-
-const float kPi = 3.14159265358979;
-
-float distributionGgx(float nDotH, float roughness) {
-  float a = roughness * roughness, a2 = a * a;
-  float d = nDotH * nDotH * (a2 - 1.0) + 1.0;
-  return a2 / max(kPi * d * d, 1e-12);
-}
-float geometrySchlickGgx(float nDotX, float roughness) {
-  float r = roughness + 1.0, k = r * r / 8.0;  // direct lighting (Karis 2013)
-  return nDotX / (nDotX * (1.0 - k) + k);
-}
-vec3 fresnelSchlick(float cosTheta, vec3 f0) { return f0 + (1.0 - f0) * pow(clamp(1.0 - cosTheta, 0.0, 1.0), 5.0); }
 
 vec3 vertexPosition(uint index) {
   uint v = (draw.vertexOffset + index) * 8u;
@@ -81,53 +70,7 @@ void main() {
 
   vec3 n = normalize(inNormal);
   if (!gl_FrontFacing) n = -n;  // double-sided: shade the side we see
-  vec3 v = normalize(frame.cameraPos.xyz - inWorldPos);
-  float nDotV = max(dot(n, v), 1e-4);
-  vec3 f0 = mix(vec3(0.04), base.rgb, metallic);
-
-  ivec2 p = ivec2(gl_FragCoord.xy);
-  uint mask = SHADOWS == 1 ? texelFetch(visibilityTex, p, 0).r : 0xFFFFFFFFu;
-  uint first = 0u, count = frame.lightCount;
-  if (USE_GRID == 1) {
-    LightGridEntry cell = grid[uint(p.y) / TILE * frame.tileCountX + uint(p.x) / TILE];
-    first = cell.offset;
-    count = cell.count;
-  }
-  vec3 color = vec3(0.0);
-  for (uint i = 0u; i < count; ++i) {
-    if ((mask & (1u << min(i, 31u))) == 0u) continue;  // in shadow (bit i = light i of the tile)
-    GpuLight light = lights[USE_GRID == 1 ? lightIndices[first + i] : i];
-    vec3 l;
-    vec3 radiance = light.colorIntensity.rgb * light.colorIntensity.a;
-    if (light.type == kLightDirectional) {
-      l = -light.directionCosOuter.xyz;
-    } else {
-      vec3 toLight = light.positionRange.xyz - inWorldPos;
-      float d2 = dot(toLight, toLight);
-      if (!(d2 > 0.0)) continue;
-      float d = sqrt(d2);
-      l = toLight / d;
-      // glTF's recommended window: inverse square, smoothly to zero at the range.
-      float ratio = d / light.positionRange.w;
-      float window = clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
-      radiance *= window * window / d2;
-      if (light.type == kLightSpot) {
-        float cd = dot(light.directionCosOuter.xyz, -l);
-        float t = clamp((cd - light.directionCosOuter.w) / max(light.cosInner - light.directionCosOuter.w, 1e-4), 0.0, 1.0);
-        radiance *= t * t;
-      }
-    }
-    float nDotL = dot(n, l);
-    if (nDotL <= 0.0) continue;
-    vec3 h = normalize(v + l);
-    float nDotH = max(dot(n, h), 0.0);
-    vec3 f = fresnelSchlick(max(dot(h, v), 0.0), f0);
-    float dTerm = distributionGgx(nDotH, roughness);
-    float g = geometrySchlickGgx(nDotV, roughness) * geometrySchlickGgx(nDotL, roughness);
-    vec3 specular = dTerm * g * f / (4.0 * nDotV * nDotL + 1e-7);
-    vec3 kd = (vec3(1.0) - f) * (1.0 - metallic);
-    color += (kd * base.rgb / kPi + specular) * radiance * nDotL;
-  }
+  vec3 color = shadeDirect(ivec2(gl_FragCoord.xy), inWorldPos, n, base.rgb, metallic, roughness);
   outColor = vec4(color, 1.0);
 
   if (ANALYSIS == 1) {
