@@ -124,6 +124,17 @@ struct DrawConstants {
   uint triangleBase;  // global id of the draw's first triangle (3D rasterization's triangle ids)
 };
 
+// One draw item for the visibility-buffer shading pass (shading_visbuffer.comp.glsl): what the
+// raster passes push per draw, as a buffer indexed by the draw a triangle belongs to.
+struct GpuDraw {
+  mat4 model;
+  mat4 normalMatrix;  // transpose(inverse(mat3(model))) as the forward vertex shader computes it
+  uint material;
+  uint firstIndex;
+  uint vertexOffset;
+  uint triangleBase;
+};
+
 // 3D rasterization (Davidovic et al. 2012; frame/passes/primary_3dr.h). Rays from the eye through
 // pixel centres: d(x, y) = rayD0 + x·rayDx + y·rayDy for pixel indices x, y, with d's component
 // along the camera's forward axis 1, so a hit's ray parameter t is its view depth.
@@ -162,6 +173,7 @@ HB_CONST uint kR3dCounterCount = 8u;
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32, "Raster3dConstants layout");
+static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");

@@ -88,6 +88,9 @@ VariantParams referenceParams(const VariantParams& params) {
   // constant-t_min variant's acne then counts as wrongly dark. Within 41.9 m of the eye both are
   // the thesis's 0.001 m, so on such scenes (the atrium) the reference is the same either way.
   r.tMin = ShadowTMin::Scaled;
+  // The thesis's forward pass is the reference shading: a visibility-buffer variant's FLIP then
+  // measures what shading in compute changes, too.
+  r.shading = ShadingMethod::Forward;
   return r;
 }
 

@@ -75,6 +75,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.scaledTMin = p.tMin == ShadowTMin::Scaled;
   s.primary = toString(p.primary);
   s.r3dThreadBox = p.r3dThreadBox;
+  s.visbufferShading = p.shading == ShadingMethod::Visbuffer;
   return s;
 }
 

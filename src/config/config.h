@@ -61,6 +61,9 @@
 //                                    prepass, or 3D rasterization in compute, Davidovic et al.
 //                                    2012: brute force over screen boxes, or binned into 8x8 tiles)
 //                                                    default "hardware"
+//   "shading": "forward" | "visbuffer"  (the thesis's forward pass, or shading in compute from 3D
+//                                        rasterization's visibility buffer; primary 3dr/3dr-binned
+//                                        only)                 default "forward"
 //   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
 //                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
 //                                a pixel per thread)            default 64
@@ -105,12 +108,14 @@ enum class RtBackend { Auto, RayQuery, Pipeline };
 enum class WorldPosMethod { Alg41, Matrix, Hit };
 enum class ShadowTMin { Constant, Scaled };
 enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned };
+enum class ShadingMethod { Forward, Visbuffer };
 
 const char* toString(NormalCulling);
 const char* toString(RtBackend);
 const char* toString(WorldPosMethod);
 const char* toString(ShadowTMin);
 const char* toString(PrimaryMethod);
+const char* toString(ShadingMethod);
 
 struct VariantParams {
   uint32_t tileSize = 8;
@@ -124,7 +129,8 @@ struct VariantParams {
   uint32_t depthSlices = 0;
   ShadowTMin tMin = ShadowTMin::Constant;
   PrimaryMethod primary = PrimaryMethod::Hardware;
-  uint32_t r3dThreadBox = 64;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
+  uint32_t r3dThreadBox = 64;
+  ShadingMethod shading = ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.

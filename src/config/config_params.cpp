@@ -38,6 +38,8 @@ const char* toString(WorldPosMethod v) {
   return "?";
 }
 
+const char* toString(ShadingMethod v) { return v == ShadingMethod::Forward ? "forward" : "visbuffer"; }
+
 const char* toString(PrimaryMethod v) {
   switch (v) {
     case PrimaryMethod::Hardware: return "hardware";
@@ -60,7 +62,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "r3d_thread_box", "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale"};
   return keys;
 }
 
@@ -92,6 +94,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "primary") {
     p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned"}));
+  } else if (key == "shading") {
+    p.shading = ShadingMethod(readChoice(v, where, {"forward", "visbuffer"}));
   } else if (key == "r3d_thread_box") {
     p.r3dThreadBox = uint32_t(readInt(v, where, 1, 65536));
   } else if (key == "max_lights_per_tile") {
@@ -137,6 +141,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["t_min"] = toString(p.tMin);
   j["primary"] = toString(p.primary);
   j["r3d_thread_box"] = p.r3dThreadBox;
+  j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;

@@ -105,7 +105,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
                    shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
                           pointSampler_, raster3d_ ? &raster3d_->visibility() : nullptr,
-                          settings.r3dShadingDepthTest};
+                          settings.r3dShadingDepthTest, settings.visbufferShading,
+                          raster3d_ ? &raster3d_->constants() : nullptr};
   shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
 }
 

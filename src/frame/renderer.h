@@ -40,6 +40,7 @@ struct RenderSettings {
   std::string primary = "hardware";    // hardware (depth prepass) | 3dr | 3dr-binned (3D rasterization in compute)
   bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents
   uint32_t r3dThreadBox = Raster3dPass::kDefaultSmallArea;  // 3dr: largest box one thread rasterizes
+  bool visbufferShading = false;       // shading=visbuffer: in compute from the 3DR visibility buffer
   bool r3dShadingDepthTest = true;     // 3dr: early depth test before the id test (false: check only)
 };
 

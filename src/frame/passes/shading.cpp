@@ -1,5 +1,10 @@
 #include "frame/passes/shading.h"
 
+#include <algorithm>
+#include <utility>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
 #include "base/errors.h"
 #include "frame/passes/depth_prepass.h"
 #include "gpu/raster_pipeline.h"
@@ -31,10 +36,14 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
       width_(width),
       height_(height),
       textures_(ctx, scene.scene()),
-      color_(ctx, width, height, kHdrFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+      color_(ctx, width, height, kHdrFormat,
+             VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                 (in.visbuffer ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
              VK_IMAGE_ASPECT_COLOR_BIT),
       refNormals_(ctx, width, height, kRefNormalFormat,
-                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                      (in.visbuffer ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
+                  VK_IMAGE_ASPECT_COLOR_BIT),
       dummyVisibility_(ctx, 1, 1, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
                        VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
@@ -57,8 +66,14 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
     sets_.writeImage(0, 9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
-  timed_ = createPipeline(false);
-  analysis_ = createPipeline(true);
+  if (in.visbuffer) {
+    if (!in.visibilityIds || !in.rays)
+      throw InputError("shading=visbuffer needs 3D rasterization's visibility buffer: set primary=3dr or primary=3dr-binned");
+    createVisbuffer(ctx, scene);
+  } else {
+    timed_ = createPipeline(false);
+    analysis_ = createPipeline(true);
+  }
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     for (const Image* img : {&color_, &refNormals_})
       imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
@@ -107,7 +122,92 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   return createRasterPipeline(ctx_, desc);
 }
 
+namespace {
+std::vector<Binding> visbufferBindings() {
+  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+  std::vector<Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+                            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+                            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+                            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+                            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs}};
+  for (uint32_t i = 5; i <= 8; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
+  b.push_back({9, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs});
+  b.push_back({10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
+  b.push_back({11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
+  b.push_back({12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
+  b.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
+  b.push_back({14, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
+  return b;
+}
+}  // namespace
+
+void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scene) {
+  // The draw table in GpuScene's draw order and each triangle's draw (Scene::worldTriangles order).
+  std::vector<gpu::GpuDraw> draws;
+  std::vector<uint32_t> triangleDraw;
+  uint32_t base = 0;
+  for (const DrawItem& d : scene.draws()) {
+    const glm::mat4 normal = glm::mat4(glm::transpose(glm::inverse(glm::mat3(d.model))));
+    draws.push_back({d.model, normal, d.material, d.firstIndex, d.vertexOffset, base});
+    triangleDraw.insert(triangleDraw.end(), d.indexCount / 3, uint32_t(draws.size() - 1));
+    base += d.indexCount / 3;
+  }
+  draws_ = uploadBuffer(ctx, draws.data(), draws.size() * sizeof(gpu::GpuDraw), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        MemClass::Geometry);
+  triangleDraw_ = uploadBuffer(ctx, triangleDraw.data(), std::max<size_t>(1, triangleDraw.size()) * sizeof(uint32_t),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  vbSets_ = std::make_unique<DescriptorSets>(ctx, visbufferBindings(), 1, uint32_t(textures_.images().size()));
+  DescriptorSets& v = *vbSets_;
+  v.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  v.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
+  v.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
+  v.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.indices ? in_.indices : in_.lights)->handle());
+  v.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+               (in_.visibility ? in_.visibility : &dummyVisibility_)->view(), VK_IMAGE_LAYOUT_GENERAL, in_.pointSampler);
+  v.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  v.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  v.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  v.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
+  v.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
+  v.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
+  v.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
+  v.writeImage(0, 12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  v.writeImage(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  for (uint32_t i = 0; i < textures_.images().size(); ++i)
+    v.writeImage(0, 14, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
+  vbTimed_ = std::make_unique<Pipeline>(ctx);
+  vbAnalysis_ = std::make_unique<Pipeline>(ctx);
+  for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
+    p->createLayout({v.layout()}, 0);
+    p->createCompute("shading_visbuffer.comp",
+                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis}});
+  }
+}
+
+void ShadingPass::recordVisbuffer(VkCommandBuffer cmd, bool analysis) const {
+  // The targets are colour attachments between frames (readbacks expect that layout).
+  for (const Image* img : {&color_, &refNormals_})
+    imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
+  const Pipeline& p = analysis ? *vbAnalysis_ : *vbTimed_;
+  VkDescriptorSet set = vbSets_->set();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+  vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  for (const Image* img : {&color_, &refNormals_})
+    imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
 void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const {
+  if (vbSets_) {
+    recordVisbuffer(cmd, analysis);
+    return;
+  }
   VkRenderingAttachmentInfo ca[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                      {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
   const Image* targets[2] = {&color_, &refNormals_};

@@ -28,6 +28,10 @@ struct ShadingInputs {
   // With visibilityIds: an early depth test (biased towards the eye) before the id test; false
   // shades every fragment up to the id test (only to check that the two agree).
   bool idMatchDepthTest = true;
+  // With visibilityIds: shade in compute from the visibility buffer (no second rasterization);
+  // needs the 3DR ray constants.
+  bool visbuffer = false;
+  const Buffer* rays = nullptr;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -39,11 +43,14 @@ class ShadingPass {
               const ShadingInputs& inputs);
   ~ShadingPass();
   void record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const;
+  bool visbuffer() const { return bool(vbSets_); }
   const Image& color() const { return color_; }          // COLOR_ATTACHMENT_OPTIMAL after record
   const Image& refNormals() const { return refNormals_; }
 
  private:
   VkPipeline createPipeline(bool analysis);
+  void createVisbuffer(const VulkanContext& ctx, const GpuScene& scene);
+  void recordVisbuffer(VkCommandBuffer cmd, bool analysis) const;
   const VulkanContext& ctx_;
   const GpuScene& scene_;
   ShadingInputs in_;
@@ -53,6 +60,10 @@ class ShadingPass {
   DescriptorSets sets_;
   Pipeline layout_;
   VkPipeline timed_ = VK_NULL_HANDLE, analysis_ = VK_NULL_HANDLE;
+  // Visibility-buffer shading (in_.visbuffer): its draws, triangle-to-draw table and pipelines.
+  Buffer draws_, triangleDraw_;
+  std::unique_ptr<DescriptorSets> vbSets_;
+  std::unique_ptr<Pipeline> vbTimed_, vbAnalysis_;
 };
 
 }  // namespace hb
