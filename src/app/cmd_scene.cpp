@@ -11,13 +11,13 @@
 namespace hb {
 
 Scene loadSceneArg(const std::string& nameOrPath) {
-  for (const std::string& n : builtinSceneNames())
+  for (const std::string& n : allSceneNames())
     if (n == nameOrPath) return makeBuiltinScene(n);
   std::filesystem::path p(nameOrPath);
   std::string ext = p.extension().string();
   if (ext == ".gltf" || ext == ".glb" || std::filesystem::exists(p)) return loadGltf(nameOrPath);
   std::string names;
-  for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+  for (const std::string& n : allSceneNames()) names += (names.empty() ? "" : ", ") + n;
   throw InputError("scene \"" + nameOrPath + "\": not a built-in scene (" + names + ") nor a .gltf/.glb file");
 }
 

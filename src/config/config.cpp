@@ -62,7 +62,7 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
   if (doc.contains("scene")) {
     Where w = top.key("scene");
     std::string s = readString(doc["scene"], w);
-    const std::vector<std::string> builtins = builtinSceneNames();
+    const std::vector<std::string> builtins = allSceneNames();
     if (std::find(builtins.begin(), builtins.end(), s) != builtins.end()) {
       c.scene = s;  // the atrium or a hard case (hard_cases.h)
     } else if (isGltfPath(s)) {
@@ -388,7 +388,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
 }  // namespace
 
 bool Config::sceneIsHardCase() const {
-  const std::vector<std::string> builtins = builtinSceneNames();
+  const std::vector<std::string> builtins = allSceneNames();
   return !sceneIsBuiltin() && std::find(builtins.begin(), builtins.end(), scene) != builtins.end();
 }
 

@@ -1,5 +1,7 @@
 #include "scene/hard_cases.h"
 
+#include <random>
+
 #include <algorithm>
 #include <cmath>
 
@@ -228,9 +230,44 @@ Scene makeFarPlanes() {
   return s;
 }
 
+Scene makeMicrobench(uint32_t triangles) {
+  Scene s = baseScene(triangles == 262144 ? "microbench-262144" : "microbench-144");
+  MeshBuilder mb(s.name);
+  // Sized so that the triangles cover the 1920x1080 screen about 4 times over: a triangle's
+  // projected area is ~4·W·H/N pixels, i.e. legs of sqrt(8·W·H/N) pixels; a pixel at depth z is
+  // 2·z·tan(30°)/1080 m.
+  const double legPixels = std::sqrt(8.0 * 1920.0 * 1080.0 / double(triangles));
+  std::mt19937 rng(2012);  // the paper's year: any fixed seed
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(4.0, 12.0);
+  const double tanHalf = std::tan(kPi / 6), aspect = 1920.0 / 1080.0;
+  for (uint32_t t = 0; t < triangles; ++t) {
+    const double z = depth(rng);
+    const glm::dvec3 centre(unit(rng) * z * tanHalf * aspect, unit(rng) * z * tanHalf, -z);
+    const double leg = legPixels * 2.0 * z * tanHalf / 1080.0;
+    uint32_t v[3];
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec3 p = centre + leg * glm::dvec3(unit(rng), unit(rng), 0.3 * unit(rng));
+      v[k] = mb.vertex(kGrey, Vertex{glm::vec3(p), glm::vec3(0, 0, 1), {0, 0}});
+    }
+    mb.triangle(kGrey, v[0], v[1], v[2]);
+  }
+  mb.appendTo(s);
+  addLight(s, {0, 3, -2}, 200, 30);
+  addCamera(s, {0, 0, 0}, {0, 0, -1});
+  return s;
+}
+
 std::vector<std::string> builtinSceneNames() {
   return {"atrium",   "plane",    "depth-step", "cube",          "tiny-triangles", "grazing",
           "grazing-far", "thin-gap", "degenerate", "open-occluder", "far-origin",     "far-planes"};
+}
+
+std::vector<std::string> benchmarkSceneNames() { return {"microbench-262144", "microbench-144"}; }
+
+std::vector<std::string> allSceneNames() {
+  std::vector<std::string> names = builtinSceneNames();
+  for (const std::string& n : benchmarkSceneNames()) names.push_back(n);
+  return names;
 }
 
 Scene makeBuiltinScene(const std::string& name) {
@@ -246,8 +283,10 @@ Scene makeBuiltinScene(const std::string& name) {
   if (name == "open-occluder") return makeOpenOccluder();
   if (name == "far-origin") return makeFarOrigin();
   if (name == "far-planes") return makeFarPlanes();
+  if (name == "microbench-262144") return makeMicrobench(262144);
+  if (name == "microbench-144") return makeMicrobench(144);
   std::string valid;
-  for (const std::string& n : builtinSceneNames()) valid += (valid.empty() ? "" : ", ") + n;
+  for (const std::string& n : allSceneNames()) valid += (valid.empty() ? "" : ", ") + n;
   throw InputError("unknown built-in scene '" + name + "'; valid names: " + valid +
                    " (or give a path to a .gltf/.glb file)");
 }

@@ -80,7 +80,19 @@ inline constexpr double kFarPlaneDepths[3] = {0.1, 100.0, 900.0};
 Scene makeFarPlanes();
 
 // Names of the built-in scenes: "atrium" and the hard cases above, in that order.
+// "microbench-262144", "microbench-144": the 3D rasterization paper's microbenchmark (Davidovic et
+// al. 2012, Sect. 5: 262,144 and 144 triangles): random triangles of random orientation at depths
+// 4..12 m in front of a camera at the origin looking down -z, sized to cover a 1920x1080 screen
+// about 4 times over (fixed seed); one light at (0, 3, -2).
+Scene makeMicrobench(uint32_t triangles);
+
 std::vector<std::string> builtinSceneNames();
+// Built-in scenes for benchmarks only (the microbenchmarks): loadable by name like the others, but
+// not in builtinSceneNames(), which the numerical tests iterate (262,144 random, intersecting
+// triangles take minutes per CPU shadow reference on lavapipe).
+std::vector<std::string> benchmarkSceneNames();
+// builtinSceneNames() then benchmarkSceneNames(): every name makeBuiltinScene accepts.
+std::vector<std::string> allSceneNames();
 
 // Builds a built-in scene by name ("atrium" uses the default AtriumParams). Throws InputError
 // naming the valid names when `name` is not one of them.
