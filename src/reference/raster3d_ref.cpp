@@ -9,7 +9,7 @@
 // The float arithmetic below is the shader's, rounded after every operation: products are never
 // fused into sums (GLSL `precise`, SPIR-V NoContraction; Vulkan rounds fp32 add, sub and mul
 // correctly, so a conformant GPU gives these bits). GCC contracts a*b + c into an fma only where
-// the target has one; then contraction is switched off here. raster3d_ref_test.cpp checks it.
+// the target has one; then contraction is switched off here. raster3d_ref_accuracy_test.cpp checks it.
 #if defined(__clang__)
 #pragma STDC FP_CONTRACT OFF
 #elif defined(__GNUC__) && defined(__FP_FAST_FMAF)
@@ -196,12 +196,13 @@ bool setupTriangle3d(const Raster3dView& view, glm::vec3 w0, glm::vec3 w1, glm::
   // Orientation from the volume det[p0, p1, p2] = N·p0 (N from the edges: its terms are
   // |p1 − p0|·|p2 − p0|, not |p|², so det, and t below, keep their digits for small triangles).
   // Error: e1, e2 one rounding each, N_l a γ_4 of its terms, the dot a γ_3: |det − det*| <=
-  // γ_7·Σ_l GN_l·|p0_l|, with GN_l the terms' magnitudes; 16u covers it as in 4 above.
+  // γ_7·Σ_l GN_l·|p0_l|, with GN_l the terms' magnitudes; 16u covers it as in 4 above. Underflow
+  // as in 5, but the products' absolute errors (2^-150) are multiplied by |p0_l| < 2^40: 2^-100.
   const glm::vec3 e1 = tri.p[1] - tri.p[0], e2 = tri.p[2] - tri.p[0];
   const glm::vec3 s1(e1.y * e2.z, e1.z * e2.x, e1.x * e2.y), s2(e1.z * e2.y, e1.x * e2.z, e1.y * e2.x);
   tri.planeNormal = s1 - s2;
   tri.volume = dotF(tri.planeNormal, tri.p[0]);
-  const float volumeBound = kEdgeBoundFactor * dotF(glm::abs(s1) + glm::abs(s2), glm::abs(tri.p[0])) + kEdgeBoundFloor;
+  const float volumeBound = kEdgeBoundFactor * dotF(glm::abs(s1) + glm::abs(s2), glm::abs(tri.p[0])) + 0x1p-100f;
   int det = signOf(tri.volume);
   if (!(std::fabs(tri.volume) > volumeBound)) {
     ++counters.orientationFallbacks;

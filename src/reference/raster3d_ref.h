@@ -18,10 +18,9 @@
 #pragma once
 #include <bit>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <span>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "scene/scene.h"
 
@@ -32,8 +31,8 @@ namespace hb {
 struct Raster3dView {
   glm::vec3 eye{0.0f};  // world; vertices are made eye-relative in float (raster3d_ref.cpp says why)
   glm::vec3 d0{0.0f, 0.0f, -1.0f}, dx{0.0f}, dy{0.0f};  // d(x, y) = d0 + x·dx + y·dy, see above
-  uint32_t width = 0, height = 0;  // <= 2^16 each
-  float znear = 0.1f, zfar = 1000.0f;  // a hit is written only for znear <= t <= zfar
+  uint32_t width = 0, height = 0;                       // <= 2^16 each
+  float znear = 0.1f, zfar = 1000.0f;                   // a hit is written only for znear <= t <= zfar
 };
 
 // The view of `camera` at width × height pixels, computed in double and rounded once (the same
@@ -57,27 +56,27 @@ inline uint32_t visibilityId(uint64_t packed) { return uint32_t(packed & 0xFFFFF
 // vertex i, from a = p[i+1] to b = p[i+2]; its row is (A_i, B_i, C_i) = orientation·(n_i·d0,
 // n_i·dx, n_i·dy) with n_i = ((a + b)/2) × (a − b) (= b × a exactly), so the inside is V_i > 0.
 struct Raster3dTriangle {
-  glm::vec3 p[3];                 // eye-relative vertices, float
-  glm::vec3 rowA, rowB, rowC;     // V_i(x, y) = (A_i + x·B_i) + y·C_i, evaluated without fma
-  glm::vec3 errA, errB, errC;     // |V_i − exact| <= kEdgeBoundFactor·((errA_i + x·errB_i) + y·errC_i) + kEdgeBoundFloor
-  glm::ivec3 tieSign;             // exact sign of V_i at (x + ε, y + ε²): sign(B_i), or sign(C_i) if B_i = 0
-  glm::ivec3 floatTieSign;        // the same from the float B_i, C_i (only without the fallback)
-  glm::vec3 planeNormal;          // N = (p1 − p0) × (p2 − p0)
-  float volume;                   // N·p0 (= det[p0, p1, p2]); t = volume / (N·d)
-  int orientation;                // +1: wound counter-clockwise seen from the eye (N faces it), −1: clockwise
+  glm::vec3 p[3];              // eye-relative vertices, float
+  glm::vec3 rowA, rowB, rowC;  // V_i(x, y) = (A_i + x·B_i) + y·C_i, evaluated without fma
+  glm::vec3 errA, errB, errC;  // |V_i − exact| <= kEdgeBoundFactor·((errA_i + x·errB_i) + y·errC_i) + kEdgeBoundFloor
+  glm::ivec3 tieSign;          // exact sign of V_i at (x + ε, y + ε²): sign(B_i), or sign(C_i) if B_i = 0
+  glm::ivec3 floatTieSign;     // the same from the float B_i, C_i (only without the fallback)
+  glm::vec3 planeNormal;       // N = (p1 − p0) × (p2 − p0)
+  float volume;                // N·p0 (= det[p0, p1, p2]); t = volume / (N·d)
+  int orientation;             // +1: wound counter-clockwise seen from the eye (N faces it), −1: clockwise
 };
 
 struct Raster3dCounters {
-  uint64_t triangles = 0;          // triangles given
-  uint64_t degenerate = 0;         // of those, volume exactly 0 (zero area or the eye in their plane), or non-finite
-  uint64_t setups = 0;             // set up with a non-empty screen box
-  uint64_t orientationFallbacks = 0;  // setups whose volume sign needed the exact evaluation
-  uint64_t pixelsTested = 0;       // (triangle, pixel) pairs tested
-  uint64_t edgeEvaluations = 0;    // 3 per pixel tested
-  uint64_t fallbacks = 0;          // of those, re-evaluated in double (|V_float| <= its bound)
-  uint64_t exactEvaluations = 0;   // of those, evaluated exactly (|V_double| <= its bound)
-  uint64_t covered = 0;            // (triangle, pixel) pairs covered, whatever their depth
-  uint64_t depthWrites = 0;        // covered pairs with znear <= t <= zfar (atomicMin calls)
+  uint64_t triangles = 0;             // triangles given
+  uint64_t degenerate = 0;            // of those, volume exactly 0 (zero area or the eye in their plane), or non-finite
+  uint64_t setups = 0;                // set up with a non-empty screen box
+  uint64_t orientationFallbacks = 0;  // triangles whose volume sign needed the exact evaluation
+  uint64_t pixelsTested = 0;          // (triangle, pixel) pairs tested
+  uint64_t edgeEvaluations = 0;       // 3 per pixel tested
+  uint64_t fallbacks = 0;             // of those, re-evaluated in double (|V_float| <= its bound)
+  uint64_t exactEvaluations = 0;      // of those, evaluated exactly (|V_double| <= its bound)
+  uint64_t covered = 0;               // (triangle, pixel) pairs covered, whatever their depth
+  uint64_t depthWrites = 0;           // covered pairs with znear <= t <= zfar (atomicMin calls)
 };
 
 struct Raster3dSettings {
@@ -141,8 +140,8 @@ double edgeFunctionDouble(const Raster3dView& view, glm::vec3 a, glm::vec3 b, ui
 
 // The float evaluation's error bound (raster3d_ref.cpp derives it): 16 u with u = 2^-24, and a
 // floor for products that underflow.
-constexpr float kEdgeBoundFactor = 16.0f * 5.9604644775390625e-8f;  // 16 · 2^-24
-constexpr float kEdgeBoundFloor = 7.52316384526264e-37f;            // 2^-120
+constexpr float kEdgeBoundFactor = 16.0f * 5.9604644775390625e-8f;   // 16 · 2^-24
+constexpr float kEdgeBoundFloor = 7.52316384526264e-37f;             // 2^-120
 constexpr double kEdgeBoundFactorD = 16.0 * 1.1102230246251565e-16;  // 16 · 2^-53
 
 inline uint64_t packVisibility(float t, uint32_t id) { return (uint64_t(std::bit_cast<uint32_t>(t)) << 32) | id; }

@@ -3,21 +3,19 @@
 // functions, and agreement with the double-precision ray cast. Fixed seeds throughout.
 #include "reference/raster3d_ref.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <map>
 #include <random>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
-
 namespace hb {
 namespace {
-
-constexpr double kU = 5.9604644775390625e-8;  // 2^-24
 
 struct Mesh {
   std::vector<glm::vec3> positions;
@@ -71,8 +69,7 @@ Mesh liftOntoPlane(const Raster3dView& v, const PixelMesh& pm, double depth, dou
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (;;) {
     const glm::dvec3 axis = glm::normalize(glm::cross(c, glm::dvec3(u(rng), u(rng), u(rng))));
-    const glm::dvec3 n =
-        glm::dvec3(glm::rotate(glm::dmat4(1.0), tilt, axis) * glm::dvec4(glm::normalize(c), 0.0));
+    const glm::dvec3 n = glm::dvec3(glm::rotate(glm::dmat4(1.0), tilt, axis) * glm::dvec4(glm::normalize(c), 0.0));
     Mesh m;
     bool ok = true;
     for (const glm::dvec2& p : pm.px) {
@@ -144,9 +141,11 @@ FillStats checkFill(const PixelMesh& pm, const std::vector<uint32_t>& coverage, 
   std::vector<std::vector<double>> crossings(h);
   for (size_t k = 0; k < pm.outline.size(); ++k) {
     const glm::dvec2 a = pm.px[pm.outline[k]], b = pm.px[pm.outline[(k + 1) % pm.outline.size()]];
-    for (int y = std::max(0, int(std::floor(std::min(a.y, b.y))) - 1); y <= std::min(int(h) - 1, int(std::ceil(std::max(a.y, b.y))) + 1); ++y) {
+    for (int y = std::max(0, int(std::floor(std::min(a.y, b.y))) - 1);
+         y <= std::min(int(h) - 1, int(std::ceil(std::max(a.y, b.y))) + 1); ++y) {
       if ((a.y <= y) != (b.y <= y)) crossings[y].push_back(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
-      for (int x = std::max(0, int(std::floor(std::min(a.x, b.x))) - 1); x <= std::min(int(w) - 1, int(std::ceil(std::max(a.x, b.x))) + 1); ++x) {
+      for (int x = std::max(0, int(std::floor(std::min(a.x, b.x))) - 1);
+           x <= std::min(int(w) - 1, int(std::ceil(std::max(a.x, b.x))) + 1); ++x) {
         const glm::dvec2 p(x, y), ab = b - a;
         const double s = std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0);
         if (glm::length(p - (a + s * ab)) < kMargin) nearOutline[size_t(y) * w + x] = 1;
@@ -160,7 +159,8 @@ FillStats checkFill(const PixelMesh& pm, const std::vector<uint32_t>& coverage, 
       const uint32_t c = coverage[i];
       r.doubleCovers += c >= 2;
       if (nearOutline[i]) continue;
-      const bool inside = std::count_if(crossings[y].begin(), crossings[y].end(), [&](double cx) { return cx < x; }) % 2 == 1;
+      const bool inside =
+          std::count_if(crossings[y].begin(), crossings[y].end(), [&](double cx) { return cx < x; }) % 2 == 1;
       r.inside += inside;
       r.holes += inside && c == 0;
       r.spill += !inside && c != 0;
@@ -177,11 +177,12 @@ struct Totals {
     counters.exactEvaluations += c.exactEvaluations;
   }
   void print(const char* what) const {
-    std::printf("%s: %zu inside, %zu holes, %zu double covers, %zu spill; fallback %llu of %llu edge evaluations "
-                "(%.3f %%), exact %llu\n",
-                what, fill.inside, fill.holes, fill.doubleCovers, fill.spill, (unsigned long long)counters.fallbacks,
-                (unsigned long long)counters.edgeEvaluations, 100.0 * counters.fallbacks / counters.edgeEvaluations,
-                (unsigned long long)counters.exactEvaluations);
+    std::printf(
+        "%s: %zu inside, %zu holes, %zu double covers, %zu spill; fallback %llu of %llu edge evaluations "
+        "(%.3f %%), exact %llu\n",
+        what, fill.inside, fill.holes, fill.doubleCovers, fill.spill, (unsigned long long)counters.fallbacks,
+        (unsigned long long)counters.edgeEvaluations, 100.0 * counters.fallbacks / counters.edgeEvaluations,
+        (unsigned long long)counters.exactEvaluations);
   }
 };
 
@@ -307,10 +308,11 @@ TEST(Raster3dTieRule, CentresOnSharedEdgesAndVerticesGoToTheTriangleRightOrBelow
 // A closed mesh: an icosphere (consistently wound, every edge shared by two triangles).
 Mesh icosphere(int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<glm::dvec3> p = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<uint32_t> idx = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6, 7, 1, 8,
-                               3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  std::vector<glm::dvec3> p = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<uint32_t> idx = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+                               4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+                               6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
     auto midpoint = [&](uint32_t a, uint32_t b) {
@@ -355,8 +357,8 @@ std::vector<uint32_t> coverageOfFaces(const Raster3dView& v, const Mesh& m, int 
   for (size_t k = 0; k < m.indices.size(); k += 3) {
     Raster3dTriangle tri;
     Raster3dCounters unused;
-    if (setupTriangle3d(v, m.positions[m.indices[k]], m.positions[m.indices[k + 1]], m.positions[m.indices[k + 2]],
-                        tri, unused) &&
+    if (setupTriangle3d(v, m.positions[m.indices[k]], m.positions[m.indices[k + 1]], m.positions[m.indices[k + 2]], tri,
+                        unused) &&
         tri.orientation == orientation)
       part.indices.insert(part.indices.end(), m.indices.begin() + k, m.indices.begin() + k + 3);
   }
