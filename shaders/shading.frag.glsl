@@ -17,14 +17,7 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 // is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
 layout(constant_id = 4) const uint ID_MATCH = 0;
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = 2) readonly buffer Grid { LightGridEntry grid[]; };
-layout(set = 0, binding = 3) readonly buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = 4) uniform usampler2D visibilityTex;
-layout(set = 0, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
-layout(set = 0, binding = 6) readonly buffer Positions { float vertexData[]; };  // Vertex: 8 floats
-layout(set = 0, binding = 7) readonly buffer SceneIndices { uint sceneIndices[]; };
+#include "shading_bindings.glsl.inc"
 layout(set = 0, binding = 9) uniform sampler2D textures[];  // bindless: the last binding
 layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
 layout(push_constant) uniform Push { DrawConstants draw; };

@@ -16,14 +16,7 @@ layout(constant_id = 2) const uint SHADOWS = 1;
 layout(constant_id = 3) const uint ANALYSIS = 0;
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = 2) readonly buffer Grid { LightGridEntry grid[]; };
-layout(set = 0, binding = 3) readonly buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = 4) uniform usampler2D visibilityTex;
-layout(set = 0, binding = 5) readonly buffer Materials { GpuMaterial materials[]; };
-layout(set = 0, binding = 6) readonly buffer Positions { float vertexData[]; };  // Vertex: 8 floats
-layout(set = 0, binding = 7) readonly buffer SceneIndices { uint sceneIndices[]; };
+#include "shading_bindings.glsl.inc"
 layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
 layout(set = 0, binding = 9) uniform Rays { Raster3dConstants rays; };
 layout(set = 0, binding = 10) readonly buffer Draws { GpuDraw draws[]; };

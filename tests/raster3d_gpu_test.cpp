@@ -164,6 +164,15 @@ void expectExactlyOnce(const FillResult& r, size_t minInside) {
   EXPECT_EQ(r.spill, 0u);
 }
 
+// The atrium tests' frame: 160x90 on top of 3dr.
+RenderSettings atrium3drSettings() {
+  RenderSettings rs;
+  rs.width = 160;
+  rs.height = 90;
+  rs.primary = "3dr";
+  return rs;
+}
+
 class Raster3dTest : public testing::GpuTest {};
 
 TEST_F(Raster3dTest, QuadGridWithVerticesOnPixelCentresIsCoveredExactlyOnceAt16Angles) {
@@ -366,12 +375,8 @@ TEST_F(Raster3dTest, AtriumIdsAndDepthsMatchADoublePrecisionRayCast) {
   // ids equal wherever both hit, except at ties (a ray within kTieMargin of an edge, or touching
   // surfaces); holes and spurious hits likewise only at ties; depth within 1e-6 at p99.9 (t comes
   // from two float dot products: a few u unless the ray grazes the plane).
-  AtriumParams ap;
-  const Scene scene = makeAtrium(ap);
-  RenderSettings rs;
-  rs.width = 160;
-  rs.height = 90;
-  rs.primary = "3dr";
+  const Scene scene = makeAtrium(AtriumParams{});
+  RenderSettings rs = atrium3drSettings();
   Renderer r(*ctx, scene, rs);
   r.renderFrame(true);
   const PrimaryComparison c =
@@ -396,12 +401,8 @@ TEST_F(Raster3dTest, GeometricNormalsAreTheVisibleTrianglesOwnAndHitPositionsNee
   // shading pass's reference normal of that pixel (the same triangle's face normal, computed there
   // from the drawn vertices: both are float cross products, so within a few u; 1e-4 rad allows
   // triangles 100x longer than wide).
-  AtriumParams ap;
-  const Scene scene = makeAtrium(ap);
-  RenderSettings rs;
-  rs.width = 160;
-  rs.height = 90;
-  rs.primary = "3dr";
+  const Scene scene = makeAtrium(AtriumParams{});
+  RenderSettings rs = atrium3drSettings();
   rs.normals = gpu::kNormalsGeometric;
   rs.worldPos = gpu::kWorldPosHit;
   Renderer r(*ctx, scene, rs);

@@ -12,28 +12,18 @@
 #include <vector>
 
 #include "reference/raster3d_ref.h"
+#include "reference/raster3d_ref_test_util.h"
 
 namespace hb {
 namespace {
 
+using raster3d_test::randomView;
+using raster3d_test::rayAt;
+
 constexpr double kU = 5.9604644775390625e-8;  // 2^-24
 double gamma(int k) { return k * kU / (1.0 - k * kU); }
 
-glm::dvec3 rayAt(const Raster3dView& v, double x, double y) {
-  return glm::dvec3(v.d0) + x * glm::dvec3(v.dx) + y * glm::dvec3(v.dy);
-}
 
-Raster3dView randomView(std::mt19937& rng, uint32_t w, uint32_t h) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const glm::dvec3 eye(3 * u(rng), 3 * u(rng), 3 * u(rng));
-  const glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + glm::dvec3(0.0, 0.0, -1.5));
-  Camera cam;
-  cam.view = glm::mat4(glm::lookAtRH(eye, eye + dir, glm::dvec3(0.3 * u(rng), 1.0, 0.3 * u(rng))));
-  cam.yfov = float(0.7 + 0.4 * (u(rng) + 1.0));
-  cam.znear = 0.05f;
-  cam.zfar = 200.0f;
-  return pinholeView(cam, w, h);
-}
 
 // Rounded after every operation, whatever the compiler's contraction setting.
 float mulR(float a, float b) {

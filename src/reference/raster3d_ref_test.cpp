@@ -2,6 +2,7 @@
 // counted additively over all triangles, whatever their depth), the numerics of the edge
 // functions, and agreement with the double-precision ray cast. Fixed seeds throughout.
 #include "reference/raster3d_ref.h"
+#include "reference/raster3d_ref_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -17,28 +18,15 @@
 namespace hb {
 namespace {
 
+using raster3d_test::randomView;
+using raster3d_test::rayAt;
+
 struct Mesh {
   std::vector<glm::vec3> positions;
   std::vector<uint32_t> indices;
 };
 
-glm::dvec3 rayAt(const Raster3dView& v, double x, double y) {
-  return glm::dvec3(v.d0) + x * glm::dvec3(v.dx) + y * glm::dvec3(v.dy);
-}
 
-// A camera at a random place, off every axis, so that no product in the edge functions is exact
-// by accident (an axis-aligned camera at the origin makes most of them exact).
-Raster3dView randomView(std::mt19937& rng, uint32_t w, uint32_t h) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const glm::dvec3 eye(3 * u(rng), 3 * u(rng), 3 * u(rng));
-  const glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)) + glm::dvec3(0.0, 0.0, -1.5));
-  Camera cam;
-  cam.view = glm::mat4(glm::lookAtRH(eye, eye + dir, glm::dvec3(0.3 * u(rng), 1.0, 0.3 * u(rng))));
-  cam.yfov = float(0.7 + 0.4 * (u(rng) + 1.0));
-  cam.znear = 0.05f;
-  cam.zfar = 200.0f;
-  return pinholeView(cam, w, h);
-}
 
 // A planar mesh given in pixel coordinates (px, one per vertex), with its outline (a closed loop of
 // vertex indices); lifted onto a plane so that every vertex lies on the ray through its pixel
