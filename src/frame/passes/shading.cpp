@@ -108,7 +108,8 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   // the primitive's largest depth exponent (2^(e-23) for D32F) plus its depth slope, far more
   // than the two rasterizers' rounding difference of a few u, so the visible triangle always
   // passes. Raster3dTest.On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades checks it
-  // (without the bias 5,235 of 14,400 atrium pixels at 160x90 lose their fragment on lavapipe).
+  // (with the bias set to 0 in a local build, 5,235 of 14,400 atrium pixels at 160x90 lost their
+  // fragment on lavapipe).
   constexpr float kIdMatchDepthBias = 64.0f;
   desc.depthCompare = VK_COMPARE_OP_EQUAL;
   if (in_.visibilityIds) {
