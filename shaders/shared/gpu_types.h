@@ -152,11 +152,14 @@ struct Raster3dConstants {
   uint height;
   uint triangleCount;
   uint smallArea;  // screen boxes of at most this many pixels are rasterized by their own thread
-  uint itemCapacity;    // (triangle, 8x8 tile of its box) work items the big-box list holds
+  uint itemCapacity;    // brute force: (triangle, 8x8 tile of its box) work items the list holds;
+                        // binned: (triangle, screen tile) entries
   uint tileWorkgroups;  // workgroups of the tile dispatch (each strides over the items)
-  uint pad0;
+  uint projection;  // kProjection*: the camera's projection (camera_ray.glsl.inc)
   uint pad1;
 };
+
+HB_CONST uint kProjectionPerspective = 0u;
 
 // Counters of an analysis frame of the 3DR pass (never written in timed frames).
 HB_CONST uint kR3dCounterSetups = 0u;        // triangles set up (not culled before setup)
@@ -167,7 +170,8 @@ HB_CONST uint kR3dCounterCovered = 4u;       // (triangle, pixel) pairs covered,
 HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs within [znear, zfar])
 HB_CONST uint kR3dCounterBig = 6u;           // triangles whose box went to the tile pass
 HB_CONST uint kR3dCounterOverflow = 7u;      // of those, rasterized by their own thread (list full)
-HB_CONST uint kR3dCounterCount = 8u;
+HB_CONST uint kR3dCounterListEntries = 8u;  // binned: (triangle, screen tile) entries the frame needs
+HB_CONST uint kR3dCounterCount = 9u;
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");

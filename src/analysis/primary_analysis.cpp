@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 
+#include "reference/raster3d_ref.h"
+
 namespace hb {
 
 namespace {
@@ -63,6 +65,40 @@ PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vi
     r.depthRelMax = rel.back();
   }
   return r;
+}
+
+CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConstants& c,
+                                   const std::vector<uint32_t>& method) {
+  Raster3dView view;
+  view.eye = glm::vec3(c.eye);
+  view.d0 = glm::vec3(c.rayD0);
+  view.dx = glm::vec3(c.rayDx);
+  view.dy = glm::vec3(c.rayDy);
+  view.width = c.width;
+  view.height = c.height;
+  view.znear = c.depth.x;
+  view.zfar = c.depth.y;
+  const std::vector<glm::vec3> positions = scene.worldTriangles();
+  std::vector<uint32_t> indices(positions.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  const Raster3dResult exact = rasterize3d(view, positions, indices);
+  CoverageComparison r;
+  for (size_t i = 0; i < exact.coverage.size() && i < method.size(); ++i) {
+    ++r.pixels;
+    r.coveredPixels += exact.coverage[i] > 0;
+    r.doubleCovers += method[i] > exact.coverage[i];
+    r.holes += method[i] < exact.coverage[i];
+  }
+  return r;
+}
+
+nlohmann::json toJson(const CoverageComparison& c) {
+  return {{"reference", "exact 3D rasterization on the CPU (reference/raster3d_ref: same float rays and vertices, "
+                        "exact signs, same tie rule), coverage counted additively per pixel at every depth"},
+          {"pixels", c.pixels},
+          {"covered_pixels", c.coveredPixels},
+          {"double_covers", c.doubleCovers},
+          {"holes", c.holes}};
 }
 
 nlohmann::json toJson(const PrimaryComparison& c) {

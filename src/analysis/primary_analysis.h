@@ -39,4 +39,19 @@ PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vi
 
 nlohmann::json toJson(const PrimaryComparison& c);
 
+// Coverage counted additively against the exact 3D rasterization (reference/raster3d_ref: the same
+// float rays and vertices, every edge function's sign decided exactly, the same tie rule), per
+// pixel: how many triangles the method gives the pixel's centre to, against how many it belongs
+// to. More: a double cover (an edge or vertex claimed by two triangles that share it, or a rounding
+// error that lets a triangle spill); fewer: a hole. Both counts include every depth (a hidden double
+// cover is still one); pixels are counted once however many triangles differ.
+struct CoverageComparison {
+  uint64_t pixels = 0, coveredPixels = 0;  // covered: the exact count is > 0
+  uint64_t doubleCovers = 0, holes = 0;
+};
+// method: per pixel, (triangle, pixel) pairs covered (Raster3dPass::readCoverage).
+CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConstants& rays,
+                                   const std::vector<uint32_t>& method);
+nlohmann::json toJson(const CoverageComparison& c);
+
 }  // namespace hb

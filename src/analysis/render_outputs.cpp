@@ -116,12 +116,18 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
   const Raster3dPass* r3 = renderer.raster3d();
   if (!r3) return {{"method", "hardware"}};
   const RenderSettings& rs = renderer.settings();
-  const PrimaryComparison exact =
-      comparePrimary(buildBvh(scene), r3->readVisibility(), raster3dConstants(renderer.camera(), rs.width, rs.height, 0, 0));
+  const gpu::Raster3dConstants rays = raster3dConstants(renderer.camera(), rs.width, rs.height, 0, 0);
+  const PrimaryComparison exact = comparePrimary(buildBvh(scene), r3->readVisibility(), rays);
   const Raster3dCounters c = r3->readCounters();
   const double pixels = double(renderer.settings().width) * renderer.settings().height;
   auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+  // Coverage counted additively needs the method's own per-pixel counts: a ray cast has one hit.
+  nlohmann::json coverage = "not counted: a ray cast reports one hit per pixel";
+  if (r3->mode() != PrimaryMode::RayCast) coverage = toJson(compareCoverage(scene, rays, r3->readCoverage()));
   return {{"method", renderer.settings().primary},
+          {"coverage_check", coverage},
+          {"double_covers", coverage.is_object() ? coverage["double_covers"] : nlohmann::json()},
+          {"list_entries", c.listEntries},
           {"triangles", r3->triangleCount()},
           {"triangle_setups", c.setups},
           {"big_triangles", c.bigTriangles},

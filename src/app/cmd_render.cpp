@@ -84,7 +84,7 @@ int cmdRender(const RenderOptions& options) {
   }
   std::filesystem::rename(jsonPath.string() + ".tmp", jsonPath);
 
-  for (const auto& [pass, ms] : timing.passMs) std::printf("%-16s %9.3f ms\n", pass.c_str(), ms);
+  for (const auto& [pass, ms] : timing.passMs) std::printf("%-20s %9.3f ms\n", pass.c_str(), ms);
   std::printf("%-16s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
   for (const EffectState& e : renderer.plan().effects)
     std::printf("effect %s: %s (%s%s%s)\n", e.name.c_str(), e.runs ? "runs" : e.calledFor ? "called for, skipped" : "off",

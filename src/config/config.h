@@ -47,23 +47,25 @@
 //   "light_culling": bool                            default true
 //   "aabb": bool        (tile-AABB test; only acts with light culling on)   default true
 //   "normal_culling": "off" | "naive" | "improved" | "geometric"   default "improved"
-//                       (geometric: the visible triangle's own normal; primary 3dr/3dr-binned only)
+//                       (geometric: the visible triangle's own normal; any primary but hardware)
 //   "backend": "auto" | "rayquery" | "pipeline"      default "auto"
 //   "resolution": [w, h], 1..16384 each              default [1920, 1080]
 //   "world_pos": "alg41" | "matrix" | "hit"          default "alg41" (thesis Alg. 4.1)
-//                       (hit: eye + t·d from 3D rasterization's hit; primary 3dr/3dr-binned only)
+//                       (hit: eye + t·d from the primary method's hit; any primary but hardware)
 //   "range_test": bool  (per-pixel range test before tracing; beyond the thesis)   default false
 //   "depth_slices": 0 | 2..32  (2.5D depth-sliced culling; 0 = off; beyond the thesis) default 0
 //   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
 //                                    max(0.001 m, 400u · distance to the eye); beyond the thesis)
 //                                                    default "constant"
-//   "primary": "hardware" | "3dr" | "3dr-binned"  (primary visibility: the hardware depth
-//                                    prepass, or 3D rasterization in compute, Davidovic et al.
-//                                    2012: brute force over screen boxes, or binned into 8x8 tiles)
+//   "primary": "hardware" | "3dr" | "3dr-binned" | "2dr" | "raycast"  (primary visibility: the
+//                                    hardware depth prepass, or in compute (Davidovic et al. 2012)
+//                                    3D rasterization brute force over screen boxes or binned into
+//                                    8x8 screen tiles, the 2D homogeneous baseline, or a ray per
+//                                    pixel on the TLAS)
 //                                                    default "hardware"
-//   "shading": "forward" | "visbuffer"  (the thesis's forward pass, or shading in compute from 3D
-//                                        rasterization's visibility buffer; primary 3dr/3dr-binned
-//                                        only)                 default "forward"
+//   "shading": "forward" | "visbuffer"  (the thesis's forward pass, or shading in compute from
+//                                        the visibility buffer; any primary but hardware)
+//                                                              default "forward"
 //   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
 //                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
 //                                a pixel per thread)            default 64
@@ -107,7 +109,7 @@ enum class NormalCulling { Off, Naive, Improved, Geometric };
 enum class RtBackend { Auto, RayQuery, Pipeline };
 enum class WorldPosMethod { Alg41, Matrix, Hit };
 enum class ShadowTMin { Constant, Scaled };
-enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned };
+enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned, Raster2d, RayCast };
 enum class ShadingMethod { Forward, Visbuffer };
 
 const char* toString(NormalCulling);

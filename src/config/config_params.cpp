@@ -45,6 +45,8 @@ const char* toString(PrimaryMethod v) {
     case PrimaryMethod::Hardware: return "hardware";
     case PrimaryMethod::Raster3d: return "3dr";
     case PrimaryMethod::Raster3dBinned: return "3dr-binned";
+    case PrimaryMethod::Raster2d: return "2dr";
+    case PrimaryMethod::RayCast: return "raycast";
   }
   return "?";
 }
@@ -93,7 +95,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
   } else if (key == "t_min") {
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "primary") {
-    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned"}));
+    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned", "2dr", "raycast"}));
   } else if (key == "shading") {
     p.shading = ShadingMethod(readChoice(v, where, {"forward", "visbuffer"}));
   } else if (key == "r3d_thread_box") {

@@ -21,7 +21,8 @@ const EffectDef* findEffect(std::string_view name) {
 }
 
 const std::vector<const char*>& framePassOrder() {
-  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "light_culling", "shadows", "shading"};
+  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "raycast", "light_culling", "shadows",
+                                                     "shading"};
   return order;
 }
 
@@ -157,6 +158,7 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
   // The base frame: primary visibility and shading always; tile light lists for direct light
   // when some light can be culled into tiles (a directional light reaches every pixel).
   addResource(FrameResource::Depth);
+  if (primaryPass == "raycast") addResource(FrameResource::AccelerationStructures);
   const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
                                          [](const Light& l) { return l.type != LightType::Directional; });
   if (anyLocalLight) addResource(FrameResource::LightLists);
@@ -164,7 +166,7 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
   for (const char* pass : framePassOrder()) {
     const std::string p = pass;
     const bool byEffect = std::find(effectPasses.begin(), effectPasses.end(), p) != effectPasses.end();
-    if (p == "depth_prepass" || p == "raster3d") {
+    if (p == "depth_prepass" || p == "raster3d" || p == "raycast") {
       if (p == primaryPass) plan.passes.push_back(p);  // the other methods are not "skipped": not asked for
     } else if (p == "shading" || byEffect) {
       plan.passes.push_back(p);

@@ -83,7 +83,8 @@ struct FramePlan {
 
 // The effects of a scene under a request, and the frame they make. scene.effects (the glTF's
 // extras.effects, validated by the loader) is the Scene layer.
-// primaryPass: the pass that computes primary visibility ("depth_prepass" or "raster3d").
+// primaryPass: the pass that computes primary visibility ("depth_prepass", "raster3d" or "raycast";
+// ray casting needs the acceleration structures).
 FramePlan planFrame(const Scene& scene, const EffectsRequest& request,
                     const std::string& primaryPass = "depth_prepass");
 

@@ -12,8 +12,7 @@ namespace hb {
 
 static std::string primaryPassName(const std::string& primary) {
   if (primary == "hardware") return "depth_prepass";
-  if (primary == "3dr" || primary == "3dr-binned") return "raster3d";
-  throw InputError("primary \"" + primary + "\" is not one of hardware, 3dr, 3dr-binned");
+  return primaryModeFrom(primary) == PrimaryMode::RayCast ? "raycast" : "raster3d";
 }
 
 static Camera pickCamera(const Scene& scene, uint32_t index) {
@@ -59,10 +58,19 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
   // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
   passesSkipped_ = plan_.skipped;
-  if (plan_.hasPass("raster3d"))
+  if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
+    throw InputError("device \"" + ctx.info().name +
+                     "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
+                     (plan_.hasPass("shadows") ? "set effects.shadows=false (--set shadows=false)"
+                                               : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
+  if (plan_.needs(FrameResource::AccelerationStructures)) accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
+  if (plan_.hasPass("raster3d") || plan_.hasPass("raycast")) {
+    RayCastInputs cast;
+    if (accel_) cast = {accel_->tlas(), ctx.info().rayQuery};
     raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height,
-                                               settings.r3dThreadBox, settings.fp64Fallback,
-                                               settings.primary == "3dr-binned");
+                                               primaryModeFrom(settings.primary), settings.r3dThreadBox,
+                                               settings.fp64Fallback, cast);
+  }
   if (plan_.needs(FrameResource::LightLists)) {
     CullingSettings cs;
     cs.tileSize = settings.tileSize;
@@ -73,11 +81,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
                                               depth_, pointSampler_);
   }
   if (plan_.hasPass("shadows")) {
-    HB_ASSERT(culling_ && plan_.needs(FrameResource::AccelerationStructures));
-    if (!ctx.canTrace())
-      throw InputError("device \"" + ctx.info().name +
-                       "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: "
-                       "set effects.shadows=false (--set shadows=false)");
+    HB_ASSERT(culling_ && accel_);
     ShadowSettings ss;
     if (settings.backend == "auto")
       ss.backend = ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
@@ -91,7 +95,6 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     ss.normals = settings.normals;
     ss.worldPos = settings.worldPos;
     ss.rangeTest = settings.rangeTest;
-    accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
     CullingOutputs co = culling_->outputs();
     shadowInputs_ = {&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
     if (raster3d_) {
@@ -125,10 +128,11 @@ FrameTiming Renderer::renderFrame(bool analysis) {
     timer_.frameBegin(cmd);
 
     if (raster3d_) {
-      timer_.begin(cmd, "raster3d");
-      raster3d_->record(cmd, depth_, analysis);  // leaves depth_ in DEPTH_READ_ONLY_OPTIMAL
+      const char* pass = raster3d_->mode() == PrimaryMode::RayCast ? "raycast" : "raster3d";
+      timer_.begin(cmd, pass);
+      raster3d_->record(cmd, depth_, analysis, &timer_);  // leaves depth_ in DEPTH_READ_ONLY_OPTIMAL
       timer_.end(cmd);
-      passesRun_.push_back("raster3d");
+      passesRun_.push_back(pass);
     } else {
       imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
                    VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,

@@ -37,7 +37,7 @@ struct RenderSettings {
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
   bool scaledTMin = false;            // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
-  std::string primary = "hardware";    // hardware (depth prepass) | 3dr | 3dr-binned (3D rasterization in compute)
+  std::string primary = "hardware";    // hardware (depth prepass) | 3dr | 3dr-binned | 2dr | raycast
   bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents
   uint32_t r3dThreadBox = Raster3dPass::kDefaultSmallArea;  // 3dr: largest box one thread rasterizes
   bool visbufferShading = false;       // shading=visbuffer: in compute from the 3DR visibility buffer

@@ -24,6 +24,7 @@ GpuTimer::~GpuTimer() {
 void GpuTimer::reset(VkCommandBuffer cmd) {
   next_ = 2;  // 0/1 are the frame pair
   names_.clear();
+  open_.clear();
   if (available_) vkCmdResetQueryPool(cmd, pool_, 0, capacity_);
 }
 
@@ -38,15 +39,18 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
   if (!available_) return;
   HB_ASSERT(next_ + 2 <= capacity_);
   names_.push_back(pass);
+  open_.push_back(next_);
+  next_ += 2;
   // The begin stamp waits for everything before it (ALL_COMMANDS), so a pass's interval starts
   // when its predecessors are done; the end stamp at ALL_COMMANDS waits for this pass's work.
-  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, next_);
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, open_.back());
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
   if (!available_) return;
-  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, next_ + 1);
-  next_ += 2;
+  HB_ASSERT(!open_.empty());
+  vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, pool_, open_.back() + 1);
+  open_.pop_back();
 }
 
 std::vector<std::pair<std::string, double>> GpuTimer::read(double* frameMs) const {

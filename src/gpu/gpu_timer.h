@@ -22,6 +22,8 @@ class GpuTimer {
   void reset(VkCommandBuffer cmd);           // before the frame's first pass
   void frameBegin(VkCommandBuffer cmd);      // top of the frame
   void frameEnd(VkCommandBuffer cmd);        // bottom of the frame
+  // Intervals nest: end() closes the latest open begin(), so a pass can time its dispatches as
+  // sub-passes inside its own interval ("raster3d" contains "raster3d.tiles").
   void begin(VkCommandBuffer cmd, const std::string& pass);
   void end(VkCommandBuffer cmd);
   // Milliseconds per pass in the order recorded, and the frame's total (first begin → last end).
@@ -33,6 +35,7 @@ class GpuTimer {
   uint32_t capacity_ = 0;
   uint32_t next_ = 0;
   std::vector<std::string> names_;
+  std::vector<uint32_t> open_;  // query index of each open interval's begin
   bool available_ = false;
   uint64_t mask_ = ~0ull;
   double periodNs_ = 1.0;

@@ -1,6 +1,7 @@
 #include "gpu/rt_pipeline.h"
 
 #include <cstring>
+#include <memory>
 
 #include "base/errors.h"
 
@@ -9,16 +10,21 @@ namespace hb {
 static VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
 
 RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLayout layout, const std::string& raygen,
-                                       const std::string& miss, const SpecConstants& spec)
+                                       const std::string& miss, const SpecConstants& spec,
+                                       const std::string& closestHit)
     : ctx_(c), pipeline_(c) {
   HB_ASSERT(c.info().rayTracingPipeline);
   pipeline_.createLayout({layout}, 0);
-  // Ray-tracing pipeline: group 0 = ray generation, group 1 = miss; no hit groups (the rays skip
-  // closest-hit shaders and all geometry is opaque).
+  // Groups: 0 = ray generation, 1 = miss, 2 = the triangle hit group (closest hit), if any.
+  const bool hasHit = !closestHit.empty();
+  const uint32_t groupCount = hasHit ? 3 : 2;
   ShaderModule rgen(c, raygen), rmiss(c, miss);
+  std::unique_ptr<ShaderModule> rchit;
+  if (hasHit) rchit = std::make_unique<ShaderModule>(c, closestHit);
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+  VkPipelineShaderStageCreateInfo stages[3] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
   stages[0].stage = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
   stages[0].module = rgen.handle();
@@ -27,19 +33,27 @@ RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLa
   stages[1].stage = VK_SHADER_STAGE_MISS_BIT_KHR;
   stages[1].module = rmiss.handle();
   stages[1].pName = "main";
-  VkRayTracingShaderGroupCreateInfoKHR groups[2] = {{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
+  if (hasHit) {
+    stages[2].stage = VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR;
+    stages[2].module = rchit->handle();
+    stages[2].pName = "main";
+    stages[2].pSpecializationInfo = &si;
+  }
+  VkRayTracingShaderGroupCreateInfoKHR groups[3] = {{VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
+                                                    {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
                                                     {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR}};
-  for (uint32_t g = 0; g < 2; ++g) {
-    groups[g].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
-    groups[g].generalShader = g;
-    groups[g].closestHitShader = VK_SHADER_UNUSED_KHR;
+  for (uint32_t g = 0; g < groupCount; ++g) {
+    groups[g].type = g < 2 ? VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR
+                           : VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
+    groups[g].generalShader = g < 2 ? g : VK_SHADER_UNUSED_KHR;
+    groups[g].closestHitShader = g < 2 ? VK_SHADER_UNUSED_KHR : g;
     groups[g].anyHitShader = VK_SHADER_UNUSED_KHR;
     groups[g].intersectionShader = VK_SHADER_UNUSED_KHR;
   }
   VkRayTracingPipelineCreateInfoKHR ci{VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR};
-  ci.stageCount = 2;
+  ci.stageCount = groupCount;
   ci.pStages = stages;
-  ci.groupCount = 2;
+  ci.groupCount = groupCount;
   ci.pGroups = groups;
   ci.maxPipelineRayRecursionDepth = 1;
   ci.layout = pipeline_.layout();
@@ -52,18 +66,20 @@ RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLa
   const uint32_t handleSize = props.shaderGroupHandleSize;
   const VkDeviceSize stride = alignUp(handleSize, props.shaderGroupHandleAlignment);
   const VkDeviceSize base = props.shaderGroupBaseAlignment;
-  std::vector<uint8_t> handles(2 * handleSize);
-  VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline_.handle(), 0, 2, handles.size(), handles.data()));
-  const VkDeviceSize missOffset = alignUp(stride, base);
-  sbt_ = Buffer(c, missOffset + alignUp(stride, base) + base,
+  std::vector<uint8_t> handles(size_t(groupCount) * handleSize);
+  VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline_.handle(), 0, groupCount, handles.size(),
+                                        handles.data()));
+  const VkDeviceSize region = alignUp(stride, base);
+  sbt_ = Buffer(c, region * groupCount + base,
                VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
                MemClass::Other);
   const VkDeviceAddress start = alignUp(sbt_.address(), base);
   uint8_t* mapped = static_cast<uint8_t*>(sbt_.mapped()) + (start - sbt_.address());
-  std::memcpy(mapped, handles.data(), handleSize);
-  std::memcpy(mapped + missOffset, handles.data() + handleSize, handleSize);
+  for (uint32_t g = 0; g < groupCount; ++g)
+    std::memcpy(mapped + g * region, handles.data() + size_t(g) * handleSize, handleSize);
   raygen_ = {start, stride, stride};  // the raygen region's size must equal its stride
-  miss_ = {start + missOffset, stride, stride};
+  miss_ = {start + region, stride, stride};
+  if (hasHit) hit_ = {start + 2 * region, stride, stride};
 }
 
 void RaygenMissPipeline::traceRays(VkCommandBuffer cmd, uint32_t width, uint32_t height) const {

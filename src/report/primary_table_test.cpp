@@ -30,6 +30,22 @@ TEST(PrimaryTable, SpeedUpIsThePrepassTimeOverThePassTimeAndOpsFollowFig10) {
   EXPECT_NE(md.find("| hardware | hardware | 0.900 | 1.00x |"), std::string::npos) << md;
 }
 
+TEST(PrimaryTable, RayCastingIsTimedByItsOwnPassAndCoverageIsShownWhereCounted) {
+  const json results = {
+      {"schema_version", 1},
+      {"runs",
+       {run("hardware", "depth_prepass", 0.9, {{"method", "hardware"}}),
+        run("raycast", "raycast", 0.3, {{"method", "raycast"}, {"coverage_check", "not counted"}}),
+        run("2dr", "raster3d", 0.6,
+            {{"method", "2dr"},
+             {"coverage_check", {{"double_covers", 14}, {"holes", 12}}},
+             {"against_ray_cast", {{"not_ties", 472}}}})}}};
+  const std::string md = primaryTableMarkdown(results);
+  EXPECT_NE(md.find("| raycast | raycast | 0.300 | 3.00x |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| — | — |\n"), std::string::npos) << md;  // raycast: no coverage count, no comparison
+  EXPECT_NE(md.find("| 14 / 12 | 472 |\n"), std::string::npos) << md;
+}
+
 TEST(PrimaryTable, ResultsWithoutPrimaryBlocksGiveNoTable) {
   const json results = {{"schema_version", 1}, {"runs", {{{"name", "a"}, {"status", "ok"}}}}};
   EXPECT_EQ(primaryTableMarkdown(results), "");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <tuple>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -47,105 +48,202 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   return c;
 }
 
-namespace {
-std::vector<Binding> rasterBindings() {
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+PrimaryMode primaryModeFrom(const std::string& name) {
+  if (name == "3dr") return PrimaryMode::Raster3d;
+  if (name == "3dr-binned") return PrimaryMode::Raster3dBinned;
+  if (name == "2dr") return PrimaryMode::Raster2d;
+  if (name == "raycast") return PrimaryMode::RayCast;
+  throw InputError("primary \"" + name + "\" is not one of hardware, 3dr, 3dr-binned, 2dr, raycast");
 }
-std::vector<Binding> resolveBindings() {
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+
+namespace {
+std::vector<Binding> storageBindings(uint32_t count, VkShaderStageFlags stages) {
+  std::vector<Binding> b{{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  for (uint32_t i = 1; i < count; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  return b;
+}
+std::vector<Binding> castBindings(VkShaderStageFlags stages) {
+  std::vector<Binding> b = storageBindings(6, stages);
+  b[3] = {3, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  return b;
 }
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
   std::vector<glm::vec4> out;
   for (const glm::vec3& v : scene.worldTriangles()) out.emplace_back(v, 1.0f);
   return out;
 }
+// The draw-order triangle id of a ray hit (primary_raycast.glsl.inc): entry i < instances is the
+// start of instance i's geometries; then per geometry (a primitive with a BLAS geometry, as
+// accel.cpp builds them) the id of its first triangle, in Scene::worldTriangles() order.
+std::vector<uint32_t> triangleIdBase(const Scene& scene) {
+  std::vector<uint32_t> out(scene.instances.size());
+  uint32_t id = 0;
+  for (size_t i = 0; i < scene.instances.size(); ++i) {
+    out[i] = uint32_t(out.size());
+    for (const Primitive& p : scene.meshes[scene.instances[i].mesh].primitives) {
+      if (p.indexCount >= 3) out.push_back(id);
+      id += p.indexCount / 3;
+    }
+  }
+  out.push_back(0);  // never empty
+  return out;
+}
+const char* subPassName(PrimaryMode mode) { return mode == PrimaryMode::RayCast ? "raycast" : "raster3d"; }
 }  // namespace
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
-                           uint32_t height, uint32_t smallArea, bool fp64Fallback, bool binned)
+                           uint32_t height, PrimaryMode mode, uint32_t smallArea, bool fp64Fallback,
+                           const RayCastInputs& rayCast)
     : ctx_(ctx),
+      mode_(mode),
       width_(width),
       height_(height),
       triangleCount_(uint32_t(scene.triangleCount())),
-      rasterSets_(ctx, rasterBindings()),
-      resolveSets_(ctx, resolveBindings()),
-      smallTimed_(ctx),
-      smallAnalysis_(ctx),
-      bigTimed_(ctx),
-      bigAnalysis_(ctx),
+      rasterSets_(ctx, storageBindings(9, VK_SHADER_STAGE_COMPUTE_BIT)),
+      resolveSets_(ctx, storageBindings(3, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
   if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
     throw DeviceError("device \"" + ctx.info().name +
-                      "\" lacks 64-bit buffer atomics or shaderFloat64, which primary=3dr needs; use primary=hardware");
+                      "\" lacks 64-bit buffer atomics or shaderFloat64, which primary=" +
+                      std::string(mode == PrimaryMode::RayCast ? "raycast" : "3dr") + " needs; use primary=hardware");
   const size_t pixels = size_t(width) * height;
   const gpu::Raster3dConstants c = raster3dConstants(camera, width, height, triangleCount_, smallArea);
   constants_ = Buffer(ctx, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
   std::memcpy(constants_.mapped(), &c, sizeof c);
   const std::vector<glm::vec4> tris = packTriangles(scene);
-  triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                            MemClass::Geometry);
+  triangles_ = uploadBuffer(ctx, tris.data(), std::max<size_t>(1, tris.size()) * sizeof(glm::vec4),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   const VkBufferUsageFlags rw =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   vis_ = Buffer(ctx, pixels * sizeof(uint64_t), rw, false, MemClass::Images);
-  tileWorkgroups_ = c.tileWorkgroups;
-  big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
   counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
-
-  rasterSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-  rasterSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
-  rasterSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-  rasterSets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, big_.handle());
-  rasterSets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-  rasterSets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
-  rasterSets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, tested_.handle());
   resolveSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
   resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
   resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
-  // Specialization constants (raster3d.comp.glsl): 0 pass (0 per triangle, 1 tiles), 1 analysis,
-  // 2 fp64 fallback, 3 binned.
-  for (auto [p, pass, analysis] : {std::tuple{&smallTimed_, 0u, 0u}, std::tuple{&smallAnalysis_, 0u, 1u},
-                                   std::tuple{&bigTimed_, 1u, 0u}, std::tuple{&bigAnalysis_, 1u, 1u}}) {
-    p->createLayout({rasterSets_.layout()}, 0);
-    p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u}});
-  }
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");
+
+  if (mode == PrimaryMode::RayCast) {
+    HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE);
+    const std::vector<uint32_t> idBase = triangleIdBase(scene);
+    idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                           MemClass::Other);
+    const VkShaderStageFlags stages = rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                                                       : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
+                                                                            VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
+    castSets_->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+    castSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+    castSets_->writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
+    castSets_->writeAccelerationStructure(0, 3, rayCast.tlas);
+    castSets_->writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+    castSets_->writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
+    if (rayCast.rayQuery) {
+      castTimed_ = std::make_unique<Pipeline>(ctx);
+      castAnalysis_ = std::make_unique<Pipeline>(ctx);
+      for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
+        p->createLayout({castSets_->layout()}, 0);
+        p->createCompute("primary_raycast.comp", {{analysis}});
+      }
+    } else {
+      castRtTimed_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                                          "primary_raycast.rmiss", SpecConstants{{0u}},
+                                                          "primary_raycast.rchit");
+      castRtAnalysis_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                                             "primary_raycast.rmiss", SpecConstants{{1u}},
+                                                             "primary_raycast.rchit");
+    }
+    return;
+  }
+
+  tileWorkgroups_ = c.tileWorkgroups;
+  screenTiles_ = ((width + 7) / 8) * ((height + 7) / 8);
+  big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  const bool binned = mode == PrimaryMode::Raster3dBinned;
+  bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
+  binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
+  const Buffer* bufs[] = {&constants_, &triangles_, &vis_, &big_, &counters_, &coverage_, &tested_, &bins_, &binList_};
+  for (uint32_t b = 0; b < 9; ++b)
+    rasterSets_.writeBuffer(0, b, b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                            bufs[b]->handle());
+  // Specialization constants (raster3d.comp.glsl): 0 pass, 1 analysis, 2 fp64 fallback, 3 binned,
+  // 4 2D homogeneous.
+  const uint32_t passes = binned ? 4 : 2;
+  for (uint32_t pass = 0; pass < passes; ++pass)
+    for (uint32_t analysis = 0; analysis < 2; ++analysis) {
+      auto p = std::make_unique<Pipeline>(ctx);
+      p->createLayout({rasterSets_.layout()}, 0);
+      p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
+                                          mode == PrimaryMode::Raster2d ? 1u : 0u}});
+      (analysis ? analysis_ : timed_).push_back(std::move(p));
+    }
 }
 
 Raster3dPass::~Raster3dPass() = default;
 
-void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis) const {
-  vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
-  vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);  // the item count
+void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const {
+  VkDescriptorSet set = rasterSets_.set();
+  const bool binned = mode_ == PrimaryMode::Raster3dBinned;
+  auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
+    if (timer) timer->begin(cmd, std::string("raster3d.") + name);
+    const Pipeline& p = *(analysis ? analysis_ : timed_)[pass];
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, groups, 1, 1);
+    if (timer) timer->end(cmd);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  };
+  const uint32_t triangleGroups = (triangleCount_ + 63) / 64;
+  dispatch(0, triangleGroups, "triangles");
+  if (binned) {
+    dispatch(2, 1, "scan");
+    dispatch(3, triangleGroups, "bin");
+    dispatch(1, screenTiles_, "tiles");
+  } else {
+    dispatch(1, tileWorkgroups_, "tiles");
+  }
+}
+
+void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
+  VkDescriptorSet set = castSets_->set();
+  if (castTimed_) {
+    const Pipeline& p = analysis ? *castAnalysis_ : *castTimed_;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  } else {
+    const RaygenMissPipeline& p = analysis ? *castRtAnalysis_ : *castRtTimed_;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0,
+                            nullptr);
+    p.traceRays(cmd, width_, height_);
+  }
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+}
+
+void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer) const {
+  const bool cast = mode_ == PrimaryMode::RayCast;
+  if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
+  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);  // the item count
+  if (mode_ == PrimaryMode::Raster3dBinned) vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, tested_.handle(), 0, VK_WHOLE_SIZE, 0);
   }
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  VkDescriptorSet set = rasterSets_.set();
-  const Pipeline& small = analysis ? smallAnalysis_ : smallTimed_;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, small.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, small.layout(), 0, 1, &set, 0, nullptr);
-  vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, 1, 1);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  const Pipeline& big = analysis ? bigAnalysis_ : bigTimed_;
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, big.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, big.layout(), 0, 1, &set, 0, nullptr);
-  vkCmdDispatch(cmd, tileWorkgroups_, 1, 1);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  if (cast)
+    recordRayCast(cmd, analysis);
+  else
+    recordRaster(cmd, analysis, timer);
+  if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
   VkDescriptorSet rset = resolveSets_.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
@@ -159,6 +257,7 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
   region.imageExtent = {width_, height_, 1};
   vkCmdCopyBufferToImage(cmd, depthStaging_.handle(), depth.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  if (timer) timer->end(cmd);
   imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
@@ -167,9 +266,10 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
                VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
                    VK_ACCESS_2_TRANSFER_READ_BIT);
   // The visibility buffer is read by the shading pass (fragment shader) and by readbacks.
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_COPY_BIT,
+                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
@@ -196,6 +296,7 @@ Raster3dCounters Raster3dPass::readCounters() const {
   r.atomics = c[gpu::kR3dCounterAtomics];
   r.bigTriangles = c[gpu::kR3dCounterBig];
   r.listOverflows = c[gpu::kR3dCounterOverflow];
+  r.listEntries = c[gpu::kR3dCounterListEntries];
   return r;
 }
 

@@ -1,16 +1,24 @@
-// Primary visibility by 3D rasterization in compute (Davidovic et al. 2012; shaders
-// raster3d.comp.glsl, raster3d.glsl.inc): per pixel the nearest triangle (id) and its view depth t,
-// in a 64-bit visibility buffer (t bits << 32 | id, atomicMin), then its reverse-Z depth copied into
-// the frame's depth image, so every later pass reads depth as after the hardware prepass.
-// Brute force over each triangle's screen box ("3dr"): boxes of at most smallArea pixels are
-// rasterized by one thread, larger ones cut into 8x8 tiles that a second dispatch rasterizes a
-// pixel per thread. Binned ("3dr-binned"): of a larger box only the tiles the triangle can touch
-// (its edge functions at the tile's corners); the result is the same bit for bit.
+// Primary visibility in compute, the methods of the paper's continuum (Davidovic et al. 2012) other
+// than the hardware prepass: per pixel the nearest triangle (id) and its view depth t, in a 64-bit
+// visibility buffer (t bits << 32 | id), then its reverse-Z depth copied into the frame's depth
+// image, so every later pass reads depth as after the hardware prepass.
+//  - "3dr" (raster3d.comp.glsl, raster3d.glsl.inc): brute force over each triangle's screen box:
+//    boxes of at most smallArea pixels are rasterized by one thread, larger ones cut into 8x8 tiles
+//    that a second dispatch rasterizes a pixel per thread (atomicMin per covered pixel).
+//  - "3dr-binned": big boxes binned into the screen's 8x8 tiles (count, scan, fill: only tiles the
+//    triangle can touch), one workgroup per screen tile; the result equals "3dr" bit for bit.
+//  - "2dr": the paper's baseline, 2D homogeneous edge functions, otherwise as "3dr".
+//  - "raycast" (primary_raycast.*): a ray per pixel along the same camera rays, nearest hit on the
+//    frame's TLAS, through ray query where the device has it, else the ray-tracing pipeline.
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
+#include "gpu/gpu_timer.h"
+#include "gpu/rt_pipeline.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "scene/scene.h"
@@ -25,22 +33,36 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
 
 struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0,
-           bigTriangles = 0, listOverflows = 0;
+           bigTriangles = 0, listOverflows = 0, listEntries = 0;
+};
+
+enum class PrimaryMode { Raster3d, Raster3dBinned, Raster2d, RayCast };
+// "3dr" | "3dr-binned" | "2dr" | "raycast" (InputError otherwise).
+PrimaryMode primaryModeFrom(const std::string& name);
+
+// What ray casting needs: the TLAS and the device's way to trace.
+struct RayCastInputs {
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  bool rayQuery = true;  // false: the ray-tracing pipeline
 };
 
 class Raster3dPass {
  public:
   static constexpr uint32_t kDefaultSmallArea = 64;
 
-  // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError).
-  // fp64Fallback false only measures what the fallback prevents (holes, double covers).
+  // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError);
+  // RayCast: rayCast.tlas is set. fp64Fallback false only measures what the fallback prevents
+  // (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
-               uint32_t smallArea = kDefaultSmallArea, bool fp64Fallback = true, bool binned = false);
+               PrimaryMode mode = PrimaryMode::Raster3d, uint32_t smallArea = kDefaultSmallArea,
+               bool fp64Fallback = true, const RayCastInputs& rayCast = {});
   ~Raster3dPass();
 
-  // Rasterizes and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute, ray
-  // tracing, fragment tests and copies). An analysis frame also counts and adds coverage.
-  void record(VkCommandBuffer cmd, const Image& depth, bool analysis) const;
+  // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
+  // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
+  // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".bin", ".tiles", ".resolve").
+  void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
+  PrimaryMode mode() const { return mode_; }
 
   const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
@@ -54,11 +76,20 @@ class Raster3dPass {
   Raster3dCounters readCounters() const;
 
  private:
+  void recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const;
+  void recordRayCast(VkCommandBuffer cmd, bool analysis) const;
+
   const VulkanContext& ctx_;
-  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_;
+  PrimaryMode mode_;
+  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0;
+  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_;
   DescriptorSets rasterSets_, resolveSets_;
-  Pipeline smallTimed_, smallAnalysis_, bigTimed_, bigAnalysis_, resolve_;
+  // Per pass (0 triangles, 1 tiles, 2 scan, 3 fill) a timed and an analysis pipeline.
+  std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
+  Pipeline resolve_;
+  std::unique_ptr<DescriptorSets> castSets_;
+  std::unique_ptr<Pipeline> castTimed_, castAnalysis_;  // ray query
+  std::unique_ptr<RaygenMissPipeline> castRtTimed_, castRtAnalysis_;  // ray-tracing pipeline
 };
 
 }  // namespace hb

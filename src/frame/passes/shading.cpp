@@ -68,7 +68,8 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
     if (!in.visibilityIds || !in.rays)
-      throw InputError("shading=visbuffer needs 3D rasterization's visibility buffer: set primary=3dr or primary=3dr-binned");
+      throw InputError("shading=visbuffer needs a visibility buffer of triangle ids: set primary=3dr, 3dr-binned, 2dr or "
+                       "raycast");
     createVisbuffer(ctx, scene);
   } else {
     timed_ = createPipeline(false);

@@ -86,8 +86,8 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeAccelerationStructure(0, 5, in.tlas);
   const bool needsHits = settings.worldPos == gpu::kWorldPosHit || settings.normals == gpu::kNormalsGeometric;
   if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
-    throw InputError("world_pos=hit and normal_culling=geometric need the triangle ids of 3D rasterization: "
-                     "set primary=3dr or primary=3dr-binned");
+    throw InputError("world_pos=hit and normal_culling=geometric need the triangle ids of a computed primary "
+                     "visibility: set primary=3dr, 3dr-binned, 2dr or raycast");
   // Without them bindings 11-13 are never read; any buffer of the right type will do.
   sets_.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? in.hitIds : in.lights)->handle());
   sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
