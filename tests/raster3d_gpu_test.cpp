@@ -630,7 +630,7 @@ TEST_F(Raster3dTest, EachDispatchIsTimedInsideItsPass) {
     std::vector<std::string> expected = {pass};
     if (pass == "raster3d") expected.push_back("raster3d.triangles");
     if (std::string(primary) == "3dr-binned")
-      for (const char* sub : {"raster3d.scan", "raster3d.bin"}) expected.push_back(sub);
+      for (const char* sub : {"raster3d.count", "raster3d.scan", "raster3d.fill"}) expected.push_back(sub);
     if (pass == "raster3d") expected.push_back("raster3d.tiles");
     expected.push_back(pass + ".resolve");
     expected.push_back("light_culling");

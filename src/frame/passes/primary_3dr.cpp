@@ -169,15 +169,19 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   for (uint32_t b = 0; b < 9; ++b)
     rasterSets_.writeBuffer(0, b, b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                             bufs[b]->handle());
-  // Specialization constants (raster3d.comp.glsl): 0 pass, 1 analysis, 2 fp64 fallback, 3 binned,
-  // 4 2D homogeneous.
-  const uint32_t passes = binned ? 4 : 2;
-  for (uint32_t pass = 0; pass < passes; ++pass)
+  // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
+  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous.
+  const std::vector<std::pair<const char*, uint32_t>> stages =
+      binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 3},
+                                                             {"raster3d_scan.comp", 2}, {"raster3d.comp", 4},
+                                                             {"raster3d_tiles.comp", 1}}
+             : std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 1}};
+  for (const auto& [shader, pass] : stages)
     for (uint32_t analysis = 0; analysis < 2; ++analysis) {
       auto p = std::make_unique<Pipeline>(ctx);
       p->createLayout({rasterSets_.layout()}, 0);
-      p->createCompute("raster3d.comp", {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
-                                          mode == PrimaryMode::Raster2d ? 1u : 0u}});
+      p->createCompute(shader, {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
+                                 mode == PrimaryMode::Raster2d ? 1u : 0u}});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
 }
@@ -200,9 +204,10 @@ void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* ti
   const uint32_t triangleGroups = (triangleCount_ + 63) / 64;
   dispatch(0, triangleGroups, "triangles");
   if (binned) {
+    dispatch(1, tileWorkgroups_, "count");
     dispatch(2, 1, "scan");
-    dispatch(3, triangleGroups, "bin");
-    dispatch(1, screenTiles_, "tiles");
+    dispatch(3, tileWorkgroups_, "fill");
+    dispatch(4, screenTiles_, "tiles");
   } else {
     dispatch(1, tileWorkgroups_, "tiles");
   }

@@ -5,8 +5,9 @@
 //  - "3dr" (raster3d.comp.glsl, raster3d.glsl.inc): brute force over each triangle's screen box:
 //    boxes of at most smallArea pixels are rasterized by one thread, larger ones cut into 8x8 tiles
 //    that a second dispatch rasterizes a pixel per thread (atomicMin per covered pixel).
-//  - "3dr-binned": big boxes binned into the screen's 8x8 tiles (count, scan, fill: only tiles the
-//    triangle can touch), one workgroup per screen tile; the result equals "3dr" bit for bit.
+//  - "3dr-binned": big boxes binned into the screen's 8x8 tiles (count, scan, fill, a thread per
+//    (triangle, tile) item: only tiles the triangle can touch), then one workgroup per screen tile;
+//    the result equals "3dr" bit for bit.
 //  - "2dr": the paper's baseline, 2D homogeneous edge functions, otherwise as "3dr".
 //  - "raycast" (primary_raycast.*): a ray per pixel along the same camera rays, nearest hit on the
 //    frame's TLAS, through ray query where the device has it, else the ray-tracing pipeline.
@@ -60,7 +61,8 @@ class Raster3dPass {
 
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
   // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
-  // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".bin", ".tiles", ".resolve").
+  // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".count", ".scan", ".fill",
+  // ".tiles", ".resolve").
   void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
   PrimaryMode mode() const { return mode_; }
 
@@ -84,7 +86,8 @@ class Raster3dPass {
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0;
   Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_;
   DescriptorSets rasterSets_, resolveSets_;
-  // Per pass (0 triangles, 1 tiles, 2 scan, 3 fill) a timed and an analysis pipeline.
+  // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
+  // and an analysis pipeline.
   std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
   Pipeline resolve_;
   std::unique_ptr<DescriptorSets> castSets_;

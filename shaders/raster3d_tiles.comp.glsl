@@ -1,0 +1,63 @@
+#version 460
+// 3dr-binned, last: one workgroup per screen 8x8 tile, a pixel per thread. The tile's triangles
+// (the list the count-scan-fill passes built) are set up 64 at a time into shared memory; each
+// thread keeps its pixel's nearest key in a register and does one atomicMin at the end (against
+// the small triangles PASS 0 rasterized directly). Shared memory lives only in this shader (and the
+// scan's), so the per-triangle and per-item passes keep full occupancy.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_atomic_int64 : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#include "shared/gpu_types.h"
+
+layout(constant_id = 0) const uint PASS = 0;
+layout(constant_id = 1) const uint ANALYSIS = 0;
+layout(constant_id = 2) const uint FALLBACK = 1;  // 0: no fp64 re-evaluation (to measure what it prevents)
+layout(constant_id = 3) const uint BINNED = 0;    // 1: 3dr-binned
+layout(constant_id = 4) const uint METHOD2D = 0;  // 1: the paper's baseline, 2D homogeneous rasterization (2dr)
+const bool R3D_FALLBACK = FALLBACK == 1;
+const bool R3D_2D = METHOD2D == 1;
+#include "raster3d.glsl.inc"
+#include "raster3d_common.glsl.inc"
+layout(local_size_x = 64) in;
+
+shared R3dSetup sSetup[64];
+shared ivec4 sBox[64];  // lo, hi; empty (hi < lo) for a slot past the batch
+shared uint sId[64];
+
+void main() {
+  const uint tile = gl_WorkGroupID.x, T = tileCount();
+  if (tile >= T) return;
+  const uint first = bins[T + tile];
+  const uint end = min(first + bins[tile], r3.itemCapacity);
+  const uint x = (tile % tilesX()) * 8u + gl_LocalInvocationID.x % 8u;
+  const uint y = (tile / tilesX()) * 8u + gl_LocalInvocationID.x / 8u;
+  Tally tally = Tally(0u, 0u, 0u, 0u);
+  uint64_t best = ~0ul;
+  for (uint base = first; base < end; base += 64u) {
+    const uint k = base + gl_LocalInvocationID.x;
+    ivec4 box = ivec4(0, 0, -1, -1);
+    if (k < end) {
+      const uint id = binList[k];
+      R3dSetup s;
+      ivec2 lo, hi;
+      if (setupTriangle(id, s, lo, hi)) box = ivec4(lo, hi);
+      sSetup[gl_LocalInvocationID.x] = s;
+      sId[gl_LocalInvocationID.x] = id;
+    }
+    sBox[gl_LocalInvocationID.x] = box;
+    barrier();
+    const uint n = min(64u, end - base);
+    for (uint j = 0u; j < n; ++j) {
+      const ivec4 b = sBox[j];
+      if (int(x) < b.x || int(y) < b.y || int(x) > b.z || int(y) > b.w) continue;
+      uint64_t key;
+      if (pixelKey(sId[j], sSetup[j], x, y, tally, key)) best = min(best, key);
+    }
+    barrier();
+  }
+  if (best != ~0ul && x < r3.width && y < r3.height) {
+    atomicMin(vis[y * r3.width + x], best);
+    ++tally.atomics;
+  }
+  flush(tally);
+}
