@@ -25,14 +25,6 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared/gpu_types.h"
 
-layout(constant_id = 0) const uint PASS = 0;
-layout(constant_id = 1) const uint ANALYSIS = 0;
-layout(constant_id = 2) const uint FALLBACK = 1;  // 0: no fp64 re-evaluation (to measure what it prevents)
-layout(constant_id = 3) const uint BINNED = 0;    // 1: 3dr-binned
-layout(constant_id = 4) const uint METHOD2D = 0;  // 1: the paper's baseline, 2D homogeneous rasterization (2dr)
-const bool R3D_FALLBACK = FALLBACK == 1;
-const bool R3D_2D = METHOD2D == 1;
-#include "raster3d.glsl.inc"
 #include "raster3d_common.glsl.inc"
 layout(local_size_x = 64) in;
 
