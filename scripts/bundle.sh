@@ -7,15 +7,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-bundle}"
+build="${HYBRIDBENCH_BUILD_DIR:-build}"  # another build folder keeps a Debug build/ untouched
 HYBRIDBENCH_SKIP_BUILD=1 bash scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j"$(nproc)" --target hybridbench
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build" -j"$(nproc)" --target hybridbench
 rm -rf "$out"
 mkdir -p "$out/bin" "$out/lib"
-cp build/hybridbench "$out/bin/"
+cp "$build/hybridbench" "$out/bin/"
 # The C runtime (glibc, libstdc++, libgcc) is on every Linux machine and must match its kernel and
 # driver: leave it out. Everything else the binary resolves to is copied.
-ldd build/hybridbench | awk '/=> \// {print $3}' | while read -r lib; do
+ldd "$build/hybridbench" | awk '/=> \// {print $3}' | while read -r lib; do
   case "$(basename "$lib")" in
     libc.so*|libm.so*|libdl.so*|libpthread.so*|librt.so*|ld-linux*|libstdc++.so*|libgcc_s.so*) ;;
     *) cp -L "$lib" "$out/lib/" ;;

@@ -13,9 +13,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 void main() {
   const uvec2 p = gl_GlobalInvocationID.xy;
   if (p.x >= r3.width || p.y >= r3.height) return;
+  if (!cameraHasRay(r3.projection, r3, float(p.x), float(p.y))) {  // paraboloid: outside the disk
+    storeHit(p, false, 0.0, 0u);
+    return;
+  }
   rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, cameraRayOrigin(r3, float(p.x), float(p.y)), r3.depth.x,
-                        cameraRayDir(r3, float(p.x), float(p.y)), r3.depth.y);
+  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, cameraRayOrigin(r3.projection, r3, float(p.x), float(p.y)), r3.depth.x,
+                        cameraRayDir(r3.projection, r3, float(p.x), float(p.y)), r3.depth.y);
   while (rayQueryProceedEXT(rq)) {
   }
   const bool hit = rayQueryGetIntersectionTypeEXT(rq, true) == gl_RayQueryCommittedIntersectionTriangleEXT;

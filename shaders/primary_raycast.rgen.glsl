@@ -14,7 +14,11 @@ layout(location = 0) rayPayloadEXT uvec2 hitTId;  // (t bits, id); id ~0 = misse
 void main() {
   const uvec2 p = gl_LaunchIDEXT.xy;
   hitTId = uvec2(0u, 0xFFFFFFFFu);
-  traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFF, 0, 0, 0, cameraRayOrigin(r3, float(p.x), float(p.y)), r3.depth.x,
-              cameraRayDir(r3, float(p.x), float(p.y)), r3.depth.y, 0);
+  if (!cameraHasRay(r3.projection, r3, float(p.x), float(p.y))) {  // paraboloid: outside the disk
+    storeHit(p, false, 0.0, 0u);
+    return;
+  }
+  traceRayEXT(tlas, gl_RayFlagsOpaqueEXT, 0xFF, 0, 0, 0, cameraRayOrigin(r3.projection, r3, float(p.x), float(p.y)), r3.depth.x,
+              cameraRayDir(r3.projection, r3, float(p.x), float(p.y)), r3.depth.y, 0);
   storeHit(p, hitTId.y != 0xFFFFFFFFu, uintBitsToFloat(hitTId.x), hitTId.y);
 }

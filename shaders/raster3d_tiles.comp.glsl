@@ -15,6 +15,7 @@ layout(local_size_x = 64) in;
 shared R3dSetup sSetup[64];
 shared ivec4 sBox[64];  // lo, hi; empty (hi < lo) for a slot past the batch
 shared uint sId[64];
+shared uint sHit[64];  // ANALYSIS: did entry j cover a pixel of the tile (bins refined without a hit)
 
 void main() {
   const uint tile = gl_WorkGroupID.x, T = tileCount();
@@ -37,15 +38,22 @@ void main() {
       sId[gl_LocalInvocationID.x] = id;
     }
     sBox[gl_LocalInvocationID.x] = box;
+    if (ANALYSIS == 1) sHit[gl_LocalInvocationID.x] = 0u;
     barrier();
     const uint n = min(64u, end - base);
     for (uint j = 0u; j < n; ++j) {
       const ivec4 b = sBox[j];
       if (int(x) < b.x || int(y) < b.y || int(x) > b.z || int(y) > b.w) continue;
       uint64_t key;
+      const uint coveredBefore = tally.covered;
       if (pixelKey(sId[j], sSetup[j], x, y, tally, key)) best = min(best, key);
+      if (ANALYSIS == 1 && tally.covered != coveredBefore) atomicOr(sHit[j], 1u);
     }
     barrier();
+    if (ANALYSIS == 1 && gl_LocalInvocationID.x < n) {  // each thread reads only its own slot
+      atomicAdd(counters[kR3dCounterBinsRefined], 1ul);
+      if (sHit[gl_LocalInvocationID.x] == 0u) atomicAdd(counters[kR3dCounterBinsEmpty], 1ul);
+    }
   }
   if (best != ~0ul && x < r3.width && y < r3.height) {
     atomicMin(vis[y * r3.width + x], best);

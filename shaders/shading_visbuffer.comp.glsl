@@ -26,6 +26,7 @@ layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D refNormalImage;
 layout(set = 0, binding = 14) uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"
+#include "camera_ray.glsl.inc"
 
 struct Corner {
   vec3 position, normal;
@@ -41,12 +42,12 @@ Corner corner(GpuDraw draw, uint index) {
   return c;
 }
 
-// Barycentrics (of vertices 1 and 2) of the ray eye + s·dir with the triangle's plane; the
+// Barycentrics (of vertices 1 and 2) of the ray org + s·dir with the triangle's plane; the
 // extrapolated values for a ray off the triangle (the neighbours' rays for derivatives).
-vec2 barycentrics(vec3 a, vec3 b, vec3 c, vec3 dir) {
+vec2 barycentrics(vec3 a, vec3 b, vec3 c, vec3 org, vec3 dir) {
   const vec3 e1 = b - a, e2 = c - a, pv = cross(dir, e2);
   const float det = dot(e1, pv);
-  const vec3 tv = rays.eye.xyz - a;
+  const vec3 tv = org - a;
   const float inv = 1.0 / det;
   return vec2(dot(tv, pv) * inv, dot(dir, cross(tv, e1)) * inv);
 }
@@ -71,10 +72,14 @@ void main() {
   // World positions as the forward vertex shader computes them.
   const vec3 w0 = (draw.model * vec4(c0.position, 1.0)).xyz, w1 = (draw.model * vec4(c1.position, 1.0)).xyz,
              w2 = (draw.model * vec4(c2.position, 1.0)).xyz;
-  const vec3 d = rays.rayD0.xyz + float(p.x) * rays.rayDx.xyz + float(p.y) * rays.rayDy.xyz;
-  const vec2 b = barycentrics(w0, w1, w2, d);
-  const vec2 bx = barycentrics(w0, w1, w2, d + rays.rayDx.xyz);
-  const vec2 by = barycentrics(w0, w1, w2, d + rays.rayDy.xyz);
+  // The pixel's ray and its right and lower neighbours' (camera_ray.glsl.inc; for a perspective
+  // view exactly d + rayDx and d + rayDy up to rounding).
+  const uint proj = rays.projection;
+  const float x = float(p.x), y = float(p.y);
+  const vec3 org = cameraRayOrigin(proj, rays, x, y), d = cameraRayDir(proj, rays, x, y);
+  const vec2 b = barycentrics(w0, w1, w2, org, d);
+  const vec2 bx = barycentrics(w0, w1, w2, cameraRayOrigin(proj, rays, x + 1.0, y), cameraRayDir(proj, rays, x + 1.0, y));
+  const vec2 by = barycentrics(w0, w1, w2, cameraRayOrigin(proj, rays, x, y + 1.0), cameraRayDir(proj, rays, x, y + 1.0));
   const vec3 lambda = vec3(1.0 - b.x - b.y, b.x, b.y);
   const vec2 uv = lambda.x * c0.uv + lambda.y * c1.uv + lambda.z * c2.uv;
   const vec2 uvX = (1.0 - bx.x - bx.y) * c0.uv + bx.x * c1.uv + bx.y * c2.uv;
@@ -97,12 +102,14 @@ void main() {
   // Double-sided: shade the side the eye sees (the forward pass's gl_FrontFacing): the side of
   // the triangle's plane the eye is on, against its winding's normal.
   const vec3 face = cross(w1 - w0, w2 - w0);
-  if (dot(face, rays.eye.xyz - w0) < 0.0) n = -n;
-  imageStore(colorImage, p, vec4(shadeDirect(p, worldPos, n, base.rgb, metallic, roughness), 1.0));
+  if (dot(face, org - w0) < 0.0) n = -n;
+  // The viewer: the eye of a perspective view (as the forward pass), else back along the ray.
+  const vec3 v = proj == kProjectionPerspective ? normalize(frame.cameraPos.xyz - worldPos) : -normalize(d);
+  imageStore(colorImage, p, vec4(shadeDirectView(p, worldPos, v, n, base.rgb, metallic, roughness), 1.0));
   if (ANALYSIS == 1) {
     const float len2 = dot(face, face);
     vec3 fn = len2 > 0.0 ? face / sqrt(len2) : vec3(0.0);
-    if (dot(fn, frame.cameraPos.xyz - worldPos) < 0.0) fn = -fn;
+    if (dot(fn, v) < 0.0) fn = -fn;
     imageStore(refNormalImage, p, vec4(fn, len2 > 0.0 ? 1.0 : 0.0));
   }
 }

@@ -157,9 +157,19 @@ struct Raster3dConstants {
   uint tileWorkgroups;  // workgroups of the tile dispatch (each strides over the items)
   uint projection;  // kProjection*: the camera's projection (camera_ray.glsl.inc)
   uint pad1;
+  // Orthographic: ray origins eye + origin0 + x·originX + y·originY (xyz), direction forward.
+  vec4 origin0;
+  vec4 originX;
+  vec4 originY;
+  // Paraboloid: x cx, y cy (pixel indices of the disk's centre), z 1/R (R its radius in pixels).
+  // Latlong: x 2π/W, y π/H (radians per pixel).
+  vec4 view;
 };
 
 HB_CONST uint kProjectionPerspective = 0u;
+HB_CONST uint kProjectionOrthographic = 1u;
+HB_CONST uint kProjectionParaboloid = 2u;
+HB_CONST uint kProjectionLatlong = 3u;
 
 // Counters of an analysis frame of the 3DR pass (never written in timed frames).
 HB_CONST uint kR3dCounterSetups = 0u;        // triangles set up (not culled before setup)
@@ -171,12 +181,14 @@ HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs w
 HB_CONST uint kR3dCounterBig = 6u;           // triangles whose box went to the tile pass
 HB_CONST uint kR3dCounterOverflow = 7u;      // of those, rasterized by their own thread (list full)
 HB_CONST uint kR3dCounterListEntries = 8u;  // binned: (triangle, screen tile) entries the frame needs
-HB_CONST uint kR3dCounterCount = 9u;
+HB_CONST uint kR3dCounterBinsRefined = 9u;  // binned: (triangle, screen tile) entries the tile pass tested
+HB_CONST uint kR3dCounterBinsEmpty = 10u;   // of those, entries that covered no pixel of the tile
+HB_CONST uint kR3dCounterCount = 11u;
 
 #ifdef __cplusplus
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
-static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32, "Raster3dConstants layout");
+static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");

@@ -22,25 +22,55 @@ double barycentricMargin(const BvhTriangle& tri, const glm::dvec3& org, const gl
   return std::min({u, v, 1.0 - u - v});
 }
 
+// The ray of pixel (x, y) in double from the shader's float constants (camera_ray.glsl.inc, the
+// same formulas); false where the view has no ray (outside the paraboloid's disk).
+bool cameraRay(const gpu::Raster3dConstants& c, uint32_t xi, uint32_t yi, glm::dvec3& org, glm::dvec3& dir) {
+  const double x = xi, y = yi;
+  const glm::dvec3 right(c.right), up(c.up), forward(c.forward);
+  org = glm::dvec3(c.eye);
+  switch (c.projection) {
+    case gpu::kProjectionOrthographic:
+      org += glm::dvec3(c.origin0) + x * glm::dvec3(c.originX) + y * glm::dvec3(c.originY);
+      dir = forward;
+      return true;
+    case gpu::kProjectionParaboloid: {
+      const double u = (x - double(c.view.x)) * double(c.view.z), v = (double(c.view.y) - y) * double(c.view.z);
+      if (u * u + v * v > 1.0) return false;
+      dir = glm::normalize(u * right + v * up + (0.5 - 0.5 * (u * u + v * v)) * forward);
+      return true;
+    }
+    case gpu::kProjectionLatlong: {
+      const double pi = 3.14159265358979323846;
+      const double phi = (x + 0.5) * double(c.view.x) - pi, theta = 0.5 * pi - (y + 0.5) * double(c.view.y);
+      dir = std::cos(theta) * std::sin(phi) * right + std::sin(theta) * up + std::cos(theta) * std::cos(phi) * forward;
+      return true;
+    }
+    default:
+      dir = glm::dvec3(c.rayD0) + x * glm::dvec3(c.rayDx) + y * glm::dvec3(c.rayDy);
+      return true;
+  }
+}
+
 }  // namespace
 
 PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vis, const gpu::Raster3dConstants& c) {
   PrimaryComparison r;
-  const glm::dvec3 eye(c.eye), d0(c.rayD0), dx(c.rayDx), dy(c.rayDy);
   const double zn = c.depth.x, zf = c.depth.y;
   std::vector<double> rel;
   for (uint32_t y = 0; y < c.height; ++y)
     for (uint32_t x = 0; x < c.width; ++x) {
       const uint64_t key = vis[size_t(y) * c.width + x];
-      const glm::dvec3 dir = d0 + double(x) * dx + double(y) * dy;
+      glm::dvec3 eye, dir;
+      const bool hasRay = cameraRay(c, x, y, eye, dir);
       double tCpu = 0;
       uint32_t idCpu = 0;
-      const bool cpuHit = bvh.closestHit(eye, dir, zn, zf, tCpu, idCpu);
+      const bool cpuHit = hasRay && bvh.closestHit(eye, dir, zn, zf, tCpu, idCpu);
       const bool gpuHit = key != ~0ull;
       const uint32_t idGpu = uint32_t(key & 0xFFFFFFFFu);
       const double tGpu = gpuHit ? double(std::bit_cast<float>(uint32_t(key >> 32))) : 0.0;
       ++r.pixels;
       auto nearEdge = [&](uint32_t id) { return std::abs(barycentricMargin(bvh.input(id), eye, dir)) <= kTieMargin; };
+      const double offset = glm::length(eye - glm::dvec3(c.eye));  // 0 but for orthographic views
       if (cpuHit && gpuHit) {
         ++r.bothHit;
         if (idCpu == idGpu) {
@@ -48,15 +78,15 @@ PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vi
           rel.push_back(std::abs(tGpu - tCpu) / tCpu);
         } else {
           ++r.idMismatches;
-          const bool tie = std::abs(tGpu - tCpu) <= kTieDepth * tCpu || nearEdge(idCpu) || nearEdge(idGpu);
+          const bool tie = std::abs(tGpu - tCpu) <= kTieDepth * tieScale(tCpu, offset) || nearEdge(idCpu) || nearEdge(idGpu);
           r.notTies += !tie;
         }
       } else if (cpuHit) {
         ++r.holes;
-        r.notTies += !(nearEdge(idCpu) || std::abs(tCpu - zn) <= kTieDepth * zn || std::abs(tCpu - zf) <= kTieDepth * zf);
+        r.notTies += !(nearEdge(idCpu) || std::abs(tCpu - zn) <= kTieDepth * tieScale(zn, offset) || std::abs(tCpu - zf) <= kTieDepth * zf);
       } else if (gpuHit) {
         ++r.spurious;
-        r.notTies += !(nearEdge(idGpu) || std::abs(tGpu - zn) <= kTieDepth * zn || std::abs(tGpu - zf) <= kTieDepth * zf);
+        r.notTies += !(nearEdge(idGpu) || std::abs(tGpu - zn) <= kTieDepth * tieScale(zn, offset) || std::abs(tGpu - zf) <= kTieDepth * zf);
       }
     }
   if (!rel.empty()) {

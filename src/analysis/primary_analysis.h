@@ -31,8 +31,13 @@ struct PrimaryComparison {
 // eye-relative float vertices (one more rounding): a barycentric coordinate of the rasterizer's
 // geometry differs from the exact one by about (|p| / edge length) · 4u. 1e-4 allows edges 100x
 // shorter than their distance to the eye (kTieMargin); kTieDepth is 64u relative.
+// Relative to what: positions are rounded relative to the eye, so a hit's t carries an absolute
+// error of a few u times the hit's distance from the eye. For rays from the eye that distance is
+// t·|d| ~ t; an orthographic ray starts up to |o − eye| (half the view) off the eye, so its t is
+// held to kTieDepth·max(t, |o − eye|) (tieScale), which is t for every view from the eye.
 constexpr double kTieMargin = 1e-4;
 constexpr double kTieDepth = 64.0 * 5.9604644775390625e-8;
+inline double tieScale(double t, double originOffset) { return t > originOffset ? t : originOffset; }
 
 // vis: the rasterizer's key per pixel (t bits << 32 | id, ~0 = nothing); rays: its constants.
 PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vis, const gpu::Raster3dConstants& rays);

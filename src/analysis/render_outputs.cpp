@@ -90,7 +90,9 @@ VariantParams referenceParams(const VariantParams& params) {
   r.tMin = ShadowTMin::Scaled;
   // The thesis's forward pass is the reference shading: a visibility-buffer variant's FLIP then
   // measures what shading in compute changes, too.
-  r.shading = ShadingMethod::Forward;
+  // Except for views the forward pass cannot draw (projection other than perspective), which keep
+  // their shading and the light_culling=false they need.
+  if (!params.projection || *params.projection == CameraProjection::Perspective) r.shading = ShadingMethod::Forward;
   return r;
 }
 
@@ -101,7 +103,8 @@ ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
   ref.height = s.height;
   ref.lightCount = uint32_t(scene.lights.size());
   const std::vector<float> depth = renderer.readDepth();
-  if (renderer.hasCulling() && renderer.hasShadows() && ref.lightCount <= 64)
+  if (renderer.camera().projection == CameraProjection::Perspective && renderer.hasCulling() &&
+      renderer.hasShadows() && ref.lightCount <= 64)
     ref.visible = visibleSceneLights(renderer.readShadows(), renderer.readCulling(), depth, s.width, s.height,
                                      s.tileSize);
   ImageF hdr{s.width, s.height, 4, renderer.readColor()};
@@ -123,8 +126,17 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
   auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
   // Coverage counted additively needs the method's own per-pixel counts: a ray cast has one hit.
   nlohmann::json coverage = "not counted: a ray cast reports one hit per pixel";
-  if (r3->mode() != PrimaryMode::RayCast) coverage = toJson(compareCoverage(scene, rays, r3->readCoverage()));
+  const CameraProjection projection = renderer.camera().projection;
+  if (r3->mode() != PrimaryMode::RayCast && projection != CameraProjection::Perspective)
+    coverage = "not counted: the exact CPU rasterization covers perspective views (the GPU fill-rule tests check "
+               "other views on closed meshes around the eye)";
+  else if (r3->mode() != PrimaryMode::RayCast)
+    coverage = toJson(compareCoverage(scene, rays, r3->readCoverage()));
   return {{"method", renderer.settings().primary},
+          {"projection", toString(projection)},
+          {"bins_refined", c.binsRefined},
+          {"bins_refined_without_hit", c.binsEmpty},
+          {"bins_refined_without_hit_share", ratio(double(c.binsEmpty), double(c.binsRefined))},
           {"coverage_check", coverage},
           {"double_covers", coverage.is_object() ? coverage["double_covers"] : nlohmann::json()},
           {"list_entries", c.listEntries},
@@ -210,7 +222,14 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
           {{"Description", "LDR-FLIP error against the no-culling reference render, viridis 0..1"}});
   }
 
-  if (renderer.hasCulling()) {
+  // The culling and shadow references reconstruct positions through the perspective matrix; other
+  // views are held only to the ray cast (primary.against_ray_cast) and the reference image.
+  const bool perspective = renderer.camera().projection == CameraProjection::Perspective;
+  if (!perspective && renderer.hasCulling())
+    j["analysis_not_run"] = std::string("culling, ray accounting and shadow accuracy: their CPU references "
+                                        "reconstruct a perspective view, and this one is ") +
+                            toString(renderer.camera().projection);
+  if (perspective && renderer.hasCulling()) {
     // Culling statistics against the CPU reference of the same method and the exact test.
     const CullingReadback cr = renderer.readCulling();
     CullingInputs ci;
@@ -242,7 +261,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                 : "");
     out.summary.push_back(line);
   }
-  if (renderer.hasCulling() && renderer.hasShadows()) {
+  if (perspective && renderer.hasCulling() && renderer.hasShadows()) {
     const CullingReadback cr = renderer.readCulling();
     const ShadowReadback sh = renderer.readShadows();
     // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").

@@ -76,6 +76,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.primary = toString(p.primary);
   s.r3dThreadBox = p.r3dThreadBox;
   s.visbufferShading = p.shading == ShadingMethod::Visbuffer;
+  s.projection = p.projection;
   return s;
 }
 

@@ -132,6 +132,8 @@ struct VariantParams {
   ShadowTMin tMin = ShadowTMin::Constant;
   PrimaryMethod primary = PrimaryMethod::Hardware;
   uint32_t r3dThreadBox = 64;
+  // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
+  std::optional<CameraProjection> projection;
   ShadingMethod shading = ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params

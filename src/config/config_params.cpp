@@ -64,7 +64,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale"};
   return keys;
 }
 
@@ -96,6 +96,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
   } else if (key == "primary") {
     p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned", "2dr", "raycast"}));
+  } else if (key == "projection") {
+    p.projection = CameraProjection(readChoice(v, where, {"perspective", "orthographic", "paraboloid", "latlong"}));
   } else if (key == "shading") {
     p.shading = ShadingMethod(readChoice(v, where, {"forward", "visbuffer"}));
   } else if (key == "r3d_thread_box") {
@@ -143,6 +145,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["t_min"] = toString(p.tMin);
   j["primary"] = toString(p.primary);
   j["r3d_thread_box"] = p.r3dThreadBox;
+  if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
@@ -156,8 +159,8 @@ void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) 
   if (eq == std::string::npos || eq == 0)
     where.fail(
         "expected key=value, e.g. --set tile_size=16 (keys: tile_size, light_culling, aabb, "
-        "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, "
-        "max_lights_per_tile, light_count, triangle_scale)");
+        "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, primary, projection, "
+        "r3d_thread_box, shading, max_lights_per_tile, light_count, triangle_scale)");
   std::string key = keyEqualsValue.substr(0, eq);
   std::string text = keyEqualsValue.substr(eq + 1);
 

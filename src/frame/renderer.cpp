@@ -1,6 +1,7 @@
 #include "frame/renderer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include <glm/gtc/packing.hpp>
@@ -15,13 +16,44 @@ static std::string primaryPassName(const std::string& primary) {
   return primaryModeFrom(primary) == PrimaryMode::RayCast ? "raycast" : "raster3d";
 }
 
-static Camera pickCamera(const Scene& scene, uint32_t index) {
+// The camera, with the projection the settings ask for. A perspective camera made orthographic
+// keeps its extent at the scene's centre: ymag = tan(yfov/2)·(view depth of the bounds' centre),
+// xmag = ymag·W/H. Views a method cannot render are refused here, with what to set instead.
+static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
+  const uint32_t index = settings.cameraIndex;
   if (scene.cameras.empty())
     throw InputError("scene \"" + scene.name + "\" has no camera; add one to the glTF or set a camera in the config");
   if (index >= scene.cameras.size())
     throw InputError("camera index " + std::to_string(index) + " does not exist; the scene has " +
                      std::to_string(scene.cameras.size()));
-  return scene.cameras[index];
+  Camera c = scene.cameras[index];
+  if (settings.projection && *settings.projection != c.projection) {
+    if (*settings.projection == CameraProjection::Orthographic && c.projection == CameraProjection::Perspective) {
+      glm::vec3 lo, hi;
+      scene.bounds(lo, hi);
+      const glm::vec3 centre = glm::vec3(c.view * glm::vec4(0.5f * (lo + hi), 1.0f));
+      const float depth = std::max(-centre.z, c.znear);
+      c.ymag = std::tan(0.5f * c.yfov) * depth;
+      c.xmag = c.ymag * float(settings.width) / float(settings.height);
+    }
+    c.projection = *settings.projection;
+  }
+  if (c.projection != CameraProjection::Perspective) {
+    const std::string what = std::string("projection=") + toString(c.projection);
+    const bool planar = c.projection == CameraProjection::Orthographic;
+    if (settings.primary == "hardware" || settings.primary == "2dr")
+      throw InputError(what + " needs primary=3dr, 3dr-binned or raycast (primary=" + settings.primary + " draws " +
+                       (planar && settings.primary == "hardware" ? "orthographic views only through a matrix it does not have yet"
+                                                                  : "perspective views only") + ")");
+    if (!settings.visbufferShading)
+      throw InputError(what + " needs shading=visbuffer (the forward pass rasterizes through a perspective matrix)");
+    if (settings.lightCulling)
+      throw InputError(what + " needs light_culling=false (the light tiles are frusta of a perspective view)");
+  }
+  // The depth image holds reverse-Z D/t − C, 0 for "nothing": znear must be positive (a glTF
+  // orthographic camera may say 0). A millionth of zfar cuts only what touches the view plane.
+  if (!(c.znear > 0.0f)) c.znear = c.zfar * 1e-6f;
+  return c;
 }
 
 Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
@@ -29,7 +61,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
       scene_(scene),
       settings_(settings),
       plan_(planFrame(scene, settings.effects, primaryPassName(settings.primary))),
-      camera_(pickCamera(scene, settings.cameraIndex)),
+      camera_(pickCamera(scene, settings)),
       view_(camera_.view),
       proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
                                camera_.zfar)),
@@ -58,6 +90,11 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
   // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
   passesSkipped_ = plan_.skipped;
+  if (camera_.projection != CameraProjection::Perspective && plan_.hasPass("shadows") &&
+      settings.worldPos != gpu::kWorldPosHit)
+    throw InputError(std::string("projection=") + toString(camera_.projection) +
+                     " with shadows needs world_pos=hit (depth is turned back into positions through a perspective "
+                     "matrix otherwise)");
   if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
     throw InputError("device \"" + ctx.info().name +
                      "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +

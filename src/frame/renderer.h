@@ -2,6 +2,7 @@
 // share, and per-pass GPU timestamps. Which passes run, and which resources exist, follow from the
 // effects the scene calls for (planFrame); passesRun() and passesSkipped() say which and why.
 #pragma once
+#include <optional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -25,6 +26,8 @@ struct RenderSettings {
   uint32_t width = 1920;
   uint32_t height = 1080;
   uint32_t cameraIndex = 0;
+  // The view's projection instead of the camera's own (config "projection"); empty: the camera's.
+  std::optional<CameraProjection> projection;
   uint32_t tileSize = 16;
   bool lightCulling = true;
   bool aabb = false;

@@ -42,8 +42,20 @@ TEST(PrimaryTable, RayCastingIsTimedByItsOwnPassAndCoverageIsShownWhereCounted) 
              {"against_ray_cast", {{"not_ties", 472}}}})}}};
   const std::string md = primaryTableMarkdown(results);
   EXPECT_NE(md.find("| raycast | raycast | 0.300 | 3.00x |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| — | — |\n"), std::string::npos) << md;  // raycast: no coverage count, no comparison
-  EXPECT_NE(md.find("| 14 / 12 | 472 |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| — | — | — |\n"), std::string::npos) << md;  // raycast: no coverage count, no comparison, no bins
+  EXPECT_NE(md.find("| 14 / 12 | 472 | — |\n"), std::string::npos) << md;
+}
+
+TEST(PrimaryTable, ANonPerspectiveViewIsNamedAndItsEmptyBinsAreAShare) {
+  const json results = {
+      {"schema_version", 1},
+      {"runs",
+       {run("paraboloid, 3dr-binned", "raster3d", 0.5,
+            {{"method", "3dr-binned"}, {"projection", "paraboloid"}, {"bins_refined", 400},
+             {"bins_refined_without_hit", 100}})}}};
+  const std::string md = primaryTableMarkdown(results);
+  EXPECT_NE(md.find("| paraboloid, 3dr-binned | 3dr-binned (paraboloid) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 25.0 % |\n"), std::string::npos) << md;
 }
 
 TEST(PrimaryTable, ResultsWithoutPrimaryBlocksGiveNoTable) {

@@ -5,6 +5,17 @@
 
 namespace hb {
 
+const char* toString(CameraProjection p) {
+  switch (p) {
+    case CameraProjection::Perspective: return "perspective";
+    case CameraProjection::Orthographic: return "orthographic";
+    case CameraProjection::Paraboloid: return "paraboloid";
+    case CameraProjection::Latlong: return "latlong";
+  }
+  return "?";
+}
+
+
 uint64_t Scene::triangleCount() const {
   uint64_t n = 0;
   for (const Instance& inst : instances)

@@ -72,10 +72,19 @@ struct Light {
   bool castShadows = true;
 };
 
+// How a camera maps pixels to rays (shaders/camera_ray.glsl.inc is the one definition).
+// Perspective and orthographic are planar (the hardware rasterizer can draw them); the paraboloid
+// (a hemisphere in a disk, 3DR paper Section 3.5) and latlong (the full sphere, equirectangular)
+// are not, and only the computed primary methods render them.
+enum class CameraProjection { Perspective, Orthographic, Paraboloid, Latlong };
+const char* toString(CameraProjection p);
+
 struct Camera {
   std::string name;
   glm::mat4 view{1.0f};  // world → view (right-handed, looking down -z, y up in view space)
-  float yfov = 1.0471975512f;  // radians
+  CameraProjection projection = CameraProjection::Perspective;
+  float yfov = 1.0471975512f;  // radians (perspective)
+  float xmag = 1.0f, ymag = 1.0f;  // orthographic: half the view's width and height (glTF)
   float znear = 0.1f;
   float zfar = 1000.0f;  // reverse-Z: near → depth 1, far → depth 0
 };

@@ -45,6 +45,34 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   // full list is handled, not dropped (raster3d.comp.glsl), and counted (tile_list_overflows).
   c.itemCapacity = 64u * ((width + 7) / 8) * ((height + 7) / 8);
   c.tileWorkgroups = 4096;
+  c.projection = uint32_t(camera.projection);
+  static_assert(uint32_t(CameraProjection::Latlong) == gpu::kProjectionLatlong);
+  switch (camera.projection) {
+    case CameraProjection::Perspective: break;
+    case CameraProjection::Orthographic: {
+      // Parallel rays along forward from the view plane through the eye: pixel (x, y)'s centre at
+      // NDC (2(x + 0.5)/W − 1, 2(y + 0.5)/H − 1) starts at eye + ndc.x·xmag·right − ndc.y·ymag·up.
+      const double xm = camera.xmag, ym = camera.ymag;
+      c.rayD0 = glm::vec4(glm::vec3(forward), 0.0f);
+      c.rayDx = c.rayDy = glm::vec4(0.0f);
+      c.origin0 = glm::vec4(glm::vec3(right * ((-1.0 + 1.0 / w) * xm) + up * ((1.0 - 1.0 / h) * ym)), 0.0f);
+      c.originX = glm::vec4(glm::vec3(right * (2.0 * xm / w)), 0.0f);
+      c.originY = glm::vec4(glm::vec3(-up * (2.0 * ym / h)), 0.0f);
+      c.project = glm::vec4(float(w / (2.0 * xm)), float(h / (2.0 * ym)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
+      break;
+    }
+    case CameraProjection::Paraboloid: {
+      // The hemisphere around forward in the largest centred disk (camera_ray.glsl.inc).
+      const double radius = 0.5 * double(std::min(width, height));
+      c.view = glm::vec4(float(w / 2.0 - 0.5), float(h / 2.0 - 0.5), float(1.0 / radius), float(radius));
+      break;
+    }
+    case CameraProjection::Latlong: {
+      const double pi = 3.14159265358979323846;
+      c.view = glm::vec4(float(2.0 * pi / w), float(pi / h), 0.0f, 0.0f);
+      break;
+    }
+  }
   return c;
 }
 
@@ -170,7 +198,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     rasterSets_.writeBuffer(0, b, b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                             bufs[b]->handle());
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
-  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous.
+  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
   const std::vector<std::pair<const char*, uint32_t>> stages =
       binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 3},
                                                              {"raster3d_scan.comp", 2}, {"raster3d.comp", 4},
@@ -181,7 +209,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       auto p = std::make_unique<Pipeline>(ctx);
       p->createLayout({rasterSets_.layout()}, 0);
       p->createCompute(shader, {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
-                                 mode == PrimaryMode::Raster2d ? 1u : 0u}});
+                                 mode == PrimaryMode::Raster2d ? 1u : 0u, c.projection}});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
 }
@@ -302,6 +330,8 @@ Raster3dCounters Raster3dPass::readCounters() const {
   r.bigTriangles = c[gpu::kR3dCounterBig];
   r.listOverflows = c[gpu::kR3dCounterOverflow];
   r.listEntries = c[gpu::kR3dCounterListEntries];
+  r.binsRefined = c[gpu::kR3dCounterBinsRefined];
+  r.binsEmpty = c[gpu::kR3dCounterBinsEmpty];
   return r;
 }
 

@@ -27,14 +27,16 @@
 
 namespace hb {
 
-// The rays of a pinhole camera through pixel centres, as the 3DR shader and its CPU reference use
-// them (computed in double, rounded once): d(x, y) = d0 + x·dx + y·dy, forward component 1.
+// The rays of the camera through pixel centres, as the 3DR shader and its CPU reference use them
+// (computed in double, rounded once). Perspective: d(x, y) = d0 + x·dx + y·dy, forward component
+// 1; the other projections: camera_ray.glsl.inc.
 gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height,
                                          uint32_t triangleCount, uint32_t smallArea);
 
 struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0,
-           bigTriangles = 0, listOverflows = 0, listEntries = 0;
+           bigTriangles = 0, listOverflows = 0, listEntries = 0,
+           binsRefined = 0, binsEmpty = 0;  // binned: (triangle, tile) entries tested, of those covering nothing
 };
 
 enum class PrimaryMode { Raster3d, Raster3dBinned, Raster2d, RayCast };

@@ -198,10 +198,20 @@ class Exporter {
   int addCamera(const Camera& c) {
     tinygltf::Camera cam;
     cam.name = c.name;
-    cam.type = "perspective";
-    cam.perspective.yfov = c.yfov;
-    cam.perspective.znear = c.znear;
-    cam.perspective.zfar = c.zfar;
+    // glTF has perspective and orthographic cameras; a paraboloid or latlong view is written as
+    // the perspective camera at the same node (the projection itself is a render setting).
+    if (c.projection == CameraProjection::Orthographic) {
+      cam.type = "orthographic";
+      cam.orthographic.xmag = c.xmag;
+      cam.orthographic.ymag = c.ymag;
+      cam.orthographic.znear = c.znear;
+      cam.orthographic.zfar = c.zfar;
+    } else {
+      cam.type = "perspective";
+      cam.perspective.yfov = c.yfov;
+      cam.perspective.znear = c.znear;
+      cam.perspective.zfar = c.zfar;
+    }
     model_.cameras.push_back(std::move(cam));
     tinygltf::Node node;
     node.camera = static_cast<int>(model_.cameras.size() - 1);

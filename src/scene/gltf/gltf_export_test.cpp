@@ -107,7 +107,14 @@ Scene handBuiltScene() {
   cam.yfov = 0.9f;
   cam.znear = 0.05f;
   cam.zfar = 250.0f;
-  s.cameras = {cam};
+  Camera ortho = cam;  // and an orthographic one (glTF carries both kinds)
+  ortho.name = "plan";
+  ortho.projection = CameraProjection::Orthographic;
+  ortho.xmag = 8.0f;
+  ortho.ymag = 4.5f;
+  ortho.znear = 0.0f;
+  ortho.yfov = Camera{}.yfov;  // not part of an orthographic camera: loads as the default
+  s.cameras = {cam, ortho};
   return s;
 }
 
@@ -178,6 +185,9 @@ void expectSameScene(const Scene &a, const Scene &b) {
   for (size_t i = 0; i < a.cameras.size(); ++i) {
     const Camera &x = a.cameras[i], &y = b.cameras[i];
     EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.projection, y.projection);
+    EXPECT_EQ(x.xmag, y.xmag);
+    EXPECT_EQ(x.ymag, y.ymag);
     EXPECT_EQ(x.yfov, y.yfov);
     EXPECT_EQ(x.znear, y.znear);
     EXPECT_EQ(x.zfar, y.zfar);

@@ -114,7 +114,7 @@ Scene Loader::load(GltfLoadWarnings& warnings) {
                                 firstSkippedPrimitive_);
   if (warnings.skippedCameras > 0)
     warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedCameras) +
-                                " camera node(s) that are not perspective, first " +
+                                " camera node(s) that are neither perspective nor orthographic, first " +
                                 firstSkippedCamera_);
   return std::move(scene_);
 }
@@ -225,6 +225,28 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
 void Loader::addCamera(size_t c, const glm::dmat4& world) {
   const tinygltf::Camera& cam = model_.cameras[c];
   const std::string field = "cameras[" + std::to_string(c) + "]";
+  if (cam.type == "orthographic") {
+    const tinygltf::OrthographicCamera& o = cam.orthographic;
+    if (!(o.xmag != 0.0 && std::isfinite(o.xmag)) || !(o.ymag != 0.0 && std::isfinite(o.ymag)))
+      fail(field + ".orthographic", "has xmag " + num(o.xmag) + ", ymag " + num(o.ymag),
+           "give non-zero finite half-extents");
+    if (!(o.znear >= 0.0 && std::isfinite(o.znear)))
+      fail(field + ".orthographic.znear", "is " + num(o.znear), "give a near distance >= 0");
+    if (!(o.zfar > o.znear && std::isfinite(o.zfar)))
+      fail(field + ".orthographic.zfar", "is " + num(o.zfar) + ", not beyond znear",
+           "give a far distance greater than znear");
+    Camera out;
+    out.name = cam.name;
+    out.view = glm::mat4(glm::inverse(world));
+    out.projection = CameraProjection::Orthographic;
+    // glTF's signs of xmag/ymag flip the image; the view's extent is their magnitude.
+    out.xmag = static_cast<float>(std::abs(o.xmag));
+    out.ymag = static_cast<float>(std::abs(o.ymag));
+    out.znear = static_cast<float>(o.znear);
+    out.zfar = static_cast<float>(o.zfar);
+    scene_.cameras.push_back(out);
+    return;
+  }
   if (cam.type != "perspective") {
     if (warnings_->skippedCameras++ == 0) firstSkippedCamera_ = field + " (" + cam.type + ")";
     return;

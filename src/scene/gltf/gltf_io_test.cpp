@@ -146,6 +146,32 @@ TEST(GltfLoad, ReadsAPerspectiveCameraAsTheInverseOfItsNode) {
   EXPECT_EQ(s.cameras[0].view * glm::vec4(0, 1, 4, 1), glm::vec4(0, 0, 0, 1));
 }
 
+TEST(GltfLoad, ReadsAnOrthographicCameraWithItsExtent) {
+  // Skipped before issue 15; now rendered by 3dr and raycast (projection=orthographic).
+  TestDir dir;
+  GltfBuilder b;
+  b.doc["cameras"] = {{{"type", "orthographic"},
+                       {"orthographic", {{"xmag", -3.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
+  b.scene({b.node({{"camera", 0}, {"translation", {0, 1, 4}}})});
+  Scene s = loadGltf(b.writeGltf(dir / "ortho.gltf").string());
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].projection, CameraProjection::Orthographic);
+  EXPECT_EQ(s.cameras[0].xmag, 3.0f);  // the magnitude: the sign only mirrors the image
+  EXPECT_EQ(s.cameras[0].ymag, 2.0f);
+  EXPECT_EQ(s.cameras[0].znear, 0.0f);
+  EXPECT_EQ(s.cameras[0].zfar, 50.0f);
+  EXPECT_EQ(s.cameras[0].view * glm::vec4(0, 1, 4, 1), glm::vec4(0, 0, 0, 1));
+}
+
+TEST(GltfLoadErrors, AnOrthographicCameraWithoutExtentNamesTheField) {
+  TestDir dir;
+  GltfBuilder b;
+  b.doc["cameras"] = {{{"type", "orthographic"},
+                       {"orthographic", {{"xmag", 0.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
+  b.scene({b.node({{"camera", 0}})});
+  expectInputError(b.writeGltf(dir / "flat.gltf"), {"cameras[0].orthographic", "non-zero"});
+}
+
 // ---- bad input ----------------------------------------------------------------------------------
 
 TEST(GltfLoadErrors, MissingFileNamesThePath) {
