@@ -75,10 +75,31 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
               true, MemClass::Other),
       depthPrepass_(ctx),
       timer_(ctx, 16) {
+  // Settings the frame cannot run with are refused before anything is created by hand.
+  if (camera_.projection != CameraProjection::Perspective && plan_.hasPass("shadows") &&
+      settings.worldPos != gpu::kWorldPosHit)
+    throw InputError(std::string("projection=") + toString(camera_.projection) +
+                     " with shadows needs world_pos=hit (depth is turned back into positions through a perspective "
+                     "matrix otherwise)");
+  if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
+    throw InputError("device \"" + ctx.info().name +
+                     "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
+                     (plan_.hasPass("shadows") ? "set effects.shadows=false (--set shadows=false)"
+                                               : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
   VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   si.magFilter = si.minFilter = VK_FILTER_NEAREST;
   si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   VK_CHECK(vkCreateSampler(ctx.device(), &si, nullptr, &pointSampler_));
+  // A pass below may still refuse (InputError, DeviceError): the destructor does not run then, so
+  // the sampler is destroyed here unless the constructor completes.
+  struct SamplerGuard {
+    VkDevice device;
+    VkSampler sampler;
+    bool armed = true;
+    ~SamplerGuard() {
+      if (armed) vkDestroySampler(device, sampler, nullptr);
+    }
+  } samplerGuard{ctx.device(), pointSampler_};
 
   const uint32_t lightCount = uint32_t(scene.lights.size());
   gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
@@ -90,16 +111,6 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
   // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
   passesSkipped_ = plan_.skipped;
-  if (camera_.projection != CameraProjection::Perspective && plan_.hasPass("shadows") &&
-      settings.worldPos != gpu::kWorldPosHit)
-    throw InputError(std::string("projection=") + toString(camera_.projection) +
-                     " with shadows needs world_pos=hit (depth is turned back into positions through a perspective "
-                     "matrix otherwise)");
-  if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
-    throw InputError("device \"" + ctx.info().name +
-                     "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
-                     (plan_.hasPass("shadows") ? "set effects.shadows=false (--set shadows=false)"
-                                               : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
   if (plan_.needs(FrameResource::AccelerationStructures)) accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
   if (plan_.hasPass("raster3d") || plan_.hasPass("raycast")) {
     RayCastInputs cast;
@@ -148,6 +159,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
                           settings.r3dShadingDepthTest, settings.visbufferShading,
                           raster3d_ ? &raster3d_->constants() : nullptr};
   shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
+  samplerGuard.armed = false;  // ~Renderer destroys it from here on
 }
 
 Renderer::~Renderer() {
