@@ -1,6 +1,6 @@
 #version 460
-// After 3D rasterization: each pixel's reverse-Z depth from its nearest hit, D/t − C (camera.h),
-// and 0 (the far plane, the prepass's clear value) where no triangle covers it. The frame copies
+// After 3D rasterization: each pixel's reverse-Z depth from its nearest hit, D/t − C (camera.h;
+// for an orthographic view the affine D − C·t of its matrix, with that matrix's C and D), and 0 (the far plane, the prepass's clear value) where no triangle covers it. The frame copies
 // this buffer into its depth image, so light culling, shadows and shading read depth as after the
 // hardware prepass.
 #extension GL_GOOGLE_include_directive : require
@@ -19,7 +19,8 @@ void main() {
   float z = 0.0;
   if (key != ~0ul) {
     const float t = uintBitsToFloat(uint(key >> 32));
-    z = clamp(r3.depth.w / t - r3.depth.z, 0.0, 1.0);
+    z = clamp(r3.projection == kProjectionOrthographic ? r3.depth.w - r3.depth.z * t : r3.depth.w / t - r3.depth.z,
+              0.0, 1.0);
   }
   depth[pixel] = z;
 }

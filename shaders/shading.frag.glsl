@@ -75,7 +75,7 @@ void main() {
     vec3 fn = cross(b - a, c - a);
     float len2 = dot(fn, fn);
     fn = len2 > 0.0 ? fn / sqrt(len2) : vec3(0.0);
-    if (dot(fn, frame.cameraPos.xyz - inWorldPos) < 0.0) fn = -fn;
+    if (dot(fn, towardsViewer(frame, inWorldPos)) < 0.0) fn = -fn;
     outRefNormal = vec4(fn, len2 > 0.0 ? 1.0 : 0.0);
   }
 }

@@ -19,6 +19,7 @@
 #include "reference/flip.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
+#include "scene/hard_cases.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -395,6 +396,36 @@ TEST_F(Raster3dTest, AtriumIdsAndDepthsMatchADoublePrecisionRayCast) {
   EXPECT_EQ(tests, r.raster3d()->readCounters().pixelsTested);
   EXPECT_GE(double(c.idsEqual), 0.999 * double(c.bothHit));
   EXPECT_LE(c.depthRelP999, 1e-6);
+}
+
+// far-origin: the cube scene 10 km from the world origin, where float spacing is ~1 mm. 3DR sets a
+// triangle up from eye-relative vertices (raster3d.glsl.inc r3dRelative: world − eye in float,
+// exact by Sterbenz where a coordinate of both lies within a factor 2 of the other, as the 10 km
+// one does; the small ones round by u of their difference), so its edge functions see the same
+// metre-scale numbers as at the origin. The bounds: ids equal on >= 99.999 % of the pixels
+// both hit (at 320x180 no pixel may differ unless a tie), depth p99.9 <= 1e-6, 0 that are not ties;
+// the same cube at the origin gives the comparison's baseline.
+TEST_F(Raster3dTest, FarFromTheOriginTheCameraRelativeSetupMatchesTheDoubleRayCast) {
+  for (const Scene& scene : {makeFarOrigin(), makeCube({0, 0, 0})}) {
+    SCOPED_TRACE(scene.name);
+    RenderSettings rs;
+    rs.width = 320;
+    rs.height = 180;
+    rs.primary = "3dr";
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    const PrimaryComparison c = comparePrimary(buildBvh(scene), r.raster3d()->readVisibility(),
+                                               raster3dConstants(r.camera(), rs.width, rs.height, 0, 0));
+    std::printf("%s 320x180 vs ray cast: %llu both hit, %llu ids equal, %llu holes, %llu spurious, %llu not ties, "
+                "depth p99.9 %.3g, max %.3g\n",
+                scene.name.c_str(), (unsigned long long)c.bothHit, (unsigned long long)c.idsEqual,
+                (unsigned long long)c.holes, (unsigned long long)c.spurious, (unsigned long long)c.notTies,
+                c.depthRelP999, c.depthRelMax);
+    EXPECT_GT(c.bothHit, 20000u);
+    EXPECT_EQ(c.notTies, 0u);
+    EXPECT_GE(double(c.idsEqual), 0.99999 * double(c.bothHit));
+    EXPECT_LE(c.depthRelP999, 1e-6);
+  }
 }
 
 TEST_F(Raster3dTest, GeometricNormalsAreTheVisibleTrianglesOwnAndHitPositionsNeed3dr) {

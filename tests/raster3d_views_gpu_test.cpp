@@ -4,6 +4,7 @@
 // once, counted additively over all triangles at every depth: a crack is a 0, a double cover a 2,
 // with no CPU reference needed), binned equal to brute force bit for bit, agreement with ray
 // casting along the same rays on the atrium, and the settings such views need.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -216,6 +217,68 @@ TEST_F(Raster3dViewsTest, TheAtriumThroughEveryViewAgreesWithRayCastingAlongTheS
   }
 }
 
+// The hardware path draws orthographic views through camera.h's reverse-Z orthographic matrix
+// (depth affine in view depth t: D − C·t), and 3DR writes the same mapping from its hit's t, so the
+// frame reads one depth convention whichever method drew it. Held here: the hardware prepass's depth
+// against 3DR's, and positions turned back from the hardware depth (Alg. 4.1 and the inverse
+// matrix, both taking the orthographic form) against 3DR's exact hit positions.
+//
+// Bounds (u = 2^-24): the depth image stores D − C·t, C = 1/(zf − zn); the rasterizer interpolates
+// it with a few u of absolute error (depth ≤ 1), 3DR's t carries a few u·t and its D − C·t two
+// roundings: |Δdepth| ≤ 8u, so |Δt| ≤ 8u·(zf − zn) + 4u·t ≤ 12u·(zf − zn). A position adds the
+// rounding of ndc·xmag and of viewInv·v (≤ 8u of |eye| + |v|). Both allow 16u of
+// zf − zn + |eye| + |xmag, ymag|. The two fill rules may give an edge pixel to different triangles,
+// and a surface behind may be within rounding of the front: 99 % of pixels must hold it.
+TEST_F(Raster3dViewsTest, TheHardwarePathDrawsOrthographicViewsWithTheDepthAndPositions3drGives) {
+  const Scene atrium = makeAtrium(AtriumParams{});
+  struct Out {
+    std::vector<float> depth, positions;
+    Camera cam;
+  };
+  auto run = [&](const char* primary, uint32_t worldPos) {
+    RenderSettings rs;
+    rs.width = 160;
+    rs.height = 90;
+    rs.primary = primary;
+    rs.projection = CameraProjection::Orthographic;
+    rs.lightCulling = false;
+    rs.worldPos = worldPos;
+    rs.visbufferShading = std::string(primary) != "hardware";
+    Renderer r(*ctx, atrium, rs);
+    r.renderFrame(true);
+    return Out{r.readDepth(), r.readShadows().positions, r.camera()};
+  };
+  const Out hit = run("3dr", gpu::kWorldPosHit);
+  const double u = 5.9604644775390625e-8, zn = hit.cam.znear, zf = hit.cam.zfar;
+  const glm::dvec3 eye = glm::dvec3(glm::inverse(glm::dmat4(hit.cam.view))[3]);
+  const double bound = 16.0 * u * (zf - zn + glm::length(eye) + std::max(hit.cam.xmag, hit.cam.ymag));
+  for (uint32_t worldPos : {gpu::kWorldPosAlg41, gpu::kWorldPosMatrix}) {
+    SCOPED_TRACE(worldPos == gpu::kWorldPosAlg41 ? "alg41" : "matrix");
+    const Out hw = run("hardware", worldPos);
+    size_t both = 0, depthClose = 0, positionClose = 0, skyMismatch = 0;
+    double worstClose = 0;
+    for (size_t i = 0; i < hw.depth.size(); ++i) {
+      if ((hw.depth[i] == 0.0f) != (hit.depth[i] == 0.0f)) ++skyMismatch;
+      if (hw.depth[i] == 0.0f || hit.depth[i] == 0.0f) continue;
+      ++both;
+      const double dt = std::abs(double(hw.depth[i]) - hit.depth[i]) * (zf - zn);
+      depthClose += dt <= bound;
+      const glm::dvec3 a(hw.positions[4 * i], hw.positions[4 * i + 1], hw.positions[4 * i + 2]);
+      const glm::dvec3 b(hit.positions[4 * i], hit.positions[4 * i + 1], hit.positions[4 * i + 2]);
+      const double dp = glm::length(a - b);
+      positionClose += dp <= bound;
+      if (dp <= bound) worstClose = std::max(worstClose, dp / bound);
+    }
+    std::printf("atrium orthographic 160x90, hardware vs 3dr: %zu pixels both hit, depth within the bound on %zu, "
+                "positions on %zu (largest of those %.2f of the bound %.3g m), %zu sky mismatches\n",
+                both, depthClose, positionClose, worstClose, bound, skyMismatch);
+    EXPECT_GT(both, 10000u);
+    EXPECT_GE(double(depthClose), 0.99 * double(both));
+    EXPECT_GE(double(positionClose), 0.99 * double(both));
+    EXPECT_LE(skyMismatch, hw.depth.size() / 1000);
+  }
+}
+
 TEST_F(Raster3dViewsTest, ViewsAMethodCannotDrawAreRefusedWithWhatToSet) {
   const Scene atrium = makeAtrium(AtriumParams{});
   auto message = [&](RenderSettings rs) {
@@ -240,6 +303,18 @@ TEST_F(Raster3dViewsTest, ViewsAMethodCannotDrawAreRefusedWithWhatToSet) {
   EXPECT_NE(message(rs).find("needs world_pos=hit"), std::string::npos) << message(rs);
   rs.worldPos = gpu::kWorldPosHit;
   EXPECT_EQ(message(rs), "accepted");
+  // Orthographic: the hardware path draws it, with the forward pass and depth-reconstructed
+  // positions; 2dr does not; the forward pass does not on top of a compute method.
+  rs = viewSettings({CameraProjection::Orthographic, 64, 48}, "hardware");
+  rs.projection = CameraProjection::Orthographic;
+  rs.visbufferShading = false;
+  rs.worldPos = gpu::kWorldPosAlg41;
+  rs.normals = gpu::kNormalsImproved;
+  EXPECT_EQ(message(rs), "accepted");
+  rs.primary = "2dr";
+  EXPECT_NE(message(rs).find("needs primary=3dr, 3dr-binned or raycast"), std::string::npos) << message(rs);
+  rs.primary = "3dr";
+  EXPECT_NE(message(rs).find("needs shading=visbuffer with primary=3dr"), std::string::npos) << message(rs);
 }
 
 }  // namespace

@@ -146,7 +146,7 @@ struct Raster3dConstants {
   vec4 forward;   // xyz: unit view direction (view -z) in world space
   vec4 right;     // xyz: unit view +x in world space
   vec4 up;        // xyz: unit view +y in world space
-  vec4 depth;     // x znear, y zfar, z C, w D: reverse-Z depth = D / t - C (camera.h)
+  vec4 depth;     // x znear, y zfar, z C, w D: reverse-Z depth = D / t - C (orthographic: D - C·t; camera.h)
   vec4 project;   // x W/(2·a·tan(fov/2)), y H/(2·tan(fov/2)), z W/2 - 0.5, w H/2 - 0.5
   uint width;
   uint height;

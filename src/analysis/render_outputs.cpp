@@ -200,7 +200,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
 
   const std::vector<float> depth = renderer.readDepth();
   const Camera& cam = renderer.camera();
-  write("depth.png", depthToImage(depth, w, h, cam.znear, cam.zfar),
+  write("depth.png", depthToImage(depth, w, h, cam.znear, cam.zfar, cam.projection == CameraProjection::Orthographic),
         {{"Description", "reverse-Z depth: log view distance to grey (white = near), sky dark blue"}});
 
   // Colour: linear HDR → ACES (Narkowicz fit) at exposure 0 → sRGB.

@@ -208,7 +208,8 @@ std::map<std::string, std::string> readPngTextChunks(const std::filesystem::path
 
 // ---- visualisations ----------------------------------------------------------------------------
 
-ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t height, float znear, float zfar) {
+ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t height, float znear, float zfar,
+                        bool affine) {
   HB_ASSERT(depth.size() == size_t(width) * height);
   HB_ASSERT(znear > 0 && zfar > znear);
   // Inverse of camera.h's reverse-Z mapping depth = C + D/d, d = -z_view the view distance.
@@ -223,7 +224,8 @@ ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t h
     } else if (z <= 0.0f) {
       putPixel(img, i, kSkyBlue);
     } else {
-      const double distance = d / (std::min(double(z), 1.0) + c);
+      const double clamped = std::min(double(z), 1.0);
+      const double distance = affine ? zf - clamped * (zf - zn) : d / (clamped + c);
       const double t = std::clamp(std::log(distance / zn) / logRange, 0.0, 1.0);
       const uint8_t grey = toByte(1.0 - t);
       putPixel(img, i, {grey, grey, grey});

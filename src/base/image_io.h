@@ -52,10 +52,10 @@ uint32_t crc32Png(std::span<const uint8_t> bytes, uint32_t crc = 0);
 // Reverse-Z depth (camera.h: near -> 1, far -> 0) to grey: the view distance
 // d = D/(depth + C) (C = zn/(zf-zn), D = zf*zn/(zf-zn)) maps logarithmically from white at znear
 // to black at zfar, so near and far structure are both visible. depth == 0 (cleared: sky) is
-// dark blue; non-finite depth is magenta. Preconditions: depth.size() == width*height,
-// 0 < znear < zfar.
+// dark blue; non-finite depth is magenta. `affine`: the orthographic mapping depth = (zf - d)/(zf - zn)
+// instead. Preconditions: depth.size() == width*height, 0 < znear < zfar.
 ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t height, float znear,
-                        float zfar);
+                        float zfar, bool affine = false);
 
 // The thesis's ray-count colours (section 5, Figure 5.2): black/blue for 0-3 of 10, cyan/green
 // for 4-7, yellow/red for 8-10, as a piecewise-linear ramp through

@@ -205,6 +205,19 @@ TEST(DepthImage, NearIsWhiteFarIsDarkSkyIsBlueAndTheLogMidpointIsMidGrey) {
   EXPECT_EQ(pixelAt(img, 4), (Rgb8{255, 0, 255}));
 }
 
+TEST(DepthImage, AnOrthographicViewsAffineDepthMapsToTheSameGreys) {
+  // depth = (zf - d)/(zf - zn): the same distances as above give the same greys.
+  const float zn = 0.1f, zf = 100.f;
+  const double mid = std::sqrt(double(zn) * zf);
+  const std::vector<float> depth = {1.0f, 0.0f, float((zf - mid) / (zf - zn)), float((zf - 99.0) / (zf - zn))};
+  const ImageRGBA8 img = depthToImage(depth, 4, 1, zn, zf, true);
+  EXPECT_EQ(pixelAt(img, 0), (Rgb8{255, 255, 255}));
+  EXPECT_EQ(pixelAt(img, 1), pixelAt(depthToImage(std::vector<float>{0.0f}, 1, 1, zn, zf), 0));
+  // Float depth near 0.97 has an absolute step of 6e-8, i.e. 6e-6 m at d = 3.16: t moves ~1e-6.
+  EXPECT_NEAR(pixelAt(img, 2).r, 127.5, 0.5);
+  EXPECT_LE(pixelAt(img, 3).r, 1);
+}
+
 TEST(NormalsImage, MapsUnitVectorsAndBlanksInvalidPixels) {
   const std::vector<float> n = {0, 0, 1, -1, 0, 0, 0, 1, 0};
   const std::vector<uint8_t> valid = {1, 1, 0};

@@ -41,12 +41,17 @@ static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
   if (c.projection != CameraProjection::Perspective) {
     const std::string what = std::string("projection=") + toString(c.projection);
     const bool planar = c.projection == CameraProjection::Orthographic;
-    if (settings.primary == "hardware" || settings.primary == "2dr")
-      throw InputError(what + " needs primary=3dr, 3dr-binned or raycast (primary=" + settings.primary + " draws " +
-                       (planar && settings.primary == "hardware" ? "orthographic views only through a matrix it does not have yet"
-                                                                  : "perspective views only") + ")");
-    if (!settings.visbufferShading)
-      throw InputError(what + " needs shading=visbuffer (the forward pass rasterizes through a perspective matrix)");
+    if (settings.primary == "2dr" || (settings.primary == "hardware" && !planar))
+      throw InputError(what + " needs primary=3dr, 3dr-binned or raycast" + (planar ? "" : " (or hardware for orthographic)") +
+                       " (primary=" + settings.primary + " draws " +
+                       (settings.primary == "hardware" ? "planar views only" : "perspective views only") + ")");
+    // The forward pass draws through the view's matrix, which a curved view has not; on top of a
+    // compute method its depth test is derived for perspective depth (shading.cpp).
+    if (!settings.visbufferShading && !(planar && settings.primary == "hardware"))
+      throw InputError(what + " needs shading=visbuffer" +
+                       (planar ? " with primary=" + settings.primary + " (the forward pass draws orthographic views only "
+                                                                     "on top of primary=hardware)"
+                               : " (the forward pass rasterizes through a planar matrix)"));
     if (settings.lightCulling)
       throw InputError(what + " needs light_culling=false (the light tiles are frusta of a perspective view)");
   }
@@ -63,8 +68,10 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
       plan_(planFrame(scene, settings.effects, primaryPassName(settings.primary))),
       camera_(pickCamera(scene, settings)),
       view_(camera_.view),
-      proj_(reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
-                               camera_.zfar)),
+      proj_(camera_.projection == CameraProjection::Orthographic
+                ? reverseZOrthographic(camera_.xmag, camera_.ymag, camera_.znear, camera_.zfar)
+                : reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
+                                     camera_.zfar)),
       gpuScene_(ctx, scene),
       depth_(ctx, settings.width, settings.height, kDepthFormat,
              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
@@ -76,10 +83,12 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
       depthPrepass_(ctx),
       timer_(ctx, 16) {
   // Settings the frame cannot run with are refused before anything is created by hand.
-  if (camera_.projection != CameraProjection::Perspective && plan_.hasPass("shadows") &&
-      settings.worldPos != gpu::kWorldPosHit)
+  // Depth turns back into positions through a planar matrix (perspective or orthographic).
+  const bool curved = camera_.projection != CameraProjection::Perspective &&
+                      camera_.projection != CameraProjection::Orthographic;
+  if (curved && plan_.hasPass("shadows") && settings.worldPos != gpu::kWorldPosHit)
     throw InputError(std::string("projection=") + toString(camera_.projection) +
-                     " with shadows needs world_pos=hit (depth is turned back into positions through a perspective "
+                     " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
                      "matrix otherwise)");
   if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
     throw InputError("device \"" + ctx.info().name +

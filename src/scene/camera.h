@@ -20,6 +20,16 @@ namespace hb {
 glm::mat4 reverseZProjection(float aspect, float yfov, float znear, float zfar);
 glm::dmat4 reverseZProjectionD(double aspect, double yfov, double znear, double zfar);
 
+// The orthographic counterpart (glTF's xmag/ymag: half the view's width and height), reverse-Z
+// and affine in view depth t = -z: depth = (zf - t)/(zf - zn), 1 at the near plane, 0 at the far.
+//   | 1/xmag   0       0   0 |
+//   | 0       -1/ymag  0   0 |
+//   | 0        0       C   D |    C = 1/(zf-zn), D = zf/(zf-zn)
+//   | 0        0       0   1 |
+// Depth is then D - C·t, and t = (D - depth)/C inverts it.
+glm::mat4 reverseZOrthographic(float xmag, float ymag, float znear, float zfar);
+glm::dmat4 reverseZOrthographicD(double xmag, double ymag, double znear, double zfar);
+
 // Right-handed look-at (view space looks down -z, y up).
 glm::mat4 lookAt(glm::vec3 eye, glm::vec3 target, glm::vec3 up);
 

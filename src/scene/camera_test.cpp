@@ -63,6 +63,23 @@ TEST(Projection, Equation43InvertsTheDepthMapping) {
   }
 }
 
+// The orthographic matrix: near to 1, far to 0, affine in view depth between (so t = (D - depth)/C
+// recovers it), and the view's extent xmag x ymag to NDC ±1 with y down.
+TEST(Projection, OrthographicIsReverseZAndAffineInViewDepth) {
+  const double xmag = 3.5, ymag = 2.0, zn = 0.05, zf = 500.0;
+  const glm::dmat4 p = reverseZOrthographicD(xmag, ymag, zn, zf);
+  EXPECT_NEAR(ndcDepth(p, -zn), 1.0, 1e-15);
+  EXPECT_NEAR(ndcDepth(p, -zf), 0.0, 1e-15);
+  for (double z : {-0.05, -0.3, -7.0, -123.0, -500.0}) {
+    const double d = ndcDepth(p, z);
+    EXPECT_NEAR((p[3][2] - d) / p[2][2], -z, 1e-12 * std::abs(z));
+  }
+  const glm::dvec4 corner = p * glm::dvec4(xmag, ymag, -10.0, 1.0);
+  EXPECT_DOUBLE_EQ(corner.w, 1.0);
+  EXPECT_DOUBLE_EQ(corner.x, 1.0);
+  EXPECT_DOUBLE_EQ(corner.y, -1.0);  // up in view space is up on screen: NDC y = -1 (Vulkan)
+}
+
 TEST(Projection, LightRangeFromEquation41) {
   // I / D^2 = 0.02  <=>  D = 50 sqrt(0.02 I)
   for (double intensity : {0.5, 1.0, 10.0, 250.0}) {

@@ -59,6 +59,9 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
       c.originX = glm::vec4(glm::vec3(right * (2.0 * xm / w)), 0.0f);
       c.originY = glm::vec4(glm::vec3(-up * (2.0 * ym / h)), 0.0f);
       c.project = glm::vec4(float(w / (2.0 * xm)), float(h / (2.0 * ym)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
+      // The orthographic matrix's C and D, as camera.cpp computes them in float: depth = D − C·t.
+      c.depth.z = 1.0f / (fzf - fzn);
+      c.depth.w = fzf / (fzf - fzn);
       break;
     }
     case CameraProjection::Paraboloid: {
