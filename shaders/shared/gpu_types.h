@@ -185,7 +185,30 @@ HB_CONST uint kR3dCounterBinsRefined = 9u;  // binned: (triangle, screen tile) e
 HB_CONST uint kR3dCounterBinsEmpty = 10u;   // of those, entries that covered no pixel of the tile
 HB_CONST uint kR3dCounterCount = 11u;
 
+// One layered depth map (Aalund et al. 2015; reference/ldm_ref.h defines the view): an
+// orthographic view along dir over the scene's bounding sphere (centre, radius). Pixel (i, j) of an
+// R×R map is the line through centre + (2(i + ½)/R − 1)·radius·right + (1 − 2(j + ½)/R)·radius·up
+// along dir; a point's depth is z = dot(p − centre, dir) + radius, in [0, 2·radius].
+struct LdmMap {
+  vec4 dir;           // xyz unit
+  vec4 right;         // xyz unit
+  vec4 up;            // xyz unit
+  vec4 centreRadius;  // xyz centre, w radius
+};
+
+// The lists (ldm_build.frag.glsl, ldm_list = max64): every link is a 64-bit record
+// (key << 32) | node, node >= 1, 0 = the end. key = kLdmKeyTop − floatBits(z) for z >= 0, so a
+// larger record is a nearer entry along dir and lists kept in descending records are sorted by
+// ascending z. links[pixel] heads pixel's list; links[pixels + node] is node's next link.
+HB_CONST uint kLdmKeyTop = 0xFFFFFFFFu;
+HB_CONST uint kLdmMaxInsertSteps = 4096u;  // a bounded insertion; longer ones are counted, not hung
+HB_CONST uint kLdmCounterAllocated = 0u;    // nodes asked for (over capacity ones included)
+HB_CONST uint kLdmCounterOverflow = 1u;     // fragments dropped: the node pool was full
+HB_CONST uint kLdmCounterUnfinished = 2u;   // insertions cut at kLdmMaxInsertSteps
+HB_CONST uint kLdmCounterCount = 4u;
+
 #ifdef __cplusplus
+static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");

@@ -43,8 +43,8 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
   ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
   VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  ds.depthTestEnable = VK_TRUE;
-  ds.depthWriteEnable = d.depthWrite ? VK_TRUE : VK_FALSE;
+  ds.depthTestEnable = d.depthTest ? VK_TRUE : VK_FALSE;
+  ds.depthWriteEnable = d.depthTest && d.depthWrite ? VK_TRUE : VK_FALSE;
   ds.depthCompareOp = d.depthCompare;
   std::vector<VkPipelineColorBlendAttachmentState> blend(d.colorFormats.size());
   for (auto& b : blend) b.colorWriteMask = 0xF;
@@ -58,7 +58,7 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
   VkPipelineRenderingCreateInfo ri{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   ri.colorAttachmentCount = uint32_t(d.colorFormats.size());
   ri.pColorAttachmentFormats = d.colorFormats.data();
-  ri.depthAttachmentFormat = d.depthFormat;
+  ri.depthAttachmentFormat = d.depthTest ? d.depthFormat : VK_FORMAT_UNDEFINED;
   VkGraphicsPipelineCreateInfo gi{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   gi.pNext = &ri;
   gi.stageCount = d.fragment ? 2 : 1;
@@ -78,7 +78,7 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
 }
 
 void drawScene(VkCommandBuffer cmd, const GpuScene& scene, VkPipelineLayout layout, const glm::mat4& viewProj,
-               uint32_t width, uint32_t height) {
+               uint32_t width, uint32_t height, uint32_t instances) {
   VkViewport viewport{0, 0, float(width), float(height), 0.0f, 1.0f};
   VkRect2D scissor{{0, 0}, {width, height}};
   vkCmdSetViewport(cmd, 0, 1, &viewport);
@@ -91,7 +91,7 @@ void drawScene(VkCommandBuffer cmd, const GpuScene& scene, VkPipelineLayout layo
   for (const DrawItem& d : scene.draws()) {
     gpu::DrawConstants dc{viewProj * d.model, d.model, d.material, d.firstIndex, d.vertexOffset, triangleBase};
     vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_ALL, 0, sizeof dc, &dc);
-    vkCmdDrawIndexed(cmd, d.indexCount, 1, d.firstIndex, int32_t(d.vertexOffset), 0);
+    vkCmdDrawIndexed(cmd, d.indexCount, instances, d.firstIndex, int32_t(d.vertexOffset), 0);
     triangleBase += d.indexCount / 3;
   }
 }

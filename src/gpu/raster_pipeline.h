@@ -15,6 +15,7 @@ struct RasterPipelineDesc {
   VkShaderModule fragment = VK_NULL_HANDLE;              // none: depth only (the prepass)
   const VkSpecializationInfo* fragmentSpec = nullptr;
   uint32_t vertexAttributes = 1;                         // 1: position; 3: position, normal, uv
+  bool depthTest = true;  // false: no depth attachment (depthFormat UNDEFINED), no test
   bool depthWrite = true;
   VkCompareOp depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
   float depthBiasConstant = 0.0f;  // both 0: no depth bias
@@ -28,8 +29,9 @@ struct RasterPipelineDesc {
 VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDesc& desc);
 
 // Sets viewport and scissor to width×height, binds the scene's buffers and draws every draw
-// item with its DrawConstants pushed to `layout` (all stages). The pipeline must be bound.
+// item with its DrawConstants pushed to `layout` (all stages), `instances` times (gl_InstanceIndex
+// 0..instances−1). The pipeline must be bound.
 void drawScene(VkCommandBuffer cmd, const GpuScene& scene, VkPipelineLayout layout, const glm::mat4& viewProj,
-               uint32_t width, uint32_t height);
+               uint32_t width, uint32_t height, uint32_t instances = 1);
 
 }  // namespace hb

@@ -1,0 +1,100 @@
+#include "frame/passes/ldm_build.h"
+
+#include <bit>
+#include <cstring>
+
+#include "base/errors.h"
+#include "gpu/raster_pipeline.h"
+
+namespace hb {
+
+LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<gpu::LdmMap> maps,
+                   uint32_t resolution, uint32_t nodeCapacity)
+    : ctx_(ctx),
+      scene_(scene),
+      maps_(std::move(maps)),
+      resolution_(resolution),
+      nodeCapacity_(nodeCapacity),
+      mapsBuffer_(uploadBuffer(ctx, maps_.data(), maps_.size() * sizeof(gpu::LdmMap),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
+      links_(ctx, (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * sizeof(uint64_t),
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+             false, MemClass::Other),
+      counters_(ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
+                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                false, MemClass::Other),
+      sets_(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+                  {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+                  {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}),
+      pipeline_(ctx) {
+  HB_ASSERT(!maps_.empty() && resolution_ > 0 && nodeCapacity_ > 0);
+  if (!ctx.info().bufferInt64Atomics)
+    throw DeviceError("device \"" + ctx.info().name + "\" has no 64-bit buffer atomics: layered depth maps need them");
+  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, links_.handle());
+  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+  pipeline_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
+  ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
+  const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
+  SpecConstants spec{{resolution_, nodeCapacity_, pixels}};
+  std::vector<VkSpecializationMapEntry> entries;
+  VkSpecializationInfo si = specializationInfo(spec, entries);
+  RasterPipelineDesc desc;
+  desc.layout = pipeline_.layout();
+  desc.vertex = vert.handle();
+  desc.fragment = frag.handle();
+  desc.fragmentSpec = &si;
+  desc.depthTest = false;  // every crossing is stored, both faces (no culling: raster_pipeline.h)
+  pipeline_.pipeline_ = createRasterPipeline(ctx, desc);
+  pipeline_.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+}
+
+LdmBuild::~LdmBuild() = default;
+
+void LdmBuild::record(VkCommandBuffer cmd) const {
+  vkCmdFillBuffer(cmd, links_.handle(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {resolution_, resolution_}};
+  ri.layerCount = 1;
+  vkCmdBeginRendering(cmd, &ri);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.handle());
+  VkDescriptorSet set = sets_.set();
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.layout(), 0, 1, &set, 0, nullptr);
+  drawScene(cmd, scene_, pipeline_.layout(), glm::mat4(1.0f), resolution_, resolution_, uint32_t(maps_.size()));
+  vkCmdEndRendering(cmd);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                    VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+std::vector<std::vector<float>> LdmBuild::readLists() const {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, links_);
+  std::vector<uint64_t> links(bytes.size() / sizeof(uint64_t));
+  std::memcpy(links.data(), bytes.data(), links.size() * sizeof(uint64_t));
+  const size_t pixels = maps_.size() * size_t(resolution_) * resolution_;
+  std::vector<std::vector<float>> lists(pixels);
+  for (size_t p = 0; p < pixels; ++p) {
+    uint64_t rec = links[p];
+    // A list is at most the pool long; a longer walk would mean a cycle (never written).
+    for (size_t n = 0; rec != 0 && n <= nodeCapacity_; ++n) {
+      const uint32_t key = uint32_t(rec >> 32), node = uint32_t(rec & 0xFFFFFFFFu);
+      lists[p].push_back(std::bit_cast<float>(gpu::kLdmKeyTop - key));
+      HB_ASSERT(node >= 1 && node <= nodeCapacity_);
+      rec = links[pixels + node - 1];
+    }
+  }
+  return lists;
+}
+
+LdmCounters LdmBuild::readCounters() const {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, counters_);
+  uint32_t c[gpu::kLdmCounterCount];
+  std::memcpy(c, bytes.data(), sizeof c);
+  return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished]};
+}
+
+}  // namespace hb

@@ -1,0 +1,55 @@
+// Layered depth maps (Aalund et al. 2015, Sect. 3), built every frame so that scenes may move:
+// per direction an orthographic map over the scene's bounding sphere (gpu_types.h LdmMap), every
+// surface crossing of a pixel's line stored in a per-pixel list sorted by depth at construction.
+// ldm_build=hardware: one instanced draw of the scene over the N maps, no attachments; each
+// fragment inserts into its pixel's list (ldm_list=max64: 64-bit atomicMax, ldm_build.frag.glsl).
+// The node pool is sized up front; fragments past it are counted (overflow), never silent.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "gpu/gpu_scene.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu/vk_resources.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+struct LdmCounters {
+  uint64_t allocated = 0;   // nodes asked for (= fragments)
+  uint64_t overflow = 0;    // fragments dropped because the pool was full
+  uint64_t unfinished = 0;  // insertions cut at kLdmMaxInsertSteps
+};
+
+class LdmBuild {
+ public:
+  // maps: the N views (all of `resolution`²); nodeCapacity: the pool's nodes (>= 1).
+  // Precondition: the device has 64-bit buffer atomics and fragment stores (lavapipe, NVIDIA).
+  LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<gpu::LdmMap> maps, uint32_t resolution,
+           uint32_t nodeCapacity);
+  ~LdmBuild();
+
+  // Clears the lists and draws them anew.
+  void record(VkCommandBuffer cmd) const;
+
+  uint32_t mapCount() const { return uint32_t(maps_.size()); }
+  uint32_t resolution() const { return resolution_; }
+  uint32_t nodeCapacity() const { return nodeCapacity_; }
+  const Buffer& links() const { return links_; }  // heads, then next links (gpu_types.h)
+  uint64_t memoryBytes() const { return links_.size() + mapsBuffer_.size() + counters_.size(); }
+
+  // Readbacks. lists()[map·R² + pixel] is that pixel's depths, ascending, as stored (float).
+  std::vector<std::vector<float>> readLists() const;
+  LdmCounters readCounters() const;
+
+ private:
+  const VulkanContext& ctx_;
+  const GpuScene& scene_;
+  std::vector<gpu::LdmMap> maps_;
+  uint32_t resolution_, nodeCapacity_;
+  Buffer mapsBuffer_, links_, counters_;
+  DescriptorSets sets_;
+  Pipeline pipeline_;
+};
+
+}  // namespace hb

@@ -1,0 +1,124 @@
+// Layered depth maps on the real device (frame/passes/ldm_build.h): the lists the hardware build
+// writes hold every surface crossing of each pixel's line, sorted, against depths known exactly.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "frame/passes/ldm_build.h"
+#include "gpu_fixture.h"
+#include "scene/mesh_builder.h"
+
+namespace hb {
+namespace {
+
+gpu::LdmMap mapOf(glm::dvec3 dir, glm::dvec3 right, glm::dvec3 up, glm::dvec3 centre, double radius) {
+  return {glm::vec4(glm::vec3(dir), 0.0f), glm::vec4(glm::vec3(right), 0.0f), glm::vec4(glm::vec3(up), 0.0f),
+          glm::vec4(glm::vec3(centre), float(radius))};
+}
+
+Scene boxScene(glm::dvec3 lo, glm::dvec3 hi) {
+  Scene s;
+  s.name = "box";
+  s.materials.push_back({});
+  MeshBuilder mb("box");
+  addBox(mb, 0, lo, hi);
+  mb.appendTo(s);
+  return s;
+}
+
+class LdmGpuTest : public testing::GpuTest {};
+
+// A box [-1, 1] x [-0.5, 0.5] x [-0.25, 0.75] in a sphere of radius 2 at the origin, seen along
+// each axis both ways and along a diagonal. Along an axis, a pixel whose line passes inside the
+// box's cross-section (by more than the rasterizer's rounding of the edge, 1e-3 px here) holds
+// exactly two entries, the box's two faces across it, at z = ±half + offset + radius; one outside
+// holds none. Depths are interpolated from three float vertex depths: within a few u of 2·radius.
+TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothingOutside) {
+  const glm::dvec3 lo(-1, -0.5, -0.25), hi(1, 0.5, 0.75);
+  const Scene scene = boxScene(lo, hi);
+  GpuScene gpuScene(*ctx, scene);
+  const double radius = 2.0;
+  const uint32_t R = 64;
+  // dir, right, up (right × up = −dir: a right-handed view looking along dir).
+  const glm::dvec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
+  const std::vector<std::array<glm::dvec3, 3>> frames = {{-Z, X, Y}, {Z, -X, Y}, {-X, -Z, Y}, {X, Z, Y}, {-Y, X, -Z}, {Y, X, Z}};
+  std::vector<gpu::LdmMap> maps;
+  for (const auto& f : frames) maps.push_back(mapOf(f[0], f[1], f[2], glm::dvec3(0), radius));
+  LdmBuild build(*ctx, gpuScene, maps, R, 8 * R * R);
+  ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
+  const std::vector<std::vector<float>> lists = build.readLists();
+  const LdmCounters counters = build.readCounters();
+  EXPECT_EQ(counters.overflow, 0u);
+  EXPECT_EQ(counters.unfinished, 0u);
+  const double u = 5.9604644775390625e-8, depthBound = 8.0 * u * 2.0 * radius;
+  size_t inside = 0, wrong = 0, worstEntries = 0;
+  uint64_t entries = 0;
+  for (size_t m = 0; m < frames.size(); ++m) {
+    const auto& [dir, right, up] = frames[m];
+    for (uint32_t j = 0; j < R; ++j)
+      for (uint32_t i = 0; i < R; ++i) {
+        const std::vector<float>& list = lists[(m * R + j) * R + i];
+        entries += list.size();
+        const glm::dvec3 p = (2.0 * (i + 0.5) / R - 1.0) * radius * right + (1.0 - 2.0 * (j + 0.5) / R) * radius * up;
+        // The pixel line's distance inside the box's cross-section (negative outside).
+        double margin = 1e9;
+        for (int a = 0; a < 3; ++a) {
+          if (std::abs(dir[a]) > 0.5) continue;
+          margin = std::min({margin, p[a] - lo[a], hi[a] - p[a]});
+        }
+        const double pixel = 2.0 * radius / R;
+        if (std::abs(margin) < 1e-3 * pixel) continue;  // on the outline: either way
+        if (margin < 0) {
+          wrong += !list.empty();
+          continue;
+        }
+        ++inside;
+        int axis = 0;
+        for (int a = 0; a < 3; ++a)
+          if (std::abs(dir[a]) > 0.5) axis = a;
+        const double s = dir[axis];
+        // z = (q − c)·dir + r for the two faces q[axis] = lo, hi.
+        double z0 = s * lo[axis] + radius, z1 = s * hi[axis] + radius;
+        if (z0 > z1) std::swap(z0, z1);
+        const bool ok = list.size() == 2 && std::abs(list[0] - z0) <= depthBound && std::abs(list[1] - z1) <= depthBound;
+        wrong += !ok;
+        worstEntries = std::max(worstEntries, list.size());
+      }
+  }
+  std::printf("box LDMs, 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes allocated\n", R, R,
+              inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
+  // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
+  // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
+  EXPECT_EQ(inside, 2u * (512u + 256u + 512u));
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_EQ(entries, counters.allocated);  // every fragment is in exactly one list
+}
+
+// Lists are sorted, and a pool too small for the fragments is counted, never silent: the lists
+// then hold exactly the nodes the pool had.
+TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
+  const Scene scene = boxScene(glm::dvec3(-1), glm::dvec3(1));
+  GpuScene gpuScene(*ctx, scene);
+  const uint32_t R = 32, capacity = 500;
+  std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
+                                   mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};
+  LdmBuild build(*ctx, gpuScene, maps, R, capacity);
+  ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
+  const std::vector<std::vector<float>> lists = build.readLists();
+  const LdmCounters counters = build.readCounters();
+  uint64_t entries = 0;
+  for (const auto& l : lists) {
+    entries += l.size();
+    EXPECT_TRUE(std::is_sorted(l.begin(), l.end()));
+  }
+  EXPECT_GT(counters.allocated, uint64_t(capacity));
+  EXPECT_EQ(counters.overflow, counters.allocated - capacity);
+  EXPECT_EQ(entries, uint64_t(capacity));
+  EXPECT_EQ(counters.unfinished, 0u);
+}
+
+}  // namespace
+}  // namespace hb
