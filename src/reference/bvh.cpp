@@ -195,6 +195,32 @@ bool Bvh::closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMi
   return traverse<false>(origin, dir, tMin, tMax, t, triangle);
 }
 
+void Bvh::allHits(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax,
+                  std::vector<BvhHit>& hits) const {
+  hits.clear();
+  if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tMax)) return;
+  const glm::dvec3 invDir = 1.0 / dir;
+  uint32_t stack[128];  // as traverse()
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!rayHitsBox(n.lo, n.hi, org, invDir, dir, tMin, tMax)) continue;
+    if (n.count > 0) {
+      for (uint32_t i = n.firstOrRight; i < n.firstOrRight + n.count; ++i) {
+        double t;
+        if (intersectTriangleWatertight(triangles_[i], org, dir, tMin, tMax, t)) hits.push_back({t, ids_[i]});
+      }
+    } else {
+      HB_ASSERT(top + 2 <= 128);
+      stack[top++] = n.firstOrRight;
+      stack[top++] = uint32_t(&n - nodes_.data()) + 1;
+    }
+  }
+  std::sort(hits.begin(), hits.end(),
+            [](const BvhHit& a, const BvhHit& b) { return a.t < b.t || (a.t == b.t && a.triangle < b.triangle); });
+}
+
 Bvh buildBvh(const Scene& scene) {
   std::vector<BvhTriangle> tris;
   tris.reserve(scene.triangleCount());

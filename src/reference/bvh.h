@@ -27,6 +27,11 @@ bool isDegenerate(const BvhTriangle& tri);
 bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& origin, const glm::dvec3& dir,
                                  double tMin, double tMax, double& t);
 
+struct BvhHit {
+  double t;
+  uint32_t triangle;  // index in the list the Bvh was built from
+};
+
 class Bvh {
  public:
   Bvh() = default;
@@ -42,6 +47,12 @@ class Bvh {
   // The same, and which triangle: its index in the list the Bvh was built from.
   bool closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
                   uint32_t& triangle) const;
+
+  // Every hit with t in [tMin, tMax], one per triangle the watertight test accepts (a line
+  // through an edge or vertex shared by several triangles may hit each of them), sorted by t,
+  // ties by triangle index. Replaces the contents of `hits`. tMin = -inf gives the whole line.
+  void allHits(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax,
+               std::vector<BvhHit>& hits) const;
 
   size_t triangleCount() const { return triangles_.size(); }
   size_t droppedDegenerate() const { return dropped_; }

@@ -1,5 +1,6 @@
 #include "reference/bvh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -189,6 +190,62 @@ TEST(Bvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
     EXPECT_EQ(t2, bestT);
   }
   EXPECT_GT(hits, 50);  // the test exercised hits, not just misses
+}
+
+// ---- every hit along a line ------------------------------------------------------------------------
+
+TEST(Bvh, AllHitsListsEveryTriangleABruteForceSearchHitsInOrder) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-4.0, 4.0), s(-0.8, 0.8);
+  std::vector<BvhTriangle> tris;
+  for (int i = 0; i < 400; ++i) {
+    const glm::dvec3 c(u(rng), u(rng), u(rng));
+    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
+                    c + glm::dvec3(s(rng), s(rng), s(rng))});
+  }
+  const Bvh bvh(tris);
+  size_t total = 0;
+  std::vector<BvhHit> hits;
+  for (int r = 0; r < 1000; ++r) {
+    const glm::dvec3 o(u(rng), u(rng), u(rng));
+    const glm::dvec3 d = randomUnit(rng);
+    const double tMin = r % 2 ? -std::numeric_limits<double>::infinity() : 0.5, tMax = r % 3 ? 3.0 : 1e30;
+    std::vector<BvhHit> brute;
+    for (uint32_t i = 0; i < tris.size(); ++i) {
+      double t;
+      if (intersectTriangleWatertight(tris[i], o, d, tMin, tMax, t)) brute.push_back({t, i});
+    }
+    bvh.allHits(o, d, tMin, tMax, hits);
+    ASSERT_EQ(hits.size(), brute.size()) << "ray " << r;
+    for (size_t k = 1; k < hits.size(); ++k) ASSERT_LE(hits[k - 1].t, hits[k].t);
+    for (const BvhHit& b : brute) {  // same test on the same data: the same t, bit for bit
+      const bool found = std::any_of(hits.begin(), hits.end(),
+                                     [&](const BvhHit& h) { return h.triangle == b.triangle && h.t == b.t; });
+      EXPECT_TRUE(found) << "ray " << r << " triangle " << b.triangle;
+    }
+    total += hits.size();
+  }
+  EXPECT_GT(total, 500u);  // many rays met several triangles
+}
+
+TEST(Bvh, AllHitsAlongALineThroughAClosedCubeFindBothFaces) {
+  const Bvh bvh(cube());
+  std::vector<BvhHit> hits;
+  bvh.allHits({0.25, 0.1, 5}, {0, 0, -1}, 0.0, 10.0, hits);  // inside one fan triangle per face
+  ASSERT_EQ(hits.size(), 2u);
+  EXPECT_EQ(hits[0].t, 4.0);
+  EXPECT_EQ(hits[1].t, 6.0);
+  // The whole line from a point inside: one hit behind (t < 0), one ahead.
+  bvh.allHits({0.3, 0.2, 0}, {0, 0, 1}, -std::numeric_limits<double>::infinity(),
+              std::numeric_limits<double>::infinity(), hits);
+  ASSERT_EQ(hits.size(), 2u);
+  EXPECT_EQ(hits[0].t, -1.0);
+  EXPECT_EQ(hits[1].t, 1.0);
+  // Through the face centres, the shared vertex of each face's fan of 4: every fan triangle hit.
+  bvh.allHits({0, 0, 5}, {0, 0, -1}, 0.0, 10.0, hits);
+  EXPECT_EQ(hits.size(), 8u);
+  bvh.allHits({0.25, 0.1, 5}, {0, 0, -1}, 4.5, 5.5, hits);  // nothing inside the interval
+  EXPECT_TRUE(hits.empty());
 }
 
 }  // namespace
