@@ -10,13 +10,16 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
+#extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
 
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
 layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
 
-layout(set = 0, binding = 1) buffer Links { uint64_t links[]; };  // PIXELS heads, then NODE_CAPACITY next links
+// PIXELS heads, then NODE_CAPACITY next links, through the buffer's device address (gpu_types.h).
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer LdmLinks { uint64_t links[]; };
+layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };
 layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
 
 layout(location = 0) flat in uint inMap;
@@ -31,9 +34,10 @@ void main() {
   }
   const uint key = kLdmKeyTop - floatBitsToUint(max(inDepth, 0.0));
   uint64_t cur = (uint64_t(key) << 32) | uint64_t(node);
+  LdmLinks l = LdmLinks(uint64_t(linksAddress.x) | (uint64_t(linksAddress.y) << 32));
   uint link = pixel;
   for (uint step = 0u; step < kLdmMaxInsertSteps; ++step) {
-    const uint64_t old = atomicMax(links[link], cur);
+    const uint64_t old = atomicMax(l.links[link], cur);
     if (old == 0ul) return;  // cur ends the list
     if (old < cur) {         // cur took this link; the displaced record goes on after cur
       link = PIXELS + uint(cur & 0xFFFFFFFFul) - 1u;

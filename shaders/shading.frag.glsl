@@ -3,7 +3,7 @@
 // Fresnel, the GGX/Trowbridge-Reitz distribution and Smith with Schlick-GGX geometry; k_s from
 // Fresnel, k_d = (1 - k_s)(1 - metallic). glTF punctual lights (candela / lux), a distance
 // attenuation that reaches zero at the range, spot cone falloff; visibility from the shadow
-// pass's bitmask. No emission and no ambient. Writes linear HDR colour; the analysis variant also
+// pass's bitmask. No emission; the ambient term only where ambient occlusion runs. Writes linear HDR colour; the analysis variant also
 // writes the true face normal of the triangle (the reference for normal reconstruction).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_nonuniform_qualifier : require
@@ -18,8 +18,9 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 layout(constant_id = 4) const uint ID_MATCH = 0;
 
 #include "shading_bindings.glsl.inc"
-layout(set = 0, binding = 9) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = 10) uniform sampler2D textures[];  // bindless: the last binding
 layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
+layout(set = 0, binding = 9) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"

@@ -23,7 +23,8 @@ layout(set = 0, binding = 10) readonly buffer Draws { GpuDraw draws[]; };
 layout(set = 0, binding = 11) readonly buffer TriangleDraws { uint triangleDraw[]; };
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D colorImage;
 layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D refNormalImage;
-layout(set = 0, binding = 14) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = 14) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+layout(set = 0, binding = 15) uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"
 #include "camera_ray.glsl.inc"

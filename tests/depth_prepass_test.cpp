@@ -83,7 +83,8 @@ TEST_F(DepthPrepassTest, ClearsToZeroWhereThereIsNoGeometry) {
   EXPECT_EQ(t.passMs[0].first, "depth_prepass");
   EXPECT_EQ(t.passMs[1].first, "shading");
   EXPECT_GE(t.passMs[0].second, 0.0);
-  EXPECT_EQ(renderer.passesSkipped().size(), 2u);  // light_culling and shadows, each with its reason
+  // light_culling and shadows, and ambient occlusion's two (off unless called for), each with its reason
+  EXPECT_EQ(renderer.passesSkipped().size(), 4u);
 }
 
 }  // namespace

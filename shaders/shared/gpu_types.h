@@ -9,6 +9,7 @@
 namespace hb::gpu {
 using vec2 = glm::vec2;
 using vec4 = glm::vec4;
+using uvec2 = glm::uvec2;
 using mat4 = glm::mat4;
 using uint = uint32_t;
 #define HB_CONST constexpr
@@ -66,6 +67,7 @@ struct FrameConstants {
   uint tileCountY;
   uint tileSize;
   uint lightCount;
+  vec4 ambient;  // rgb: the ambient term's radiance (color·intensity) where ambient occlusion runs; w = 1 then, else 0
 };
 
 // A shadow ray's t_min at world position p: kShadowTMin when cameraPos.w is 0 (the thesis), else
@@ -199,7 +201,9 @@ struct LdmMap {
 // The lists (ldm_build.frag.glsl, ldm_list = max64): every link is a 64-bit record
 // (key << 32) | node, node >= 1, 0 = the end. key = kLdmKeyTop − floatBits(z) for z >= 0, so a
 // larger record is a nearer entry along dir and lists kept in descending records are sorted by
-// ascending z. links[pixel] heads pixel's list; links[pixels + node] is node's next link.
+// ascending z. links[pixel] heads pixel's list; links[pixels + node − 1] is node's next link.
+// The links are read and written through their buffer device address (N·R² heads and a node per
+// fragment outgrow lavapipe's 128 MiB storage binding at N = 128, R = 256 already).
 HB_CONST uint kLdmKeyTop = 0xFFFFFFFFu;
 HB_CONST uint kLdmMaxInsertSteps = 4096u;  // a bounded insertion; longer ones are counted, not hung
 HB_CONST uint kLdmCounterAllocated = 0u;    // nodes asked for (over capacity ones included)
@@ -207,13 +211,33 @@ HB_CONST uint kLdmCounterOverflow = 1u;     // fragments dropped: the node pool 
 HB_CONST uint kLdmCounterUnfinished = 2u;   // insertions cut at kLdmMaxInsertSteps
 HB_CONST uint kLdmCounterCount = 4u;
 
+// Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion.h).
+HB_CONST uint kAoLdm = 0u;        // trace the LDMs along the N directions
+HB_CONST uint kAoRayTraced = 1u;  // ray trace the same N directions
+HB_CONST uint kAoReference = 2u;  // cosine-weighted Monte Carlo, `samples` stratified rays
+HB_CONST float kAoSky = -1.0;     // an AO value: the pixel sees the sky (no surface)
+HB_CONST float kAoNoNormal = -2.0;  // an AO value: no normal could be reconstructed (not shaded by AO)
+struct AoConstants {
+  uint directions;   // N
+  uint resolution;   // R: each LDM is R×R
+  uint mapPixels;    // N·R²: where the next links begin in the LDM links buffer
+  uint samples;      // reference rays per pixel (a square)
+  float dMax;        // obscurance distance; 0: none (occlusion)
+  float biasScale;   // scale of the derived LDM bias (ao_common.glsl.inc)
+  uint maxListSteps; // a bounded walk of a pixel's list (the node pool)
+  uint samplesSide;  // √samples
+  uvec2 ldmLinks;    // the LDM links buffer's device address (lo, hi): it outgrows a binding
+  uvec2 pad;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(AoConstants) == 48, "AoConstants layout");
 static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
-static_assert(sizeof(FrameConstants) == 5 * 64 + 2 * 16 + 16, "FrameConstants layout");
+static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");
 static_assert(sizeof(LightGridEntry) == 16, "LightGridEntry layout");

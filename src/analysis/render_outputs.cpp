@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "analysis/culling_analysis.h"
+#include "analysis/ao_analysis.h"
 #include "analysis/primary_analysis.h"
 #include "reference/flip.h"
 #include "base/image_io.h"
@@ -157,6 +158,70 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
           {"against_ray_cast", toJson(exact)}};
 }
 
+// Ambient occlusion: its settings, memory and LDM lists, the AO image, and (where the frame has a
+// ray tracer) its errors against the same directions ray traced and the Monte Carlo reference, on
+// the same surface (AoPass::computeWith), each with an error map.
+template <typename Write>
+static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, std::vector<std::string>& summary) {
+  nlohmann::json a = ao.settings().ao.toJson();
+  const std::vector<float> mine = ao.readAo();
+  uint64_t sky = 0, noNormal = 0;
+  for (float v : mine) {
+    sky += v == gpu::kAoSky;
+    noNormal += v == gpu::kAoNoNormal;
+  }
+  a["pixels_sky"] = sky;
+  a["pixels_without_normal"] = noNormal;
+  const AoMemory m = ao.memory();
+  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes}, {"ldm_maps", m.ldmMapBytes}, {"directions", m.directionBytes},
+                       {"output", m.outputBytes}, {"total", m.total()}};
+  if (const LdmBuild* ldm = ao.ldm()) {
+    const LdmCounters c = ldm->readCounters();
+    const std::vector<std::vector<float>> lists = ldm->readLists();
+    std::vector<uint32_t> lengths;
+    lengths.reserve(lists.size());
+    for (const auto& l : lists) lengths.push_back(uint32_t(l.size()));
+    std::sort(lengths.begin(), lengths.end());
+    const uint64_t heads = uint64_t(lists.size());
+    // Exact allocation: a head per map pixel and a node per fragment (8 bytes each).
+    const uint64_t exactBytes = 8 * (heads + c.allocated);
+    a["ldm"] = {{"maps", ldm->mapCount()},
+                {"resolution", ldm->resolution()},
+                {"heads", heads},
+                {"nodes_capacity", ldm->nodeCapacity()},
+                {"nodes_used", std::min<uint64_t>(c.allocated, ldm->nodeCapacity())},
+                {"fragments", c.allocated},
+                {"overflow", c.overflow},
+                {"unfinished_insertions", c.unfinished},
+                {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
+                                     {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
+                                     {"max", lengths.empty() ? 0u : lengths.back()}}},
+                {"exact_bytes", exactBytes},
+                {"allocated_over_exact", exactBytes ? double(m.ldmLinkBytes) / double(exactBytes) : 0.0}};
+  }
+  write("ao.png", aoToImage(mine, w, h),
+        {{"Description", std::string("ambient occlusion (") + toString(ao.settings().ao.method) +
+                             "): grey = AO, white unoccluded; sky blue; magenta no normal"}});
+  if (!ao.canTrace()) {
+    a["errors_not_computed"] = "the frame has no ray tracer (shadows off and method ldm): its references need one";
+    return a;
+  }
+  for (AoMethod ref : {AoMethod::RayTraced, AoMethod::Reference}) {
+    if (ref == ao.settings().ao.method) continue;
+    const std::vector<float> r = ao.computeWith(ref);
+    const AoErrors e = aoErrors(mine, r, w, h);
+    const std::string name = std::string("vs_") + toString(ref);
+    a[name] = toJson(e);
+    write("ao_error_" + name + ".png", aoErrorToImage(mine, r, w, h, 0.25f),
+          {{"Description", std::string("|AO - AO ") + toString(ref) + "|, viridis 0..0.25"}});
+    char line[200];
+    std::snprintf(line, sizeof line, "ambient occlusion (%s) vs %s: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f",
+                  toString(ao.settings().ao.method), toString(ref), e.mae, e.rmse, e.bias, e.p95, e.flip);
+    summary.push_back(line);
+  }
+  return a;
+}
+
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
                                  const VariantParams& params, const std::string& dir, bool writeImages,
                                  const ReferenceFrame* reference) {
@@ -194,6 +259,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
           {{"Description", "3D rasterization: edge evaluations per pixel, viridis 0.." + std::to_string(int(p99)) +
                                " (the 99th percentile; above it yellow)"}});
   }
+  if (AoPass* ao = renderer.ambientOcclusion()) j["ambient_occlusion"] = aoJson(*ao, w, h, write, out.summary);
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};

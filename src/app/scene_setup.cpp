@@ -12,6 +12,7 @@ namespace hb {
 
 void applySceneOverrides(const Config& config, Scene& scene) {
   if (config.lights) scene.lights = *config.lights;
+  if (config.ambient) scene.ambient = *config.ambient;
   if (config.camera.explicitPose) {
     scene.cameras.insert(scene.cameras.begin(), cameraFromSpec(config.camera));
   } else if (config.camera.index > 0) {
@@ -62,6 +63,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.lightCulling = p.lightCulling;
   s.aabb = p.aabb;
   s.effects = effects;
+  if (!p.effects.is_null()) s.effects.add(EffectSource::Config, "the variant's params.effects", p.effects);
   s.backend = toString(p.backend);
   s.normals = p.normalCulling == NormalCulling::Off        ? gpu::kNormalsOff
               : p.normalCulling == NormalCulling::Naive    ? gpu::kNormalsNaive

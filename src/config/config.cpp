@@ -15,6 +15,7 @@
 #include "scene/camera.h"
 #include "config/config_reader.h"
 #include "effects/effects.h"
+#include "scene/ambient_json.h"
 #include "base/errors.h"
 
 namespace hb {
@@ -32,7 +33,7 @@ constexpr float kMinEq41Range = 1e-3f;
 constexpr uint32_t kCpuMaxWidth = 480, kCpuMaxHeight = 270, kCpuWarmup = 2, kCpuMeasured = 5;
 
 const std::vector<std::string_view> kTopKeys = {
-    "name",    "description", "scene",    "scene_params", "camera", "lights", "resolution",
+    "name",    "description", "scene",    "scene_params", "camera", "lights", "ambient", "resolution",
     "effects", "frames",      "defaults", "variants",     "grid",   "notes"};
 
 // Floats print as the shortest decimal that reads back to the same float (0.1f → 0.1, not
@@ -320,6 +321,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
           .key("lights")
           .fail("cannot be combined with an explicit \"lights\" list; remove one");
   }
+  if (doc.contains("ambient")) c.ambient = readAmbient(doc["ambient"], top.key("ambient"));
   if (doc.contains("effects")) {
     validateEffects(doc["effects"], top.key("effects"));  // the schema of effects/effects.h
     c.effects = nlohmann::json(doc["effects"]);
@@ -460,6 +462,7 @@ nlohmann::json toJson(const Config& c) {
   } else {
     j["lights"] = "scene";
   }
+  if (c.ambient) j["ambient"] = toJson(*c.ambient);
   j["effects"] = c.effects;  // as the file says: what it leaves out stays the scene's (or the default)
   j["frames"] = {{"warmup", c.warmupFrames}, {"measured", c.measuredFrames}};
   j["defaults"] = toJson(c.defaults);

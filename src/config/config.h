@@ -140,6 +140,9 @@ struct VariantParams {
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.
   std::optional<uint32_t> lightCount;
   std::optional<double> triangleScale;
+  // "effects": an effects object (effects/effects.h) layered above the config's own for this variant
+  // (e.g. one ambient occlusion method per variant); null: the config's.
+  nlohmann::json effects;
 
   bool operator==(const VariantParams&) const = default;
 };
@@ -177,6 +180,7 @@ struct Config {
   bool sceneIsHardCase() const;
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
+  std::optional<Ambient> ambient;  // "ambient": replaces the scene's ambient term (scene.h)
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights
   // The "effects" object as the file gives it (validated): keys it leaves out stay the scene's
   // or the built-in default (effects/effects.h). An EffectsRequest layer of source Config.

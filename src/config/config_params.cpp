@@ -4,6 +4,7 @@
 #include "config/config.h"
 #include "config/config_reader.h"
 #include "base/errors.h"
+#include "effects/effects.h"
 
 namespace hb {
 
@@ -64,7 +65,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale", "effects"};
   return keys;
 }
 
@@ -111,6 +112,9 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.lightCount = uint32_t(readInt(v, where, 0, kMaxLightCount));
   } else if (key == "triangle_scale") {
     p.triangleScale = readNumber(v, where, kMinTriangleScale, kMaxTriangleScale, /*loExclusive=*/false);
+  } else if (key == "effects") {
+    validateEffects(v, where);  // the schema of effects/effects.h
+    p.effects = nlohmann::json(v);
   } else {
     failUnknownKey(key, container, paramKeys());
   }
@@ -150,6 +154,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;
+  if (!p.effects.is_null()) j["effects"] = p.effects;
   return j;
 }
 
@@ -160,7 +165,7 @@ void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) 
     where.fail(
         "expected key=value, e.g. --set tile_size=16 (keys: tile_size, light_culling, aabb, "
         "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, primary, projection, "
-        "r3d_thread_box, shading, max_lights_per_tile, light_count, triangle_scale)");
+        "r3d_thread_box, shading, max_lights_per_tile, light_count, triangle_scale, effects)");
   std::string key = keyEqualsValue.substr(0, eq);
   std::string text = keyEqualsValue.substr(eq + 1);
 

@@ -239,7 +239,7 @@ TEST(ConfigErrors, UnknownTopLevelKeySuggestsTheClosest) {
 
 TEST(ConfigErrors, UnknownKeyFarFromAnyListsTheAllowedKeys) {
   std::string e = errorOfText(R"({"name": "n", "effects": {"bloom": true}})");
-  EXPECT_EQ(e, R"(x.json: effects: unknown key "bloom" (allowed: shadows))");
+  EXPECT_EQ(e, R"(x.json: effects: unknown key "bloom" (allowed: shadows, ambient_occlusion))");
 }
 
 TEST(ConfigErrors, UnknownParamKeyNamesTheVariantPath) {

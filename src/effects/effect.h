@@ -18,6 +18,7 @@ enum class FrameResource : uint32_t {
   Depth,                   // the primary-visibility depth buffer
   LightLists,              // per-tile light lists (tile frustums + light culling)
   AccelerationStructures,  // BLAS per mesh + TLAS
+  LayeredDepthMaps,        // the LDMs' maps, lists and node pool (ambient occlusion by LDM)
 };
 const char* toString(FrameResource r);
 
@@ -34,6 +35,11 @@ struct EffectDef {
   // Why the effect cannot act on this scene although it is called for ("" when it can), e.g.
   // "no light casts shadows". Precondition: value passed validate.
   std::string (*cannotAct)(const Scene& scene, const nlohmann::json& value);
+  // Where what it needs and adds depends on its value (a method, say): those of this value, a
+  // subset of `needs` ∪ {LayeredDepthMaps, AccelerationStructures} and of `passes`. Null: the
+  // static lists. A pass of `passes` that a value does not add is listed as skipped.
+  std::vector<FrameResource> (*needsOf)(const nlohmann::json& value) = nullptr;
+  std::vector<const char*> (*passesOf)(const nlohmann::json& value) = nullptr;
 };
 
 // An effect's value asks for it unless it is false (true, or an object of its settings).

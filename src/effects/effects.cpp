@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "base/errors.h"
+#include "effects/ambient_occlusion.h"
 #include "effects/shadows.h"
 
 namespace hb {
@@ -10,6 +11,7 @@ namespace hb {
 const std::vector<const EffectDef*>& allEffects() {
   static const std::vector<const EffectDef*> effects = {
       &shadowsEffect(),
+      &ambientOcclusionEffect(),
   };
   return effects;
 }
@@ -21,8 +23,8 @@ const EffectDef* findEffect(std::string_view name) {
 }
 
 const std::vector<const char*>& framePassOrder() {
-  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "raycast", "light_culling", "shadows",
-                                                     "shading"};
+  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "raycast",          "light_culling",
+                                                     "shadows",       "ldm_build", "ambient_occlusion", "shading"};
   return order;
 }
 
@@ -31,6 +33,7 @@ const char* toString(FrameResource r) {
     case FrameResource::Depth: return "depth";
     case FrameResource::LightLists: return "light_lists";
     case FrameResource::AccelerationStructures: return "acceleration_structures";
+    case FrameResource::LayeredDepthMaps: return "layered_depth_maps";
   }
   return "?";
 }
@@ -144,14 +147,18 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
       s.skippedBecause = def->cannotAct(scene, s.value);
     }
     s.runs = s.calledFor && s.skippedBecause.empty();
+    const std::vector<const char*> used = s.runs && def->passesOf ? def->passesOf(s.value) : def->passes;
     for (const char* pass : def->passes) {
-      if (s.runs)
+      const bool usedByValue = std::find(used.begin(), used.end(), pass) != used.end();
+      if (s.runs && usedByValue)
         effectPasses.push_back(pass);
+      else if (s.runs)
+        effectPassSkipped.push_back({pass, std::string("effects.") + def->name + " = " + s.value.dump() + " does not use it"});
       else
         effectPassSkipped.push_back({pass, s.skippedBecause});
     }
     if (s.runs)
-      for (FrameResource r : def->needs) addResource(r);
+      for (FrameResource r : def->needsOf ? def->needsOf(s.value) : def->needs) addResource(r);
     plan.effects.push_back(std::move(s));
   }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "base/input_error_of.h"
+#include "effects/ambient_occlusion.h"
 
 namespace hb {
 namespace {
@@ -31,7 +32,10 @@ const EffectState& stateOf(const FramePlan& plan, const std::string& name) {
 TEST(Effects, DefaultsCallForShadowsAndTheFrameHasEveryPassInFrameOrder) {
   const FramePlan plan = planFrame(sceneWithLights({pointLight()}), {});
   EXPECT_EQ(plan.passes, (std::vector<std::string>{"depth_prepass", "light_culling", "shadows", "shading"}));
-  EXPECT_TRUE(plan.skipped.empty());
+  // Ambient occlusion is off unless called for: its passes are listed with that reason.
+  const std::string off = "effects.ambient_occlusion is off (default)";
+  EXPECT_EQ(plan.skipped, (std::vector<std::pair<std::string, std::string>>{{"ldm_build", off}, {"ambient_occlusion", off}}));
+  EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
   EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
   const EffectState& s = stateOf(plan, "shadows");
   EXPECT_EQ(s.source, EffectSource::Default);
@@ -47,7 +51,7 @@ TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
   EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Scene);
   EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));  // nothing allocated for an effect that is off
   EXPECT_FALSE(plan.hasPass("shadows"));
-  ASSERT_EQ(plan.skipped.size(), 1u);
+  ASSERT_EQ(plan.skipped.size(), 3u);  // shadows, then the ambient occlusion passes (off by default)
   EXPECT_EQ(plan.skipped[0].first, "shadows");
   EXPECT_EQ(plan.skipped[0].second, "effects.shadows is off (scene: scene.gltf)");
 
@@ -63,6 +67,53 @@ TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
   EXPECT_FALSE(plan.runs("shadows"));
   EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Set);
   EXPECT_EQ(stateOf(plan, "shadows").origin, "--set shadows=false");
+}
+
+// Ambient occlusion (effects/ambient_occlusion.h): it needs an ambient term; the method decides
+// what the frame builds: LDMs for "ldm" (no acceleration structures if nothing else needs them),
+// the ray tracer for "raytraced" and "reference" (no maps; ldm_build listed as unused).
+TEST(Effects, AmbientOcclusionNeedsAnAmbientTermAndBuildsOnlyWhatItsMethodUses) {
+  Scene scene = sceneWithLights({pointLight()});
+  EffectsRequest request;
+  request.add(EffectSource::Config, "c.json", {{"shadows", false}, {"ambient_occlusion", true}});
+  FramePlan plan = planFrame(scene, request);
+  EXPECT_FALSE(plan.runs("ambient_occlusion"));
+  EXPECT_EQ(stateOf(plan, "ambient_occlusion").skippedBecause,
+            "the scene has no ambient term (add extras.ambient to the glTF scene or \"ambient\" to the config)");
+  EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
+
+  scene.ambient = Ambient{{1, 1, 1}, 0.5f};
+  plan = planFrame(scene, request);
+  EXPECT_TRUE(plan.runs("ambient_occlusion"));
+  EXPECT_EQ(plan.passes,
+            (std::vector<std::string>{"depth_prepass", "light_culling", "ldm_build", "ambient_occlusion", "shading"}));
+  EXPECT_TRUE(plan.needs(FrameResource::LayeredDepthMaps));
+  EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));
+
+  request.layers.push_back(parseEffectSet(R"(ambient_occlusion={"method": "raytraced", "directions": 128})"));
+  plan = planFrame(scene, request);
+  EXPECT_EQ(plan.passes, (std::vector<std::string>{"depth_prepass", "light_culling", "ambient_occlusion", "shading"}));
+  EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
+  EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
+  EXPECT_EQ(aoSettingsOf(stateOf(plan, "ambient_occlusion").value).directions, 128u);
+
+  scene.ambient->intensity = 0.0f;
+  EXPECT_EQ(stateOf(planFrame(scene, request), "ambient_occlusion").skippedBecause, "the scene's ambient intensity is 0");
+}
+
+TEST(Effects, AmbientOcclusionSettingsAreCheckedWithWhereAndHowToFix) {
+  EXPECT_EQ(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"method": "hbao2"})"); }),
+            R"(--set ambient_occlusion={"method": "hbao2"}: effects.ambient_occlusion.method: "hbao2" is not one of "ldm", "raytraced", "reference")");
+  EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"directions": 0})"); }).find("directions"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"samples": 1000})"); }).find("is not a square"),
+            std::string::npos);
+  EXPECT_NE(inputErrorOf([] { parseEffectSet("ambient_occlusion=12"); }).find("expected true, false or an object"),
+            std::string::npos);
+  const AoSettings d = aoSettingsOf(true);
+  EXPECT_EQ(d.method, AoMethod::Ldm);
+  EXPECT_EQ(d.directions, 64u);
+  EXPECT_FALSE(d.dMax.has_value());
 }
 
 TEST(Effects, ACalledForEffectThatCannotActIsSkippedWithItsReason) {

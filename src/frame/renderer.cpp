@@ -7,6 +7,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include "base/errors.h"
+#include "effects/ambient_occlusion.h"
 #include "gpu/gpu_lights.h"
 
 namespace hb {
@@ -113,6 +114,10 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   const uint32_t lightCount = uint32_t(scene.lights.size());
   gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
                                               settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f);
+  if (plan_.runs("ambient_occlusion")) {  // the ambient term lights the frame through AO only (scene.h)
+    HB_ASSERT(scene.ambient);
+    fc.ambient = glm::vec4(scene.ambient->color * scene.ambient->intensity, 1.0f);
+  }
   std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
   std::vector<gpu::GpuLight> packed = packLights(scene.lights);
   if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
@@ -161,12 +166,31 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     }
     shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, shadowInputs_);
   }
+  if (plan_.hasPass("ambient_occlusion")) {
+    AoPassSettings as;
+    for (const EffectState& e : plan_.effects)
+      if (e.name == "ambient_occlusion") as.ao = aoSettingsOf(e.value);
+    // The shadow pass's positions; a normal always (AO has no "off"): the triangle's own where the
+    // primary gives ids, else the improved reconstruction.
+    as.worldPos = settings.worldPos;
+    as.normals = raster3d_ ? gpu::kNormalsGeometric : gpu::kNormalsImproved;
+    AoInputs ai{&frameConstants_, &depth_, pointSampler_, accel_ ? accel_->tlas() : VK_NULL_HANDLE};
+    if (raster3d_) {
+      ai.hitIds = &raster3d_->visibility();
+      ai.hitRays = &raster3d_->constants();
+      ai.hitTriangles = &raster3d_->triangles();
+    } else if (settings.worldPos == gpu::kWorldPosHit) {
+      throw InputError("world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
+                       "3dr-binned, 2dr or raycast");
+    }
+    ao_ = std::make_unique<AoPass>(ctx, gpuScene_, scene, as, settings.width, settings.height, ai);
+  }
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
   ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
                    shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
                           pointSampler_, raster3d_ ? &raster3d_->visibility() : nullptr,
                           settings.r3dShadingDepthTest, settings.visbufferShading,
-                          raster3d_ ? &raster3d_->constants() : nullptr};
+                          raster3d_ ? &raster3d_->constants() : nullptr, ao_ ? &ao_->output() : nullptr};
   shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
   samplerGuard.armed = false;  // ~Renderer destroys it from here on
 }
@@ -228,6 +252,18 @@ FrameTiming Renderer::renderFrame(bool analysis) {
                     VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
                         VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                     VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    }
+    if (ao_) {
+      if (ao_->buildsLdms()) {
+        timer_.begin(cmd, "ldm_build");
+        ao_->recordBuild(cmd);
+        timer_.end(cmd);
+        passesRun_.push_back("ldm_build");
+      }
+      timer_.begin(cmd, "ambient_occlusion");
+      ao_->recordAo(cmd);
+      timer_.end(cmd);
+      passesRun_.push_back("ambient_occlusion");
     }
     timer_.begin(cmd, "shading");
     shading_->record(cmd, proj_ * view_, analysis);

@@ -12,6 +12,7 @@
 #include "scene/camera.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
+#include "frame/passes/ambient_occlusion.h"
 #include "frame/passes/depth_prepass.h"
 #include "frame/passes/primary_3dr.h"
 #include "gpu/accel.h"
@@ -86,6 +87,7 @@ class Renderer {
   bool hasShadows() const { return bool(shadows_); }
   const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr only
   const AccelerationStructures* accel() const { return accel_.get(); }
+  AoPass* ambientOcclusion() const { return ao_.get(); }  // when the effect runs
   std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
 
   // Ray throughput: re-traces the rays of the last analysis frame `repetitions` times as a pure
@@ -116,6 +118,7 @@ class Renderer {
   std::unique_ptr<LightCulling> culling_;
   std::unique_ptr<AccelerationStructures> accel_;
   std::unique_ptr<ShadowPass> shadows_;
+  std::unique_ptr<AoPass> ao_;
   std::unique_ptr<ShadingPass> shading_;
   std::unique_ptr<RayBenchPass> rayBench_;
   ShadowInputs shadowInputs_{};

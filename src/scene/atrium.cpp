@@ -436,6 +436,9 @@ Scene makeAtrium(const AtriumParams& params) {
   addVases(scene, q);
   addLionHeads(scene, q);
   addLights(scene, params);
+  // A sky above the open courtyard: bluish ambient light, which reaches the frame only where a
+  // config calls for ambient occlusion (scene.h Ambient).
+  scene.ambient = Ambient{{0.55f, 0.65f, 0.85f}, 0.3f};
 
   Camera cam;
   cam.name = "central";

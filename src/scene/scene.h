@@ -3,6 +3,7 @@
 // transforms, materials, decoded textures, punctual lights and cameras.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,17 @@ struct Light {
   bool castShadows = true;
 };
 
+// Light from everywhere (the sky's, say) at radiance color·intensity, which reaches a point as its
+// ambient occlusion lets it: a Lambertian surface of albedo a sends a·color·intensity·AO. A scene's
+// extras.ambient or a config's "ambient": {"color": [r, g, b], "intensity": x}. It lights the frame
+// only through the ambient_occlusion effect (effects/ambient_occlusion.h): without the effect the
+// frame is the thesis's, direct light alone.
+struct Ambient {
+  glm::vec3 color{1.0f};
+  float intensity = 0.0f;
+  bool operator==(const Ambient&) const = default;
+};
+
 // How a camera maps pixels to rays (shaders/camera_ray.glsl.inc is the one definition).
 // Perspective and orthographic are planar (the hardware rasterizer can draw them); the paraboloid
 // (a hemisphere in a disk, 3DR paper Section 3.5) and latlong (the full sphere, equirectangular)
@@ -103,6 +115,7 @@ struct Scene {
   // effects/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
   nlohmann::json effects;
   std::string effectsOrigin;
+  std::optional<Ambient> ambient;  // none: nothing for ambient occlusion to darken
 
   uint64_t triangleCount() const;  // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances

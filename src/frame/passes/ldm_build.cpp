@@ -18,20 +18,23 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<
       mapsBuffer_(uploadBuffer(ctx, maps_.data(), maps_.size() * sizeof(gpu::LdmMap),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
       links_(ctx, (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * sizeof(uint64_t),
-             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                 VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
              false, MemClass::Other),
       counters_(ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                 false, MemClass::Other),
       sets_(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
-                  {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+                  {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
                   {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}),
       pipeline_(ctx) {
   HB_ASSERT(!maps_.empty() && resolution_ > 0 && nodeCapacity_ > 0);
   if (!ctx.info().bufferInt64Atomics)
     throw DeviceError("device \"" + ctx.info().name + "\" has no 64-bit buffer atomics: layered depth maps need them");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, links_.handle());
+  const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
+  linksAddress_ = uploadBuffer(ctx, &address, sizeof address, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   pipeline_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");

@@ -33,6 +33,8 @@ class LdmBuild {
   void record(VkCommandBuffer cmd) const;
 
   uint32_t mapCount() const { return uint32_t(maps_.size()); }
+  const std::vector<gpu::LdmMap>& maps() const { return maps_; }
+  const Buffer& mapsBuffer() const { return mapsBuffer_; }
   uint32_t resolution() const { return resolution_; }
   uint32_t nodeCapacity() const { return nodeCapacity_; }
   const Buffer& links() const { return links_; }  // heads, then next links (gpu_types.h)
@@ -47,7 +49,7 @@ class LdmBuild {
   const GpuScene& scene_;
   std::vector<gpu::LdmMap> maps_;
   uint32_t resolution_, nodeCapacity_;
-  Buffer mapsBuffer_, links_, counters_;
+  Buffer mapsBuffer_, links_, counters_, linksAddress_;
   DescriptorSets sets_;
   Pipeline pipeline_;
 };

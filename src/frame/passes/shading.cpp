@@ -24,7 +24,8 @@ std::vector<Binding> shadingBindings() {
           {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {10, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
 
@@ -62,8 +63,11 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // Without a visibility buffer binding 8 is never read (ID_MATCH = 0); any buffer will do.
   sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.visibilityIds ? in.visibilityIds : &scene.indices())->handle());
+  // Without ambient occlusion binding 9 is never read (frame.ambient.w = 0); any buffer will do.
+  sets_.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.ambientOcclusion ? in.ambientOcclusion : &scene.indices())->handle());
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, 9, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    sets_.writeImage(0, 10, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
@@ -138,7 +142,8 @@ std::vector<Binding> visbufferBindings() {
   b.push_back({11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
   b.push_back({12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
   b.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
-  b.push_back({14, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
+  b.push_back({14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
+  b.push_back({15, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
   return b;
 }
 }  // namespace
@@ -175,8 +180,10 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   v.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
   v.writeImage(0, 12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
   v.writeImage(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  v.writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    v.writeImage(0, 14, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    v.writeImage(0, 15, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);

@@ -32,6 +32,8 @@ struct ShadingInputs {
   // needs the 3DR ray constants.
   bool visbuffer = false;
   const Buffer* rays = nullptr;
+  // Ambient occlusion's output (AoPass::output), read where FrameConstants.ambient.w = 1; or null.
+  const Buffer* ambientOcclusion = nullptr;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;

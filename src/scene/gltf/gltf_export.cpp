@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "base/errors.h"
+#include "scene/ambient_json.h"
 #include "scene/gltf/gltf_io.h"
 
 namespace hb {
@@ -54,11 +55,11 @@ class Exporter {
     }
     for (const Camera& c : scene_.cameras) gscene.nodes.push_back(addCamera(c));
     for (const Light& l : scene_.lights) gscene.nodes.push_back(addLight(l));
-    if (!scene_.effects.is_null()) {  // what the scene calls for travels with it (effects/effects.h)
-      tinygltf::Value::Object extras;
-      extras["effects"] = toValue(scene_.effects);
-      gscene.extras = tinygltf::Value(std::move(extras));
-    }
+    // What the scene calls for and its ambient term travel with it (effects/effects.h, scene.h).
+    tinygltf::Value::Object extras;
+    if (!scene_.effects.is_null()) extras["effects"] = toValue(scene_.effects);
+    if (scene_.ambient) extras["ambient"] = toValue(toJson(*scene_.ambient));
+    if (!extras.empty()) gscene.extras = tinygltf::Value(std::move(extras));
     model_.scenes.push_back(std::move(gscene));
     model_.defaultScene = 0;
     if (!bin_.empty()) {

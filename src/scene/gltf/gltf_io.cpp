@@ -19,6 +19,7 @@
 
 #include "base/errors.h"
 #include "effects/effects.h"
+#include "scene/ambient_json.h"
 #include "scene/gltf/gltf_load_internal.h"
 
 namespace hb {
@@ -81,16 +82,20 @@ nlohmann::json rawLightsJson(const nlohmann::json& doc) {
 }
 
 // The effects the scene calls for: scenes[s].extras.effects of the scene that is loaded, checked
-// against the effects schema (effects/effects.h) with the file and key path in every message.
+// against the effects schema (effects/effects.h) with the file and key path in every message; and
+// its ambient term, scenes[s].extras.ambient (scene/ambient_json.h).
 void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path,
                       Scene& scene) {
   if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || model.scenes.empty()) return;
   const size_t s = static_cast<size_t>(model.defaultScene >= 0 ? model.defaultScene : 0);
   if (s >= doc["scenes"].size()) return;
   const nlohmann::json& gscene = doc["scenes"][s];
-  if (!gscene.is_object() || !gscene.contains("extras") || !gscene["extras"].is_object() ||
-      !gscene["extras"].contains("effects"))
-    return;
+  if (!gscene.is_object() || !gscene.contains("extras") || !gscene["extras"].is_object()) return;
+  const std::string extrasPath = "scenes[" + std::to_string(s) + "].extras";
+  if (gscene["extras"].contains("ambient"))
+    scene.ambient = readAmbient(nlohmann::ordered_json(gscene["extras"]["ambient"]),
+                                json_reader::Where{path, extrasPath + ".ambient"});
+  if (!gscene["extras"].contains("effects")) return;
   const nlohmann::json& effects = gscene["extras"]["effects"];
   validateEffects(effects, json_reader::Where{path, "scenes[" + std::to_string(s) + "].extras.effects"});
   scene.effects = effects;

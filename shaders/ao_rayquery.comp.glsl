@@ -1,0 +1,25 @@
+#version 460
+// Ambient occlusion by ray tracing through ray query (ao_common.glsl.inc, METHOD = kAoRayTraced
+// or kAoReference): the same rays as ao.rgen.glsl on devices with VK_KHR_ray_query.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_ray_query : require
+#include "shared/gpu_types.h"
+
+layout(constant_id = 0) const uint NORMALS = 0;
+layout(constant_id = 1) const uint WORLD_POS = 0;
+layout(constant_id = 2) const uint METHOD = kAoRayTraced;
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#include "ao_common.glsl.inc"
+
+layout(set = 0, binding = 4) uniform sampler2D depthTex;
+layout(set = 0, binding = 5) uniform accelerationStructureEXT tlas;
+
+float depthAt(ivec2 p) {
+  if (p.x < 0 || p.y < 0 || p.x >= int(frame.extent.x) || p.y >= int(frame.extent.y)) return 0.0;
+  return texelFetch(depthTex, p, 0).r;
+}
+
+#include "rayquery_occluded.glsl.inc"
+
+void main() { aoPixel(ivec2(gl_GlobalInvocationID.xy)); }

@@ -1,0 +1,298 @@
+// Ambient occlusion on the real device (frame/passes/ambient_occlusion.h, effects/ambient_occlusion.h):
+// the LDM lists against the exact CPU LDM (reference/ldm_ref.h), the ray-traced AO against the
+// CPU's double ray tracing from the GPU's own positions and normals, open sky and a closed box,
+// the LDM approximation's error on the atrium within the issue's bounds, determinism under a
+// shuffled draw order, and nothing built when the effect does not run.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "analysis/ao_analysis.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
+#include "reference/eq_partition.h"
+#include "reference/ldm_ref.h"
+#include "scene/atrium.h"
+#include "scene/camera.h"
+#include "scene/mesh_builder.h"
+
+namespace hb {
+namespace {
+
+RenderSettings aoSettings(uint32_t w, uint32_t h, const nlohmann::json& ao, bool shadows = true) {
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.effects.add(EffectSource::Config, "test", {{"shadows", shadows}, {"ambient_occlusion", ao}});
+  return rs;
+}
+
+Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
+  Camera c;
+  c.view = lookAt(eye, target, {0, 1, 0});
+  c.znear = 0.05f;
+  c.zfar = 100.0f;
+  return c;
+}
+
+Light pointLightAt(glm::vec3 p) {
+  Light l;
+  l.position = p;
+  l.intensity = 20.0f;
+  l.range = 30.0f;
+  return l;
+}
+
+// A ground quad of side 40 m at y = 0, seen from 3 m above: every visible point sees open sky.
+Scene openSky() {
+  Scene s;
+  s.name = "open-sky";
+  s.materials.push_back({});
+  MeshBuilder mb("ground");
+  addQuad(mb, 0, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, {0, 1, 0});
+  mb.appendTo(s);
+  s.lights.push_back(pointLightAt({0, 5, 0}));
+  s.cameras.push_back(lookFrom({0, 3, 4}, {0, 0, -2}));
+  s.ambient = Ambient{{1, 1, 1}, 0.5f};
+  return s;
+}
+
+// A closed box 4 x 3 x 5 m with the camera (and the light) inside: nothing inside sees the sky.
+Scene closedBox() {
+  Scene s;
+  s.name = "closed-box";
+  s.materials.push_back({});
+  MeshBuilder mb("box");
+  addBox(mb, 0, {-2, 0, -2.5}, {2, 3, 2.5});
+  mb.appendTo(s);
+  s.lights.push_back(pointLightAt({0, 2.5, 0}));
+  s.cameras.push_back(lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
+  s.ambient = Ambient{{1, 1, 1}, 0.5f};
+  return s;
+}
+
+std::vector<float> aoOf(const VulkanContext& ctx, const Scene& scene, const RenderSettings& rs) {
+  Renderer r(ctx, scene, rs);
+  r.renderFrame(true);
+  return r.ambientOcclusion()->readAo();
+}
+
+class AoGpuTest : public testing::GpuTest {};
+
+// The GPU's lists against the exact LDM through the same pixel lines (the maps' float parameters
+// taken as they are): the issue asks >= 99.5 % of pixels equal, depths within 1e-4 m. A list may
+// differ where the line passes within rounding of an edge (the rasterizer's fill rule against the
+// watertight cast, ldm_ref.h) or two surfaces lie within 1e-9·2r of each other (merged on the CPU).
+TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
+  const Scene scene = makeAtrium(AtriumParams{});
+  Renderer r(*ctx, scene, aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}}));
+  r.renderFrame(true);
+  const LdmBuild& ldm = *r.ambientOcclusion()->ldm();
+  const std::vector<std::vector<float>> lists = ldm.readLists();
+  const LdmCounters counters = ldm.readCounters();
+  EXPECT_EQ(counters.overflow, 0u);
+  EXPECT_EQ(counters.unfinished, 0u);
+  const Bvh bvh = buildBvh(scene);
+  const uint32_t R = ldm.resolution();
+  size_t pixels = 0, equal = 0, nodes = 0;
+  double worst = 0;
+  for (uint32_t m = 0; m < ldm.mapCount(); ++m) {
+    const gpu::LdmMap& g = ldm.maps()[m];
+    const LdmView view{glm::dvec3(g.dir), glm::dvec3(g.right), glm::dvec3(g.up), glm::dvec3(g.centreRadius),
+                       double(g.centreRadius.w), R};
+    const ExactLdm exact = exactLdm(bvh, view);
+    for (uint32_t j = 0; j < R; ++j)
+      for (uint32_t i = 0; i < R; ++i) {
+        const std::span<const double> want = exact.pixel(i, j);
+        const std::vector<float>& got = lists[(size_t(m) * R + j) * R + i];
+        ++pixels;
+        nodes += got.size();
+        bool same = want.size() == got.size();
+        for (size_t k = 0; same && k < got.size(); ++k) {
+          const double d = std::abs(double(got[k]) - want[k]);
+          same = d <= 1e-4;
+          worst = std::max(worst, d);
+        }
+        equal += same;
+      }
+  }
+  std::printf("atrium LDMs, 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu nodes, "
+              "largest depth difference of equal-length lists %.3g m\n",
+              equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
+  EXPECT_EQ(nodes, counters.allocated);
+  EXPECT_GE(double(equal), 0.995 * double(pixels));
+}
+
+// Open sky: nothing but the ground, so every direction of n's hemisphere is free and AO is the
+// quadrature (2/N)·Σ|n·v_i| of the cosine integral, 1 within 1.2 % at N = 64 (eq_partition_test:
+// 1.035 % over random normals). ldm and raytraced give it up to the float sum (N terms: 64u), the
+// reference exactly 1.
+TEST_F(AoGpuTest, UnderOpenSkyAoIsTheDirectionQuadratureOfOne) {
+  const Scene scene = openSky();
+  const std::vector<glm::dvec3> dirs = ldmDirections(64);
+  double quadrature = 0;
+  for (const glm::dvec3& v : dirs) quadrature += std::abs(v.y);
+  quadrature *= 2.0 / 64.0;
+  EXPECT_NEAR(quadrature, 1.0, 0.012);
+  for (const char* method : {"ldm", "raytraced", "reference"}) {
+    SCOPED_TRACE(method);
+    const std::vector<float> ao = aoOf(*ctx, scene, aoSettings(48, 32, {{"method", method}, {"samples", 64}}));
+    const double expected = std::string(method) == "reference" ? 1.0 : quadrature;
+    size_t ground = 0, off = 0;
+    for (float a : ao) {
+      if (a < 0.0f) continue;
+      ++ground;
+      off += std::abs(a - expected) > 64.0 * 5.96e-8;
+    }
+    EXPECT_GT(ground, 1000u);
+    EXPECT_EQ(off, 0u);
+  }
+}
+
+// Inside a closed box every ray meets a wall: the ray tracer's AO is 0 at every point whose
+// position and normal are its face's (points on a crease take a neighbour's depth sample, and a
+// rounding may put them a fraction of a millimetre outside: AO there counts rays that leave
+// through the wall they start on). So only points at least 0.5 m from every other face count
+// (the improved normal reads ±2 pixels, ~0.25 m here). The LDM also misses a wall nearer than its
+// bias along a direction (ao_common.glsl.inc): (√2/2)·(2r/R)·tan θ > 0.5 m with 2r/R = 7.07/64 m
+// needs tan θ > 6.4, cos θ = c < 0.155; a share ~c of the N directions has |n·v| < c, each
+// weighing 2|n·v|/N, so such points keep AO <= 2c² = 0.048. A traced ray that grazes its own wall
+// (|n·v| below ~1e-3, running within rounding of the wall into the crease ahead) may slip through
+// that crease: it weighs 2|n·v|/N < 1e-4 (measured: 1.9e-6 once, on lavapipe).
+TEST_F(AoGpuTest, InsideAClosedBoxNothingSeesTheSky) {
+  const Scene scene = closedBox();
+  const glm::vec3 lo(-2, 0, -2.5), hi(2, 3, 2.5);
+  for (const char* method : {"raytraced", "reference", "ldm"}) {
+    SCOPED_TRACE(method);
+    RenderSettings rs = aoSettings(48, 32, {{"method", method}, {"samples", 64}, {"ldm_resolution", 64}});
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    const std::vector<float> ao = r.ambientOcclusion()->readAo();
+    const ShadowReadback sh = r.readShadows();
+    size_t inside = 0, interior = 0;
+    double worst = 0;
+    for (size_t i = 0; i < ao.size(); ++i) {
+      if (ao[i] < 0.0f) continue;
+      ++inside;
+      const glm::vec3 p(sh.positions[4 * i], sh.positions[4 * i + 1], sh.positions[4 * i + 2]);
+      // Distances to the six faces: the nearest is the point's own; the next must be >= 0.5 m.
+      std::vector<float> d = {p.x - lo.x, hi.x - p.x, p.y - lo.y, hi.y - p.y, p.z - lo.z, hi.z - p.z};
+      for (float& v : d) v = std::abs(v);
+      std::sort(d.begin(), d.end());
+      if (d[1] < 0.5f) continue;
+      ++interior;
+      worst = std::max(worst, double(ao[i]));
+    }
+    std::printf("closed box, %s: largest AO %.5f over %zu of %zu pixels 0.5 m from other faces\n", method, worst,
+                interior, inside);
+    EXPECT_EQ(inside, size_t(48 * 32));
+    EXPECT_GT(interior, 700u);
+    EXPECT_LE(worst, std::string(method) == "ldm" ? 0.048 : 1e-4);
+  }
+}
+
+// The GPU's ray-traced AO against the CPU's double-precision rays along the same directions from
+// the GPU's own positions and normals (the shadow pass's analysis output, which the AO pass
+// computes with the same functions: surface.glsl.inc, improved normals on the hardware path).
+// Per pixel the two sums agree to the float sum's rounding (64 terms: 64u) unless a ray passes
+// within rounding of an edge or grazes a surface; such a direction moves AO by at most 2·|n·v|/N.
+TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
+  const Scene scene = makeAtrium(AtriumParams{});
+  RenderSettings rs = aoSettings(64, 36, {{"method", "raytraced"}});
+  rs.normals = gpu::kNormalsImproved;
+  Renderer r(*ctx, scene, rs);
+  r.renderFrame(true);
+  const std::vector<float> ao = r.ambientOcclusion()->readAo();
+  const ShadowReadback sh = r.readShadows();
+  const Bvh bvh = buildBvh(scene);
+  const std::vector<glm::dvec3> dirs = ldmDirections(64);
+  size_t compared = 0, equal = 0;
+  double sumDiff = 0;
+  for (size_t i = 0; i < ao.size(); ++i) {
+    if (ao[i] < 0.0f) continue;
+    const glm::dvec3 p(sh.positions[4 * i], sh.positions[4 * i + 1], sh.positions[4 * i + 2]);
+    const glm::dvec3 n(sh.normals[4 * i], sh.normals[4 * i + 1], sh.normals[4 * i + 2]);
+    if (!(glm::dot(n, n) > 0.5)) continue;
+    const double tMin = std::max(double(gpu::kShadowTMin), 0.0);
+    const double cpu = aoRayTraced(bvh, p, glm::normalize(n), dirs, std::numeric_limits<double>::infinity(), tMin);
+    ++compared;
+    const double d = std::abs(cpu - double(ao[i]));
+    equal += d <= 64.0 * 5.96e-8;
+    sumDiff += d;
+  }
+  std::printf("atrium 64x36, raytraced AO vs CPU double rays: %zu of %zu pixels equal, mean |difference| %.2g\n", equal,
+              compared, compared ? sumDiff / double(compared) : 0.0);
+  EXPECT_GT(compared, 1500u);
+  EXPECT_GE(double(equal), 0.98 * double(compared));
+  EXPECT_LE(sumDiff / double(compared), 1e-3);
+}
+
+// The issue's bounds for the LDM approximation (against raytraced, unlimited d_max): at N = 64 and
+// 128² maps MAE <= 0.015, RMSE <= 0.03, |bias| <= 0.01 (a CPU study on the atrium measured MAE
+// 0.0104, bias +0.006); at N = 128 and 256² MAE <= 0.007 (the study: 0.0044). Like the study, on
+// the exact surface: 3DR's hit positions and the triangles' own normals. (With positions and
+// normals reconstructed from the hardware prepass's depth the first case measures MAE 0.0137,
+// RMSE 0.0314, bias +0.0104: a reconstructed normal beside an edge tilts the slope-scaled bias.)
+TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
+  const Scene scene = makeAtrium(AtriumParams{});
+  struct Case {
+    uint32_t n, res;
+    double mae, rmse, bias;
+  };
+  for (const Case c : {Case{64, 128, 0.015, 0.03, 0.01}, Case{128, 256, 0.007, 1.0, 1.0}}) {
+    RenderSettings rs = aoSettings(128, 72, {{"directions", c.n}, {"ldm_resolution", c.res}});
+    rs.primary = "3dr";
+    rs.worldPos = gpu::kWorldPosHit;
+    rs.normals = gpu::kNormalsGeometric;
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    const std::vector<float> ldm = r.ambientOcclusion()->readAo();
+    const std::vector<float> rt = r.ambientOcclusion()->computeWith(AoMethod::RayTraced);
+    const AoErrors e = aoErrors(ldm, rt, 128, 72);
+    std::printf("atrium 128x72, ldm N=%u %ux%u vs raytraced: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f over %llu "
+                "pixels\n",
+                c.n, c.res, c.res, e.mae, e.rmse, e.bias, e.p95, e.flip, (unsigned long long)e.pixels);
+    EXPECT_GT(e.pixels, 8000u);
+    EXPECT_LE(e.mae, c.mae);
+    EXPECT_LE(e.rmse, c.rmse);
+    EXPECT_LE(std::abs(e.bias), c.bias);
+  }
+}
+
+// The lists' depths do not depend on the order fragments arrive in (max64 keeps each list sorted
+// whatever the order; equal depths are equal values), so AO is bit for bit the same when the scene
+// is drawn in another order.
+TEST_F(AoGpuTest, LdmAoIsBitForBitTheSameWhenTheDrawOrderIsShuffled) {
+  Scene scene = makeAtrium(AtriumParams{});
+  const RenderSettings rs = aoSettings(64, 36, {{"directions", 16}, {"ldm_resolution", 64}}, false);
+  const std::vector<float> a = aoOf(*ctx, scene, rs);
+  std::reverse(scene.instances.begin(), scene.instances.end());
+  for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());
+  const std::vector<float> b = aoOf(*ctx, scene, rs);
+  EXPECT_EQ(a, b);
+}
+
+// A scene that does not call for AO (or cannot: no ambient term) builds nothing for it.
+TEST_F(AoGpuTest, WithoutTheEffectNoLdmIsBuiltAndNothingIsAllocated) {
+  Scene scene = openSky();
+  RenderSettings rs;
+  rs.width = 32;
+  rs.height = 32;
+  {
+    Renderer r(*ctx, scene, rs);
+    EXPECT_EQ(r.ambientOcclusion(), nullptr);
+    r.renderFrame(false);
+    EXPECT_EQ(std::count(r.passesRun().begin(), r.passesRun().end(), "ldm_build"), 0);
+  }
+  scene.ambient.reset();
+  Renderer r(*ctx, scene, aoSettings(32, 32, true));
+  EXPECT_EQ(r.ambientOcclusion(), nullptr);
+  EXPECT_FALSE(r.plan().runs("ambient_occlusion"));
+}
+
+}  // namespace
+}  // namespace hb
