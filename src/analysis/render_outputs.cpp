@@ -177,12 +177,9 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
                        {"output", m.outputBytes}, {"total", m.total()}};
   if (const LdmBuild* ldm = ao.ldm()) {
     const LdmCounters c = ldm->readCounters();
-    const std::vector<std::vector<float>> lists = ldm->readLists();
-    std::vector<uint32_t> lengths;
-    lengths.reserve(lists.size());
-    for (const auto& l : lists) lengths.push_back(uint32_t(l.size()));
+    std::vector<uint32_t> lengths = ldm->readListLengths();
     std::sort(lengths.begin(), lengths.end());
-    const uint64_t heads = uint64_t(lists.size());
+    const uint64_t heads = uint64_t(lengths.size());
     // Exact allocation: a head per map pixel and a node per fragment (8 bytes each).
     const uint64_t exactBytes = 8 * (heads + c.allocated);
     a["ldm"] = {{"maps", ldm->mapCount()},
@@ -207,7 +204,10 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
     return a;
   }
   for (AoMethod ref : {AoMethod::RayTraced, AoMethod::Reference}) {
-    if (ref == ao.settings().ao.method) continue;
+    if (ref == ao.settings().ao.method) {  // the method is its own reference: no error by definition
+      a[std::string("vs_") + toString(ref)] = {{"mae", 0.0}, {"rmse", 0.0}, {"bias", 0.0}, {"flip", 0.0}, {"itself", true}};
+      continue;
+    }
     const std::vector<float> r = ao.computeWith(ref);
     const AoErrors e = aoErrors(mine, r, w, h);
     const std::string name = std::string("vs_") + toString(ref);

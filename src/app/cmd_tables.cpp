@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "report/compare.h"
 #include "base/errors.h"
+#include "report/ao_table.h"
 #include "report/primary_table.h"
 #include "report/tables.h"
 
@@ -34,6 +35,7 @@ int cmdTables(const std::string& resultsPath, const std::string& format) {
     // the runs carry one), then accuracy.md.
     std::cout << thesisTablesMarkdown(results);
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
+    if (const std::string ao = aoTableMarkdown(results); !ao.empty()) std::cout << "\n" << ao;
     std::cout << "\n" << accuracyReportMarkdown(results);
   }
   return kExitOk;

@@ -21,6 +21,7 @@
 #include "app/scene_setup.h"
 #include "shared/gpu_types.h"
 #include "report/stats.h"
+#include "report/ao_table.h"
 #include "report/primary_table.h"
 #include "report/tables.h"
 #include "base/version.h"
@@ -279,6 +280,7 @@ static void writeOutputs(const std::string& dir, const json& results) {
   {
     std::string tables = thesisTablesMarkdown(results);
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) tables += "\n" + primary;
+    if (const std::string ao = aoTableMarkdown(results); !ao.empty()) tables += "\n" + ao;
     writeFileAtomic((fs::path(dir) / "tables.md").string(), tables);
   }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));

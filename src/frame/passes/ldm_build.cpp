@@ -93,6 +93,17 @@ std::vector<std::vector<float>> LdmBuild::readLists() const {
   return lists;
 }
 
+std::vector<uint32_t> LdmBuild::readListLengths() const {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, links_);
+  const uint64_t* links = reinterpret_cast<const uint64_t*>(bytes.data());
+  const size_t pixels = maps_.size() * size_t(resolution_) * resolution_;
+  std::vector<uint32_t> lengths(pixels, 0);
+  for (size_t p = 0; p < pixels; ++p)
+    for (uint64_t rec = links[p]; rec != 0 && lengths[p] <= nodeCapacity_; rec = links[pixels + (rec & 0xFFFFFFFFu) - 1])
+      ++lengths[p];
+  return lengths;
+}
+
 LdmCounters LdmBuild::readCounters() const {
   const std::vector<uint8_t> bytes = readbackBuffer(ctx_, counters_);
   uint32_t c[gpu::kLdmCounterCount];

@@ -42,6 +42,8 @@ class LdmBuild {
 
   // Readbacks. lists()[map·R² + pixel] is that pixel's depths, ascending, as stored (float).
   std::vector<std::vector<float>> readLists() const;
+  // Each map pixel's list length (what the memory report needs, without the depths).
+  std::vector<uint32_t> readListLengths() const;
   LdmCounters readCounters() const;
 
  private:
