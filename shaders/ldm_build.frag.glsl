@@ -11,6 +11,8 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
 
 layout(constant_id = 0) const uint RESOLUTION = 128;
@@ -27,7 +29,17 @@ layout(location = 1) in float inDepth;
 
 void main() {
   const uint pixel = inMap * RESOLUTION * RESOLUTION + uint(gl_FragCoord.y) * RESOLUTION + uint(gl_FragCoord.x);
-  const uint node = atomicAdd(counters[kLdmCounterAllocated], 1u) + 1u;
+  // Nodes are taken a subgroup at a time (one atomic on the pool's counter per subgroup, not per
+  // fragment: millions of fragments on one address serialize). Helper invocations take none (their
+  // writes are discarded), so the leader is the lowest real invocation, and its base reaches the
+  // others through a max over the subgroup (everyone else holds 0).
+  const uvec4 real = subgroupBallot(!gl_HelperInvocation);
+  uint base = 0u;
+  if (gl_SubgroupInvocationID == subgroupBallotFindLSB(real))
+    base = atomicAdd(counters[kLdmCounterAllocated], subgroupBallotBitCount(real));
+  base = subgroupMax(base);
+  if (gl_HelperInvocation) return;
+  const uint node = base + subgroupBallotExclusiveBitCount(real) + 1u;
   if (node > NODE_CAPACITY) {
     atomicAdd(counters[kLdmCounterOverflow], 1u);
     return;

@@ -89,14 +89,16 @@ class AoGpuTest : public testing::GpuTest {};
 // watertight cast, ldm_ref.h) or two surfaces lie within 1e-9·2r of each other (merged on the CPU).
 TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
   const Scene scene = makeAtrium(AtriumParams{});
-  Renderer r(*ctx, scene, aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}}));
+  const Bvh bvh = buildBvh(scene);
+  for (const char* build : {"hardware", "3dr"}) {
+  SCOPED_TRACE(build);
+  Renderer r(*ctx, scene, aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}}));
   r.renderFrame(true);
   const LdmBuild& ldm = *r.ambientOcclusion()->ldm();
   const std::vector<std::vector<float>> lists = ldm.readLists();
   const LdmCounters counters = ldm.readCounters();
   EXPECT_EQ(counters.overflow, 0u);
   EXPECT_EQ(counters.unfinished, 0u);
-  const Bvh bvh = buildBvh(scene);
   const uint32_t R = ldm.resolution();
   size_t pixels = 0, equal = 0, nodes = 0;
   double worst = 0;
@@ -120,11 +122,12 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
         equal += same;
       }
   }
-  std::printf("atrium LDMs, 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu nodes, "
+  std::printf("atrium LDMs (%s), 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu nodes, "
               "largest depth difference of equal-length lists %.3g m\n",
-              equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
+              build, equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
   EXPECT_EQ(nodes, counters.allocated);
   EXPECT_GE(double(equal), 0.995 * double(pixels));
+  }
 }
 
 // Open sky: nothing but the ground, so every direction of n's hemisphere is free and AO is the
@@ -267,13 +270,17 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
 // whatever the order; equal depths are equal values), so AO is bit for bit the same when the scene
 // is drawn in another order.
 TEST_F(AoGpuTest, LdmAoIsBitForBitTheSameWhenTheDrawOrderIsShuffled) {
-  Scene scene = makeAtrium(AtriumParams{});
-  const RenderSettings rs = aoSettings(64, 36, {{"directions", 16}, {"ldm_resolution", 64}}, false);
-  const std::vector<float> a = aoOf(*ctx, scene, rs);
-  std::reverse(scene.instances.begin(), scene.instances.end());
-  for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());
-  const std::vector<float> b = aoOf(*ctx, scene, rs);
-  EXPECT_EQ(a, b);
+  for (const char* build : {"hardware", "3dr"}) {
+    SCOPED_TRACE(build);
+    Scene scene = makeAtrium(AtriumParams{});
+    const RenderSettings rs =
+        aoSettings(64, 36, {{"directions", 16}, {"ldm_resolution", 64}, {"ldm_build", build}}, false);
+    const std::vector<float> a = aoOf(*ctx, scene, rs);
+    std::reverse(scene.instances.begin(), scene.instances.end());
+    for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());
+    const std::vector<float> b = aoOf(*ctx, scene, rs);
+    EXPECT_EQ(a, b);
+  }
 }
 
 // A scene that does not call for AO (or cannot: no ambient term) builds nothing for it.

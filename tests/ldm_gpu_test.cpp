@@ -1,5 +1,6 @@
 // Layered depth maps on the real device (frame/passes/ldm_build.h): the lists the hardware build
-// writes hold every surface crossing of each pixel's line, sorted, against depths known exactly.
+// writes hold every surface crossing of each pixel's line, sorted, against depths known exactly,
+// for both builds (the raster hardware's and the compute rasterizer's).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -40,6 +41,8 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const glm::dvec3 lo(-1, -0.5, -0.25), hi(1, 0.5, 0.75);
   const Scene scene = boxScene(lo, hi);
   GpuScene gpuScene(*ctx, scene);
+  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d}) {
+  SCOPED_TRACE(method == LdmBuildMethod::Hardware ? "hardware" : "3dr");
   const double radius = 2.0;
   const uint32_t R = 64;
   // dir, right, up (right × up = −dir: a right-handed view looking along dir).
@@ -47,7 +50,7 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const std::vector<std::array<glm::dvec3, 3>> frames = {{-Z, X, Y}, {Z, -X, Y}, {-X, -Z, Y}, {X, Z, Y}, {-Y, X, -Z}, {Y, X, Z}};
   std::vector<gpu::LdmMap> maps;
   for (const auto& f : frames) maps.push_back(mapOf(f[0], f[1], f[2], glm::dvec3(0), radius));
-  LdmBuild build(*ctx, gpuScene, maps, R, 8 * R * R);
+  LdmBuild build(*ctx, gpuScene, scene, maps, R, 8 * R * R, method);
   ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
   const std::vector<std::vector<float>> lists = build.readLists();
   const LdmCounters counters = build.readCounters();
@@ -88,13 +91,15 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
         worstEntries = std::max(worstEntries, list.size());
       }
   }
-  std::printf("box LDMs, 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes allocated\n", R, R,
+  std::printf("box LDMs (%s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes allocated\n",
+              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", R, R,
               inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
   // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
   // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
   EXPECT_EQ(inside, 2u * (512u + 256u + 512u));
   EXPECT_EQ(wrong, 0u);
   EXPECT_EQ(entries, counters.allocated);  // every fragment is in exactly one list
+  }
 }
 
 // Lists are sorted, and a pool too small for the fragments is counted, never silent: the lists
@@ -102,10 +107,12 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
 TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   const Scene scene = boxScene(glm::dvec3(-1), glm::dvec3(1));
   GpuScene gpuScene(*ctx, scene);
+  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d}) {
+  SCOPED_TRACE(method == LdmBuildMethod::Hardware ? "hardware" : "3dr");
   const uint32_t R = 32, capacity = 500;
   std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
                                    mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};
-  LdmBuild build(*ctx, gpuScene, maps, R, capacity);
+  LdmBuild build(*ctx, gpuScene, scene, maps, R, capacity, method);
   ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
   const std::vector<std::vector<float>> lists = build.readLists();
   const LdmCounters counters = build.readCounters();
@@ -118,6 +125,7 @@ TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   EXPECT_EQ(counters.overflow, counters.allocated - capacity);
   EXPECT_EQ(entries, uint64_t(capacity));
   EXPECT_EQ(counters.unfinished, 0u);
+  }
 }
 
 }  // namespace

@@ -37,7 +37,8 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
   if (value.contains("bias"))
     s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
   if (value.contains("ldm_list")) readChoice(value["ldm_list"], where.key("ldm_list"), {"max64"});
-  if (value.contains("ldm_build")) readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware"});
+  if (value.contains("ldm_build"))
+    s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
   if (value.contains("samples")) {
     s.samples = uint32_t(readInt(value["samples"], where.key("samples"), 16, 65536));
     const uint32_t side = uint32_t(std::lround(std::sqrt(double(s.samples))));

@@ -11,7 +11,8 @@
 //   d_max           obscurance: occluders farther than this (m) do not count; null = none
 //   bias            scale of the derived slope-scaled LDM bias (ao.glsl.inc), > 0   default 1
 //   ldm_list        how the lists are built: "max64" (64-bit atomicMax insertion)   default max64
-//   ldm_build       "hardware" (one instanced draw over the N maps)             default hardware
+//   ldm_build       "hardware" (one instanced draw over the N maps) | "3dr" (compute: one
+//                   thread per (triangle, map), orthographic 3D edge functions) default hardware
 //   samples         reference rays per pixel, a square 16..65536                  default 1024
 // It acts when the scene has an ambient term; the frame then composes direct + ambient·AO.
 #pragma once

@@ -79,7 +79,8 @@ static uint32_t pickQueueFamily(VkPhysicalDevice pd, uint32_t* timestampBits) {
 }
 
 static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
-  VkPhysicalDeviceIDProperties idProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceIDProperties idProps{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES, &sg};
   VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &idProps};
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &drv};
   vkGetPhysicalDeviceProperties2(pd, &p2);
@@ -96,6 +97,9 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   }
   d.vendorId = p.vendorID;
   d.deviceId = p.deviceID;
+  d.fragmentSubgroupBallot = (sg.supportedStages & VK_SHADER_STAGE_FRAGMENT_BIT) &&
+                             (sg.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) &&
+                             (sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
   switch (p.vendorID) {
     case 0x10DE: d.vendor = "NVIDIA"; break;
     case 0x1002: d.vendor = "AMD"; break;

@@ -36,6 +36,7 @@ struct DeviceInfo {
   bool timestamps = false;
   bool bufferInt64Atomics = false;  // set by VulkanContext (the device actually opened)
   bool shaderFloat64 = false;
+  bool fragmentSubgroupBallot = false;  // ballot and arithmetic subgroup operations in fragment shaders
   uint32_t timestampValidBits = 0;
   double timestampPeriodNs = 0;
   std::string rtBackends() const;  // "rayquery+pipeline", "pipeline", "none"

@@ -74,9 +74,10 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     // The pool is sized by a counting build (a pool of one node counts every fragment it drops),
     // then allocated at the exact count plus 5 % for a scene that moves; overflow is counted.
     std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, ao.ldmResolution);
+    const LdmBuildMethod build = ao.ldmBuild == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
     uint64_t fragments = 0;
     {
-      LdmBuild counting(ctx, gpuScene, maps, ao.ldmResolution, 1);
+      LdmBuild counting(ctx, gpuScene, scene, maps, ao.ldmResolution, 1, build);
       ctx.submitAndWait([&](VkCommandBuffer cmd) { counting.record(cmd); }, "sizing the layered depth maps");
       fragments = counting.readCounters().allocated;
     }
@@ -84,7 +85,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     if (capacity > 0xFFFFFFF0ull)
       throw InputError("effects.ambient_occlusion: " + std::to_string(fragments) +
                        " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
-    ldm_ = std::make_unique<LdmBuild>(ctx, gpuScene, std::move(maps), ao.ldmResolution, uint32_t(capacity));
+    ldm_ = std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), ao.ldmResolution, uint32_t(capacity), build);
     maxSteps = uint32_t(capacity);
   }
   gpu::AoConstants c{};

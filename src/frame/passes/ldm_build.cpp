@@ -8,13 +8,29 @@
 
 namespace hb {
 
-LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<gpu::LdmMap> maps,
-                   uint32_t resolution, uint32_t nodeCapacity)
+namespace {
+std::vector<Binding> bindingsFor(LdmBuildMethod method) {
+  if (method == LdmBuildMethod::Raster3d) {
+    const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+    return {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+            {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+  }
+  return {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+          {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}};
+}
+}  // namespace
+
+LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
+                   std::vector<gpu::LdmMap> maps, uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method)
     : ctx_(ctx),
-      scene_(scene),
+      scene_(gpuScene),
       maps_(std::move(maps)),
       resolution_(resolution),
       nodeCapacity_(nodeCapacity),
+      method_(method),
       mapsBuffer_(uploadBuffer(ctx, maps_.data(), maps_.size() * sizeof(gpu::LdmMap),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
       links_(ctx, (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * sizeof(uint64_t),
@@ -24,22 +40,36 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<
       counters_(ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                 false, MemClass::Other),
-      sets_(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
-                  {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-                  {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}}),
+      sets_(ctx, bindingsFor(method)),
       pipeline_(ctx) {
   HB_ASSERT(!maps_.empty() && resolution_ > 0 && nodeCapacity_ > 0);
-  if (!ctx.info().bufferInt64Atomics)
-    throw DeviceError("device \"" + ctx.info().name + "\" has no 64-bit buffer atomics: layered depth maps need them");
+  if (!ctx.info().bufferInt64Atomics || (method == LdmBuildMethod::Hardware && !ctx.info().fragmentSubgroupBallot))
+    throw InputError("device \"" + ctx.info().name + "\" lacks 64-bit buffer atomics or subgroup ballots in fragment "
+                     "shaders, which the hardware LDM build needs: use effects.ambient_occlusion.method=raytraced");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
   const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
   linksAddress_ = uploadBuffer(ctx, &address, sizeof address, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
   sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-  pipeline_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
-  ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
   SpecConstants spec{{resolution_, nodeCapacity_, pixels}};
+  if (method == LdmBuildMethod::Raster3d) {
+    std::vector<glm::vec4> tris;
+    for (const glm::vec3& v : scene.worldTriangles()) tris.emplace_back(v, 1.0f);
+    triangleCount_ = uint32_t(tris.size() / 3);
+    if ((uint64_t(triangleCount_) + 63) / 64 > 65535)  // the dispatch's x count (Vulkan's guaranteed minimum)
+      throw InputError("ldm_build=3dr: " + std::to_string(triangleCount_) + " triangles exceed one dispatch (4,194,240); "
+                       "use ldm_build=hardware");
+    if (tris.empty()) tris.emplace_back(0.0f);
+    triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                              MemClass::Geometry);
+    sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
+    pipeline_.createLayout({sets_.layout()}, sizeof(uint32_t));
+    pipeline_.createCompute("ldm_build_3dr.comp", spec);
+    return;
+  }
+  pipeline_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
+  ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -58,13 +88,25 @@ void LdmBuild::record(VkCommandBuffer cmd) const {
   vkCmdFillBuffer(cmd, links_.handle(), 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  VkDescriptorSet set = sets_.set();
+  if (method_ == LdmBuildMethod::Raster3d) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
+    if (triangleCount_ > 0) vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, uint32_t(maps_.size()), 1);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                      VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+    return;
+  }
   VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
   ri.renderArea = {{0, 0}, {resolution_, resolution_}};
   ri.layerCount = 1;
   vkCmdBeginRendering(cmd, &ri);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.handle());
-  VkDescriptorSet set = sets_.set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.layout(), 0, 1, &set, 0, nullptr);
   drawScene(cmd, scene_, pipeline_.layout(), glm::mat4(1.0f), resolution_, resolution_, uint32_t(maps_.size()));
   vkCmdEndRendering(cmd);

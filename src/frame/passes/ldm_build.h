@@ -3,6 +3,8 @@
 // surface crossing of a pixel's line stored in a per-pixel list sorted by depth at construction.
 // ldm_build=hardware: one instanced draw of the scene over the N maps, no attachments; each
 // fragment inserts into its pixel's list (ldm_list=max64: 64-bit atomicMax, ldm_build.frag.glsl).
+// ldm_build=3dr: the same lists from a compute rasterizer, one thread per (triangle, map) pair
+// (ldm_build_3dr.comp.glsl: orthographic 3D edge functions), for GPUs with little raster hardware.
 // The node pool is sized up front; fragments past it are counted (overflow), never silent.
 #pragma once
 #include <cstdint>
@@ -21,12 +23,16 @@ struct LdmCounters {
   uint64_t unfinished = 0;  // insertions cut at kLdmMaxInsertSteps
 };
 
+enum class LdmBuildMethod { Hardware, Raster3d };
+
 class LdmBuild {
  public:
-  // maps: the N views (all of `resolution`²); nodeCapacity: the pool's nodes (>= 1).
-  // Precondition: the device has 64-bit buffer atomics and fragment stores (lavapipe, NVIDIA).
-  LdmBuild(const VulkanContext& ctx, const GpuScene& scene, std::vector<gpu::LdmMap> maps, uint32_t resolution,
-           uint32_t nodeCapacity);
+  // maps: the N views (all of `resolution`²); nodeCapacity: the pool's nodes (>= 1). `scene` is
+  // the one `gpuScene` holds (the compute build reads its world triangles). Throws InputError when
+  // the device lacks what the method needs (64-bit buffer atomics; subgroup ballots in fragment
+  // shaders for the hardware build).
+  LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, std::vector<gpu::LdmMap> maps,
+           uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method = LdmBuildMethod::Hardware);
   ~LdmBuild();
 
   // Clears the lists and draws them anew.
@@ -51,7 +57,9 @@ class LdmBuild {
   const GpuScene& scene_;
   std::vector<gpu::LdmMap> maps_;
   uint32_t resolution_, nodeCapacity_;
-  Buffer mapsBuffer_, links_, counters_, linksAddress_;
+  LdmBuildMethod method_;
+  uint32_t triangleCount_ = 0;
+  Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_;
   DescriptorSets sets_;
   Pipeline pipeline_;
 };
