@@ -33,9 +33,13 @@
 //                "inner_cone_deg": 0, "outer_cone_deg": 45,  // spot; 0 <= inner < outer <= 90
 //                "cast_shadows": true } ],
 //   "resolution": [1920, 1080],       // shorthand for defaults.resolution (not both)
-//   "effects": {"shadows": true},     // effects/effects.h: what to simulate; over the scene's
-//                                     // extras.effects, under --set. shadows false: no BLAS/TLAS,
-//                                     // no shadow pass
+//   "ambient": {"color": [r,g,b], "intensity": x},  // the sky's ambient term (scene.h Ambient),
+//                                     // replacing the scene's extras.ambient; lights the frame
+//                                     // only through effects.ambient_occlusion
+//   "effects": {"shadows": true, "ambient_occlusion": {...}},  // effects/effects.h: what to
+//                                     // simulate; over the scene's extras.effects, under a variant's
+//                                     // params.effects and --set. shadows false: no BLAS/TLAS, no
+//                                     // shadow pass; ambient_occlusion false: no LDM, no AO pass
 //   "frames": {"warmup": 50, "measured": 300},   // warmup 0..100000, measured 1..1000000
 //   "defaults": { params },           // applied to every variant, on top of the built-in defaults
 //   "variants": [ {"name": "no optimisations", "params": { params }}, ... ],
@@ -73,6 +77,8 @@
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
 //   "triangle_scale": [0.25, 64] built-in atrium only; default scene_params.triangle_scale
+//   "effects": { effects }       this variant's effects, over the config's "effects" (e.g. one
+//                                ambient occlusion method per variant); default none
 //
 // Sweep expansion: the named variants in file order, then the grid's cartesian product (the first
 // axis varies slowest) on top of "defaults", each named "key=value, key=value" in axis order, e.g.
@@ -85,7 +91,9 @@
 // lights), scaling (light_count, triangle_scale and resolution, one axis at a time), accuracy (the
 // normal-culling, world-position, range-test, depth-slice and t_min options against each other),
 // depth-slices (256 small lights, 0.5-2 m: each tile size with and without 32 depth slices),
-// grazing-far (the hard case of that name: constant against scaled t_min). In
+// grazing-far (the hard case of that name: constant against scaled t_min), 3d-rasterization
+// (primary visibility methods), 3d-rasterization-views (non-planar views), layered-depth-maps
+// (ambient occlusion: the LDM paper's settings and the 512 x 256² target, both LDM builds). In
 // thesis.json the 5.1 row "light culling + AABB + improved shadow ray culling" and the 5.2 row "8x8"
 // are the same configuration and both are kept: each table is built from its own rows, and the pair
 // shows the run-to-run noise.
