@@ -1,12 +1,6 @@
 #version 460
-// Layered depth maps, list insertion (ldm_list = max64): each fragment takes a node from the pool
-// and inserts its record (key << 32 | node, gpu_types.h) into the pixel's list, kept in descending
-// record order (= ascending depth) by 64-bit atomicMax alone: at a link, atomicMax(link, cur)
-// either leaves a larger record there (move on to that record's next link) or puts cur there and
-// hands back the smaller record it displaced, which then goes on into cur's own next link. Every
-// step keeps every list sorted and complete, so concurrent insertions need no lock. Equal depths
-// order by node, which depends on allocation order: the depths of a list are deterministic, the
-// nodes are not. A full pool and an insertion longer than kLdmMaxInsertSteps are counted.
+// Layered depth maps, the hardware build's fragment: each fragment takes a node from the pool and
+// inserts its depth into its pixel's list (ldm_insert.glsl.inc: ldm_list = max64 or cas).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -18,11 +12,12 @@
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
 layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
+layout(constant_id = 3) const uint LIST = kLdmListMax64;
 
-// PIXELS heads, then NODE_CAPACITY next links, through the buffer's device address (gpu_types.h).
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer LdmLinks { uint64_t links[]; };
-layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };
+layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
 layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
+
+#include "ldm_insert.glsl.inc"
 
 layout(location = 0) flat in uint inMap;
 layout(location = 1) in float inDepth;
@@ -44,19 +39,5 @@ void main() {
     atomicAdd(counters[kLdmCounterOverflow], 1u);
     return;
   }
-  const uint key = kLdmKeyTop - floatBitsToUint(max(inDepth, 0.0));
-  uint64_t cur = (uint64_t(key) << 32) | uint64_t(node);
-  LdmLinks l = LdmLinks(uint64_t(linksAddress.x) | (uint64_t(linksAddress.y) << 32));
-  uint link = pixel;
-  for (uint step = 0u; step < kLdmMaxInsertSteps; ++step) {
-    const uint64_t old = atomicMax(l.links[link], cur);
-    if (old == 0ul) return;  // cur ends the list
-    if (old < cur) {         // cur took this link; the displaced record goes on after cur
-      link = PIXELS + uint(cur & 0xFFFFFFFFul) - 1u;
-      cur = old;
-    } else {
-      link = PIXELS + uint(old & 0xFFFFFFFFul) - 1u;
-    }
-  }
-  atomicAdd(counters[kLdmCounterUnfinished], 1u);
+  ldmInsert(linksAddress, pixel, node, inDepth);
 }

@@ -9,7 +9,7 @@
 // edge derivatives' signs, Sect. 3.4). Depth: the barycentric blend of the vertices' depths
 // z = (p − c)·dir + r with weights V_i/ΣV. Float, without 3DR's fp64 fallback: a centre within
 // rounding of a shared vertex may be given to none or two triangles (counted by the test against
-// the exact LDM). Each covered pixel inserts as the fragment shader does (ldm_build.frag.glsl).
+// the exact LDM). Each covered pixel inserts as the fragment shader does (ldm_insert.glsl.inc).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -19,35 +19,16 @@
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
 layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
+layout(constant_id = 3) const uint LIST = kLdmListMax64;
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0) readonly buffer Maps { LdmMap maps[]; };
-layout(buffer_reference, std430, buffer_reference_align = 8) buffer LdmLinks { uint64_t links[]; };
-layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };
+layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
 layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
 layout(set = 0, binding = 3) readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, world space
 layout(push_constant) uniform Push { uint triangleCount; };
 
-void insertDepth(LdmLinks l, uint pixel, float depth) {
-  const uint node = atomicAdd(counters[kLdmCounterAllocated], 1u) + 1u;
-  if (node > NODE_CAPACITY) {
-    atomicAdd(counters[kLdmCounterOverflow], 1u);
-    return;
-  }
-  uint64_t cur = (uint64_t(kLdmKeyTop - floatBitsToUint(max(depth, 0.0))) << 32) | uint64_t(node);
-  uint link = pixel;
-  for (uint step = 0u; step < kLdmMaxInsertSteps; ++step) {
-    const uint64_t old = atomicMax(l.links[link], cur);
-    if (old == 0ul) return;
-    if (old < cur) {
-      link = PIXELS + uint(cur & 0xFFFFFFFFul) - 1u;
-      cur = old;
-    } else {
-      link = PIXELS + uint(old & 0xFFFFFFFFul) - 1u;
-    }
-  }
-  atomicAdd(counters[kLdmCounterUnfinished], 1u);
-}
+#include "ldm_insert.glsl.inc"
 
 // Edge (a → b) at pixel centre q, midpoint form: (q − m) × e with m = (a + b)/2, e = b − a.
 float edge(vec2 a, vec2 b, vec2 q) {
@@ -85,7 +66,6 @@ void main() {
   const bool own0 = owns(p[1], p[2], o), own1 = owns(p[2], p[0], o), own2 = owns(p[0], p[1], o);
   const ivec2 lo = max(ivec2(ceil(min(p[0], min(p[1], p[2])))), ivec2(0));
   const ivec2 hi = min(ivec2(floor(max(p[0], max(p[1], p[2])))), ivec2(int(RESOLUTION) - 1));
-  LdmLinks l = LdmLinks(uint64_t(linksAddress.x) | (uint64_t(linksAddress.y) << 32));
   for (int y = lo.y; y <= hi.y; ++y)
     for (int x = lo.x; x <= hi.x; ++x) {
       const vec2 c = vec2(x, y);
@@ -94,6 +74,11 @@ void main() {
       if ((e0 == 0.0 && !own0) || (e1 == 0.0 && !own1) || (e2 == 0.0 && !own2)) continue;
       const float sum = e0 + e1 + e2;
       const float depth = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / sum;
-      insertDepth(l, (map * RESOLUTION + uint(y)) * RESOLUTION + uint(x), depth);
+      const uint node = atomicAdd(counters[kLdmCounterAllocated], 1u) + 1u;
+      if (node > NODE_CAPACITY) {
+        atomicAdd(counters[kLdmCounterOverflow], 1u);
+        continue;
+      }
+      ldmInsert(linksAddress, (map * RESOLUTION + uint(y)) * RESOLUTION + uint(x), node, depth);
     }
 }

@@ -90,9 +90,11 @@ class AoGpuTest : public testing::GpuTest {};
 TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
   const Scene scene = makeAtrium(AtriumParams{});
   const Bvh bvh = buildBvh(scene);
-  for (const char* build : {"hardware", "3dr"}) {
-  SCOPED_TRACE(build);
-  Renderer r(*ctx, scene, aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}}));
+  for (const char* build : {"hardware", "3dr"})
+  for (const char* list : {"max64", "cas"}) {
+  SCOPED_TRACE(std::string(build) + ", " + list);
+  Renderer r(*ctx, scene,
+             aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}, {"ldm_list", list}}));
   r.renderFrame(true);
   const LdmBuild& ldm = *r.ambientOcclusion()->ldm();
   const std::vector<std::vector<float>> lists = ldm.readLists();
@@ -122,9 +124,9 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
         equal += same;
       }
   }
-  std::printf("atrium LDMs (%s), 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu nodes, "
-              "largest depth difference of equal-length lists %.3g m\n",
-              build, equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
+  std::printf("atrium LDMs (%s, %s), 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu "
+              "nodes, largest depth difference of equal-length lists %.3g m\n",
+              build, list, equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
   EXPECT_EQ(nodes, counters.allocated);
   EXPECT_GE(double(equal), 0.995 * double(pixels));
   }
@@ -266,15 +268,16 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
   }
 }
 
-// The lists' depths do not depend on the order fragments arrive in (max64 keeps each list sorted
-// whatever the order; equal depths are equal values), so AO is bit for bit the same when the scene
-// is drawn in another order.
+// The lists' depths do not depend on the order fragments arrive in (max64 and cas keep each list
+// sorted whatever the order; equal depths are equal values), so AO is bit for bit the same when the
+// scene is drawn in another order, for both builds and both lists.
 TEST_F(AoGpuTest, LdmAoIsBitForBitTheSameWhenTheDrawOrderIsShuffled) {
-  for (const char* build : {"hardware", "3dr"}) {
-    SCOPED_TRACE(build);
+  for (const char* build : {"hardware", "3dr"})
+  for (const char* list : {"max64", "cas"}) {
+    SCOPED_TRACE(std::string(build) + ", " + list);
     Scene scene = makeAtrium(AtriumParams{});
-    const RenderSettings rs =
-        aoSettings(64, 36, {{"directions", 16}, {"ldm_resolution", 64}, {"ldm_build", build}}, false);
+    const RenderSettings rs = aoSettings(
+        64, 36, {{"directions", 16}, {"ldm_resolution", 64}, {"ldm_build", build}, {"ldm_list", list}}, false);
     const std::vector<float> a = aoOf(*ctx, scene, rs);
     std::reverse(scene.instances.begin(), scene.instances.end());
     for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());

@@ -1,9 +1,11 @@
 // Layered depth maps on the real device (frame/passes/ldm_build.h): the lists the hardware build
 // writes hold every surface crossing of each pixel's line, sorted, against depths known exactly,
-// for both builds (the raster hardware's and the compute rasterizer's).
+// for both builds (the raster hardware's and the compute rasterizer's) and both list layouts
+// (max64's atomicMax insertion and the paper's compare-and-swap).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -41,8 +43,10 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const glm::dvec3 lo(-1, -0.5, -0.25), hi(1, 0.5, 0.75);
   const Scene scene = boxScene(lo, hi);
   GpuScene gpuScene(*ctx, scene);
-  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d}) {
-  SCOPED_TRACE(method == LdmBuildMethod::Hardware ? "hardware" : "3dr");
+  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
+  for (const LdmList list : {LdmList::Max64, LdmList::Cas}) {
+  SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
+               (list == LdmList::Max64 ? ", max64" : ", cas"));
   const double radius = 2.0;
   const uint32_t R = 64;
   // dir, right, up (right × up = −dir: a right-handed view looking along dir).
@@ -50,7 +54,7 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const std::vector<std::array<glm::dvec3, 3>> frames = {{-Z, X, Y}, {Z, -X, Y}, {-X, -Z, Y}, {X, Z, Y}, {-Y, X, -Z}, {Y, X, Z}};
   std::vector<gpu::LdmMap> maps;
   for (const auto& f : frames) maps.push_back(mapOf(f[0], f[1], f[2], glm::dvec3(0), radius));
-  LdmBuild build(*ctx, gpuScene, scene, maps, R, 8 * R * R, method);
+  LdmBuild build(*ctx, gpuScene, scene, maps, R, 8 * R * R, method, list);
   ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
   const std::vector<std::vector<float>> lists = build.readLists();
   const LdmCounters counters = build.readCounters();
@@ -63,8 +67,8 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
     const auto& [dir, right, up] = frames[m];
     for (uint32_t j = 0; j < R; ++j)
       for (uint32_t i = 0; i < R; ++i) {
-        const std::vector<float>& list = lists[(m * R + j) * R + i];
-        entries += list.size();
+        const std::vector<float>& depths = lists[(m * R + j) * R + i];
+        entries += depths.size();
         const glm::dvec3 p = (2.0 * (i + 0.5) / R - 1.0) * radius * right + (1.0 - 2.0 * (j + 0.5) / R) * radius * up;
         // The pixel line's distance inside the box's cross-section (negative outside).
         double margin = 1e9;
@@ -75,7 +79,7 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
         const double pixel = 2.0 * radius / R;
         if (std::abs(margin) < 1e-3 * pixel) continue;  // on the outline: either way
         if (margin < 0) {
-          wrong += !list.empty();
+          wrong += !depths.empty();
           continue;
         }
         ++inside;
@@ -86,13 +90,14 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
         // z = (q − c)·dir + r for the two faces q[axis] = lo, hi.
         double z0 = s * lo[axis] + radius, z1 = s * hi[axis] + radius;
         if (z0 > z1) std::swap(z0, z1);
-        const bool ok = list.size() == 2 && std::abs(list[0] - z0) <= depthBound && std::abs(list[1] - z1) <= depthBound;
+        const bool ok = depths.size() == 2 && std::abs(depths[0] - z0) <= depthBound && std::abs(depths[1] - z1) <= depthBound;
         wrong += !ok;
-        worstEntries = std::max(worstEntries, list.size());
+        worstEntries = std::max(worstEntries, depths.size());
       }
   }
-  std::printf("box LDMs (%s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes allocated\n",
-              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", R, R,
+  std::printf("box LDMs (%s, %s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes "
+              "allocated\n",
+              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", list == LdmList::Max64 ? "max64" : "cas", R, R,
               inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
   // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
   // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
@@ -107,12 +112,14 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
 TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   const Scene scene = boxScene(glm::dvec3(-1), glm::dvec3(1));
   GpuScene gpuScene(*ctx, scene);
-  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d}) {
-  SCOPED_TRACE(method == LdmBuildMethod::Hardware ? "hardware" : "3dr");
+  for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
+  for (const LdmList list : {LdmList::Max64, LdmList::Cas}) {
+  SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
+               (list == LdmList::Max64 ? ", max64" : ", cas"));
   const uint32_t R = 32, capacity = 500;
   std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
                                    mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};
-  LdmBuild build(*ctx, gpuScene, scene, maps, R, capacity, method);
+  LdmBuild build(*ctx, gpuScene, scene, maps, R, capacity, method, list);
   ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
   const std::vector<std::vector<float>> lists = build.readLists();
   const LdmCounters counters = build.readCounters();

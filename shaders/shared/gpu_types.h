@@ -209,7 +209,15 @@ HB_CONST uint kLdmMaxInsertSteps = 4096u;  // a bounded insertion; longer ones a
 HB_CONST uint kLdmCounterAllocated = 0u;    // nodes asked for (over capacity ones included)
 HB_CONST uint kLdmCounterOverflow = 1u;     // fragments dropped: the node pool was full
 HB_CONST uint kLdmCounterUnfinished = 2u;   // insertions cut at kLdmMaxInsertSteps
+HB_CONST uint kLdmCounterCasRetries = 3u;   // cas: compare-and-swaps that lost to another insertion
 HB_CONST uint kLdmCounterCount = 4u;
+// The list layouts (ldm_insert.glsl.inc), in the links buffer at its device address:
+//   max64: uint64 links[maps·R² heads + capacity next links] as above.
+//   cas:   uint words[maps·R² heads | capacity next nodes | capacity depths (float bits)]; a head or
+//          next of 0 ends the list, node n (>= 1) has next words[heads + n − 1] and depth
+//          words[heads + capacity + n − 1]; lists ascending in depth.
+HB_CONST uint kLdmListMax64 = 0u;
+HB_CONST uint kLdmListCas = 1u;
 
 // Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion.h).
 HB_CONST uint kAoLdm = 0u;        // trace the LDMs along the N directions
@@ -227,7 +235,8 @@ struct AoConstants {
   uint maxListSteps; // a bounded walk of a pixel's list (the node pool)
   uint samplesSide;  // √samples
   uvec2 ldmLinks;    // the LDM links buffer's device address (lo, hi): it outgrows a binding
-  uvec2 pad;
+  uint ldmList;      // kLdmList*
+  uint ldmCapacity;  // the node pool (cas: where the depths begin after the next links)
 };
 
 #ifdef __cplusplus

@@ -180,8 +180,7 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
     std::vector<uint32_t> lengths = ldm->readListLengths();
     std::sort(lengths.begin(), lengths.end());
     const uint64_t heads = uint64_t(lengths.size());
-    // Exact allocation: a head per map pixel and a node per fragment (8 bytes each).
-    const uint64_t exactBytes = 8 * (heads + c.allocated);
+    const uint64_t exactBytes = ldm->exactBytes(c.allocated);  // a head per map pixel, a node per fragment
     a["ldm"] = {{"maps", ldm->mapCount()},
                 {"resolution", ldm->resolution()},
                 {"heads", heads},
@@ -190,6 +189,7 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
                 {"fragments", c.allocated},
                 {"overflow", c.overflow},
                 {"unfinished_insertions", c.unfinished},
+                {"cas_retries", c.casRetries},
                 {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
                                      {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
                                      {"max", lengths.empty() ? 0u : lengths.back()}}},

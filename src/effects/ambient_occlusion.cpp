@@ -36,7 +36,8 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
     s.dMax = readNumber(value["d_max"], where.key("d_max"), 0.0, std::numeric_limits<double>::infinity(), true);
   if (value.contains("bias"))
     s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
-  if (value.contains("ldm_list")) readChoice(value["ldm_list"], where.key("ldm_list"), {"max64"});
+  if (value.contains("ldm_list"))
+    s.ldmList = readChoice(value["ldm_list"], where.key("ldm_list"), {"max64", "cas"}) == 0 ? "max64" : "cas";
   if (value.contains("ldm_build"))
     s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
   if (value.contains("samples")) {

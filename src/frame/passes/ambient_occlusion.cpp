@@ -75,9 +75,10 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     // then allocated at the exact count plus 5 % for a scene that moves; overflow is counted.
     std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, ao.ldmResolution);
     const LdmBuildMethod build = ao.ldmBuild == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
+    const LdmList list = ao.ldmList == "cas" ? LdmList::Cas : LdmList::Max64;
     uint64_t fragments = 0;
     {
-      LdmBuild counting(ctx, gpuScene, scene, maps, ao.ldmResolution, 1, build);
+      LdmBuild counting(ctx, gpuScene, scene, maps, ao.ldmResolution, 1, build, list);
       ctx.submitAndWait([&](VkCommandBuffer cmd) { counting.record(cmd); }, "sizing the layered depth maps");
       fragments = counting.readCounters().allocated;
     }
@@ -85,7 +86,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     if (capacity > 0xFFFFFFF0ull)
       throw InputError("effects.ambient_occlusion: " + std::to_string(fragments) +
                        " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
-    ldm_ = std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), ao.ldmResolution, uint32_t(capacity), build);
+    ldm_ = std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), ao.ldmResolution, uint32_t(capacity), build, list);
     maxSteps = uint32_t(capacity);
   }
   gpu::AoConstants c{};
@@ -97,7 +98,11 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   c.dMax = ao.dMax ? float(*ao.dMax) : 0.0f;
   c.biasScale = float(ao.bias);
   c.maxListSteps = maxSteps;
-  if (ldm_) c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
+  if (ldm_) {
+    c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
+    c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64 : gpu::kLdmListCas;
+    c.ldmCapacity = ldm_->nodeCapacity();
+  }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
   const VkDeviceSize pixels = VkDeviceSize(width) * height;
   const VkBufferUsageFlags outUsage =

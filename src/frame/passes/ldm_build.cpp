@@ -24,16 +24,20 @@ std::vector<Binding> bindingsFor(LdmBuildMethod method) {
 }  // namespace
 
 LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
-                   std::vector<gpu::LdmMap> maps, uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method)
+                   std::vector<gpu::LdmMap> maps, uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method,
+                   LdmList list)
     : ctx_(ctx),
       scene_(gpuScene),
       maps_(std::move(maps)),
       resolution_(resolution),
       nodeCapacity_(nodeCapacity),
       method_(method),
+      list_(list),
       mapsBuffer_(uploadBuffer(ctx, maps_.data(), maps_.size() * sizeof(gpu::LdmMap),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
-      links_(ctx, (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * sizeof(uint64_t),
+      links_(ctx,
+             list == LdmList::Max64 ? (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * 8
+                                    : (uint64_t(maps_.size()) * resolution * resolution + 2ull * nodeCapacity) * 4,
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
              false, MemClass::Other),
@@ -52,7 +56,7 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
-  SpecConstants spec{{resolution_, nodeCapacity_, pixels}};
+  SpecConstants spec{{resolution_, nodeCapacity_, pixels, list == LdmList::Max64 ? gpu::kLdmListMax64 : gpu::kLdmListCas}};
   if (method == LdmBuildMethod::Raster3d) {
     std::vector<glm::vec4> tris;
     for (const glm::vec3& v : scene.worldTriangles()) tris.emplace_back(v, 1.0f);
@@ -116,33 +120,53 @@ void LdmBuild::record(VkCommandBuffer cmd) const {
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-std::vector<std::vector<float>> LdmBuild::readLists() const {
-  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, links_);
-  std::vector<uint64_t> links(bytes.size() / sizeof(uint64_t));
-  std::memcpy(links.data(), bytes.data(), links.size() * sizeof(uint64_t));
-  const size_t pixels = maps_.size() * size_t(resolution_) * resolution_;
-  std::vector<std::vector<float>> lists(pixels);
+uint64_t LdmBuild::exactBytes(uint64_t fragments) const {
+  const uint64_t heads = maps_.size() * uint64_t(resolution_) * resolution_;
+  return (list_ == LdmList::Max64 ? 8 : 4) * heads + 8 * fragments;
+}
+
+namespace {
+// Walks every list of a links buffer (gpu_types.h layouts), calling visit(pixel, depth) in order.
+template <typename Visit>
+void walkLists(const std::vector<uint8_t>& bytes, LdmList list, size_t pixels, uint32_t capacity, Visit visit) {
+  if (list == LdmList::Max64) {
+    const uint64_t* links = reinterpret_cast<const uint64_t*>(bytes.data());
+    for (size_t p = 0; p < pixels; ++p) {
+      uint64_t rec = links[p];
+      // A list is at most the pool long; a longer walk would mean a cycle (never written).
+      for (size_t n = 0; rec != 0 && n <= capacity; ++n) {
+        const uint32_t node = uint32_t(rec & 0xFFFFFFFFu);
+        HB_ASSERT(node >= 1 && node <= capacity);
+        visit(p, std::bit_cast<float>(gpu::kLdmKeyTop - uint32_t(rec >> 32)));
+        rec = links[pixels + node - 1];
+      }
+    }
+    return;
+  }
+  const uint32_t* words = reinterpret_cast<const uint32_t*>(bytes.data());
   for (size_t p = 0; p < pixels; ++p) {
-    uint64_t rec = links[p];
-    // A list is at most the pool long; a longer walk would mean a cycle (never written).
-    for (size_t n = 0; rec != 0 && n <= nodeCapacity_; ++n) {
-      const uint32_t key = uint32_t(rec >> 32), node = uint32_t(rec & 0xFFFFFFFFu);
-      lists[p].push_back(std::bit_cast<float>(gpu::kLdmKeyTop - key));
-      HB_ASSERT(node >= 1 && node <= nodeCapacity_);
-      rec = links[pixels + node - 1];
+    uint32_t node = words[p];
+    for (size_t n = 0; node != 0 && n <= capacity; ++n) {
+      HB_ASSERT(node <= capacity);
+      visit(p, std::bit_cast<float>(words[pixels + capacity + node - 1]));
+      node = words[pixels + node - 1];
     }
   }
+}
+}  // namespace
+
+std::vector<std::vector<float>> LdmBuild::readLists() const {
+  const size_t pixels = maps_.size() * size_t(resolution_) * resolution_;
+  std::vector<std::vector<float>> lists(pixels);
+  walkLists(readbackBuffer(ctx_, links_), list_, pixels, nodeCapacity_,
+            [&](size_t p, float depth) { lists[p].push_back(depth); });
   return lists;
 }
 
 std::vector<uint32_t> LdmBuild::readListLengths() const {
-  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, links_);
-  const uint64_t* links = reinterpret_cast<const uint64_t*>(bytes.data());
   const size_t pixels = maps_.size() * size_t(resolution_) * resolution_;
   std::vector<uint32_t> lengths(pixels, 0);
-  for (size_t p = 0; p < pixels; ++p)
-    for (uint64_t rec = links[p]; rec != 0 && lengths[p] <= nodeCapacity_; rec = links[pixels + (rec & 0xFFFFFFFFu) - 1])
-      ++lengths[p];
+  walkLists(readbackBuffer(ctx_, links_), list_, pixels, nodeCapacity_, [&](size_t p, float) { ++lengths[p]; });
   return lengths;
 }
 
@@ -150,7 +174,8 @@ LdmCounters LdmBuild::readCounters() const {
   const std::vector<uint8_t> bytes = readbackBuffer(ctx_, counters_);
   uint32_t c[gpu::kLdmCounterCount];
   std::memcpy(c, bytes.data(), sizeof c);
-  return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished]};
+  return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished],
+          c[gpu::kLdmCounterCasRetries]};
 }
 
 }  // namespace hb

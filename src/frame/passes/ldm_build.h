@@ -21,9 +21,11 @@ struct LdmCounters {
   uint64_t allocated = 0;   // nodes asked for (= fragments)
   uint64_t overflow = 0;    // fragments dropped because the pool was full
   uint64_t unfinished = 0;  // insertions cut at kLdmMaxInsertSteps
+  uint64_t casRetries = 0;  // cas: compare-and-swaps another insertion won (then retried)
 };
 
 enum class LdmBuildMethod { Hardware, Raster3d };
+enum class LdmList { Max64, Cas };  // ldm_insert.glsl.inc
 
 class LdmBuild {
  public:
@@ -32,7 +34,8 @@ class LdmBuild {
   // the device lacks what the method needs (64-bit buffer atomics; subgroup ballots in fragment
   // shaders for the hardware build).
   LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, std::vector<gpu::LdmMap> maps,
-           uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method = LdmBuildMethod::Hardware);
+           uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method = LdmBuildMethod::Hardware,
+           LdmList list = LdmList::Max64);
   ~LdmBuild();
 
   // Clears the lists and draws them anew.
@@ -43,7 +46,11 @@ class LdmBuild {
   const Buffer& mapsBuffer() const { return mapsBuffer_; }
   uint32_t resolution() const { return resolution_; }
   uint32_t nodeCapacity() const { return nodeCapacity_; }
-  const Buffer& links() const { return links_; }  // heads, then next links (gpu_types.h)
+  const Buffer& links() const { return links_; }  // the list layout of gpu_types.h
+  LdmList list() const { return list_; }
+  // Bytes the fragments of a build need: the heads and one node per fragment (8 bytes for both
+  // layouts: a 64-bit link, or a 32-bit next and a float depth; cas heads are 4 bytes).
+  uint64_t exactBytes(uint64_t fragments) const;
   uint64_t memoryBytes() const { return links_.size() + mapsBuffer_.size() + counters_.size(); }
 
   // Readbacks. lists()[map·R² + pixel] is that pixel's depths, ascending, as stored (float).
@@ -58,6 +65,7 @@ class LdmBuild {
   std::vector<gpu::LdmMap> maps_;
   uint32_t resolution_, nodeCapacity_;
   LdmBuildMethod method_;
+  LdmList list_;
   uint32_t triangleCount_ = 0;
   Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_;
   DescriptorSets sets_;
