@@ -10,6 +10,7 @@ const char* toString(AoMethod m) {
     case AoMethod::Ldm: return "ldm";
     case AoMethod::RayTraced: return "raytraced";
     case AoMethod::Reference: return "reference";
+    case AoMethod::Hbao: return "hbao";
   }
   return "?";
 }
@@ -18,16 +19,18 @@ AoSettings aoSettingsOf(const nlohmann::json& value);
 
 namespace {
 
-constexpr const char* kMethods[] = {"ldm", "raytraced", "reference"};
+constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao"};
 
 AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
   AoSettings s;
   if (value.is_boolean()) return s;
   requireObjectWithKeys(value, where,
-                        {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples"});
+                        {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples", "steps"});
   if (value.contains("method"))
-    s.method = AoMethod(readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2]}));
+    s.method = AoMethod(
+        readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2], kMethods[3]}));
+  if (value.contains("steps")) s.steps = uint32_t(readInt(value["steps"], where.key("steps"), 1, 1024));
   if (value.contains("directions"))
     s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
   if (value.contains("ldm_resolution"))
@@ -53,12 +56,14 @@ void validate(const nlohmann::ordered_json& value, const json_reader::Where& whe
   if (value.is_boolean()) return;
   if (!value.is_object())
     where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, d_max, bias, "
-               "ldm_list, ldm_build, samples), got " + json_reader::describe(value));
+               "ldm_list, ldm_build, samples, steps), got " + json_reader::describe(value));
   read(value, where);
 }
 
 std::vector<FrameResource> needsOf(const nlohmann::json& value) {
-  if (aoSettingsOf(value).method == AoMethod::Ldm) return {FrameResource::Depth, FrameResource::LayeredDepthMaps};
+  const AoMethod m = aoSettingsOf(value).method;
+  if (m == AoMethod::Ldm) return {FrameResource::Depth, FrameResource::LayeredDepthMaps};
+  if (m == AoMethod::Hbao) return {FrameResource::Depth};
   return {FrameResource::Depth, FrameResource::AccelerationStructures};
 }
 
@@ -84,6 +89,7 @@ nlohmann::json AoSettings::toJson() const {
                       {"d_max", dMax ? nlohmann::json(*dMax) : nlohmann::json()}, {"bias", bias},
                       {"ldm_list", ldmList}, {"ldm_build", ldmBuild}};
   if (method == AoMethod::Reference) j["samples"] = samples;
+  if (method == AoMethod::Hbao) j["steps"] = steps;
   return j;
 }
 

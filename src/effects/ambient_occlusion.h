@@ -15,6 +15,7 @@
 //   ldm_build       "hardware" (one instanced draw over the N maps) | "3dr" (compute: one
 //                   thread per (triangle, map), orthographic 3D edge functions) default hardware
 //   samples         reference rays per pixel, a square 16..65536                  default 1024
+//   steps           hbao samples per screen direction, 1..1024                    default 32
 // It acts when the scene has an ambient term; the frame then composes direct + ambient·AO.
 #pragma once
 #include <cstdint>
@@ -25,7 +26,7 @@
 
 namespace hb {
 
-enum class AoMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2 };
+enum class AoMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2, Hbao = 3 };
 const char* toString(AoMethod m);
 
 struct AoSettings {
@@ -37,6 +38,7 @@ struct AoSettings {
   std::string ldmList = "max64";
   std::string ldmBuild = "hardware";
   uint32_t samples = 1024;
+  uint32_t steps = 32;
   nlohmann::json toJson() const;
 };
 

@@ -56,9 +56,9 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                uint32_t width, uint32_t height, const AoInputs& in)
     : ctx_(ctx), settings_(settings), width_(width), height_(height), tlas_(in.tlas) {
   const AoSettings& ao = settings.ao;
-  if (ao.method != AoMethod::Ldm && !tlas_)
+  if ((ao.method == AoMethod::RayTraced || ao.method == AoMethod::Reference) && !tlas_)
     throw InputError(std::string("effects.ambient_occlusion.method=") + toString(ao.method) +
-                     " needs the ray tracer, which this device has not (use method ldm)");
+                     " needs the ray tracer, which this frame has not (use method ldm or hbao)");
   std::vector<glm::dvec3> dirs;
   try {
     dirs = ldmDirections(ao.directions);
@@ -98,6 +98,12 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   c.dMax = ao.dMax ? float(*ao.dMax) : 0.0f;
   c.biasScale = float(ao.bias);
   c.maxListSteps = maxSteps;
+  c.hbaoSteps = ao.steps;
+  {
+    glm::vec3 lo, hi;
+    scene.bounds(lo, hi);
+    c.hbaoRadius = ao.dMax ? float(*ao.dMax) : std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  }
   if (ldm_) {
     c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
     c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64 : gpu::kLdmListCas;
@@ -147,10 +153,11 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   auto it = programs_.find(method);
   if (it != programs_.end()) return *it->second;
   auto p = std::make_unique<Program>(ctx_);
-  if (method == AoMethod::Ldm) {
-    HB_ASSERT(ldm_);
+  if (method == AoMethod::Ldm || method == AoMethod::Hbao) {
+    HB_ASSERT(method == AoMethod::Hbao || ldm_);
     p->compute.createLayout({sets_->layout()}, 0);
-    p->compute.createCompute("ao_ldm.comp", SpecConstants{{settings_.normals, settings_.worldPos}});
+    p->compute.createCompute("ao_compute.comp", SpecConstants{{settings_.normals, settings_.worldPos,
+                                                              method == AoMethod::Ldm ? gpu::kAoLdm : gpu::kAoHbao}});
   } else {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{settings_.normals, settings_.worldPos,
@@ -200,7 +207,7 @@ std::vector<float> AoPass::readAo() const { return readFloats(ctx_, output_); }
 
 std::vector<float> AoPass::computeWith(AoMethod method) {
   if (method == settings_.ao.method) return readAo();
-  HB_ASSERT(method != AoMethod::Ldm && tlas_);
+  HB_ASSERT((method == AoMethod::RayTraced || method == AoMethod::Reference) && tlas_);
   const Program& p = program(method);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); },
                      "ambient occlusion for the analysis");

@@ -4,7 +4,8 @@
 //   ldm        layered depth maps along the N directions (LdmBuild, then a compute trace);
 //   raytraced  the same N directions through the ray tracer (ray query, or the ray-tracing
 //              pipeline on devices without it);
-//   reference  cosine-weighted stratified Monte Carlo through the ray tracer.
+//   reference  cosine-weighted stratified Monte Carlo through the ray tracer;
+//   hbao       screen space, horizon-based, from the depth buffer (the paper's comparison).
 // The frame's method writes output(); an analysis frame can compute the other methods on the same
 // surface (computeWith) to measure the frame's method against them.
 #pragma once

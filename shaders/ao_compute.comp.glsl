@@ -1,11 +1,12 @@
 #version 460
-// Ambient occlusion by layered depth maps (ao_common.glsl.inc, METHOD = kAoLdm): no ray tracing.
+// Ambient occlusion by the methods that need no ray tracer (ao_common.glsl.inc): layered depth maps
+// (METHOD = kAoLdm) and screen-space HBAO (kAoHbao).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
 
 layout(constant_id = 0) const uint NORMALS = 0;
 layout(constant_id = 1) const uint WORLD_POS = 0;
-const uint METHOD = kAoLdm;
+layout(constant_id = 2) const uint METHOD = kAoLdm;
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "ao_common.glsl.inc"
@@ -17,6 +18,6 @@ float depthAt(ivec2 p) {
   return texelFetch(depthTex, p, 0).r;
 }
 
-bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) { return false; }  // not called by kAoLdm
+bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) { return false; }  // not called by ldm, hbao
 
 void main() { aoPixel(ivec2(gl_GlobalInvocationID.xy)); }
