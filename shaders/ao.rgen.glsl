@@ -12,20 +12,11 @@ layout(constant_id = 2) const uint METHOD = kAoRayTraced;
 
 #include "ao_common.glsl.inc"
 
-layout(set = 0, binding = 4) uniform sampler2D depthTex;
+#include "depth_texel.glsl.inc"
 layout(set = 0, binding = 5) uniform accelerationStructureEXT tlas;
-layout(location = 0) rayPayloadEXT uint visible;
 
-float depthAt(ivec2 p) {
-  if (p.x < 0 || p.y < 0 || p.x >= int(frame.extent.x) || p.y >= int(frame.extent.y)) return 0.0;
-  return texelFetch(depthTex, p, 0).r;
-}
+float depthAt(ivec2 p) { return fetchDepth(p); }
 
-bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
-  visible = 0u;
-  traceRayEXT(tlas, gl_RayFlagsTerminateOnFirstHitEXT | gl_RayFlagsOpaqueEXT | gl_RayFlagsSkipClosestHitShaderEXT,
-              0xFF, 0, 0, 0, origin, tMin, dir, tMax, 0);
-  return visible == 0u;
-}
+#include "rt_occluded.glsl.inc"
 
 void main() { aoPixel(ivec2(gl_LaunchIDEXT.xy)); }

@@ -11,12 +11,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "ao_common.glsl.inc"
 
-layout(set = 0, binding = 4) uniform sampler2D depthTex;
+#include "depth_texel.glsl.inc"
 
-float depthAt(ivec2 p) {
-  if (p.x < 0 || p.y < 0 || p.x >= int(frame.extent.x) || p.y >= int(frame.extent.y)) return 0.0;
-  return texelFetch(depthTex, p, 0).r;
-}
+float depthAt(ivec2 p) { return fetchDepth(p); }
 
 bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) { return false; }  // not called by ldm, hbao
 

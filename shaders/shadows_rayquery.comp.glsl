@@ -16,7 +16,7 @@ layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
 #include "shadows_common.glsl.inc"
 
-layout(set = 0, binding = 4) uniform sampler2D depthTex;
+#include "depth_texel.glsl.inc"
 layout(set = 0, binding = 5) uniform accelerationStructureEXT tlas;
 
 const int kBorder = 2;  // improved normals read +-2 samples per axis
@@ -24,11 +24,6 @@ const int kSide = int(TILE) + 2 * kBorder;
 shared float sDepth[kSide * kSide];
 
 ivec2 gTileOrigin;
-
-float fetchDepth(ivec2 p) {
-  if (p.x < 0 || p.y < 0 || p.x >= int(frame.extent.x) || p.y >= int(frame.extent.y)) return 0.0;
-  return texelFetch(depthTex, p, 0).r;
-}
 
 float depthAt(ivec2 p) {
   ivec2 q = p - gTileOrigin + ivec2(kBorder);
