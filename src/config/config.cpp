@@ -31,6 +31,9 @@ constexpr size_t kMaxRuns = 10000;
 constexpr float kMinEq41Range = 1e-3f;
 // CPU devices (lavapipe) render about 3 orders of magnitude slower than a GPU.
 constexpr uint32_t kCpuMaxWidth = 480, kCpuMaxHeight = 270, kCpuWarmup = 2, kCpuMeasured = 5;
+// Ambient occlusion on a CPU device: at most 64 maps of 128² (about 10 s a frame on 2 cores), 256
+// reference rays (a square) and 32 HBAO steps.
+constexpr int64_t kCpuAoDirections = 64, kCpuAoResolution = 128, kCpuAoSamples = 256, kCpuAoSteps = 32;
 
 const std::vector<std::string_view> kTopKeys = {
     "name",    "description", "scene",    "scene_params", "camera", "lights", "ambient", "resolution",
@@ -501,6 +504,26 @@ Config lowerForCpuDevice(Config c) {
   if (measured != c.measuredFrames)
     changes.push_back("measured frames " + std::to_string(measured) + " -> " +
                       std::to_string(c.measuredFrames));
+
+  // Ambient occlusion's sizes scale a CPU device's work as much as the resolution does (512 maps of
+  // 256² take minutes a frame on lavapipe): they are capped too, wherever an effects object sets them.
+  std::set<std::string> aoChanges;
+  auto capAo = [&](nlohmann::json& effects) {
+    if (!effects.is_object() || !effects.contains("ambient_occlusion") || !effects["ambient_occlusion"].is_object()) return;
+    nlohmann::json& ao = effects["ambient_occlusion"];
+    for (const auto& [key, cap] : std::vector<std::pair<std::string, int64_t>>{
+             {"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuAoSamples},
+             {"steps", kCpuAoSteps}})
+      if (ao.contains(key) && ao[key].is_number_integer() && ao[key].get<int64_t>() > cap) {
+        aoChanges.insert("ambient_occlusion " + key + " " + std::to_string(ao[key].get<int64_t>()) + " -> " +
+                         std::to_string(cap));
+        ao[key] = cap;
+      }
+  };
+  capAo(c.effects);
+  capAo(c.defaults.effects);
+  for (Variant& v : c.variants) capAo(v.params.effects);
+  changes.insert(changes.end(), aoChanges.begin(), aoChanges.end());
 
   std::string note;
   for (const std::string& change : changes) note += (note.empty() ? "" : ", ") + change;

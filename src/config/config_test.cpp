@@ -438,6 +438,20 @@ TEST(CpuLowering, CapsResolutionAndFramesKeepsNamesAndAddsANote) {
   EXPECT_EQ(toJson(c)["notes"][0], c.notes[0]);
 }
 
+TEST(CpuLowering, CapsAmbientOcclusionSizesInEveryVariantAndNotesThem) {
+  Config c = lowerForCpuDevice(loadConfig(kConfigDir + "/layered-depth-maps.json"));
+  for (const Variant& v : expandVariants(c)) {
+    const nlohmann::json& ao = v.params.effects["ambient_occlusion"];
+    EXPECT_LE(ao.value("directions", 0), 64) << v.name;
+    EXPECT_LE(ao.value("ldm_resolution", 0), 128) << v.name;
+    EXPECT_LE(ao.value("samples", 0), 256) << v.name;
+    EXPECT_LE(ao.value("steps", 0), 32) << v.name;
+  }
+  ASSERT_EQ(c.notes.size(), 1u);
+  EXPECT_NE(c.notes[0].find("ambient_occlusion directions 512 -> 64"), std::string::npos) << c.notes[0];
+  EXPECT_NE(c.notes[0].find("ambient_occlusion ldm_resolution 256 -> 128"), std::string::npos) << c.notes[0];
+}
+
 TEST(CpuLowering, LeavesSmallConfigsAloneButStillNotesTheDevice) {
   Config ci = loadConfig(kConfigDir + "/ci.json");
   Config lowered = lowerForCpuDevice(ci);
