@@ -538,6 +538,47 @@ TEST_F(Sweep, UnsupportedVariantIsRecordedAsAnErrorAndTheSweepGoesOn) {
   EXPECT_EQ(tables.exitCode, 0) << tables.err;
 }
 
+// Ambient occlusion per variant (params.effects): each run carries its method's passes, its errors
+// against the ray tracer and the reference (0 against itself), the LDM's memory and no overflow;
+// the tables print the AO table and the accuracy report judges the sweep by the AO error.
+TEST_F(Sweep, AmbientOcclusionVariantsCarryTheirErrorsAndPrintTheAoTable) {
+  auto ao = [](json settings) { return json{{"effects", {{"ambient_occlusion", settings}}}}; };
+  const json variants = {{{"name", "ldm 16 x 64^2"}, {"params", ao({{"directions", 16}, {"ldm_resolution", 64}})}},
+                         {{"name", "ldm 16 x 64^2, cas"},
+                          {"params", ao({{"directions", 16}, {"ldm_resolution", 64}, {"ldm_list", "cas"}})}},
+                         {{"name", "raytraced 16"}, {"params", ao({{"method", "raytraced"}, {"directions", 16}})}},
+                         {{"name", "reference 64"}, {"params", ao({{"method", "reference"}, {"samples", 64}})}}};
+  const fs::path config = configWith("sweep-ao", variants);
+  const fs::path out = dir / "out";
+  const RunResult r = run({"sweep", config.string(), "--out", out.string(), "--no-images"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const json results = readJson(out / "results.json");
+  ASSERT_EQ(runNames(results), variantNames(json{{"variants", variants}}));
+  for (const json& run : results["runs"]) {
+    SCOPED_TRACE(run.value("name", ""));
+    ASSERT_EQ(run.value("status", ""), "ok") << run.dump();
+    const json& a = run["ambient_occlusion"];
+    const std::string method = a.value("method", "");
+    EXPECT_TRUE(run["passes"].contains("ambient_occlusion"));
+    EXPECT_EQ(run["passes"].contains("ldm_build"), method == "ldm");
+    EXPECT_GT(a["vs_reference"].value("pixels", 1), 0);
+    EXPECT_EQ(a["vs_raytraced"].value("itself", false), method == "raytraced");
+    EXPECT_EQ(a["vs_reference"].value("itself", false), method == "reference");
+    if (method == "ldm") {
+      EXPECT_EQ(a["ldm"].value("overflow", 1), 0);
+      EXPECT_LE(a["memory_bytes"].value("ldm_links", 0.0), 1.1 * a["ldm"].value("exact_bytes", 0.0));
+      EXPECT_GE(a["memory_bytes"].value("ldm_links", 0.0), a["ldm"].value("exact_bytes", 0.0));
+    }
+  }
+  // Both LDM variants hold the same depths (the same build, another list layout): the same AO.
+  EXPECT_EQ(results["runs"][0]["ambient_occlusion"]["vs_raytraced"]["mae"],
+            results["runs"][1]["ambient_occlusion"]["vs_raytraced"]["mae"]);
+  const RunResult tables = run({"tables", (out / "results.json").string()});
+  EXPECT_EQ(tables.exitCode, 0) << tables.err;
+  EXPECT_NE(tables.out.find("## Ambient occlusion (layered depth maps)"), std::string::npos) << tables.out;
+  EXPECT_NE(tables.out.find("AO error (MAE vs the Monte Carlo reference)"), std::string::npos) << tables.out;
+}
+
 TEST_F(Sweep, ResumeWithoutOutIsOneLineNamingTheFlag) {
   for (const std::vector<std::string>& args :
        {std::vector<std::string>{"sweep", "--resume"}, {"sweep", kFixture.string(), "--resume"}}) {
