@@ -1,6 +1,7 @@
 #version 460
 // Layered depth maps, the hardware build's fragment: each fragment takes a node from the pool and
-// inserts its depth into its pixel's list (ldm_insert.glsl.inc: ldm_list = max64 or cas).
+// inserts its depth into its pixel's list (ldm_insert.glsl.inc: ldm_list = max64 or cas), or is
+// counted or written in place (sbuffer).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
@@ -13,6 +14,8 @@ layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
 layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
 layout(constant_id = 3) const uint LIST = kLdmListMax64;
+layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
+layout(push_constant) uniform Push { DrawConstants draw; };
 
 layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
 layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
@@ -24,6 +27,10 @@ layout(location = 1) in float inDepth;
 
 void main() {
   const uint pixel = inMap * RESOLUTION * RESOLUTION + uint(gl_FragCoord.y) * RESOLUTION + uint(gl_FragCoord.x);
+  if (LIST == kLdmListSbuffer) {  // no nodes to take: the scan placed every fragment
+    ldmSbuffer(linksAddress, pixel, inDepth, draw.triangleBase + uint(gl_PrimitiveID));
+    return;
+  }
   // Nodes are taken a subgroup at a time (one atomic on the pool's counter per subgroup, not per
   // fragment: millions of fragments on one address serialize). Helper invocations take none (their
   // writes are discarded), so the leader is the lowest real invocation, and its base reaches the

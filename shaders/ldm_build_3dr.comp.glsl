@@ -20,6 +20,7 @@ layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
 layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
 layout(constant_id = 3) const uint LIST = kLdmListMax64;
+layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
 layout(local_size_x = 64) in;
 
 layout(set = 0, binding = 0) readonly buffer Maps { LdmMap maps[]; };
@@ -74,11 +75,16 @@ void main() {
       if ((e0 == 0.0 && !own0) || (e1 == 0.0 && !own1) || (e2 == 0.0 && !own2)) continue;
       const float sum = e0 + e1 + e2;
       const float depth = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / sum;
+      const uint pixel = (map * RESOLUTION + uint(y)) * RESOLUTION + uint(x);
+      if (LIST == kLdmListSbuffer) {
+        ldmSbuffer(linksAddress, pixel, depth, tri);
+        continue;
+      }
       const uint node = atomicAdd(counters[kLdmCounterAllocated], 1u) + 1u;
       if (node > NODE_CAPACITY) {
         atomicAdd(counters[kLdmCounterOverflow], 1u);
         continue;
       }
-      ldmInsert(linksAddress, (map * RESOLUTION + uint(y)) * RESOLUTION + uint(x), node, depth);
+      ldmInsert(linksAddress, pixel, node, depth);
     }
 }

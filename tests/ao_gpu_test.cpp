@@ -91,7 +91,7 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
   const Scene scene = makeAtrium(AtriumParams{});
   const Bvh bvh = buildBvh(scene);
   for (const char* build : {"hardware", "3dr"})
-  for (const char* list : {"max64", "cas"}) {
+  for (const char* list : {"max64", "cas", "sbuffer"}) {
   SCOPED_TRACE(std::string(build) + ", " + list);
   Renderer r(*ctx, scene,
              aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}, {"ldm_list", list}}));
@@ -274,11 +274,11 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
 }
 
 // The lists' depths do not depend on the order fragments arrive in (max64 and cas keep each list
-// sorted whatever the order; equal depths are equal values), so AO is bit for bit the same when the
-// scene is drawn in another order, for both builds and both lists.
+// sorted whatever the order, sbuffer sorts each range; equal depths are equal values), so AO is bit
+// for bit the same when the scene is drawn in another order, for both builds and every list.
 TEST_F(AoGpuTest, LdmAoIsBitForBitTheSameWhenTheDrawOrderIsShuffled) {
   for (const char* build : {"hardware", "3dr"})
-  for (const char* list : {"max64", "cas"}) {
+  for (const char* list : {"max64", "cas", "sbuffer"}) {
     SCOPED_TRACE(std::string(build) + ", " + list);
     Scene scene = makeAtrium(AtriumParams{});
     const RenderSettings rs = aoSettings(

@@ -1,7 +1,7 @@
 // Layered depth maps on the real device (frame/passes/ldm_build.h): the lists the hardware build
 // writes hold every surface crossing of each pixel's line, sorted, against depths known exactly,
-// for both builds (the raster hardware's and the compute rasterizer's) and both list layouts
-// (max64's atomicMax insertion and the paper's compare-and-swap).
+// for both builds (the raster hardware's and the compute rasterizer's) and the three list builders
+// (max64's atomicMax insertion, the paper's compare-and-swap, sbuffer's count-scan-fill-sort).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -44,9 +44,9 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const Scene scene = boxScene(lo, hi);
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
-  for (const LdmList list : {LdmList::Max64, LdmList::Cas}) {
+  for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
   SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-               (list == LdmList::Max64 ? ", max64" : ", cas"));
+               (list == LdmList::Max64 ? ", max64" : list == LdmList::Cas ? ", cas" : ", sbuffer"));
   const double radius = 2.0;
   const uint32_t R = 64;
   // dir, right, up (right × up = −dir: a right-handed view looking along dir).
@@ -97,7 +97,7 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   }
   std::printf("box LDMs (%s, %s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes "
               "allocated\n",
-              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", list == LdmList::Max64 ? "max64" : "cas", R, R,
+              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", list == LdmList::Max64 ? "max64" : list == LdmList::Cas ? "cas" : "sbuffer", R, R,
               inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
   // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
   // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
@@ -113,9 +113,9 @@ TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   const Scene scene = boxScene(glm::dvec3(-1), glm::dvec3(1));
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
-  for (const LdmList list : {LdmList::Max64, LdmList::Cas}) {
+  for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
   SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-               (list == LdmList::Max64 ? ", max64" : ", cas"));
+               (list == LdmList::Max64 ? ", max64" : list == LdmList::Cas ? ", cas" : ", sbuffer"));
   const uint32_t R = 32, capacity = 500;
   std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
                                    mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};

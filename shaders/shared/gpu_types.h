@@ -216,8 +216,17 @@ HB_CONST uint kLdmCounterCount = 4u;
 //   cas:   uint words[maps·R² heads | capacity next nodes | capacity depths (float bits)]; a head or
 //          next of 0 ends the list, node n (>= 1) has next words[heads + n − 1] and depth
 //          words[heads + capacity + n − 1]; lists ascending in depth.
+//   sbuffer: uint words[pixels + 1 offsets | pixels cursors | capacity depths | capacity triangle
+//          ids]: a count pass counts each pixel's fragments into its offset word, an exclusive scan
+//          turns the counts into offsets (words[pixels] = the total), a fill pass writes each
+//          fragment at offset + a per-pixel cursor, and a per-pixel sort orders each range by (depth,
+//          triangle id): exact allocation and the same words whatever the arrival order.
 HB_CONST uint kLdmListMax64 = 0u;
 HB_CONST uint kLdmListCas = 1u;
+HB_CONST uint kLdmListSbuffer = 2u;
+HB_CONST uint kLdmPhaseInsert = 0u;  // max64, cas: one pass
+HB_CONST uint kLdmPhaseCount = 1u;   // sbuffer: count
+HB_CONST uint kLdmPhaseFill = 2u;    // sbuffer: fill (after the scan)
 
 // Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion.h).
 HB_CONST uint kAoLdm = 0u;        // trace the LDMs along the N directions

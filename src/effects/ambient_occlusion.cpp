@@ -40,7 +40,8 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
   if (value.contains("bias"))
     s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
   if (value.contains("ldm_list"))
-    s.ldmList = readChoice(value["ldm_list"], where.key("ldm_list"), {"max64", "cas"}) == 0 ? "max64" : "cas";
+    s.ldmList = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
+                                                                                {"max64", "cas", "sbuffer"})];
   if (value.contains("ldm_build"))
     s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
   if (value.contains("samples")) {

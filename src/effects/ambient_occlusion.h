@@ -11,7 +11,8 @@
 //   d_max           obscurance: occluders farther than this (m) do not count; null = none
 //   bias            scale of the derived slope-scaled LDM bias (ao.glsl.inc), > 0   default 1
 //   ldm_list        how the lists are built: "max64" (64-bit atomicMax insertion) | "cas" (the
-//                   paper's: 32-bit links swung by compare-and-swap)              default max64
+//                   paper's: 32-bit links swung by compare-and-swap) | "sbuffer" (count, scan,
+//                   fill, sort each range: exact allocation, deterministic words)  default max64
 //   ldm_build       "hardware" (one instanced draw over the N maps) | "3dr" (compute: one
 //                   thread per (triangle, map), orthographic 3D edge functions) default hardware
 //   samples         reference rays per pixel, a square 16..65536                  default 1024

@@ -75,7 +75,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     // then allocated at the exact count plus 5 % for a scene that moves; overflow is counted.
     std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, ao.ldmResolution);
     const LdmBuildMethod build = ao.ldmBuild == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
-    const LdmList list = ao.ldmList == "cas" ? LdmList::Cas : LdmList::Max64;
+    const LdmList list = ao.ldmList == "cas" ? LdmList::Cas : ao.ldmList == "sbuffer" ? LdmList::Sbuffer : LdmList::Max64;
     uint64_t fragments = 0;
     {
       LdmBuild counting(ctx, gpuScene, scene, maps, ao.ldmResolution, 1, build, list);
@@ -106,7 +106,9 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   }
   if (ldm_) {
     c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
-    c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64 : gpu::kLdmListCas;
+    c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
+                : ldm_->list() == LdmList::Cas     ? gpu::kLdmListCas
+                                                   : gpu::kLdmListSbuffer;
     c.ldmCapacity = ldm_->nodeCapacity();
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);

@@ -1,5 +1,6 @@
 #include "frame/passes/ldm_build.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -37,7 +38,8 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
       links_(ctx,
              list == LdmList::Max64 ? (uint64_t(maps_.size()) * resolution * resolution + nodeCapacity) * 8
-                                    : (uint64_t(maps_.size()) * resolution * resolution + 2ull * nodeCapacity) * 4,
+             : list == LdmList::Cas ? (uint64_t(maps_.size()) * resolution * resolution + 2ull * nodeCapacity) * 4
+                                    : (2ull * maps_.size() * resolution * resolution + 1 + 2ull * nodeCapacity) * 4,
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
              false, MemClass::Other),
@@ -56,7 +58,9 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
-  SpecConstants spec{{resolution_, nodeCapacity_, pixels, list == LdmList::Max64 ? gpu::kLdmListMax64 : gpu::kLdmListCas}};
+  const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64 : list == LdmList::Cas ? gpu::kLdmListCas
+                                                                                              : gpu::kLdmListSbuffer;
+  auto specFor = [&](uint32_t phase) { return SpecConstants{{resolution_, nodeCapacity_, pixels, listId, phase}}; };
   if (method == LdmBuildMethod::Raster3d) {
     std::vector<glm::vec4> tris;
     for (const glm::vec3& v : scene.worldTriangles()) tris.emplace_back(v, 1.0f);
@@ -68,25 +72,76 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                               MemClass::Geometry);
     sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
-    pipeline_.createLayout({sets_.layout()}, sizeof(uint32_t));
-    pipeline_.createCompute("ldm_build_3dr.comp", spec);
+  }
+  auto makeBuild = [&](Pipeline& p, uint32_t phase) {
+    if (method == LdmBuildMethod::Raster3d) {
+      p.createLayout({sets_.layout()}, sizeof(uint32_t));
+      p.createCompute("ldm_build_3dr.comp", specFor(phase));
+      return;
+    }
+    p.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
+    ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
+    std::vector<VkSpecializationMapEntry> entries;
+    const SpecConstants spec = specFor(phase);
+    VkSpecializationInfo si = specializationInfo(spec, entries);
+    RasterPipelineDesc desc;
+    desc.layout = p.layout();
+    desc.vertex = vert.handle();
+    desc.fragment = frag.handle();
+    desc.fragmentSpec = &si;
+    desc.depthTest = false;  // every crossing is stored, both faces (no culling: raster_pipeline.h)
+    p.pipeline_ = createRasterPipeline(ctx, desc);
+    p.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  };
+  if (list != LdmList::Sbuffer) {
+    makeBuild(pipeline_, gpu::kLdmPhaseInsert);
     return;
   }
-  pipeline_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
-  ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
-  std::vector<VkSpecializationMapEntry> entries;
-  VkSpecializationInfo si = specializationInfo(spec, entries);
-  RasterPipelineDesc desc;
-  desc.layout = pipeline_.layout();
-  desc.vertex = vert.handle();
-  desc.fragment = frag.handle();
-  desc.fragmentSpec = &si;
-  desc.depthTest = false;  // every crossing is stored, both faces (no culling: raster_pipeline.h)
-  pipeline_.pipeline_ = createRasterPipeline(ctx, desc);
-  pipeline_.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  makeBuild(pipeline_, gpu::kLdmPhaseCount);
+  fill_ = std::make_unique<Pipeline>(ctx);
+  makeBuild(*fill_, gpu::kLdmPhaseFill);
+  const uint32_t blocks = (pixels + 4095) / 4096;
+  blockSums_ = Buffer(ctx, std::max<uint32_t>(blocks, 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
+                      MemClass::Other);
+  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
+  scanSets_ = std::make_unique<DescriptorSets>(ctx, std::vector<Binding>{{1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+                                                                         {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+                                                                         {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}});
+  scanSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
+  scanSets_->writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+  scanSets_->writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, blockSums_.handle());
+  for (uint32_t stage = 0; stage < 4; ++stage) {
+    scan_[stage] = std::make_unique<Pipeline>(ctx);
+    scan_[stage]->createLayout({scanSets_->layout()}, 0);
+    scan_[stage]->createCompute("ldm_sbuffer.comp", SpecConstants{{stage, pixels, nodeCapacity_, stage == 1 ? 1024u : 256u}});
+  }
 }
 
 LdmBuild::~LdmBuild() = default;
+
+void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const {
+  VkDescriptorSet set = sets_.set();
+  if (method_ == LdmBuildMethod::Raster3d) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
+    if (triangleCount_ > 0) vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, uint32_t(maps_.size()), 1);
+  } else {
+    VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    ri.renderArea = {{0, 0}, {resolution_, resolution_}};
+    ri.layerCount = 1;
+    vkCmdBeginRendering(cmd, &ri);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, p.layout(), 0, 1, &set, 0, nullptr);
+    drawScene(cmd, scene_, p.layout(), glm::mat4(1.0f), resolution_, resolution_, uint32_t(maps_.size()));
+    vkCmdEndRendering(cmd);
+  }
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
 
 void LdmBuild::record(VkCommandBuffer cmd) const {
   vkCmdFillBuffer(cmd, links_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -94,34 +149,31 @@ void LdmBuild::record(VkCommandBuffer cmd) const {
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  VkDescriptorSet set = sets_.set();
-  if (method_ == LdmBuildMethod::Raster3d) {
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
-    if (triangleCount_ > 0) vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, uint32_t(maps_.size()), 1);
+  recordGeometry(cmd, pipeline_);
+  if (list_ != LdmList::Sbuffer) return;
+  // Counts → offsets (three scan stages), the fill pass, then each range sorted.
+  const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
+  const uint32_t blocks = (pixels + 4095) / 4096, groups = (pixels + 255) / 256;
+  VkDescriptorSet set = scanSets_->set();
+  auto stage = [&](uint32_t s, uint32_t x, uint32_t y) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, x, y, 1);
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                      VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
-    return;
-  }
-  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  ri.renderArea = {{0, 0}, {resolution_, resolution_}};
-  ri.layerCount = 1;
-  vkCmdBeginRendering(cmd, &ri);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.layout(), 0, 1, &set, 0, nullptr);
-  drawScene(cmd, scene_, pipeline_.layout(), glm::mat4(1.0f), resolution_, resolution_, uint32_t(maps_.size()));
-  vkCmdEndRendering(cmd);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                    VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                      VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  };
+  stage(0, blocks, 1);
+  stage(1, 1, 1);
+  stage(2, blocks, 1);
+  recordGeometry(cmd, *fill_);
+  stage(3, std::min<uint32_t>(groups, 1024), (groups + 1023) / 1024);
 }
 
 uint64_t LdmBuild::exactBytes(uint64_t fragments) const {
   const uint64_t heads = maps_.size() * uint64_t(resolution_) * resolution_;
+  if (list_ == LdmList::Sbuffer) return 4 * (2 * heads + 1) + 8 * fragments;
   return (list_ == LdmList::Max64 ? 8 : 4) * heads + 8 * fragments;
 }
 
@@ -144,6 +196,12 @@ void walkLists(const std::vector<uint8_t>& bytes, LdmList list, size_t pixels, u
     return;
   }
   const uint32_t* words = reinterpret_cast<const uint32_t*>(bytes.data());
+  if (list == LdmList::Sbuffer) {
+    for (size_t p = 0; p < pixels; ++p)
+      for (uint32_t k = std::min(words[p], capacity); k < std::min(words[p + 1], capacity); ++k)
+        visit(p, std::bit_cast<float>(words[2 * pixels + 1 + k]));
+    return;
+  }
   for (size_t p = 0; p < pixels; ++p) {
     uint32_t node = words[p];
     for (size_t n = 0; node != 0 && n <= capacity; ++n) {

@@ -8,6 +8,7 @@
 // The node pool is sized up front; fragments past it are counted (overflow), never silent.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "gpu/gpu_scene.h"
@@ -25,7 +26,7 @@ struct LdmCounters {
 };
 
 enum class LdmBuildMethod { Hardware, Raster3d };
-enum class LdmList { Max64, Cas };  // ldm_insert.glsl.inc
+enum class LdmList { Max64, Cas, Sbuffer };  // ldm_insert.glsl.inc, ldm_sbuffer.comp.glsl
 
 class LdmBuild {
  public:
@@ -48,8 +49,8 @@ class LdmBuild {
   uint32_t nodeCapacity() const { return nodeCapacity_; }
   const Buffer& links() const { return links_; }  // the list layout of gpu_types.h
   LdmList list() const { return list_; }
-  // Bytes the fragments of a build need: the heads and one node per fragment (8 bytes for both
-  // layouts: a 64-bit link, or a 32-bit next and a float depth; cas heads are 4 bytes).
+  // Bytes the fragments of a build need: the heads (sbuffer: offsets and cursors) and 8 bytes per
+  // fragment (a 64-bit link; a 32-bit next or triangle id and a float depth).
   uint64_t exactBytes(uint64_t fragments) const;
   uint64_t memoryBytes() const { return links_.size() + mapsBuffer_.size() + counters_.size(); }
 
@@ -67,9 +68,13 @@ class LdmBuild {
   LdmBuildMethod method_;
   LdmList list_;
   uint32_t triangleCount_ = 0;
-  Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_;
+  Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_, blockSums_;
   DescriptorSets sets_;
-  Pipeline pipeline_;
+  Pipeline pipeline_;  // the build (sbuffer: its count pass)
+  // sbuffer: the fill pass, and the scan's three stages and the sort (ldm_sbuffer.comp.glsl).
+  std::unique_ptr<Pipeline> fill_, scan_[4];
+  std::unique_ptr<DescriptorSets> scanSets_;
+  void recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const;
 };
 
 }  // namespace hb

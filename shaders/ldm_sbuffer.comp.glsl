@@ -1,0 +1,101 @@
+#version 460
+// Layered depth maps, ldm_list = sbuffer (gpu_types.h): between the count and the fill pass the
+// per-pixel counts become offsets by an exclusive scan in place (blocks of 4096 counts: STAGE 0 sums
+// each block, STAGE 1 scans the block sums in one workgroup and writes the total, STAGE 2 scans each
+// block from its base); after the fill pass STAGE 3 sorts each pixel's range by (depth, triangle id)
+// with an insertion sort (ranges are short: 2.2 entries a pixel on the atrium, at most ~100), so
+// the words do not depend on the order fragments arrived in.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
+#include "shared/gpu_types.h"
+
+layout(constant_id = 0) const uint STAGE = 0;
+layout(constant_id = 1) const uint PIXELS = 1;
+layout(constant_id = 2) const uint NODE_CAPACITY = 1;
+layout(local_size_x_id = 3) in;  // 256 (stages 0, 2, 3) or 1024 (stage 1)
+
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer Words { uint words[]; };
+layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };
+layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
+layout(set = 0, binding = 3) buffer BlockSums { uint blockSums[]; };
+
+const uint kPerThread = 16u, kBlock = 256u * kPerThread;
+shared uint sScan[1024];
+
+// Exclusive scan of one value per invocation over the workgroup (Hillis-Steele in shared memory);
+// returns the invocation's prefix and leaves the total in `total`.
+uint workgroupExclusiveScan(uint v, out uint total) {
+  const uint i = gl_LocalInvocationIndex, n = gl_WorkGroupSize.x;
+  sScan[i] = v;
+  barrier();
+  for (uint d = 1u; d < n; d <<= 1u) {
+    const uint add = i >= d ? sScan[i - d] : 0u;
+    barrier();
+    sScan[i] += add;
+    barrier();
+  }
+  total = sScan[n - 1u];
+  return sScan[i] - v;
+}
+
+void main() {
+  Words w = Words(uint64_t(linksAddress.x) | (uint64_t(linksAddress.y) << 32));
+  const uint blocks = (PIXELS + kBlock - 1u) / kBlock;
+  if (STAGE == 0u || STAGE == 2u) {
+    const uint b = gl_WorkGroupID.x;
+    const uint first = b * kBlock + gl_LocalInvocationIndex * kPerThread;
+    uint sum = 0u;
+    for (uint k = 0u; k < kPerThread; ++k)
+      if (first + k < PIXELS) sum += w.words[first + k];
+    uint total;
+    const uint prefix = workgroupExclusiveScan(sum, total);
+    if (STAGE == 0u) {
+      if (gl_LocalInvocationIndex == 0u) blockSums[b] = total;
+      return;
+    }
+    uint running = blockSums[b] + prefix;
+    for (uint k = 0u; k < kPerThread; ++k)
+      if (first + k < PIXELS) {
+        const uint count = w.words[first + k];
+        w.words[first + k] = running;
+        running += count;
+      }
+  } else if (STAGE == 1u) {
+    const uint per = (blocks + 1023u) / 1024u, first = gl_LocalInvocationIndex * per;
+    uint sum = 0u;
+    for (uint k = 0u; k < per; ++k)
+      if (first + k < blocks) sum += blockSums[first + k];
+    uint total;
+    uint running = workgroupExclusiveScan(sum, total);
+    for (uint k = 0u; k < per; ++k)
+      if (first + k < blocks) {
+        const uint s = blockSums[first + k];
+        blockSums[first + k] = running;
+        running += s;
+      }
+    if (gl_LocalInvocationIndex == 0u) {
+      w.words[PIXELS] = total;  // the end of the last range
+      counters[kLdmCounterAllocated] = total;
+    }
+  } else {
+    const uint pixel = (gl_WorkGroupID.y * 1024u + gl_WorkGroupID.x) * 256u + gl_LocalInvocationIndex;
+    if (pixel >= PIXELS) return;
+    const uint depths = 2u * PIXELS + 1u, ids = depths + NODE_CAPACITY;
+    const uint begin = min(w.words[pixel], NODE_CAPACITY), end = min(w.words[pixel + 1u], NODE_CAPACITY);
+    for (uint a = begin + 1u; a < end; ++a) {
+      const uint kd = w.words[depths + a], ki = w.words[ids + a];
+      const float kz = uintBitsToFloat(kd);
+      uint b = a;
+      while (b > begin) {
+        const float z = uintBitsToFloat(w.words[depths + b - 1u]);
+        if (z < kz || (z == kz && w.words[ids + b - 1u] <= ki)) break;
+        w.words[depths + b] = w.words[depths + b - 1u];
+        w.words[ids + b] = w.words[ids + b - 1u];
+        --b;
+      }
+      w.words[depths + b] = kd;
+      w.words[ids + b] = ki;
+    }
+  }
+}
