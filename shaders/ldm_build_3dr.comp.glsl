@@ -7,11 +7,11 @@
 // that two triangles sharing an edge evaluate bitwise opposite values (the paper's consistency);
 // a pixel centre exactly on an edge goes to the triangle whose edge is a top or left one (the
 // edge derivatives' signs, Sect. 3.4). Depth: the barycentric blend of the vertices' depths
-// z = (p − c)·dir + r with weights V_i/ΣV. Float, without 3DR's fp64 fallback: a centre within
-// rounding of a shared vertex may be given to none or two triangles (counted by the test against
-// the exact LDM). Each covered pixel inserts as the fragment shader does (ldm_insert.glsl.inc).
+// z = (p − c)·dir + r with weights V_i/ΣV. An edge value within its rounding bound of zero is
+// decided in double (below), so centres at shared vertices go to exactly one triangle. Each covered pixel inserts as the fragment shader does (ldm_insert.glsl.inc).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_explicit_arithmetic_types_float64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
@@ -32,10 +32,26 @@ layout(push_constant) uniform Push { uint triangleCount; };
 #include "ldm_insert.glsl.inc"
 
 // Edge (a → b) at pixel centre q, midpoint form: (q − m) × e with m = (a + b)/2, e = b − a.
+// Its rounding (derived like 3DR's, raster3d.glsl.inc): m errs by u|m|, q − m by u(|q| + |m|) more,
+// e by u|e|, the two products and the difference by u each, so |v − v(exact on the float inputs)|
+// <= 6u·mag (1 + O(u)) with mag = (|q.x| + |m.x|)|e.y| + (|q.y| + |m.y|)|e.x|. Within 16u·mag of
+// zero the sign is decided by the same expression in double from the same float inputs (2^29 times
+// smaller error: exact for these magnitudes), 3DR's fp64 fallback: so two triangles sharing a
+// vertex agree on which owns a centre on their edges, not only those sharing the edge.
 float edge(vec2 a, vec2 b, vec2 q) {
   precise vec2 m = (a + b) * 0.5;
   precise vec2 e = b - a;
-  precise float v = (q.x - m.x) * e.y - (q.y - m.y) * e.x;
+  precise float t1 = (q.x - m.x) * e.y;
+  precise float t2 = (q.y - m.y) * e.x;
+  precise float v = t1 - t2;
+  const float mag = (abs(q.x) + abs(m.x)) * abs(e.y) + (abs(q.y) + abs(m.y)) * abs(e.x);
+  if (abs(v) <= 16.0 * 5.9604644775390625e-8 * mag) {
+    const dvec2 da = dvec2(a), db = dvec2(b), dq = dvec2(q);
+    const dvec2 dm = (da + db) * 0.5LF, de = db - da;
+    const double dv = (dq.x - dm.x) * de.y - (dq.y - dm.y) * de.x;
+    atomicAdd(counters[kLdmCounterFp64], 1u);
+    return float(dv);  // a float too small for its sign is 0: then the tie rule decides, alike for both
+  }
   return v;
 }
 

@@ -210,7 +210,8 @@ HB_CONST uint kLdmCounterAllocated = 0u;    // nodes asked for (over capacity on
 HB_CONST uint kLdmCounterOverflow = 1u;     // fragments dropped: the node pool was full
 HB_CONST uint kLdmCounterUnfinished = 2u;   // insertions cut at kLdmMaxInsertSteps
 HB_CONST uint kLdmCounterCasRetries = 3u;   // cas: compare-and-swaps that lost to another insertion
-HB_CONST uint kLdmCounterCount = 4u;
+HB_CONST uint kLdmCounterFp64 = 4u;         // 3dr build: edge values decided in double
+HB_CONST uint kLdmCounterCount = 5u;
 // The list layouts (ldm_insert.glsl.inc), in the links buffer at its device address:
 //   max64: uint64 links[maps·R² heads + capacity next links] as above.
 //   cas:   uint words[maps·R² heads | capacity next nodes | capacity depths (float bits)]; a head or

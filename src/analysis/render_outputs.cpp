@@ -190,6 +190,7 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
                 {"overflow", c.overflow},
                 {"unfinished_insertions", c.unfinished},
                 {"cas_retries", c.casRetries},
+                {"fp64_edges", c.fp64Edges},
                 {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
                                      {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
                                      {"max", lengths.empty() ? 0u : lengths.back()}}},

@@ -52,6 +52,9 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   if (!ctx.info().bufferInt64Atomics || (method == LdmBuildMethod::Hardware && !ctx.info().fragmentSubgroupBallot))
     throw InputError("device \"" + ctx.info().name + "\" lacks 64-bit buffer atomics or subgroup ballots in fragment "
                      "shaders, which the hardware LDM build needs: use effects.ambient_occlusion.method=raytraced");
+  if (method == LdmBuildMethod::Raster3d && !ctx.info().shaderFloat64)
+    throw InputError("device \"" + ctx.info().name + "\" has no fp64 in shaders, which ldm_build=3dr needs at shared "
+                     "vertices: use ldm_build=hardware");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
   const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
   linksAddress_ = uploadBuffer(ctx, &address, sizeof address, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
@@ -233,7 +236,7 @@ LdmCounters LdmBuild::readCounters() const {
   uint32_t c[gpu::kLdmCounterCount];
   std::memcpy(c, bytes.data(), sizeof c);
   return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished],
-          c[gpu::kLdmCounterCasRetries]};
+          c[gpu::kLdmCounterCasRetries], c[gpu::kLdmCounterFp64]};
 }
 
 }  // namespace hb

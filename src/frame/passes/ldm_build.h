@@ -23,6 +23,7 @@ struct LdmCounters {
   uint64_t overflow = 0;    // fragments dropped because the pool was full
   uint64_t unfinished = 0;  // insertions cut at kLdmMaxInsertSteps
   uint64_t casRetries = 0;  // cas: compare-and-swaps another insertion won (then retried)
+  uint64_t fp64Edges = 0;   // 3dr build: edge values within their rounding bound, decided in double
 };
 
 enum class LdmBuildMethod { Hardware, Raster3d };
