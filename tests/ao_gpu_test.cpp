@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -39,40 +40,36 @@ Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
   return c;
 }
 
-Light pointLightAt(glm::vec3 p) {
+// One mesh (filled by `build`), a point light, a camera and a white ambient term.
+Scene aoScene(const char* name, const std::function<void(MeshBuilder&)>& build, glm::vec3 light, const Camera& camera) {
+  Scene s;
+  s.name = name;
+  s.materials.push_back({});
+  MeshBuilder mb(name);
+  build(mb);
+  mb.appendTo(s);
   Light l;
-  l.position = p;
+  l.position = light;
   l.intensity = 20.0f;
   l.range = 30.0f;
-  return l;
+  s.lights.push_back(l);
+  s.cameras.push_back(camera);
+  s.ambient = Ambient{{1, 1, 1}, 0.5f};
+  return s;
 }
 
 // A ground quad of side 40 m at y = 0, seen from 3 m above: every visible point sees open sky.
 Scene openSky() {
-  Scene s;
-  s.name = "open-sky";
-  s.materials.push_back({});
-  MeshBuilder mb("ground");
-  addQuad(mb, 0, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, {0, 1, 0});
-  mb.appendTo(s);
-  s.lights.push_back(pointLightAt({0, 5, 0}));
-  s.cameras.push_back(lookFrom({0, 3, 4}, {0, 0, -2}));
-  s.ambient = Ambient{{1, 1, 1}, 0.5f};
-  return s;
+  return aoScene(
+      "open-sky", [](MeshBuilder& mb) { addQuad(mb, 0, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, {0, 1, 0}); },
+      {0, 5, 0}, lookFrom({0, 3, 4}, {0, 0, -2}));
 }
 
 // A closed box 4 x 3 x 5 m with the camera (and the light) inside: nothing inside sees the sky.
 Scene closedBox() {
-  Scene s;
-  s.name = "closed-box";
-  s.materials.push_back({});
-  MeshBuilder mb("box");
-  addBox(mb, 0, {-2, 0, -2.5}, {2, 3, 2.5});
-  mb.appendTo(s);
-  s.lights.push_back(pointLightAt({0, 2.5, 0}));
-  s.cameras.push_back(lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
-  s.ambient = Ambient{{1, 1, 1}, 0.5f};
-  return s;
+  return aoScene(
+      "closed-box", [](MeshBuilder& mb) { addBox(mb, 0, {-2, 0, -2.5}, {2, 3, 2.5}); }, {0, 2.5, 0},
+      lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
 }
 
 std::vector<float> aoOf(const VulkanContext& ctx, const Scene& scene, const RenderSettings& rs) {
