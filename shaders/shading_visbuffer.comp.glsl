@@ -14,6 +14,7 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;
 layout(constant_id = 2) const uint SHADOWS = 1;
 layout(constant_id = 3) const uint ANALYSIS = 0;
+layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (binding 15)
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "shading_bindings.glsl.inc"
@@ -24,7 +25,8 @@ layout(set = 0, binding = 11) readonly buffer TriangleDraws { uint triangleDraw[
 layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D colorImage;
 layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D refNormalImage;
 layout(set = 0, binding = 14) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-layout(set = 0, binding = 15) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = 15, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+layout(set = 0, binding = 16) uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"
 #include "camera_ray.glsl.inc"

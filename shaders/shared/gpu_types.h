@@ -253,9 +253,58 @@ struct AoConstants {
   uint pad0, pad1;
 };
 
+// Single-bounce indirect light (indirect_common.glsl.inc; effects/indirect.h).
+HB_CONST uint kIndirectLdm = 0u;        // split photons traced through the LDMs
+HB_CONST uint kIndirectRayTraced = 1u;  // the same photons traced by the ray tracer
+HB_CONST uint kIndirectReference = 2u;  // gathered: cosine-weighted rays to lit surfaces
+// A photon slot's status (Photon.normalStatus.w as uint bits). Every slot is written every frame.
+HB_CONST uint kPhotonEmpty = 0u;    // no flux: the primary photon missed, or the direction lies in the surface
+HB_CONST uint kPhotonStored = 1u;   // splatted
+HB_CONST uint kPhotonHidden = 2u;   // landed where the camera does not see it (discarded, flux counted)
+HB_CONST uint kPhotonEscaped = 3u;  // the split ray met nothing (left the scene)
+HB_CONST uint kPhotonGrazing = 4u;  // arrived within 1e-3 of its surface's plane: no bounded footprint
+// One split photon in its fixed slot (primary · N + direction): position, flux (rgb, W) and the
+// positional differentials at its landing point, the landing surface's normal (facing the camera).
+struct Photon {
+  vec4 positionFluxR;
+  vec4 duFluxG;
+  vec4 dvFluxB;
+  vec4 normalStatus;
+};
+// An emitting image plane at unit distance from a light (reference/photon_ref.h PhotonFace):
+// side×side texels over [-halfExtent, halfExtent]², each texel one primary photon.
+struct PhotonFace {
+  vec4 forwardHalfExtent;  // xyz unit forward, w halfExtent
+  vec4 right;              // xyz unit
+  vec4 up;                 // xyz unit
+  uint light;              // index into the lights buffer
+  uint firstPrimary;       // face f's texels are primaries firstPrimary .. + side² − 1
+  uint pad0, pad1;
+};
+struct IndirectConstants {
+  uint directions;    // N
+  uint resolution;    // R of the LDMs
+  uint mapPixels;     // N·R²
+  uint ldmList;       // kLdmList*
+  uint ldmCapacity;   // the node pool
+  uint maxListSteps;  // a bounded walk of a pixel's list
+  float biasScale;    // scale of the derived LDM bias (ldm_trace.glsl.inc)
+  uint side;          // primary photons per face side
+  uvec2 ldmLinks;     // the LDM links buffer's device address (lo, hi)
+  uint primaries;     // primary photons in all
+  uint samples;       // reference: rays per pixel (a square)
+  uint samplesSide;   // √samples
+  uint faces;         // PhotonFace entries
+  float ldmPixel;     // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
+  float pad2;
+};
+
 #ifdef __cplusplus
 static_assert(sizeof(AoConstants) == 64, "AoConstants layout");
 static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
+static_assert(sizeof(Photon) == 64, "Photon layout");
+static_assert(sizeof(PhotonFace) == 64, "PhotonFace layout");
+static_assert(sizeof(IndirectConstants) == 64, "IndirectConstants layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");

@@ -7,6 +7,7 @@
 
 #include "analysis/culling_analysis.h"
 #include "analysis/ao_analysis.h"
+#include "analysis/indirect_analysis.h"
 #include "analysis/primary_analysis.h"
 #include "reference/flip.h"
 #include "base/image_io.h"
@@ -158,6 +159,30 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
           {"against_ray_cast", toJson(exact)}};
 }
 
+// The LDMs' memory and lists (issue #16: heads, nodes allocated and used, nodes per pixel).
+static nlohmann::json ldmJson(const LdmBuild& ldm, uint64_t linkBytes) {
+  const LdmCounters c = ldm.readCounters();
+  std::vector<uint32_t> lengths = ldm.readListLengths();
+  std::sort(lengths.begin(), lengths.end());
+  const uint64_t heads = uint64_t(lengths.size());
+  const uint64_t exactBytes = ldm.exactBytes(c.allocated);  // a head per map pixel, a node per fragment
+  return {{"maps", ldm.mapCount()},
+          {"resolution", ldm.resolution()},
+          {"heads", heads},
+          {"nodes_capacity", ldm.nodeCapacity()},
+          {"nodes_used", std::min<uint64_t>(c.allocated, ldm.nodeCapacity())},
+          {"fragments", c.allocated},
+          {"overflow", c.overflow},
+          {"unfinished_insertions", c.unfinished},
+          {"cas_retries", c.casRetries},
+          {"fp64_edges", c.fp64Edges},
+          {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
+                               {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
+                               {"max", lengths.empty() ? 0u : lengths.back()}}},
+          {"exact_bytes", exactBytes},
+          {"allocated_over_exact", exactBytes ? double(linkBytes) / double(exactBytes) : 0.0}};
+}
+
 // Ambient occlusion: its settings, memory and LDM lists, the AO image, and (where the frame has a
 // ray tracer) its errors against the same directions ray traced and the Monte Carlo reference, on
 // the same surface (AoPass::computeWith), each with an error map.
@@ -175,28 +200,7 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
   const AoMemory m = ao.memory();
   a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes}, {"ldm_maps", m.ldmMapBytes}, {"directions", m.directionBytes},
                        {"output", m.outputBytes}, {"total", m.total()}};
-  if (const LdmBuild* ldm = ao.ldm()) {
-    const LdmCounters c = ldm->readCounters();
-    std::vector<uint32_t> lengths = ldm->readListLengths();
-    std::sort(lengths.begin(), lengths.end());
-    const uint64_t heads = uint64_t(lengths.size());
-    const uint64_t exactBytes = ldm->exactBytes(c.allocated);  // a head per map pixel, a node per fragment
-    a["ldm"] = {{"maps", ldm->mapCount()},
-                {"resolution", ldm->resolution()},
-                {"heads", heads},
-                {"nodes_capacity", ldm->nodeCapacity()},
-                {"nodes_used", std::min<uint64_t>(c.allocated, ldm->nodeCapacity())},
-                {"fragments", c.allocated},
-                {"overflow", c.overflow},
-                {"unfinished_insertions", c.unfinished},
-                {"cas_retries", c.casRetries},
-                {"fp64_edges", c.fp64Edges},
-                {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
-                                     {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
-                                     {"max", lengths.empty() ? 0u : lengths.back()}}},
-                {"exact_bytes", exactBytes},
-                {"allocated_over_exact", exactBytes ? double(m.ldmLinkBytes) / double(exactBytes) : 0.0}};
-  }
+  if (const LdmBuild* ldm = ao.ldm()) a["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
   write("ao.png", aoToImage(mine, w, h),
         {{"Description", std::string("ambient occlusion (") + toString(ao.settings().ao.method) +
                              "): grey = AO, white unoccluded; sky blue; magenta no normal"}});
@@ -221,6 +225,67 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, s
     summary.push_back(line);
   }
   return a;
+}
+
+// Indirect light: its settings, memory, photons and flux, the irradiance image, and its errors
+// against the same photons ray traced and the gathered reference (IndirectPass::computeWith).
+template <typename Write>
+static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, Write& write,
+                                   std::vector<std::string>& summary) {
+  nlohmann::json j = ind.settings().indirect.toJson();
+  const IndirectMemory m = ind.memory();
+  j["memory_bytes"] = {{"ldm", m.ldmBytes}, {"photons", m.photonBytes}, {"faces", m.faceBytes},
+                       {"directions", m.directionBytes}, {"target", m.targetBytes}, {"textures", m.textureBytes},
+                       {"total", m.total()}};
+  if (const LdmBuild* ldm = ind.ldm()) j["ldm"] = ldmJson(*ldm, ldm->links().size());
+  j["emitters"] = ind.emitters();
+  j["flux_emitted_w"] = ind.emittedFlux();
+  const IndirectMethod method = ind.method();
+  std::vector<gpu::Photon> photons;
+  const std::vector<float> mine = ind.computeWith(method, &photons);
+  if (method != IndirectMethod::Reference) {
+    const PhotonTally t = tallyPhotons(photons);
+    j["photons"] = {{"primaries", ind.primaries()}, {"slots", t.slots}, {"stored", t.stored}, {"hidden", t.hidden},
+                    {"escaped", t.escaped}, {"grazing", t.grazing}, {"empty", t.empty},
+                    {"flux_reflected_w", t.fluxReflected()}, {"flux_stored_w", t.fluxStored},
+                    {"flux_hidden_w", t.fluxHidden}, {"flux_escaped_w", t.fluxEscaped}, {"flux_grazing_w", t.fluxGrazing},
+                    {"discarded_share", t.slots ? double(t.hidden + t.escaped + t.grazing) / double(t.slots) : 0.0}};
+  }
+  const float scale = indirectScale(mine);
+  j["image_scale"] = scale;
+  write("indirect.png", indirectToImage(mine, w, h, scale),
+        {{"Description", std::string("indirect irradiance (") + toString(method) + "), ACES after x" +
+                             std::to_string(scale) + " (its 99th percentile to 1)"}});
+  for (IndirectMethod ref : {IndirectMethod::RayTraced, IndirectMethod::Reference}) {
+    const std::string name = std::string("vs_") + toString(ref);
+    if (ref == method) {
+      j[name] = {{"rel_mse", 0.0}, {"total_ratio", 1.0}, {"flip", 0.0}, {"itself", true}};
+      continue;
+    }
+    if (method == IndirectMethod::Reference) continue;  // the reference is not held against photons
+    std::vector<gpu::Photon> refPhotons;
+    const std::vector<float> r = ind.computeWith(ref, ref == IndirectMethod::RayTraced ? &refPhotons : nullptr);
+    const IndirectErrors e = indirectErrors(mine, r, w, h);
+    j[name] = toJson(e);
+    if (ref == IndirectMethod::RayTraced) {
+      const PhotonAgreement a = comparePhotons(photons, refPhotons, ind.landingTolerance());
+      j[name]["photons"] = {{"same_status_share", a.slots ? double(a.sameStatus) / double(a.slots) : 0.0},
+                            {"both_stored", a.bothStored}, {"off_surface", a.offSurface},
+                            {"landing_tolerance_m", ind.landingTolerance()},
+                            {"median_distance_m", a.p50Distance}, {"p99_distance_m", a.p99Distance},
+                            {"max_distance_m", a.maxDistance}};
+    }
+    const float rs = indirectScale(r);
+    write("indirect_" + std::string(toString(ref)) + ".png", indirectToImage(r, w, h, rs),
+          {{"Description", std::string("indirect irradiance (") + toString(ref) + "), ACES after x" + std::to_string(rs)}});
+    write("indirect_error_" + name + ".png", indirectErrorToImage(mine, r, w, h, rs),
+          {{"Description", std::string("|Y - Y ") + toString(ref) + "| over the reference's 99th percentile, viridis 0..0.5"}});
+    char line[200];
+    std::snprintf(line, sizeof line, "indirect (%s) vs %s: relMSE %.4f, total %.4f, FLIP %.4f", toString(method),
+                  toString(ref), e.relMse, e.totalRatio, e.flip);
+    summary.push_back(line);
+  }
+  return j;
 }
 
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
@@ -261,6 +326,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                " (the 99th percentile; above it yellow)"}});
   }
   if (AoPass* ao = renderer.ambientOcclusion()) j["ambient_occlusion"] = aoJson(*ao, w, h, write, out.summary);
+  if (IndirectPass* ind = renderer.indirect()) j["indirect"] = indirectJson(*ind, w, h, write, out.summary);
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};

@@ -4,6 +4,7 @@
 
 #include "base/errors.h"
 #include "effects/ambient_occlusion.h"
+#include "effects/indirect.h"
 #include "effects/shadows.h"
 
 namespace hb {
@@ -12,6 +13,7 @@ const std::vector<const EffectDef*>& allEffects() {
   static const std::vector<const EffectDef*> effects = {
       &shadowsEffect(),
       &ambientOcclusionEffect(),
+      &indirectEffect(),
   };
   return effects;
 }
@@ -24,7 +26,8 @@ const EffectDef* findEffect(std::string_view name) {
 
 const std::vector<const char*>& framePassOrder() {
   static const std::vector<const char*> order = {"depth_prepass", "raster3d", "raycast",          "light_culling",
-                                                     "shadows",       "ldm_build", "ambient_occlusion", "shading"};
+                                                     "shadows",       "ldm_build", "ambient_occlusion", "indirect_ldm_build",
+                                                     "photon_trace",  "photon_splat", "indirect_gather", "shading"};
   return order;
 }
 

@@ -8,6 +8,7 @@
 
 #include "base/errors.h"
 #include "effects/ambient_occlusion.h"
+#include "effects/indirect.h"
 #include "gpu/gpu_lights.h"
 
 namespace hb {
@@ -82,7 +83,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
       lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
               true, MemClass::Other),
       depthPrepass_(ctx),
-      timer_(ctx, 16) {
+      timer_(ctx, 24) {
   // Settings the frame cannot run with are refused before anything is created by hand.
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
   const bool curved = camera_.projection != CameraProjection::Perspective &&
@@ -185,12 +186,31 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     }
     ao_ = std::make_unique<AoPass>(ctx, gpuScene_, scene, as, settings.width, settings.height, ai);
   }
+  if (plan_.runs("indirect")) {
+    IndirectPassSettings is;
+    for (const EffectState& e : plan_.effects)
+      if (e.name == "indirect") is.indirect = indirectSettingsOf(e.value);
+    is.worldPos = settings.worldPos;  // the surface as ambient occlusion takes it
+    is.normals = raster3d_ ? gpu::kNormalsGeometric : gpu::kNormalsImproved;
+    HB_ASSERT(accel_);
+    IndirectInputs ii{&frameConstants_, &lights_, &depth_, pointSampler_, accel_->tlas()};
+    if (raster3d_) {
+      ii.hitIds = &raster3d_->visibility();
+      ii.hitRays = &raster3d_->constants();
+      ii.hitTriangles = &raster3d_->triangles();
+    } else if (settings.worldPos == gpu::kWorldPosHit) {
+      throw InputError("world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
+                       "3dr-binned, 2dr or raycast");
+    }
+    indirect_ = std::make_unique<IndirectPass>(ctx, gpuScene_, scene, is, settings.width, settings.height, ii);
+  }
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
   ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
                    shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
                           pointSampler_, raster3d_ ? &raster3d_->visibility() : nullptr,
                           settings.r3dShadingDepthTest, settings.visbufferShading,
-                          raster3d_ ? &raster3d_->constants() : nullptr, ao_ ? &ao_->output() : nullptr};
+                          raster3d_ ? &raster3d_->constants() : nullptr, ao_ ? &ao_->output() : nullptr,
+                          indirect_ ? &indirect_->irradiance() : nullptr};
   shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
   samplerGuard.armed = false;  // ~Renderer destroys it from here on
 }
@@ -264,6 +284,21 @@ FrameTiming Renderer::renderFrame(bool analysis) {
       ao_->recordAo(cmd);
       timer_.end(cmd);
       passesRun_.push_back("ambient_occlusion");
+    }
+    if (indirect_) {
+      auto pass = [&](const char* name, auto&& record) {
+        timer_.begin(cmd, name);
+        record();
+        timer_.end(cmd);
+        passesRun_.push_back(name);
+      };
+      if (indirect_->buildsLdms()) pass("indirect_ldm_build", [&] { indirect_->recordBuild(cmd); });
+      if (indirect_->method() == IndirectMethod::Reference) {
+        pass("indirect_gather", [&] { indirect_->recordGather(cmd); });
+      } else {
+        pass("photon_trace", [&] { indirect_->recordTrace(cmd); });
+        pass("photon_splat", [&] { indirect_->recordSplat(cmd); });
+      }
     }
     timer_.begin(cmd, "shading");
     shading_->record(cmd, proj_ * view_, analysis);

@@ -14,6 +14,7 @@
 #include "gpu/gpu_timer.h"
 #include "frame/passes/ambient_occlusion.h"
 #include "frame/passes/depth_prepass.h"
+#include "frame/passes/indirect.h"
 #include "frame/passes/primary_3dr.h"
 #include "gpu/accel.h"
 #include "frame/passes/light_culling.h"
@@ -88,6 +89,7 @@ class Renderer {
   const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr only
   const AccelerationStructures* accel() const { return accel_.get(); }
   AoPass* ambientOcclusion() const { return ao_.get(); }  // when the effect runs
+  IndirectPass* indirect() const { return indirect_.get(); }  // when the effect runs
   std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
 
   // Ray throughput: re-traces the rays of the last analysis frame `repetitions` times as a pure
@@ -119,6 +121,7 @@ class Renderer {
   std::unique_ptr<AccelerationStructures> accel_;
   std::unique_ptr<ShadowPass> shadows_;
   std::unique_ptr<AoPass> ao_;
+  std::unique_ptr<IndirectPass> indirect_;
   std::unique_ptr<ShadingPass> shading_;
   std::unique_ptr<RayBenchPass> rayBench_;
   ShadowInputs shadowInputs_{};

@@ -5,6 +5,7 @@
 
 #include "scene/scene.h"
 #include "gpu/vk_resources.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
@@ -26,5 +27,19 @@ class GpuScene {
   Buffer vertices_, indices_;
   std::vector<DrawItem> draws_;
 };
+
+// What a pass that meets triangles by id needs to shade them (the visibility-buffer shading, the
+// indirect light's photon hits): per draw item its matrices, material and first triangle, and per
+// triangle (Scene::worldTriangles() order, the draw-order id) its draw item.
+struct DrawTables {
+  std::vector<gpu::GpuDraw> draws;
+  std::vector<uint32_t> triangleDraw;
+};
+DrawTables drawTables(const GpuScene& scene);
+
+// The draw-order triangle id of a ray hit (primary_raycast.glsl.inc): entry i < instances is the
+// start of instance i's geometries; then per geometry (a primitive with a BLAS geometry, as
+// accel.cpp builds them) the id of its first triangle, in Scene::worldTriangles() order.
+std::vector<uint32_t> triangleIdBase(const Scene& scene);
 
 }  // namespace hb

@@ -6,7 +6,7 @@
 namespace hb {
 
 VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDesc& d) {
-  HB_ASSERT(d.vertexAttributes == 1 || d.vertexAttributes == 3);
+  HB_ASSERT(d.vertexAttributes == 0 || d.vertexAttributes == 1 || d.vertexAttributes == 3);
   VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
                                                {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
   stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -21,7 +21,7 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
                                              {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(Vertex, normal)},
                                              {2, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(Vertex, uv)}};
   VkPipelineVertexInputStateCreateInfo vi{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vi.vertexBindingDescriptionCount = 1;
+  vi.vertexBindingDescriptionCount = d.vertexAttributes ? 1 : 0;
   vi.pVertexBindingDescriptions = &vb;
   vi.vertexAttributeDescriptionCount = d.vertexAttributes;
   vi.pVertexAttributeDescriptions = va;
@@ -47,7 +47,14 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
   ds.depthWriteEnable = d.depthTest && d.depthWrite ? VK_TRUE : VK_FALSE;
   ds.depthCompareOp = d.depthCompare;
   std::vector<VkPipelineColorBlendAttachmentState> blend(d.colorFormats.size());
-  for (auto& b : blend) b.colorWriteMask = 0xF;
+  for (auto& b : blend) {
+    b.colorWriteMask = 0xF;
+    if (d.additiveBlend) {
+      b.blendEnable = VK_TRUE;
+      b.srcColorBlendFactor = b.dstColorBlendFactor = b.srcAlphaBlendFactor = b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      b.colorBlendOp = b.alphaBlendOp = VK_BLEND_OP_ADD;
+    }
+  }
   VkPipelineColorBlendStateCreateInfo cb{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   cb.attachmentCount = uint32_t(blend.size());
   cb.pAttachments = blend.data();

@@ -27,22 +27,6 @@ std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
   return b;
 }
 
-// The N LDMs over the scene's bounding sphere: the AABB's centre and half its diagonal times
-// (1 + 1e-6), as reference/ldm_ref.h ldmBoundingSphere, and ldmView's basis and pixel mapping.
-std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec3>& dirs, uint32_t resolution) {
-  glm::vec3 lo, hi;
-  scene.bounds(lo, hi);
-  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
-  const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-6) * (1.0 + 1e-6);
-  std::vector<gpu::LdmMap> maps;
-  for (const glm::dvec3& d : dirs) {
-    const LdmView v = ldmView(d, centre, radius, resolution);
-    maps.push_back({glm::vec4(glm::vec3(v.dir), 0.0f), glm::vec4(glm::vec3(v.right), 0.0f),
-                    glm::vec4(glm::vec3(v.up), 0.0f), glm::vec4(glm::vec3(v.centre), float(v.radius))});
-  }
-  return maps;
-}
-
 }  // namespace
 
 struct AoPass::Program {
@@ -71,23 +55,8 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                              MemClass::Other);
   uint32_t maxSteps = 1;
   if (ao.method == AoMethod::Ldm) {
-    // The pool is sized by a counting build (a pool of one node counts every fragment it drops),
-    // then allocated at the exact count plus 5 % for a scene that moves; overflow is counted.
-    std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, ao.ldmResolution);
-    const LdmBuildMethod build = ao.ldmBuild == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
-    const LdmList list = ao.ldmList == "cas" ? LdmList::Cas : ao.ldmList == "sbuffer" ? LdmList::Sbuffer : LdmList::Max64;
-    uint64_t fragments = 0;
-    {
-      LdmBuild counting(ctx, gpuScene, scene, maps, ao.ldmResolution, 1, build, list);
-      ctx.submitAndWait([&](VkCommandBuffer cmd) { counting.record(cmd); }, "sizing the layered depth maps");
-      fragments = counting.readCounters().allocated;
-    }
-    const uint64_t capacity = std::max<uint64_t>(1, fragments + fragments / 20);
-    if (capacity > 0xFFFFFFF0ull)
-      throw InputError("effects.ambient_occlusion: " + std::to_string(fragments) +
-                       " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
-    ldm_ = std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), ao.ldmResolution, uint32_t(capacity), build, list);
-    maxSteps = uint32_t(capacity);
+    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, "ambient_occlusion");
+    maxSteps = ldm_->nodeCapacity();
   }
   gpu::AoConstants c{};
   c.directions = ao.directions;

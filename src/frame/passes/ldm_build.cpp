@@ -6,6 +6,7 @@
 
 #include "base/errors.h"
 #include "gpu/raster_pipeline.h"
+#include "reference/ldm_ref.h"
 
 namespace hb {
 
@@ -237,6 +238,39 @@ LdmCounters LdmBuild::readCounters() const {
   std::memcpy(c, bytes.data(), sizeof c);
   return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished],
           c[gpu::kLdmCounterCasRetries], c[gpu::kLdmCounterFp64]};
+}
+
+std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec3>& dirs, uint32_t resolution) {
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(lo) + glm::dvec3(hi));
+  const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-6) * (1.0 + 1e-6);
+  std::vector<gpu::LdmMap> maps;
+  for (const glm::dvec3& d : dirs) {
+    const LdmView v = ldmView(d, centre, radius, resolution);
+    maps.push_back({glm::vec4(glm::vec3(v.dir), 0.0f), glm::vec4(glm::vec3(v.right), 0.0f),
+                    glm::vec4(glm::vec3(v.up), 0.0f), glm::vec4(glm::vec3(v.centre), float(v.radius))});
+  }
+  return maps;
+}
+
+std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
+                                            const std::vector<glm::dvec3>& dirs, uint32_t resolution,
+                                            const std::string& build, const std::string& list, const char* effect) {
+  std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, resolution);
+  const LdmBuildMethod method = build == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
+  const LdmList kind = list == "cas" ? LdmList::Cas : list == "sbuffer" ? LdmList::Sbuffer : LdmList::Max64;
+  uint64_t fragments = 0;
+  {
+    LdmBuild counting(ctx, gpuScene, scene, maps, resolution, 1, method, kind);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { counting.record(cmd); }, "sizing the layered depth maps");
+    fragments = counting.readCounters().allocated;
+  }
+  const uint64_t capacity = std::max<uint64_t>(1, fragments + fragments / 20);
+  if (capacity > 0xFFFFFFF0ull)
+    throw InputError(std::string("effects.") + effect + ": " + std::to_string(fragments) +
+                     " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
+  return std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), resolution, uint32_t(capacity), method, kind);
 }
 
 }  // namespace hb

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gpu/gpu_scene.h"
@@ -77,5 +78,17 @@ class LdmBuild {
   std::unique_ptr<DescriptorSets> scanSets_;
   void recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const;
 };
+
+// The N maps over the scene's bounding sphere: the AABB's centre and half its diagonal times
+// (1 + 1e-6), as reference/ldm_ref.h ldmBoundingSphere, and ldmView's basis and pixel mapping.
+std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec3>& dirs, uint32_t resolution);
+
+// The LDMs of an effect's settings (`effect` names it in errors): the pool is sized by a counting
+// build (a pool of one node counts every fragment it drops), then allocated at the exact count
+// plus 5 % for a scene that moves; overflow is counted. build: "hardware" | "3dr"; list: "max64" |
+// "cas" | "sbuffer". Throws InputError when the fragments outgrow 32-bit node ids.
+std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
+                                            const std::vector<glm::dvec3>& dirs, uint32_t resolution,
+                                            const std::string& build, const std::string& list, const char* effect);
 
 }  // namespace hb

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "base/errors.h"
+#include "gpu/gpu_scene.h"
 
 namespace hb {
 
@@ -101,22 +102,6 @@ std::vector<Binding> castBindings(VkShaderStageFlags stages) {
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
   std::vector<glm::vec4> out;
   for (const glm::vec3& v : scene.worldTriangles()) out.emplace_back(v, 1.0f);
-  return out;
-}
-// The draw-order triangle id of a ray hit (primary_raycast.glsl.inc): entry i < instances is the
-// start of instance i's geometries; then per geometry (a primitive with a BLAS geometry, as
-// accel.cpp builds them) the id of its first triangle, in Scene::worldTriangles() order.
-std::vector<uint32_t> triangleIdBase(const Scene& scene) {
-  std::vector<uint32_t> out(scene.instances.size());
-  uint32_t id = 0;
-  for (size_t i = 0; i < scene.instances.size(); ++i) {
-    out[i] = uint32_t(out.size());
-    for (const Primitive& p : scene.meshes[scene.instances[i].mesh].primitives) {
-      if (p.indexCount >= 3) out.push_back(id);
-      id += p.indexCount / 3;
-    }
-  }
-  out.push_back(0);  // never empty
   return out;
 }
 const char* subPassName(PrimaryMode mode) { return mode == PrimaryMode::RayCast ? "raycast" : "raster3d"; }

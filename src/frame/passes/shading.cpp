@@ -25,7 +25,8 @@ std::vector<Binding> shadingBindings() {
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {10, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
+          {11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
 
@@ -47,6 +48,7 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
                   VK_IMAGE_ASPECT_COLOR_BIT),
       dummyVisibility_(ctx, 1, 1, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
                        VK_IMAGE_ASPECT_COLOR_BIT),
+      dummyIndirect_(ctx, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
       layout_(ctx) {
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -66,8 +68,12 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // Without ambient occlusion binding 9 is never read (frame.ambient.w = 0); any buffer will do.
   sets_.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.ambientOcclusion ? in.ambientOcclusion : &scene.indices())->handle());
+  // Without indirect light binding 10 is never read (INDIRECT = 0); the 1x1 R32_UINT image stands
+  // in only where the format matches, so a 1x1 RGBA32F one does.
+  sets_.writeImage(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (in.indirect ? in.indirect : &dummyIndirect_)->view(),
+                   VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, 10, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    sets_.writeImage(0, 11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
@@ -86,6 +92,9 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
     imageBarrier(cmd, dummyVisibility_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
                  0, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
+    imageBarrier(cmd, dummyIndirect_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
   });
 }
 
@@ -97,7 +106,7 @@ ShadingPass::~ShadingPass() {
 VkPipeline ShadingPass::createPipeline(bool analysis) {
   ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
-                      in_.visibilityIds ? 1u : 0u}};
+                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -143,22 +152,16 @@ std::vector<Binding> visbufferBindings() {
   b.push_back({12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
   b.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
   b.push_back({14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b.push_back({15, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
+  b.push_back({15, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
+  b.push_back({16, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
   return b;
 }
 }  // namespace
 
 void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scene) {
-  // The draw table in GpuScene's draw order and each triangle's draw (Scene::worldTriangles order).
-  std::vector<gpu::GpuDraw> draws;
-  std::vector<uint32_t> triangleDraw;
-  uint32_t base = 0;
-  for (const DrawItem& d : scene.draws()) {
-    const glm::mat4 normal = glm::mat4(glm::transpose(glm::inverse(glm::mat3(d.model))));
-    draws.push_back({d.model, normal, d.material, d.firstIndex, d.vertexOffset, base});
-    triangleDraw.insert(triangleDraw.end(), d.indexCount / 3, uint32_t(draws.size() - 1));
-    base += d.indexCount / 3;
-  }
+  const DrawTables tables = drawTables(scene);
+  const std::vector<gpu::GpuDraw>& draws = tables.draws;
+  const std::vector<uint32_t>& triangleDraw = tables.triangleDraw;
   draws_ = uploadBuffer(ctx, draws.data(), draws.size() * sizeof(gpu::GpuDraw), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                         MemClass::Geometry);
   triangleDraw_ = uploadBuffer(ctx, triangleDraw.data(), std::max<size_t>(1, triangleDraw.size()) * sizeof(uint32_t),
@@ -182,15 +185,17 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   v.writeImage(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(), VK_IMAGE_LAYOUT_GENERAL);
   v.writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
+  v.writeImage(0, 15, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (in_.indirect ? in_.indirect : &dummyIndirect_)->view(),
+               VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    v.writeImage(0, 15, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    v.writeImage(0, 16, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
     p->createLayout({v.layout()}, 0);
     p->createCompute("shading_visbuffer.comp",
-                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis}});
+                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u}});
   }
 }
 

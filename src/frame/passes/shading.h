@@ -34,6 +34,9 @@ struct ShadingInputs {
   const Buffer* rays = nullptr;
   // Ambient occlusion's output (AoPass::output), read where FrameConstants.ambient.w = 1; or null.
   const Buffer* ambientOcclusion = nullptr;
+  // The indirect light's irradiance (IndirectPass::irradiance, RGBA32F, GENERAL layout), or null:
+  // added as albedo·(1 − metallic)/π·E.
+  const Image* indirect = nullptr;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -58,7 +61,7 @@ class ShadingPass {
   ShadingInputs in_;
   uint32_t width_, height_;
   GpuTextures textures_;
-  Image color_, refNormals_, dummyVisibility_;
+  Image color_, refNormals_, dummyVisibility_, dummyIndirect_;
   DescriptorSets sets_;
   Pipeline layout_;
   VkPipeline timed_ = VK_NULL_HANDLE, analysis_ = VK_NULL_HANDLE;

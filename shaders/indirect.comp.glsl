@@ -1,0 +1,46 @@
+#version 460
+// Indirect light through ray queries (indirect_common.glsl.inc): photon tracing (METHOD = ldm or
+// raytraced, one thread per primary photon) or the gathered reference (one thread per pixel),
+// 64 threads a group over a 2D grid of groups (index = (y·groupsX + x)·64 + local).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_ray_query : require
+#include "shared/gpu_types.h"
+
+layout(constant_id = 0) const uint NORMALS = 0;
+layout(constant_id = 1) const uint WORLD_POS = 0;
+layout(constant_id = 2) const uint METHOD = kIndirectLdm;
+layout(local_size_x = 64) in;
+
+#include "indirect_common.glsl.inc"
+
+#include "depth_texel.glsl.inc"
+layout(set = 0, binding = 5) uniform accelerationStructureEXT tlas;
+
+float depthAt(ivec2 p) { return fetchDepth(p); }
+
+#include "rayquery_occluded.glsl.inc"
+
+bool closestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) {
+  rayQueryEXT rq;
+  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, origin, tMin, dir, tMax);
+  while (rayQueryProceedEXT(rq)) {
+  }
+  t = 0.0;
+  id = 0u;
+  if (rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionTriangleEXT) return false;
+  t = rayQueryGetIntersectionTEXT(rq, true);
+  id = triangleId(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true)),
+                  uint(rayQueryGetIntersectionGeometryIndexEXT(rq, true)),
+                  uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true)));
+  return true;
+}
+
+void main() {
+  const uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
+  if (METHOD == kIndirectReference) {
+    const uint width = uint(frame.extent.x);
+    gatherPixel(ivec2(index % width, index / width));
+  } else {
+    photonTrace(index);
+  }
+}

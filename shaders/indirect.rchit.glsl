@@ -1,0 +1,12 @@
+#version 460
+// Indirect light, closest hit: the hit's t and draw-order triangle id (idBase, binding 16 of the
+// indirect pass's set; primary_raycast.glsl.inc explains the table).
+#extension GL_EXT_ray_tracing : require
+
+layout(set = 0, binding = 16) readonly buffer IdBase { uint idBase[]; };
+layout(location = 0) rayPayloadInEXT uvec2 hitTId;
+
+void main() {
+  const uint id = idBase[idBase[uint(gl_InstanceCustomIndexEXT)] + uint(gl_GeometryIndexEXT)] + uint(gl_PrimitiveID);
+  hitTId = uvec2(floatBitsToUint(gl_HitTEXT), id);
+}

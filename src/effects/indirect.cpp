@@ -1,0 +1,120 @@
+#include "effects/indirect.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hb {
+
+const char* toString(IndirectMethod m) {
+  switch (m) {
+    case IndirectMethod::Ldm: return "ldm";
+    case IndirectMethod::RayTraced: return "raytraced";
+    case IndirectMethod::Reference: return "reference";
+  }
+  return "?";
+}
+
+namespace {
+
+IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  using namespace json_reader;
+  IndirectSettings s;
+  if (value.is_boolean()) return s;
+  requireObjectWithKeys(value, where,
+                        {"method", "directions", "ldm_resolution", "photons", "bias", "ldm_list", "ldm_build", "samples"});
+  if (value.contains("method"))
+    s.method = IndirectMethod(readChoice(value["method"], where.key("method"), {"ldm", "raytraced", "reference"}));
+  if (value.contains("directions"))
+    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
+  if (value.contains("ldm_resolution"))
+    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
+  if (value.contains("photons")) s.photons = uint32_t(readInt(value["photons"], where.key("photons"), 1, 1024));
+  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  if (value.contains("ldm_list"))
+    s.ldmList = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
+                                                                                {"max64", "cas", "sbuffer"})];
+  if (value.contains("ldm_build"))
+    s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
+  if (value.contains("samples")) {
+    s.samples = uint32_t(readInt(value["samples"], where.key("samples"), 16, 65536));
+    const uint32_t side = uint32_t(std::lround(std::sqrt(double(s.samples))));
+    if (side * side != s.samples)
+      where.key("samples").fail(std::to_string(s.samples) + " is not a square (the strata are side x side); use e.g. 256");
+  }
+  return s;
+}
+
+void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  if (value.is_boolean()) return;
+  if (!value.is_object())
+    where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, photons, bias, "
+               "ldm_list, ldm_build, samples), got " + json_reader::describe(value));
+  read(value, where);
+}
+
+// Every method meets the primary photons' (or the gathered rays') surfaces through the ray tracer.
+std::vector<FrameResource> needsOf(const nlohmann::json& value) {
+  if (indirectSettingsOf(value).method == IndirectMethod::Ldm)
+    return {FrameResource::Depth, FrameResource::AccelerationStructures, FrameResource::LayeredDepthMaps};
+  return {FrameResource::Depth, FrameResource::AccelerationStructures};
+}
+
+std::vector<const char*> passesOf(const nlohmann::json& value) {
+  switch (indirectSettingsOf(value).method) {
+    case IndirectMethod::Ldm: return {"indirect_ldm_build", "photon_trace", "photon_splat"};
+    case IndirectMethod::RayTraced: return {"photon_trace", "photon_splat"};
+    case IndirectMethod::Reference: return {"indirect_gather"};
+  }
+  return {};
+}
+
+std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
+  const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.type != LightType::Directional && l.intensity > 0.0f;
+  });
+  if (!emits)
+    return scene.lights.empty() ? "the scene has no lights"
+                                : "no point or spot light with a positive intensity (directional lights emit no photons)";
+  return "";
+}
+
+}  // namespace
+
+IndirectSettings indirectSettingsOf(const nlohmann::json& value) {
+  return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "indirect"});
+}
+
+nlohmann::json IndirectSettings::toJson() const {
+  nlohmann::json j = {{"method", hb::toString(method)}};
+  if (method == IndirectMethod::Reference) {
+    j["samples"] = samples;
+    return j;
+  }
+  j["directions"] = directions;
+  j["photons"] = photons;
+  if (method == IndirectMethod::Ldm) {
+    j["ldm_resolution"] = ldmResolution;
+    j["bias"] = bias;
+    j["ldm_list"] = ldmList;
+    j["ldm_build"] = ldmBuild;
+  }
+  return j;
+}
+
+const EffectDef& indirectEffect() {
+  static const EffectDef def{
+      "indirect",
+      "single-bounce indirect light from point and spot lights: photons split into N directions, traced through "
+      "layered depth maps or the ray tracer and splatted with their differentials, or a gathered reference",
+      false,
+      validate,
+      {FrameResource::Depth, FrameResource::AccelerationStructures},
+      {"indirect_ldm_build", "photon_trace", "photon_splat", "indirect_gather"},
+      cannotAct,
+      needsOf,
+      passesOf,
+  };
+  return def;
+}
+
+}  // namespace hb
