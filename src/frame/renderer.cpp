@@ -192,6 +192,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
       if (e.name == "indirect") is.indirect = indirectSettingsOf(e.value);
     is.worldPos = settings.worldPos;  // the surface as ambient occlusion takes it
     is.normals = raster3d_ ? gpu::kNormalsGeometric : gpu::kNormalsImproved;
+    is.rayQuery = settings.backend != "pipeline" && ctx.info().rayQuery;  // backend=pipeline: every ray pass
     HB_ASSERT(accel_);
     IndirectInputs ii{&frameConstants_, &lights_, &depth_, pointSampler_, accel_->tlas()};
     if (raster3d_) {

@@ -154,7 +154,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
 
-  const VkShaderStageFlags trace = ctx.info().rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+  if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
+  const VkShaderStageFlags trace = settings_.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                                                        : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
                                                                             VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
                                                                             VK_SHADER_STAGE_MISS_BIT_KHR);
@@ -256,7 +257,7 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
                      : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
                                                            : gpu::kIndirectReference;
   const SpecConstants spec{{settings_.normals, settings_.worldPos, m}};
-  if (ctx_.info().rayQuery) {
+  if (settings_.rayQuery) {
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute("indirect.comp", spec);
   } else {

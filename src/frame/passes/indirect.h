@@ -41,6 +41,7 @@ struct IndirectPassSettings {
   IndirectSettings indirect;
   uint32_t normals = 0;   // as AoPassSettings
   uint32_t worldPos = 0;
+  bool rayQuery = true;  // trace through ray queries (false: the ray-tracing pipeline); the frame's backend
 };
 
 struct IndirectMemory {
