@@ -245,7 +245,7 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, Wr
   const std::vector<float> mine = ind.computeWith(method, &photons);
   if (method != IndirectMethod::Reference) {
     const PhotonTally t = tallyPhotons(photons);
-    j["photons"] = {{"primaries", ind.primaries()}, {"slots", t.slots}, {"stored", t.stored}, {"hidden", t.hidden},
+    j["split_photons"] = {{"primaries", ind.primaries()}, {"slots", t.slots}, {"stored", t.stored}, {"hidden", t.hidden},
                     {"escaped", t.escaped}, {"grazing", t.grazing}, {"empty", t.empty},
                     {"flux_reflected_w", t.fluxReflected()}, {"flux_stored_w", t.fluxStored},
                     {"flux_hidden_w", t.fluxHidden}, {"flux_escaped_w", t.fluxEscaped}, {"flux_grazing_w", t.fluxGrazing},

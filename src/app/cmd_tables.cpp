@@ -36,6 +36,7 @@ int cmdTables(const std::string& resultsPath, const std::string& format) {
     std::cout << thesisTablesMarkdown(results);
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
     if (const std::string ao = aoTableMarkdown(results); !ao.empty()) std::cout << "\n" << ao;
+    if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) std::cout << "\n" << ind;
     std::cout << "\n" << accuracyReportMarkdown(results);
   }
   return kExitOk;

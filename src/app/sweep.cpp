@@ -281,6 +281,7 @@ static void writeOutputs(const std::string& dir, const json& results) {
     std::string tables = thesisTablesMarkdown(results);
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) tables += "\n" + primary;
     if (const std::string ao = aoTableMarkdown(results); !ao.empty()) tables += "\n" + ao;
+    if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) tables += "\n" + ind;
     writeFileAtomic((fs::path(dir) / "tables.md").string(), tables);
   }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));

@@ -13,4 +13,11 @@ namespace hb {
 
 std::string aoTableMarkdown(const nlohmann::json& results);
 
+// Single-bounce indirect light (Sect. 5.2): per run its method, directions, map size and photons,
+// the LDM build, photon tracing and splatting passes' GPU times, the frame, the split photons
+// (slots, stored, discarded share), memory, and the irradiance's errors (relative MSE, total
+// light ratio, FLIP) against the same photons ray traced and the gathered reference; then the
+// paper's photon-tracing time. Empty when no run carries an "indirect" block.
+std::string indirectTableMarkdown(const nlohmann::json& results);
+
 }  // namespace hb
