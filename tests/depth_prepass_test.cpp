@@ -83,8 +83,9 @@ TEST_F(DepthPrepassTest, ClearsToZeroWhereThereIsNoGeometry) {
   EXPECT_EQ(t.passMs[0].first, "depth_prepass");
   EXPECT_EQ(t.passMs[1].first, "shading");
   EXPECT_GE(t.passMs[0].second, 0.0);
-  // light_culling and shadows, and ambient occlusion's two (off unless called for), each with its reason
-  EXPECT_EQ(renderer.passesSkipped().size(), 4u);
+  // light_culling and shadows, ambient occlusion's two and the indirect light's four (off unless
+  // called for), each with its reason
+  EXPECT_EQ(renderer.passesSkipped().size(), 8u);
 }
 
 }  // namespace

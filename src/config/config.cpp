@@ -34,6 +34,7 @@ constexpr uint32_t kCpuMaxWidth = 480, kCpuMaxHeight = 270, kCpuWarmup = 2, kCpu
 // Ambient occlusion on a CPU device: at most 64 maps of 128² (about 10 s a frame on 2 cores), 256
 // reference rays (a square) and 32 HBAO steps.
 constexpr int64_t kCpuAoDirections = 64, kCpuAoResolution = 128, kCpuAoSamples = 256, kCpuAoSteps = 32;
+constexpr int64_t kCpuIndirectSamples = 64, kCpuIndirectPhotons = 4;  // the gathered reference and photons a face side
 
 const std::vector<std::string_view> kTopKeys = {
     "name",    "description", "scene",    "scene_params", "camera", "lights", "ambient", "resolution",
@@ -505,20 +506,28 @@ Config lowerForCpuDevice(Config c) {
     changes.push_back("measured frames " + std::to_string(measured) + " -> " +
                       std::to_string(c.measuredFrames));
 
-  // Ambient occlusion's sizes scale a CPU device's work as much as the resolution does (512 maps of
-  // 256² take minutes a frame on lavapipe): they are capped too, wherever an effects object sets them.
+  // Ambient occlusion's and the indirect light's sizes scale a CPU device's work as much as the
+  // resolution does (512 maps of 256² take minutes a frame on lavapipe): they are capped too,
+  // wherever an effects object sets them.
   std::set<std::string> aoChanges;
-  auto capAo = [&](nlohmann::json& effects) {
-    if (!effects.is_object() || !effects.contains("ambient_occlusion") || !effects["ambient_occlusion"].is_object()) return;
-    nlohmann::json& ao = effects["ambient_occlusion"];
-    for (const auto& [key, cap] : std::vector<std::pair<std::string, int64_t>>{
-             {"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuAoSamples},
-             {"steps", kCpuAoSteps}})
-      if (ao.contains(key) && ao[key].is_number_integer() && ao[key].get<int64_t>() > cap) {
-        aoChanges.insert("ambient_occlusion " + key + " " + std::to_string(ao[key].get<int64_t>()) + " -> " +
+  auto capEffect = [&](nlohmann::json& effects, const char* effect,
+                       const std::vector<std::pair<std::string, int64_t>>& caps) {
+    if (!effects.is_object() || !effects.contains(effect) || !effects[effect].is_object()) return;
+    nlohmann::json& e = effects[effect];
+    for (const auto& [key, cap] : caps)
+      if (e.contains(key) && e[key].is_number_integer() && e[key].get<int64_t>() > cap) {
+        aoChanges.insert(std::string(effect) + " " + key + " " + std::to_string(e[key].get<int64_t>()) + " -> " +
                          std::to_string(cap));
-        ao[key] = cap;
+        e[key] = cap;
       }
+  };
+  auto capAo = [&](nlohmann::json& effects) {
+    capEffect(effects, "ambient_occlusion",
+              {{"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuAoSamples},
+               {"steps", kCpuAoSteps}});
+    capEffect(effects, "indirect",
+              {{"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuIndirectSamples},
+               {"photons", kCpuIndirectPhotons}});
   };
   capAo(c.effects);
   capAo(c.defaults.effects);

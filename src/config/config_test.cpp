@@ -239,7 +239,7 @@ TEST(ConfigErrors, UnknownTopLevelKeySuggestsTheClosest) {
 
 TEST(ConfigErrors, UnknownKeyFarFromAnyListsTheAllowedKeys) {
   std::string e = errorOfText(R"({"name": "n", "effects": {"bloom": true}})");
-  EXPECT_EQ(e, R"(x.json: effects: unknown key "bloom" (allowed: shadows, ambient_occlusion))");
+  EXPECT_EQ(e, R"(x.json: effects: unknown key "bloom" (allowed: shadows, ambient_occlusion, indirect))");
 }
 
 TEST(ConfigErrors, UnknownParamKeyNamesTheVariantPath) {
@@ -442,14 +442,23 @@ TEST(CpuLowering, CapsAmbientOcclusionSizesInEveryVariantAndNotesThem) {
   Config c = lowerForCpuDevice(loadConfig(kConfigDir + "/layered-depth-maps.json"));
   for (const Variant& v : expandVariants(c)) {
     const nlohmann::json& ao = v.params.effects["ambient_occlusion"];
-    EXPECT_LE(ao.value("directions", 0), 64) << v.name;
-    EXPECT_LE(ao.value("ldm_resolution", 0), 128) << v.name;
-    EXPECT_LE(ao.value("samples", 0), 256) << v.name;
-    EXPECT_LE(ao.value("steps", 0), 32) << v.name;
+    if (ao.is_object()) {
+      EXPECT_LE(ao.value("directions", 0), 64) << v.name;
+      EXPECT_LE(ao.value("ldm_resolution", 0), 128) << v.name;
+      EXPECT_LE(ao.value("samples", 0), 256) << v.name;
+      EXPECT_LE(ao.value("steps", 0), 32) << v.name;
+    }
+    const nlohmann::json ind = v.params.effects.value("indirect", nlohmann::json());
+    if (ind.is_object()) {
+      EXPECT_LE(ind.value("directions", 0), 64) << v.name;
+      EXPECT_LE(ind.value("ldm_resolution", 0), 128) << v.name;
+      EXPECT_LE(ind.value("photons", 0), 4) << v.name;
+    }
   }
   ASSERT_EQ(c.notes.size(), 1u);
   EXPECT_NE(c.notes[0].find("ambient_occlusion directions 512 -> 64"), std::string::npos) << c.notes[0];
   EXPECT_NE(c.notes[0].find("ambient_occlusion ldm_resolution 256 -> 128"), std::string::npos) << c.notes[0];
+  EXPECT_NE(c.notes[0].find("indirect photons 32 -> 4"), std::string::npos) << c.notes[0];
 }
 
 TEST(CpuLowering, LeavesSmallConfigsAloneButStillNotesTheDevice) {

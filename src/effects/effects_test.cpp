@@ -32,9 +32,14 @@ const EffectState& stateOf(const FramePlan& plan, const std::string& name) {
 TEST(Effects, DefaultsCallForShadowsAndTheFrameHasEveryPassInFrameOrder) {
   const FramePlan plan = planFrame(sceneWithLights({pointLight()}), {});
   EXPECT_EQ(plan.passes, (std::vector<std::string>{"depth_prepass", "light_culling", "shadows", "shading"}));
-  // Ambient occlusion is off unless called for: its passes are listed with that reason.
-  const std::string off = "effects.ambient_occlusion is off (default)";
-  EXPECT_EQ(plan.skipped, (std::vector<std::pair<std::string, std::string>>{{"ldm_build", off}, {"ambient_occlusion", off}}));
+  // Ambient occlusion and indirect light are off unless called for: their passes are listed with that reason.
+  const std::string off = "effects.ambient_occlusion is off (default)", offInd = "effects.indirect is off (default)";
+  EXPECT_EQ(plan.skipped, (std::vector<std::pair<std::string, std::string>>{{"ldm_build", off},
+                                                                             {"ambient_occlusion", off},
+                                                                             {"indirect_ldm_build", offInd},
+                                                                             {"photon_trace", offInd},
+                                                                             {"photon_splat", offInd},
+                                                                             {"indirect_gather", offInd}}));
   EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
   EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
   const EffectState& s = stateOf(plan, "shadows");
@@ -51,7 +56,7 @@ TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
   EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Scene);
   EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));  // nothing allocated for an effect that is off
   EXPECT_FALSE(plan.hasPass("shadows"));
-  ASSERT_EQ(plan.skipped.size(), 3u);  // shadows, then the ambient occlusion passes (off by default)
+  ASSERT_EQ(plan.skipped.size(), 7u);  // shadows, then AO's 2 and the indirect light's 4 passes (off by default)
   EXPECT_EQ(plan.skipped[0].first, "shadows");
   EXPECT_EQ(plan.skipped[0].second, "effects.shadows is off (scene: scene.gltf)");
 

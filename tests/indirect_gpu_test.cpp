@@ -1,0 +1,541 @@
+// Single-bounce indirect light on the real device (frame/passes/indirect.h, effects/indirect.h,
+// shaders/indirect_common.glsl.inc): flux conservation in a closed diffuse box for both photon
+// traces (and the LDM trace's escapes against the exact LDM through the same pixel lines), the
+// LDM-traced photons against the ray-traced ones, determinism, the GPU's splat against the CPU's
+// double sum of the GPU's own photons (reference/photon_ref.h), nothing built when the effect
+// does not run, and the settings' input errors.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "analysis/indirect_analysis.h"
+#include "base/input_error_of.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
+#include "reference/bvh.h"
+#include "reference/eq_partition.h"
+#include "reference/ldm_ref.h"
+#include "reference/photon_ref.h"
+#include "scene/camera.h"
+#include "scene/mesh_builder.h"
+
+namespace hb {
+namespace {
+
+constexpr double kU = 5.9604644775390625e-8;  // 2^-24, float's unit roundoff
+
+RenderSettings indirectSettings(uint32_t w, uint32_t h, const nlohmann::json& indirect) {
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.effects.add(EffectSource::Config, "test", {{"shadows", false}, {"indirect", indirect}});
+  return rs;
+}
+
+Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
+  Camera c;
+  c.view = lookAt(eye, target, {0, 1, 0});
+  c.znear = 0.05f;
+  c.zfar = 100.0f;
+  return c;
+}
+
+// A Lambertian grey: glTF's defaults are metallic (albedo·(1 − metallic) = 0), so metallic is 0.
+Material diffuse(float albedo) {
+  Material m;
+  m.name = "diffuse";
+  m.baseColorFactor = glm::vec4(albedo, albedo, albedo, 1.0f);
+  m.metallicFactor = 0.0f;
+  return m;
+}
+
+// A white point light whose glTF window (1 − (d/range)⁴)² is 1 to ~1e-13 over a few metres.
+Light pointLight(glm::vec3 position, float intensity) {
+  Light l;
+  l.position = position;
+  l.intensity = intensity;
+  l.range = 1e4f;
+  return l;
+}
+
+const glm::dvec3 kBoxLo(-2, 0, -2.5), kBoxHi(2, 3, 2.5);
+const glm::vec3 kBoxLight(0.3f, 2.0f, 0.4f);
+
+// The closed box 4 x 3 x 5 m of albedo 0.5 with the light and the camera inside (ao_gpu_test's
+// closedBox), optionally with a floating block inside as an occluder.
+Scene diffuseBox(const char* name, bool block) {
+  Scene s;
+  s.name = name;
+  s.materials.push_back(diffuse(0.5f));
+  MeshBuilder mb(name);
+  addBox(mb, 0, kBoxLo, kBoxHi);
+  if (block) addBox(mb, 0, {-1.2, 0.6, -1.6}, {0.2, 1.4, -0.4});
+  mb.appendTo(s);
+  s.lights.push_back(pointLight(kBoxLight, 20.0f));
+  s.cameras.push_back(lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
+  return s;
+}
+
+uint32_t statusOf(const gpu::Photon& p) {
+  uint32_t s;
+  std::memcpy(&s, &p.normalStatus.w, 4);
+  return s;
+}
+
+double fluxOf(const gpu::Photon& p) {
+  return double(p.positionFluxR.w) + double(p.duFluxG.w) + double(p.dvFluxB.w);
+}
+
+bool ranPass(const Renderer& r, const std::string& name) {
+  return std::find(r.passesRun().begin(), r.passesRun().end(), name) != r.passesRun().end();
+}
+
+// The inward normal of the box wall x lies on (the face plane nearest to x).
+glm::dvec3 boxWallNormal(const glm::dvec3& x) {
+  int axis = 0;
+  double best = 1e300, sign = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double dLo = std::abs(x[k] - kBoxLo[k]), dHi = std::abs(kBoxHi[k] - x[k]);
+    if (dLo < best) {
+      best = dLo;
+      axis = k;
+      sign = 1;
+    }
+    if (dHi < best) {
+      best = dHi;
+      axis = k;
+      sign = -1;
+    }
+  }
+  glm::dvec3 n(0.0);
+  n[axis] = sign;
+  return n;
+}
+
+class IndirectGpuTest : public testing::GpuTest {};
+
+// Flux conservation (the issue: within 1 %). Every primary photon of a light inside a closed box
+// meets a wall, which reflects albedo·Φ1 split over the N directions with weights 2|n·v_i|/N
+// (photon_ref.h splitWeight): the split photons' flux, whatever became of them (stored, hidden,
+// escaped, grazing: all counted), sums to 0.5·q(n)·Φ_emitted with q(n) = (2/N)Σ|n·v_i|, and the
+// glTF window (1 − (d/range)⁴)² = 1 − O(1e-13) at d < 7 m, range 1e4 m. The walls' normals are the
+// axes, whose q at N = 256 lie within 0.31 % of 1 (eq_partition_test: the pole axis is the worst
+// normal, 0.31 %; checked here), and the float rounding of Ω, products and the tally is ~1e-6:
+// so |reflected/(0.5·emitted) − 1| <= 0.0031 + small, asserted at the issue's 0.01. The ray tracer
+// loses no photon (escaped = 0: the box is watertight). The LDM trace skips every surface within
+// its bias of x1 (ldm_trace.glsl.inc: (√2/2)·s_px·tan θ), so from x1 near an edge a grazing split
+// photon passes the adjacent wall and, the box being closed, meets nothing more: escaped. Which
+// slots do is what the exact LDM of the same pixel lines (ldm_ref.h exactLdmPixel, ldmTraceList)
+// predicts from the CPU's double x1, to the rounding of x1 against pixel boundaries and of the
+// depths against the bias (relative ~1e-6 of a 0.11 m pixel: ~1e-5 of the slots), asserted at
+// 1e-3 of the slots. The share it comes to is bounded in the comment at the assertion.
+TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux) {
+  const Scene scene = diffuseBox("closed-box", false);
+  constexpr uint32_t N = 256, kSide = 8, R = 64;
+  const std::vector<glm::dvec3> dirs = ldmDirections(N);
+  glm::dvec3 q(0.0);
+  for (const glm::dvec3& v : dirs) q += glm::abs(v);
+  q *= 2.0 / double(N);
+  std::printf("N = %u: q(x) = %.5f, q(y) = %.5f, q(z) = %.5f\n", N, q.x, q.y, q.z);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(q[k], 1.0, 0.0031);
+
+  // The primaries on the CPU in double: x1 (the Bvh), the wall's inward normal, Ω (the pass's order:
+  // cubeFaces, then b, then a).
+  const Bvh bvh = buildBvh(scene);
+  struct Primary {
+    glm::dvec3 x1, n1;
+    double omega;
+  };
+  std::vector<Primary> prims;
+  double omegaSum = 0, omegaQ = 0;
+  const glm::dvec3 light(kBoxLight);
+  for (const PhotonFace& f : cubeFaces(kSide))
+    for (uint32_t b = 0; b < kSide; ++b)
+      for (uint32_t a = 0; a < kSide; ++a) {
+        const glm::dvec3 d0 = texelDirection(f, a, b);
+        double t = 0;
+        ASSERT_TRUE(bvh.closestHit(light, d0, 0.0, 1e4, t));
+        const glm::dvec3 x1 = light + t * d0, n1 = boxWallNormal(x1);
+        const double omega = texelSolidAngle(f, a, b);
+        prims.push_back({x1, n1, omega});
+        omegaSum += omega;
+        omegaQ += omega * glm::dot(glm::abs(n1), q);
+      }
+  const double predictedRatio = omegaQ / omegaSum;  // Σ Ω·q(n1) / Σ Ω
+
+  for (const char* method : {"raytraced", "ldm"}) {
+    SCOPED_TRACE(method);
+    Renderer r(*ctx, scene,
+               indirectSettings(48, 32, {{"method", method}, {"directions", N}, {"photons", kSide}, {"ldm_resolution", R}}));
+    r.renderFrame(true);
+    ASSERT_NE(r.indirect(), nullptr);
+    const IndirectPass& pass = *r.indirect();
+    ASSERT_EQ(pass.primaries(), prims.size());
+    // The pass's emitted flux is Σ I·(R + G + B)·Ω (white: 3I).
+    EXPECT_NEAR(pass.emittedFlux(), 20.0 * 3.0 * omegaSum, 1e-12 * pass.emittedFlux());
+    const std::vector<gpu::Photon> photons = pass.readPhotons();
+    ASSERT_EQ(photons.size(), pass.slots());
+    const PhotonTally t = tallyPhotons(photons);
+    const double ratio = t.fluxReflected() / (0.5 * pass.emittedFlux());
+    std::printf("closed box, %s, N=%u, %u primaries: stored %llu, hidden %llu, escaped %llu, grazing %llu, empty %llu; "
+                "reflected/(0.5*emitted) = %.6f (Σ Ω·q/Σ Ω predicts %.6f), escaped flux share %.5f\n",
+                method, N, pass.primaries(), (unsigned long long)t.stored, (unsigned long long)t.hidden,
+                (unsigned long long)t.escaped, (unsigned long long)t.grazing, (unsigned long long)t.empty, ratio,
+                predictedRatio, t.fluxEscaped / t.fluxReflected());
+    EXPECT_NEAR(ratio, 1.0, 0.01);
+    // Tighter: against Σ Ω·q(n1)/Σ Ω itself. Each split photon's flux I·Ω·ρ·2|c|/N is a few float
+    // roundings (u each) but Ω, four float atan terms of size <= π/4 differenced: a few ulp of π/4
+    // (~2e-7) absolute against Ω >= 0.0155 (a cube-corner texel at side 8), <= 6e-5 relative; the
+    // tally sums in double. So |ratio − predicted| <= 1e-4.
+    EXPECT_NEAR(ratio, predictedRatio, 1e-4);
+    EXPECT_GT(t.stored, 0u);
+    // Empty slots are the directions in x1's plane (n·v = 0 in float: n1 is an axis, so a float
+    // direction component of exactly 0), no primary misses a wall.
+    uint64_t inPlane = 0;
+    for (const Primary& p : prims)
+      for (const glm::dvec3& v : dirs) inPlane += glm::dot(glm::vec3(p.n1), glm::vec3(v)) == 0.0f;
+    EXPECT_EQ(t.empty, inPlane);
+    if (std::string(method) == "raytraced") {
+      EXPECT_EQ(t.escaped, 0u);
+      continue;
+    }
+    // ldm: each slot's escape against the exact LDM through the GPU's own maps' pixel lines.
+    ASSERT_NE(pass.ldm(), nullptr);
+    const std::vector<gpu::LdmMap>& maps = pass.ldm()->maps();
+    ASSERT_EQ(maps.size(), size_t(N));
+    uint64_t compared = 0, differ = 0, predictedEscapes = 0;
+    double predictedEscapedFlux = 0, differFlux = 0;
+    for (size_t k = 0; k < prims.size(); ++k)
+      for (uint32_t i = 0; i < N; ++i) {
+        const gpu::Photon& ph = photons[k * N + i];
+        const uint32_t status = statusOf(ph);
+        if (status == gpu::kPhotonEmpty) continue;  // n·v = 0: no flux
+        const gpu::LdmMap& g = maps[i];
+        const LdmView view{glm::dvec3(g.dir), glm::dvec3(g.right), glm::dvec3(g.up), glm::dvec3(g.centreRadius),
+                           double(g.centreRadius.w), R};
+        const double c = glm::dot(prims[k].n1, glm::dvec3(g.dir));
+        const double cc = std::max(std::abs(c), 1e-3), radius = view.radius;
+        const double bias = 0.70710678 * (2.0 * radius / R) * std::sqrt(std::max(1.0 - cc * cc, 0.0)) / cc +
+                            16.0 * kU * 2.0 * radius;
+        uint32_t pi = 0, pj = 0;
+        bool hit = false;
+        if (ldmProject(view, prims[k].x1, pi, pj)) {
+          const std::vector<double> list = exactLdmPixel(bvh, view, pi, pj);
+          const LdmTrace tr = ldmTraceList(list, ldmDepth(view, prims[k].x1), bias);
+          hit = c > 0 ? tr.forward.hit : tr.backward.hit;
+        }
+        ++compared;
+        predictedEscapes += !hit;
+        if (!hit) predictedEscapedFlux += fluxOf(ph);
+        if (hit == (status == gpu::kPhotonEscaped)) {
+          ++differ;
+          differFlux += fluxOf(ph);
+        }
+      }
+    const double share = t.fluxEscaped / t.fluxReflected();
+    std::printf("closed box, ldm R=%u: %llu of %llu slots escape as the exact LDM predicts them to (%llu predicted, %llu "
+                "measured, %llu differ); predicted escaped flux share %.5f, measured %.5f\n",
+                R, (unsigned long long)(compared - differ), (unsigned long long)compared,
+                (unsigned long long)predictedEscapes, (unsigned long long)t.escaped, (unsigned long long)differ,
+                predictedEscapedFlux / t.fluxReflected(), share);
+    EXPECT_EQ(compared + t.empty, pass.slots());
+    EXPECT_LE(double(differ), 1e-3 * double(compared));
+    EXPECT_NEAR(share, predictedEscapedFlux / t.fluxReflected(), differFlux / t.fluxReflected() + 1e-6);
+    // How much that can be (the bias's price): a split photon of cosine c to its wall's normal
+    // escapes when x1 lies within ℓ <= k·(1 − c²)/c of an edge along its azimuth (it reaches the
+    // adjacent wall after ℓ/sin θ <= bias = k·tan θ), k = (√2/2)·2r/R = 0.078 m. For x1 spread over
+    // a wall of area A and perimeter P, a share ℓ·P/(πA) of the points lies that close (Cauchy's
+    // formula averaged over the azimuth); the flux weight of cosine c is 2c dc, so the share is at
+    // most ∫ 2c·β(1 − c²)/c dc = (4/3)β with β = k·P/(πA) (0.37/m for the 4 x 3 m walls, the
+    // largest). A point light lights the walls' middles more than their edges, so this overestimates.
+    const double kPx = 0.70710678 * 2.0 * maps[0].centreRadius.w / R;
+    const double beta = kPx * 2.0 * (4.0 + 3.0) / (3.14159265358979 * 4.0 * 3.0);
+    std::printf("closed box, ldm: escaped flux share %.5f against the uniform-wall bound (4/3)·β = %.5f\n", share,
+                4.0 / 3.0 * beta);
+    EXPECT_LE(share, 4.0 / 3.0 * beta);
+  }
+}
+
+// The LDM trace against the ray tracer on the same photons (the frame's ldm, then computeWith's
+// raytraced): both start each split photon at the same x1 (found by the ray tracer for both),
+// along the same direction, and land it through the same landing test, so they can meet
+// different surfaces only where the LDM approximation acts: it skips a surface nearer than its
+// bias (√2/2)·s_px·tan θ to x1 (s_px = 2r/R = 0.11 m here), or its pixel line, up to half a pixel
+// diagonal beside x1's, passes the other side of an outline edge. Both need x1 within about
+// (√2/2)·s_px·tan θ of an edge on the photon's way; by count (not flux) that is up to ~10 % of
+// the slots (β·ln(1/β), β as in the closed-box test), and most of those end escaped (the box is
+// closed: a skipped wall leaves nothing behind it) or hidden (the back of what they passed), so
+// differ in status rather than land stored on another surface. Among the slots both stored, the
+// LDM photon off the ray-traced photon's landing plane by more than the landing test's own
+// tolerance is asserted at the issue's 1 %. (A floating block inside the box is the occluder.)
+TEST_F(IndirectGpuTest, LdmPhotonsLandOnTheSurfacesTheRayTracedPhotonsLandOn) {
+  const Scene scene = diffuseBox("box-and-block", true);
+  Renderer r(*ctx, scene,
+             indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 128}, {"photons", 8}, {"ldm_resolution", 64}}));
+  r.renderFrame(true);
+  ASSERT_NE(r.indirect(), nullptr);
+  IndirectPass& pass = *r.indirect();
+  const std::vector<gpu::Photon> ldm = pass.readPhotons();
+  const std::vector<float> ldmE = pass.readIrradiance();
+  std::vector<gpu::Photon> rt;
+  const std::vector<float> rtE = pass.computeWith(IndirectMethod::RayTraced, &rt);
+  ASSERT_EQ(ldm.size(), rt.size());
+  const PhotonAgreement a = comparePhotons(ldm, rt, pass.landingTolerance());
+  const PhotonTally tl = tallyPhotons(ldm), tr = tallyPhotons(rt);
+  const IndirectErrors e = indirectErrors(ldmE, rtE, 48, 32);
+  std::printf("box and block, ldm vs raytraced, %llu slots: same status %.4f; both stored %llu, off the other's plane "
+              "(> %.4f m) %llu = %.5f; distance p50 %.4g m, p99 %.4g m, max %.4g m; stored %llu vs %llu, escaped %llu vs "
+              "%llu; irradiance relMSE %.4f, total ratio %.4f\n",
+              (unsigned long long)a.slots, double(a.sameStatus) / double(a.slots), (unsigned long long)a.bothStored,
+              pass.landingTolerance(), (unsigned long long)a.offSurface,
+              a.bothStored ? double(a.offSurface) / double(a.bothStored) : 0.0, a.p50Distance, a.p99Distance,
+              a.maxDistance, (unsigned long long)tl.stored, (unsigned long long)tr.stored,
+              (unsigned long long)tl.escaped, (unsigned long long)tr.escaped, e.relMse, e.totalRatio);
+  EXPECT_EQ(tr.escaped, 0u);  // closed box: the ray tracer loses nothing
+  EXPECT_GT(a.bothStored, 1000u);
+  EXPECT_LE(double(a.offSurface), 0.01 * double(a.bothStored));
+}
+
+// Every slot is written every frame and the splat is one draw in slot order (additive blending
+// in primitive order): the irradiance is bit for bit the same frame after frame and renderer
+// after renderer.
+TEST_F(IndirectGpuTest, LdmIrradianceIsBitForBitDeterministic) {
+  const Scene scene = diffuseBox("box-and-block", true);
+  const RenderSettings rs =
+      indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 64}, {"photons", 8}, {"ldm_resolution", 64}});
+  std::vector<float> first, second, other;
+  {
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    first = r.indirect()->readIrradiance();
+    r.renderFrame(true);
+    second = r.indirect()->readIrradiance();
+  }
+  {
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    other = r.indirect()->readIrradiance();
+  }
+  ASSERT_EQ(first.size(), size_t(48 * 32 * 4));
+  ASSERT_EQ(second.size(), first.size());
+  ASSERT_EQ(other.size(), first.size());
+  size_t lit = 0;
+  for (size_t i = 0; i < first.size(); i += 4) lit += first[i] > 0.0f;
+  std::printf("box and block, ldm: %zu of %d pixels lit; frames %s, renderers %s\n", lit, 48 * 32,
+              std::memcmp(first.data(), second.data(), first.size() * 4) == 0 ? "identical" : "DIFFER",
+              std::memcmp(first.data(), other.data(), first.size() * 4) == 0 ? "identical" : "DIFFER");
+  EXPECT_GT(lit, size_t(48 * 32 / 2));  // not vacuous: most of the box is lit indirectly
+  EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0);
+  EXPECT_EQ(std::memcmp(first.data(), other.data(), first.size() * sizeof(float)), 0);
+}
+
+// The splat (photon_splat.{vert,frag}.glsl) against the CPU's double sum of photon_ref.h
+// splatIrradiance over the GPU's own stored photons, at the pixels' own floor points. A floor and
+// a ceiling 2 m apart, an orthographic camera looking straight down from under the ceiling: every
+// pixel shows the floor, every stored photon lies on it (the ceiling's are hidden). The receivers
+// y are the GPU's own (the shadow pass's analysis positions: surface.glsl.inc's worldPos, the body
+// the splat's fragment stage runs), checked against the double reconstruction from depth.
+TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
+  Scene scene;
+  scene.name = "floor-and-ceiling";
+  scene.materials.push_back(diffuse(0.6f));
+  MeshBuilder mb("floor-and-ceiling");
+  addQuad(mb, 0, {-10, 0, -10}, {10, 0, -10}, {10, 0, 10}, {-10, 0, 10}, {0, 1, 0});
+  addQuad(mb, 0, {-10, 2, -10}, {10, 2, -10}, {10, 2, 10}, {-10, 2, 10}, {0, -1, 0});
+  mb.appendTo(scene);
+  scene.lights.push_back(pointLight({0.3f, 1.0f, 0.2f}, 10.0f));
+  Camera cam;
+  cam.projection = CameraProjection::Orthographic;
+  cam.xmag = cam.ymag = 3.0f;
+  cam.view = lookAt({0, 1.9f, 0}, {0, 0, 0}, {0, 0, -1});
+  cam.znear = 0.05f;
+  cam.zfar = 10.0f;
+  scene.cameras.push_back(cam);
+  constexpr uint32_t W = 96, H = 96;
+  RenderSettings rs;
+  rs.width = W;
+  rs.height = H;
+  rs.lightCulling = false;  // the light tiles are frusta of a perspective view
+  rs.effects.add(EffectSource::Config, "test",
+                 {{"shadows", true}, {"indirect", {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}}}});
+  Renderer r(*ctx, scene, rs);
+  r.renderFrame(true);
+  ASSERT_NE(r.indirect(), nullptr);
+  const IndirectPass& pass = *r.indirect();
+  const std::vector<float> gpuE = pass.readIrradiance();
+  const std::vector<gpu::Photon> photons = pass.readPhotons();
+  const std::vector<float> depth = r.readDepth();
+  const ShadowReadback sh = r.readShadows();
+  ASSERT_EQ(gpuE.size(), size_t(W * H * 4));
+  ASSERT_EQ(depth.size(), size_t(W * H));
+  ASSERT_EQ(sh.positions.size(), size_t(W * H * 4));
+
+  // Each pixel's floor point: the GPU's, and (a check on it) the double reconstruction from the
+  // pixel centre's NDC (Vulkan: row j down), its depth and the inverse view-projection.
+  const glm::dmat4 inv = glm::inverse(glm::dmat4(r.proj()) * glm::dmat4(r.view()));
+  std::vector<glm::dvec3> ys(size_t(W) * H);
+  double reconstruction = 0;
+  for (uint32_t j = 0; j < H; ++j)
+    for (uint32_t i = 0; i < W; ++i) {
+      const size_t k = size_t(j) * W + i;
+      ASSERT_GT(depth[k], 0.0f) << "pixel " << i << ", " << j << " sees no floor";
+      const glm::dvec4 w = inv * glm::dvec4(2.0 * (i + 0.5) / W - 1.0, 2.0 * (j + 0.5) / H - 1.0, double(depth[k]), 1.0);
+      ys[k] = glm::dvec3(sh.positions[4 * k], sh.positions[4 * k + 1], sh.positions[4 * k + 2]);
+      reconstruction = std::max(reconstruction, glm::length(ys[k] - glm::dvec3(w) / w.w));
+    }
+  // Float reconstruction of points within 3√2 m: a few roundings of u·3 m each.
+  EXPECT_LE(reconstruction, 2e-6);
+
+  // E_cpu per pixel and channel, and a bound on what float evaluation may move each photon's
+  // term by. The fragment stage computes in float, with |du|, |dv| and den = du·(dv × n): den's
+  // rounding is ~5u·|du||dv| absolute, i.e. 5u·κ relative with κ = |du||dv|/|den| (large for a
+  // needle-shaped footprint: du and dv nearly parallel, which the diffuse rotation of the
+  // differentials makes now and then), each filter row dot(·, r) ~5u·max(|du|,|dv|)·|r|: so
+  // |Δm| <= 8u·(κ|m| + 2·max(|du|,|dv|)·|r|/|den|) (8 for 5, rounding up), Δ(l²) <= δ = 2|m||Δm| + |Δm|²,
+  // and the term 3E_p(1 − l²)² moves by <= 3E_p·(2(1 − l²)₊δ + δ²), plus its area's 2uκ relative.
+  // For a well-conditioned photon (κ ~ 1) this is ~1e-6 of its peak.
+  std::vector<glm::dvec3> cpuE(ys.size(), glm::dvec3(0.0));
+  std::vector<double> conditioning(ys.size(), 0.0);  // the bound above, for Φ = 1 W
+  uint64_t stored = 0, onFloor = 0;
+  double worstKappa = 0;
+  for (const gpu::Photon& p : photons) {
+    if (statusOf(p) != gpu::kPhotonStored) continue;
+    ++stored;
+    const glm::dvec3 x(p.positionFluxR), du(p.duFluxG), dv(p.dvFluxB), n(p.normalStatus);
+    if (!(n.y > 0.0)) continue;  // the fragment stage keeps photons facing the receiver's way only
+    const glm::dvec3 dvn = glm::cross(dv, n), ndu = glm::cross(n, du);
+    const double den = glm::dot(du, dvn), area = glm::length(glm::cross(du, dv));
+    if (!(area > 0.0) || !(den != 0.0)) continue;  // the fragment stage discards it
+    ++onFloor;
+    const double kappa = glm::length(du) * glm::length(dv) / std::abs(den), big = std::max(glm::length(du), glm::length(dv));
+    worstKappa = std::max(worstKappa, kappa);
+    const double ep = 1.0 / (0.25 * 3.14159265358979 * area);  // E_p per watt
+    // The support lies inside x ± du/2 ± dv/2.
+    const double hx = 0.5 * (std::abs(du.x) + std::abs(dv.x)) + 1e-3, hz = 0.5 * (std::abs(du.z) + std::abs(dv.z)) + 1e-3;
+    const glm::dvec3 phi(p.positionFluxR.w, p.duFluxG.w, p.dvFluxB.w);
+    for (size_t k = 0; k < ys.size(); ++k) {
+      const glm::dvec3& y = ys[k];
+      if (std::abs(y.x - x.x) > hx || std::abs(y.z - x.z) > hz) continue;
+      const glm::dvec3 rr = y - x;
+      const glm::dvec3 m = (2.0 / den) * glm::dvec3(glm::dot(dvn, rr), glm::dot(ndu, rr), std::sqrt(std::abs(den)) * glm::dot(n, rr));
+      const double l2 = glm::dot(m, m), lm = std::sqrt(l2);
+      const double dm = 8.0 * kU * (kappa * lm + 2.0 * big * glm::length(rr) / std::abs(den));
+      const double delta = 2.0 * lm * dm + dm * dm;
+      if (!(l2 - delta < 1.0)) continue;
+      const double term = splatIrradiance(x, du, dv, n, 1.0, y);
+      cpuE[k] += term * phi;
+      conditioning[k] += (3.0 * ep * (2.0 * std::max(1.0 - l2, 0.0) * delta + delta * delta) + term * 2.0 * kU * kappa) *
+                         std::max({phi.x, phi.y, phi.z});
+    }
+  }
+  // Per pixel and channel: |E_gpu − E_cpu| <= 1e-3·E_cpu + 1e-4·max E + the conditioning bound.
+  // The first two: each term's own float evaluation (a few u relative) and the additive blending
+  // of k terms (k·u relative, k a few hundred at most), well inside 1e-3 of E; 1e-4 of the
+  // image's largest E covers terms at the kernel's edge (where the float and the double l² fall
+  // either side of 1 they are (1 − l²)² ≈ 0).
+  double maxE = 0;
+  for (const glm::dvec3& e : cpuE) maxE = std::max({maxE, e.x, e.y, e.z});
+  size_t lit = 0, bad = 0, outsideBase = 0;
+  double worst = 0, worstConditioning = 0;
+  for (size_t k = 0; k < cpuE.size(); ++k) {
+    lit += cpuE[k].x > 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const double want = cpuE[k][c], got = gpuE[4 * k + c];
+      const double diff = std::abs(got - want), base = 1e-3 * want + 1e-4 * maxE;
+      bad += diff > base + conditioning[k];
+      outsideBase += diff > base;
+      if (want > 1e-4 * maxE) {
+        worst = std::max(worst, diff / want);
+        worstConditioning = std::max(worstConditioning, conditioning[k] / want);
+      }
+    }
+  }
+  std::printf("floor under an orthographic camera, %ux%u: %llu stored photons (%llu on the floor, largest κ = "
+              "|du||dv|/|den| %.3g), %zu pixels lit, max E %.5g W/m^2; GPU positions within %.2g m of the double "
+              "reconstruction; GPU vs CPU double: largest relative difference %.3g (conditioning bound up to %.3g of E), "
+              "%zu channel values beyond 1e-3·E + 1e-4·max E, %zu beyond that plus the conditioning bound\n",
+              W, H, (unsigned long long)stored, (unsigned long long)onFloor, worstKappa, lit, maxE, reconstruction, worst,
+              worstConditioning, outsideBase, bad);
+  EXPECT_GT(onFloor, 100u);
+  EXPECT_GT(lit, size_t(W * H / 2));
+  EXPECT_GT(maxE, 0.0);
+  EXPECT_EQ(bad, 0u);
+}
+
+// Nothing is built for the effect when it is off, or when it cannot act (the only light is
+// directional: no photons), and no acceleration structure either (shadows are off too).
+TEST_F(IndirectGpuTest, NothingIsBuiltWhenTheEffectIsOffOrCannotAct) {
+  const char* passes[] = {"indirect_ldm_build", "photon_trace", "photon_splat", "indirect_gather"};
+  {
+    const Scene scene = diffuseBox("closed-box", false);
+    Renderer r(*ctx, scene, indirectSettings(32, 32, false));
+    EXPECT_EQ(r.indirect(), nullptr);
+    EXPECT_FALSE(r.plan().runs("indirect"));
+    EXPECT_EQ(r.accel(), nullptr);
+    r.renderFrame(false);
+    for (const char* p : passes) {
+      EXPECT_FALSE(ranPass(r, p)) << p;
+      EXPECT_FALSE(r.plan().hasPass(p)) << p;
+    }
+  }
+  Scene scene = diffuseBox("directional-only", false);
+  scene.lights[0].type = LightType::Directional;
+  scene.lights[0].direction = {0, -1, 0};
+  Renderer r(*ctx, scene, indirectSettings(32, 32, true));
+  EXPECT_EQ(r.indirect(), nullptr);
+  EXPECT_FALSE(r.plan().runs("indirect"));
+  EXPECT_EQ(r.accel(), nullptr);
+  std::string why;
+  for (const EffectState& e : r.plan().effects)
+    if (e.name == "indirect") {
+      EXPECT_TRUE(e.calledFor);
+      why = e.skippedBecause;
+    }
+  std::printf("directional light only: indirect skipped because \"%s\"\n", why.c_str());
+  EXPECT_NE(why.find("directional"), std::string::npos);
+  for (const char* p : {"indirect_ldm_build", "photon_trace", "photon_splat"}) {
+    bool listed = false;
+    for (const auto& [pass, reason] : r.passesSkipped())
+      if (pass == p) listed = reason.find("directional") != std::string::npos;
+    EXPECT_TRUE(listed) << p << " is not listed as skipped for the directional light";
+  }
+  r.renderFrame(false);
+  for (const char* p : passes) EXPECT_FALSE(ranPass(r, p)) << p;
+}
+
+// Settings that cannot be run are refused when the request is made (EffectsRequest::add validates),
+// each message naming the setting.
+TEST_F(IndirectGpuTest, BadSettingsAreInputErrorsNamingTheSetting) {
+  struct Case {
+    nlohmann::json value;
+    const char* mentions;
+  };
+  const Case cases[] = {
+      {{{"photons", 0}}, "indirect.photons"},
+      {{{"photons", 2000}}, "indirect.photons"},
+      {{{"samples", 200}}, "is not a square"},
+      {{{"method", "pathtraced"}}, "indirect.method"},
+      {{{"directions", 0}}, "indirect.directions"},
+      {{{"ldm_resolution", 4}}, "indirect.ldm_resolution"},
+      {{{"bias", 0}}, "indirect.bias"},
+      {{{"photon", 8}}, "did you mean \"photons\""},
+      {42, "expected true, false or an object"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = inputErrorOf([&] {
+      RenderSettings rs;
+      rs.effects.add(EffectSource::Config, "test", {{"indirect", c.value}});
+    });
+    std::printf("%s -> %s\n", c.value.dump().c_str(), message.c_str());
+    EXPECT_NE(message.find(c.mentions), std::string::npos) << c.value.dump() << ": \"" << message << "\"";
+  }
+}
+
+}  // namespace
+}  // namespace hb
