@@ -29,6 +29,8 @@ double measureOf(const json& run, AccuracyMeasure m) {
   switch (m) {
     case AccuracyMeasure::AoError:
       return numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae");
+    case AccuracyMeasure::IndirectError:
+      return numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse");
     case AccuracyMeasure::ImageError:
       return numberAt(acc, "image_error");
     case AccuracyMeasure::ShadowMismatchRate: {
@@ -94,6 +96,7 @@ std::string sweepName(const json& results) {
 const char* accuracyMeasureLabel(AccuracyMeasure m) {
   switch (m) {
     case AccuracyMeasure::AoError: return "AO error (MAE vs the Monte Carlo reference)";
+    case AccuracyMeasure::IndirectError: return "indirect error (relative MSE vs the gathered reference)";
     case AccuracyMeasure::ImageError: return "image error (FLIP mean)";
     case AccuracyMeasure::ShadowMismatchRate: return "shadow mismatch rate";
     case AccuracyMeasure::RayDeficit: return "ray deficit (1 − traced/oracle, ≥ 0)";
@@ -104,6 +107,10 @@ const char* accuracyMeasureLabel(AccuracyMeasure m) {
 
 std::string accuracyMeasureDefinition(AccuracyMeasure m) {
   switch (m) {
+    case AccuracyMeasure::IndirectError:
+      return "indirect.vs_reference.rel_mse, the relative mean squared error of the indirect irradiance's "
+             "luminance against the gathered single bounce (cosine-weighted rays per pixel) on the same surface "
+             "(0 for the reference itself)";
     case AccuracyMeasure::AoError:
       return "ambient_occlusion.vs_reference.mae, the mean absolute error of the AO image against 1024 "
              "stratified cosine-weighted rays per pixel on the same surface (0 for the reference itself)";
@@ -131,7 +138,7 @@ AccuracyFront accuracyFront(const json& results) {
 
   // The first measure that every ok run with a frame time carries, so all points share a scale.
   front.measure = AccuracyMeasure::None;
-  for (AccuracyMeasure m : {AccuracyMeasure::AoError, AccuracyMeasure::ImageError, AccuracyMeasure::ShadowMismatchRate,
+  for (AccuracyMeasure m : {AccuracyMeasure::AoError, AccuracyMeasure::IndirectError, AccuracyMeasure::ImageError, AccuracyMeasure::ShadowMismatchRate,
                             AccuracyMeasure::RayDeficit}) {
     bool all = true, any = false;
     for (const json& run : runs) {
@@ -180,10 +187,11 @@ std::string accuracyReportMarkdown(const json& results) {
   const AccuracyFront front = accuracyFront(results);
   const json& runs = results["runs"];
 
-  bool anyImage = false, anyShadow = false, anyAo = false;
+  bool anyImage = false, anyShadow = false, anyAo = false, anyIndirect = false;
   for (const json& run : runs) {
     const json& acc = at(run, "accuracy");
     anyAo = anyAo || at(at(run, "ambient_occlusion"), "vs_reference").is_object();
+    anyIndirect = anyIndirect || at(at(run, "indirect"), "vs_reference").is_object();
     anyImage = anyImage || at(acc, "image_error").is_number();
     anyShadow = anyShadow || at(acc, "shadow_mismatches").is_object();
   }
@@ -196,13 +204,14 @@ std::string accuracyReportMarkdown(const json& results) {
   if (anyImage) out += " | Image error (FLIP)", rule += "|--:";
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
   if (anyAo) out += " | AO error (MAE vs reference)", rule += "|--:";
+  if (anyIndirect) out += " | Indirect error (relMSE vs reference)", rule += "|--:";
   out += " | Pareto |\n" + rule + "|:-:|\n";
 
   std::vector<const AccuracyPoint*> failed;
   for (size_t i = 0; i < runs.size(); ++i) {
     const json& run = runs[i];
     const AccuracyPoint& p = front.points[i];
-    const int extra = (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 1 : 0);
+    const int extra = (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 1 : 0) + (anyIndirect ? 1 : 0);
     out += "| " + escapeCell(p.name) + " | ";
     if (!p.ok) {
       failed.push_back(&p);
@@ -228,6 +237,7 @@ std::string accuracyReportMarkdown(const json& results) {
       out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " +
              cell(numberAt(sm, "wrongly_lit"), "%.0f");
     if (anyAo) out += " | " + cell(numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae"), "%.4f");
+    if (anyIndirect) out += " | " + cell(numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse"), "%.4f");
     const bool placed = std::isfinite(p.frameMs) && std::isfinite(p.error);
     out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
   }

@@ -6,6 +6,8 @@
 // first of these that EVERY ok run with a frame time carries, so all points are on one scale:
 //   0. AoError: ambient_occlusion.vs_reference.mae, in a sweep of ambient occlusion variants (the
 //      AO image against the converged Monte Carlo reference on the same surface);
+//   0b. IndirectError: indirect.vs_reference.rel_mse, in a sweep of indirect-light variants (the
+//      irradiance's relative MSE against the gathered single bounce on the same surface);
 //   1. ImageError: accuracy.image_error, the mean FLIP error against the reference render of the
 //      same scene/camera/resolution with no culling (what a viewer would see);
 //   2. ShadowMismatchRate: (accuracy.shadow_mismatches.wrongly_dark + .wrongly_lit) /
@@ -28,7 +30,7 @@
 
 namespace hb {
 
-enum class AccuracyMeasure { AoError, ImageError, ShadowMismatchRate, RayDeficit, None };
+enum class AccuracyMeasure { AoError, IndirectError, ImageError, ShadowMismatchRate, RayDeficit, None };
 
 // Short axis label ("image error (FLIP mean)") and a one-sentence definition for the report.
 const char* accuracyMeasureLabel(AccuracyMeasure m);
