@@ -39,17 +39,8 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
     s.dMax = readNumber(value["d_max"], where.key("d_max"), 0.0, std::numeric_limits<double>::infinity(), true);
   if (value.contains("bias"))
     s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
-  if (value.contains("ldm_list"))
-    s.ldmList = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
-                                                                                {"max64", "cas", "sbuffer"})];
-  if (value.contains("ldm_build"))
-    s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
-  if (value.contains("samples")) {
-    s.samples = uint32_t(readInt(value["samples"], where.key("samples"), 16, 65536));
-    const uint32_t side = uint32_t(std::lround(std::sqrt(double(s.samples))));
-    if (side * side != s.samples)
-      where.key("samples").fail(std::to_string(s.samples) + " is not a square (the strata are side x side); use e.g. 1024");
-  }
+  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readSquareSamples(value, where, s.samples);
   return s;
 }
 
@@ -80,6 +71,24 @@ std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
 }
 
 }  // namespace
+
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
+                         std::string& build) {
+  using namespace json_reader;
+  if (value.contains("ldm_list"))
+    list = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
+                                                                           {"max64", "cas", "sbuffer"})];
+  if (value.contains("ldm_build"))
+    build = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
+}
+
+void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples) {
+  if (!value.contains("samples")) return;
+  samples = uint32_t(json_reader::readInt(value["samples"], where.key("samples"), 16, 65536));
+  const uint32_t side = uint32_t(std::lround(std::sqrt(double(samples))));
+  if (side * side != samples)
+    where.key("samples").fail(std::to_string(samples) + " is not a square (the strata are side x side); use e.g. 256");
+}
 
 AoSettings aoSettingsOf(const nlohmann::json& value) {
   return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "ambient_occlusion"});

@@ -48,4 +48,10 @@ AoSettings aoSettingsOf(const nlohmann::json& value);
 
 const EffectDef& ambientOcclusionEffect();
 
+// The settings the LDM effects share (ambient occlusion, indirect light), read where `value` has
+// them: ldm_list, ldm_build, and samples (a square 16..65536: the strata are side x side).
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
+                         std::string& build);
+void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples);
+
 }  // namespace hb

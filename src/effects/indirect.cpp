@@ -1,7 +1,8 @@
 #include "effects/indirect.h"
 
 #include <algorithm>
-#include <cmath>
+
+#include "effects/ambient_occlusion.h"
 
 namespace hb {
 
@@ -30,17 +31,8 @@ IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Wh
     s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
   if (value.contains("photons")) s.photons = uint32_t(readInt(value["photons"], where.key("photons"), 1, 1024));
   if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
-  if (value.contains("ldm_list"))
-    s.ldmList = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
-                                                                                {"max64", "cas", "sbuffer"})];
-  if (value.contains("ldm_build"))
-    s.ldmBuild = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
-  if (value.contains("samples")) {
-    s.samples = uint32_t(readInt(value["samples"], where.key("samples"), 16, 65536));
-    const uint32_t side = uint32_t(std::lround(std::sqrt(double(s.samples))));
-    if (side * side != s.samples)
-      where.key("samples").fail(std::to_string(s.samples) + " is not a square (the strata are side x side); use e.g. 256");
-  }
+  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readSquareSamples(value, where, s.samples);
   return s;
 }
 
