@@ -32,13 +32,7 @@ RenderSettings aoSettings(uint32_t w, uint32_t h, const nlohmann::json& ao, bool
   return rs;
 }
 
-Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
-  Camera c;
-  c.view = lookAt(eye, target, {0, 1, 0});
-  c.znear = 0.05f;
-  c.zfar = 100.0f;
-  return c;
-}
+using testing::lookFrom;
 
 // One mesh (filled by `build`), a point light, a camera and a white ambient term.
 Scene aoScene(const char* name, const std::function<void(MeshBuilder&)>& build, glm::vec3 light, const Camera& camera) {

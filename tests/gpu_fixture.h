@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "gpu/vk_context.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
 
 namespace hb::testing {
 
@@ -23,5 +25,14 @@ class GpuTest : public ::testing::Test {
   }
   std::unique_ptr<VulkanContext> ctx;
 };
+
+// A perspective camera at eye looking at target (y up), near 0.05 m, far 100 m: the GPU tests' scenes.
+inline Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
+  Camera c;
+  c.view = lookAt(eye, target, {0, 1, 0});
+  c.znear = 0.05f;
+  c.zfar = 100.0f;
+  return c;
+}
 
 }  // namespace hb::testing

@@ -38,13 +38,7 @@ RenderSettings indirectSettings(uint32_t w, uint32_t h, const nlohmann::json& in
   return rs;
 }
 
-Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
-  Camera c;
-  c.view = lookAt(eye, target, {0, 1, 0});
-  c.znear = 0.05f;
-  c.zfar = 100.0f;
-  return c;
-}
+using testing::lookFrom;
 
 // A Lambertian grey: glTF's defaults are metallic (albedo·(1 − metallic) = 0), so metallic is 0.
 Material diffuse(float albedo) {
