@@ -9,9 +9,10 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint CULLING = 1;  // 0: every tile gets every light
 layout(constant_id = 2) const uint AABB = 0;     // 1: Turanzkij's AABB test on top of the planes
 layout(constant_id = 3) const uint SLICES = 0;   // 2..32: the 2.5D slab test (cull_ref.h); 0 off
+// kList*: tile writes the capped index list, bitmask and zbin the tile's mask words (zbin: over the
+// depth-sorted lights of binding 6).
+layout(constant_id = 4) const uint LIST_MODE = 0;
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
-
-const uint kMaxLights = 4096;  // the visible-set bitmask below; the host refuses more
 
 layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
 layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
@@ -19,6 +20,7 @@ layout(set = 0, binding = 2) readonly buffer Frustums { TileFrustum frustums[]; 
 layout(set = 0, binding = 3) writeonly buffer Grid { LightGridEntry grid[]; };
 layout(set = 0, binding = 4) writeonly buffer Indices { uint lightIndices[]; };
 layout(set = 0, binding = 5) uniform sampler2D depthTex;
+layout(set = 0, binding = 6) readonly buffer SortedLights { GpuLight sortedLights[]; };  // zbin only
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uint sMinDepthBits;  // positive floats order like their bit patterns
@@ -30,6 +32,29 @@ shared vec3 sAabbMin, sAabbMax;
 shared bool sEmpty;
 shared float sSliceScale;
 shared uint sDepthMask;
+shared uint sTotal;
+
+GpuLight cullLight(uint i) {
+  GpuLight l;  // an if, not ?: (the two buffers' GpuLight are distinct SPIR-V types)
+  if (LIST_MODE == kListZbin) l = sortedLights[i];
+  else l = lights[i];
+  return l;
+}
+
+// bitmask, zbin: the tile's mask words written by every thread (no cap), the total counted.
+void writeMask(uint tile, uint local, uint groupSize, uint lightCount, bool all) {
+  const uint words = frame.lists.y;
+  if (local == 0u) sTotal = 0u;
+  barrier();
+  for (uint w = local; w < words; w += groupSize) {
+    uint bits = sKept[w];
+    if (all) bits = w * 32u + 32u <= lightCount ? 0xFFFFFFFFu : (1u << (lightCount % 32u)) - 1u;
+    lightIndices[tile * words + w] = bits;
+    atomicAdd(sTotal, bitCount(bits));
+  }
+  barrier();
+  if (local == 0u) grid[tile] = LightGridEntry(tile * words, sTotal, sTotal, 0);
+}
 
 void main() {
   const uint tile = gl_WorkGroupID.y * frame.tileCountX + gl_WorkGroupID.x;
@@ -37,6 +62,10 @@ void main() {
   const uint groupSize = TILE * TILE;
   const uint lightCount = min(pc.lightCount, kMaxLights);
 
+  if (CULLING == 0 && LIST_MODE != kListTile) {
+    writeMask(tile, local, groupSize, lightCount, true);
+    return;
+  }
   if (CULLING == 0) {
     // Culling off: every tile gets every light, in index order (thesis: "no optimisations").
     uint stored = min(lightCount, kMaxLightsPerTile);
@@ -92,9 +121,13 @@ void main() {
   // written in ascending index order (the first kMaxLightsPerTile of them, as cull_ref.h does).
   if (!sEmpty)
     for (uint i = local; i < lightCount; i += groupSize)
-      if (lightTouchesTile(lights[i], frame.view, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
+      if (lightTouchesTile(cullLight(i), frame.view, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
   barrier();
 
+  if (LIST_MODE != kListTile) {
+    writeMask(tile, local, groupSize, lightCount, false);
+    return;
+  }
   if (local == 0) {
     uint total = 0, stored = 0;
     for (uint w = 0; w < (lightCount + 31) / 32; ++w) {

@@ -3,6 +3,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_tracing : require
 #include "shared/gpu_types.h"
+layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
 #include "raybench_common.glsl.inc"
 
 layout(location = 0) rayPayloadEXT uint visible;

@@ -18,6 +18,8 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 layout(constant_id = 4) const uint ID_MATCH = 0;
 layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (binding 10)
 
+layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
+
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = 10, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
 layout(set = 0, binding = 11) uniform sampler2D textures[];  // bindless: the last binding

@@ -17,6 +17,8 @@ layout(constant_id = 3) const uint ANALYSIS = 0;
 layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (binding 15)
 layout(local_size_x = 8, local_size_y = 8) in;
 
+layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
+
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
 layout(set = 0, binding = 9) uniform Rays { Raster3dConstants rays; };

@@ -11,6 +11,7 @@ layout(constant_id = 1) const uint NORMALS = 0;
 layout(constant_id = 2) const uint WORLD_POS = 0;
 layout(constant_id = 3) const uint RANGE_TEST = 0;
 layout(constant_id = 4) const uint ANALYSIS = 0;
+layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*
 
 #include "shadows_common.glsl.inc"
 

@@ -51,7 +51,7 @@ class ShadowGrazing : public testing::GpuTest {
     Acne a;
     for (size_t i = 0; i < depth.size(); ++i) {
       if (!(depth[i] > 0.0f)) continue;
-      const uint32_t traced = (sh.accounting[i] >> gpu::kAccountTracedShift) & gpu::kAccountMask;
+      const uint32_t traced = sh.accounting[4 * i] & gpu::kAccountMask;
       if (traced == 0) continue;  // the light is not in this pixel's tile list (out of range)
       const glm::dvec3 p(sh.positions[i * 4], sh.positions[i * 4 + 1], sh.positions[i * 4 + 2]);
       const double d = glm::length(p - eye);

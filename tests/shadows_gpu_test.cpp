@@ -74,7 +74,8 @@ void expectCleanImages(const Frame& f, const std::string& what) {
     bool ok = true;
     for (int k = 0; k < 4; ++k) ok = ok && std::isfinite(n[k]) && std::isfinite(p[k]);
     if (!(f.depth[i] > 0.0f))
-      ok = ok && f.shadows.visibility[i] == 0u && f.shadows.accounting[i] == 0u && p[3] == 0.0f &&
+      ok = ok && f.shadows.visibility[i] == 0u && f.shadows.accounting[4 * i] == 0u && f.shadows.accounting[4 * i + 1] == 0u &&
+           f.shadows.accounting[4 * i + 2] == 0u && p[3] == 0.0f &&
            n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f;
     else
       ok = ok && p[3] == 1.0f;

@@ -97,7 +97,8 @@ TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) 
           continue;
         }
         ++sky;
-        skyWithSomething += sh.visibility[i] != 0u || sh.accounting[i] != 0u || p[0] != 0.0f || p[1] != 0.0f ||
+        skyWithSomething += sh.visibility[i] != 0u || sh.accounting[4 * i] != 0u || sh.accounting[4 * i + 1] != 0u ||
+                            sh.accounting[4 * i + 2] != 0u || p[0] != 0.0f || p[1] != 0.0f ||
                             p[2] != 0.0f || p[3] != 0.0f || n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f;
       }
       uint64_t emptyTiles = 0, emptyTilesWithLights = 0;

@@ -4,12 +4,15 @@
 #define HB_GPU_TYPES_H
 
 #ifdef __cplusplus
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <glm/glm.hpp>
 namespace hb::gpu {
 using vec2 = glm::vec2;
 using vec4 = glm::vec4;
 using uvec2 = glm::uvec2;
+using uvec4 = glm::uvec4;
 using mat4 = glm::mat4;
 using uint = uint32_t;
 #define HB_CONST constexpr
@@ -31,17 +34,24 @@ HB_CONST uint kWorldPosAlg41 = 0u;   // thesis Algorithm 4.1
 HB_CONST uint kWorldPosMatrix = 1u;  // full inverse view-projection matrix
 HB_CONST uint kWorldPosHit = 2u;     // eye + t·d from 3D rasterization's hit (no reconstruction)
 
-// Per-pixel ray accounting (analysis frames only), packed 6 bits each into one r32ui texel:
-// traced rays, pairs removed by the normal test, pairs removed by the range/cone test, lights
-// exactly at the shaded point (no direction, no ray), lights that cast no shadow (visible, no
-// ray). Each count is <= kMaxLightsPerTile = 32 < 64.
-HB_CONST uint kAccountBits = 6u;
-HB_CONST uint kAccountMask = 63u;
-HB_CONST uint kAccountTracedShift = 0u;
-HB_CONST uint kAccountNormalShift = 6u;
-HB_CONST uint kAccountRangeShift = 12u;
-HB_CONST uint kAccountAtLightShift = 18u;
-HB_CONST uint kAccountNoShadowShift = 24u;
+// Light lists (config light_lists; frame/passes/light_culling.h). tile: the thesis's per-tile index
+// list, capped at kMaxLightsPerTile (one 32-bit visibility word per pixel). bitmask: one bit per
+// scene light per tile (ceil(lights/32) words a tile), no cap. zbin: the same masks over the lights
+// sorted by view depth, intersected per pixel with its depth bin's [first, last] light range
+// (Drobot 2017). Every light list is visited in ascending index (light_walk.glsl.inc), and bit k of
+// a pixel's visibility words belongs to the k-th light of its walk.
+HB_CONST uint kListTile = 0u;
+HB_CONST uint kListBitmask = 1u;
+HB_CONST uint kListZbin = 2u;
+HB_CONST uint kMaxLights = 4096u;  // light culling's shared visible-set mask; scenes are refused above
+HB_CONST uint kZBins = 4096u;      // log-depth bins of z-binning
+
+// Per-pixel ray accounting (analysis frames only), 16-bit counts in one rgba32ui texel:
+// x = traced rays | lights the pixel's list walk visited << 16, y = pairs removed by the normal test
+// | by the range/cone test << 16, z = lights exactly at the shaded point (no direction, no ray) |
+// lights that cast no shadow (visible, no ray) << 16. Each count is <= kMaxLights < 65536.
+HB_CONST uint kAccountBits = 16u;
+HB_CONST uint kAccountMask = 0xFFFFu;
 
 // Shadow rays (thesis 4.3.3).
 HB_CONST float kShadowTMin = 0.001;
@@ -68,6 +78,11 @@ struct FrameConstants {
   uint tileSize;
   uint lightCount;
   vec4 ambient;  // rgb: the ambient term's radiance (color·intensity) where ambient occlusion runs; w = 1 then, else 0
+  // Light lists: x = kList*, y = mask words per tile (bitmask, zbin: ceil(lightCount / 32)),
+  // z = visibility words per pixel (tile: 1; else y), w = where the z-bins begin in the list buffer.
+  uvec4 lists;
+  // z-bins: x = the near view distance of bin 0, y = kZBins / log2(far / near) (zbinOf).
+  vec4 zbins;
 };
 
 // A shadow ray's t_min at world position p: kShadowTMin when cameraPos.w is 0 (the thesis), else
@@ -79,6 +94,20 @@ inline float shadowTMin(const glm::vec4& cameraPos, const glm::vec3& p) {
 }
 #else
 float shadowTMin(vec4 cameraPos, vec3 p) { return max(kShadowTMin, cameraPos.w * length(p - cameraPos.xyz)); }
+#endif
+
+// The z-bin of view distance d (> 0 in front of the eye): log-spaced from zbins.x, clamped to
+// [0, kZBins − 1]. One body per language (light_culling.h derives the ±1 bin margin it is used with).
+#ifdef __cplusplus
+inline uint zbinOf(float d, const glm::vec4& zbins) {
+  const float u = std::log2(std::max(d, zbins.x) / zbins.x) * zbins.y;
+  return uint(std::min(u, float(kZBins - 1u)));
+}
+#else
+uint zbinOf(float d, vec4 zbins) {
+  float u = log2(max(d, zbins.x) / zbins.x) * zbins.y;
+  return uint(min(u, float(kZBins - 1u)));
+}
 #endif
 
 // One punctual light in world space. positionRange.w = range; directionCos.w = cos(outer cone).
@@ -309,7 +338,7 @@ static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
-static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16, "FrameConstants layout");
+static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");
 static_assert(sizeof(LightGridEntry) == 16, "LightGridEntry layout");

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "base/errors.h"
+#include "base/parallel.h"
 #include "frame/renderer.h"
 
 namespace hb {
@@ -91,9 +92,9 @@ CullingReference cullingReference(const CullingInputs& in) {
   ref.sameAll.resize(size_t(tx) * ty);
   ref.exact.resize(size_t(tx) * ty);
   ref.needed.resize(size_t(tx) * ty);
-  for (uint32_t y = 0; y < ty; ++y)
-    for (uint32_t x = 0; x < tx; ++x) {
-      const size_t t = size_t(y) * tx + x;
+  // Every tile on every core; each writes only its own entries.
+  parallelFor(size_t(tx) * ty, [&](size_t t) {
+      const uint32_t x = uint32_t(t % tx), y = uint32_t(t / tx);
       const TileRect rect = tileRect(x, y, in.tileSize, in.width, in.height);
       const TileDepthRange range = tileDepthRange(*in.depth, in.width, in.height, rect);
       std::vector<uint32_t>& all = ref.sameAll[t];
@@ -109,18 +110,18 @@ CullingReference cullingReference(const CullingInputs& in) {
       stored.indices.assign(all.begin(), all.begin() + std::min<size_t>(all.size(), in.capacity));
 
       const auto volD = tileVolume(dbl.proj, rect, in.width, in.height, double(range.minDepth), double(range.maxDepth));
-      if (volD.empty) continue;
+      if (volD.empty) return;
       for (uint32_t i = 0; i < n; ++i) {
         const auto& l = dbl.lights[i];
         if (l.type != LightType::Directional && sphereClearlyOutside(volD, l)) continue;
         if (exactLightMeetsTile(volD, l)) ref.exact[t].push_back(i);
       }
-      if (ref.exact[t].empty()) continue;
+      if (ref.exact[t].empty()) return;
       const std::vector<glm::dvec3> pts = tilePoints(in, dbl.proj, rect);
       for (uint32_t i : ref.exact[t])
         if (std::any_of(pts.begin(), pts.end(), [&](const glm::dvec3& p) { return lightReachesPoint(dbl.lights[i], p); }))
           ref.needed[t].push_back(i);
-    }
+  });
   return ref;
 }
 
@@ -297,7 +298,8 @@ CullingComparison compareGpuToReference(const CullingInputs& in, const CullingRe
     for (uint32_t x = 0; x < tx; ++x) {
       const size_t t = size_t(y) * tx + x;
       const uint32_t count = gpu.count[t], total = gpu.total[t];
-      if (count > in.capacity || count != std::min(total, in.capacity) || gpu.offset[t] != t * in.capacity ||
+      const bool stride = gpu.lists == LightLists::Tile;  // the masks' lists are packed one after another
+      if (count > in.capacity || count != std::min(total, in.capacity) || (stride && gpu.offset[t] != t * in.capacity) ||
           uint64_t(gpu.offset[t]) + count > gpu.indices.size()) {
         ++cmp.malformedTiles;
         continue;
@@ -359,6 +361,31 @@ CullingComparison compareGpuToReference(const CullingInputs& in, const CullingRe
     }
   for (const auto& m : cmp.mismatches) ++(m.borderline ? cmp.borderlineMismatches : cmp.hardMismatches);
   return cmp;
+}
+
+uint64_t zbinMissedPairs(const CullingInputs& in, const CullingReadback& gpu, const std::vector<uint32_t>& ranges) {
+  checkInputs(in);
+  HB_ASSERT(gpu.lists == LightLists::Zbin && ranges.size() == size_t(in.width) * in.height);
+  const DoubleSetup dbl = doubleSetup(in);
+  std::vector<uint64_t> rows(in.height, 0);
+  parallelFor(in.height, [&](size_t yy) {
+    const uint32_t y = uint32_t(yy);
+    for (uint32_t x = 0; x < in.width; ++x) {
+      const size_t i = size_t(y) * in.width + x;
+      const float depth = (*in.depth)[i];
+      if (!(depth > 0.0f)) continue;
+      const double z = viewZFromDepth(double(depth), dbl.proj);
+      const double ndcX = 2.0 * ((x + 0.5) / in.width) - 1.0, ndcY = 2.0 * ((y + 0.5) / in.height) - 1.0;
+      const glm::dvec3 p(ndcX / dbl.proj.a * -z, ndcY / dbl.proj.b * -z, z);
+      const uint32_t tile = (y / in.tileSize) * gpu.tilesX + x / in.tileSize;
+      const auto [first, last] = gpu.pixelSlice(tile, ranges[i]);
+      for (uint32_t k = gpu.offset[tile]; k < gpu.offset[tile] + gpu.count[tile]; ++k)
+        if ((k < first || k >= last) && lightReachesPoint(dbl.lights[gpu.indices[k]], p)) rows[y]++;
+    }
+  });
+  uint64_t missed = 0;
+  for (uint64_t r : rows) missed += r;
+  return missed;
 }
 
 CullingAnalysis analyzeCulling(const CullingInputs& in, const CullingReadback& gpu) {

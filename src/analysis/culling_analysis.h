@@ -100,6 +100,13 @@ struct CullingComparison {
 CullingComparison compareGpuToReference(const CullingInputs& in, const CullingReadback& gpu,
                                         const CullingReference& ref);
 
+// z-binning's own exactness: (pixel, light) pairs where a light of the pixel's tile list reaches the
+// pixel's point (pixel centre at its rendered depth, in double: range ball and cone) but lies
+// outside the pixel's bin range (ranges: ShadowReadback::ranges). Must be 0: a bin never drops a
+// light that reaches a pixel (the bins' ±1 margin, zbin_sort.comp.glsl). Precondition: gpu.lists
+// is zbin.
+uint64_t zbinMissedPairs(const CullingInputs& in, const CullingReadback& gpu, const std::vector<uint32_t>& ranges);
+
 // Everything above for one frame.
 struct CullingAnalysis {
   CullingReference reference;

@@ -1,10 +1,12 @@
 #include "analysis/ray_analysis.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 
 #include "base/errors.h"
+#include "base/parallel.h"
 #include "gpu/gpu_lights.h"
 #include "shared/gpu_types.h"
 
@@ -29,61 +31,91 @@ double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
 
 // ---- ray accounting ---------------------------------------------------------------------------
 
-PixelAccount unpackAccount(uint32_t t) {
-  auto field = [t](uint32_t shift) { return (t >> shift) & gpu::kAccountMask; };
-  return {field(gpu::kAccountTracedShift), field(gpu::kAccountNormalShift), field(gpu::kAccountRangeShift),
-          field(gpu::kAccountAtLightShift), field(gpu::kAccountNoShadowShift)};
+PixelAccount unpackAccount(const uint32_t* t) {
+  return {t[0] & gpu::kAccountMask, t[0] >> 16,         t[1] & gpu::kAccountMask,
+          t[1] >> 16,             t[2] & gpu::kAccountMask, t[2] >> 16};
 }
 
 uint64_t RayAccounting::bucketSum() const {
-  return culledByTile + droppedByOverflow + culledByRange + culledByNormal + atLight + noShadow + traced;
+  return culledByTile + droppedByOverflow + culledByZbin + culledByRange + culledByNormal + atLight + noShadow + traced;
 }
 
 RayAccounting accountRays(const ShadowReadback& shadows, const CullingReadback& culling,
                           const std::vector<float>& depth, uint32_t width, uint32_t height, uint32_t tileSize,
                           uint32_t sceneLightCount) {
   const size_t pixels = size_t(width) * height;
-  HB_ASSERT(depth.size() == pixels && shadows.accounting.size() == pixels);
+  HB_ASSERT(depth.size() == pixels && shadows.accounting.size() == 4 * pixels);
   HB_ASSERT(tileSize > 0 && culling.tilesX * tileSize >= width && culling.tilesY * tileSize >= height);
   HB_ASSERT(culling.total.size() == size_t(culling.tilesX) * culling.tilesY && culling.count.size() == culling.total.size());
+  const bool zbin = culling.lists == LightLists::Zbin;
+  HB_ASSERT(!zbin || shadows.ranges.size() == pixels);
   RayAccounting r;
   r.perPixel.assign(pixels, 0);
-  r.histogram.assign(std::min(sceneLightCount, gpu::kMaxLightsPerTile) + 1, 0);
-  for (uint32_t y = 0; y < height; ++y)
+  // One partial per row, summed in row order (integers: any order gives the same totals).
+  std::vector<RayAccounting> rows(height);
+  parallelFor(height, [&](size_t y) {
+    RayAccounting& row = rows[y];
     for (uint32_t x = 0; x < width; ++x) {
       const size_t i = size_t(y) * width + x;
       if (isSky(depth[i])) continue;
-      const uint32_t tile = tileIndexOf(culling, x, y, tileSize);
+      const uint32_t tile = tileIndexOf(culling, x, uint32_t(y), tileSize);
       const uint32_t total = culling.total[tile], count = culling.count[tile];
       HB_ASSERT(count <= total && total <= sceneLightCount);
-      const PixelAccount a = unpackAccount(shadows.accounting[i]);
-      r.candidates += sceneLightCount;
-      r.culledByTile += sceneLightCount - total;
-      r.droppedByOverflow += total - count;
-      r.culledByRange += a.byRange;
-      r.culledByNormal += a.byNormal;
-      r.atLight += a.atLight;
-      r.noShadow += a.noShadow;
-      r.traced += a.traced;
+      const auto [first, last] = culling.pixelSlice(tile, zbin ? shadows.ranges[i] : 0u);
+      const PixelAccount a = unpackAccount(&shadows.accounting[4 * i]);
+      row.candidates += sceneLightCount;
+      row.culledByTile += sceneLightCount - total;
+      row.droppedByOverflow += total - count;
+      row.culledByZbin += count - (last - first);
+      if (a.listed != last - first) row.walkMismatches++;
+      row.culledByRange += a.byRange;
+      row.culledByNormal += a.byNormal;
+      row.atLight += a.atLight;
+      row.noShadow += a.noShadow;
+      row.traced += a.traced;
       r.perPixel[i] = a.traced;
-      HB_ASSERT(a.traced < r.histogram.size());
-      r.histogram[a.traced]++;
     }
+  });
+  for (const RayAccounting& row : rows) {
+    r.candidates += row.candidates;
+    r.culledByTile += row.culledByTile;
+    r.droppedByOverflow += row.droppedByOverflow;
+    r.culledByZbin += row.culledByZbin;
+    r.culledByRange += row.culledByRange;
+    r.culledByNormal += row.culledByNormal;
+    r.atLight += row.atLight;
+    r.noShadow += row.noShadow;
+    r.traced += row.traced;
+    r.walkMismatches += row.walkMismatches;
+  }
+  uint32_t most = 0;
+  for (size_t i = 0; i < pixels; ++i)
+    if (!isSky(depth[i])) most = std::max(most, r.perPixel[i]);
+  r.histogram.assign(size_t(most) + 1, 0);
+  for (size_t i = 0; i < pixels; ++i)
+    if (!isSky(depth[i])) r.histogram[r.perPixel[i]]++;
   return r;
 }
 
 nlohmann::json toJson(const RayAccounting& r) {
   return {{"candidates", r.candidates},       {"culled_by_tile", r.culledByTile},
-          {"dropped_by_overflow", r.droppedByOverflow}, {"culled_by_range", r.culledByRange},
-          {"culled_by_normal", r.culledByNormal}, {"at_light", r.atLight},
-          {"no_shadow", r.noShadow},           {"traced", r.traced},
+          {"dropped_by_overflow", r.droppedByOverflow}, {"culled_by_zbin", r.culledByZbin},
+          {"culled_by_range", r.culledByRange}, {"culled_by_normal", r.culledByNormal},
+          {"at_light", r.atLight},             {"no_shadow", r.noShadow},
+          {"traced", r.traced},                {"walk_mismatches", r.walkMismatches},
           {"per_pixel_histogram", r.histogram}};
 }
 
-ImageRGBA8 rayHeatmap(const std::vector<uint32_t>& perPixel, uint32_t width, uint32_t height,
-                      uint32_t sceneLightCount) {
+ImageRGBA8 rayHeatmap(const std::vector<uint32_t>& perPixel, uint32_t width, uint32_t height, uint32_t maxValue) {
   HB_ASSERT(perPixel.size() == size_t(width) * height);
-  return heatmapThesis(perPixel, width, height, std::min(sceneLightCount, gpu::kMaxLightsPerTile));
+  return heatmapThesis(perPixel, width, height, maxValue);
+}
+
+uint32_t rayHeatmapMax(bool capped, uint32_t sceneLightCount, const std::vector<uint32_t>& perPixel) {
+  if (capped) return std::min(sceneLightCount, gpu::kMaxLightsPerTile);
+  uint32_t most = 1;
+  for (uint32_t v : perPixel) most = std::max(most, v);
+  return most;
 }
 
 // ---- reference surface ------------------------------------------------------------------------
@@ -99,7 +131,8 @@ ReferenceSurface referenceSurface(const Bvh& bvh, const std::vector<float>& dept
   s.state.assign(pixels, SurfaceState::Sky);
   s.position.assign(pixels, glm::dvec3(0.0));
   s.normal.assign(pixels, glm::dvec3(0.0));
-  for (uint32_t y = 0; y < cam.height; ++y)
+  parallelFor(cam.height, [&](size_t row) {
+    const uint32_t y = uint32_t(row);
     for (uint32_t x = 0; x < cam.width; ++x) {
       const size_t i = size_t(y) * cam.width + x;
       if (isSky(depth[i])) continue;
@@ -122,13 +155,16 @@ ReferenceSurface referenceSurface(const Bvh& bvh, const std::vector<float>& dept
         if (glm::dot(n, s.eye - s.position[i]) < 0.0) n = -n;
         s.normal[i] = n;
         s.state[i] = SurfaceState::Matched;
-        s.matched++;
       } else {
         s.position[i] = worldFromDepth<double>(cam, x, y, double(depth[i]));
         s.state[i] = SurfaceState::Unmatched;
-        s.unmatched++;
       }
     }
+  });
+  for (SurfaceState st : s.state) {
+    s.matched += st == SurfaceState::Matched;
+    s.unmatched += st == SurfaceState::Unmatched;
+  }
   return s;
 }
 
@@ -137,31 +173,47 @@ ReferenceSurface referenceSurface(const Bvh& bvh, const std::vector<float>& dept
 OracleRays oracleRays(const Scene& scene, const ReferenceSurface& surface) {
   OracleRays o;
   o.perPixel.assign(surface.state.size(), 0);
-  for (size_t i = 0; i < surface.state.size(); ++i) {
+  // The light terms once, then every pixel on every core (each writes its own count).
+  std::vector<glm::dvec3> axes, positions;
+  std::vector<double> cosOuter;
+  for (const Light& light : scene.lights) {
+    axes.push_back(glm::normalize(glm::dvec3(light.direction)));
+    positions.push_back(glm::dvec3(light.position));
+    cosOuter.push_back(std::cos(double(light.outerConeAngle)));
+  }
+  const size_t width = std::max<size_t>(1, surface.width), rowsCount = (surface.state.size() + width - 1) / width;
+  parallelFor(rowsCount, [&](size_t row) {
+  for (size_t i = row * width; i < std::min(surface.state.size(), (row + 1) * width); ++i) {
     if (surface.state[i] == SurfaceState::Sky) continue;
     const bool hasNormal = surface.state[i] == SurfaceState::Matched;
-    if (!hasNormal) o.pixelsWithoutNormal++;
     const glm::dvec3 p = surface.position[i], n = surface.normal[i];
     uint32_t count = 0;
-    for (const Light& light : scene.lights) {
+    for (size_t l = 0; l < scene.lights.size(); ++l) {
+      const Light& light = scene.lights[l];
       if (!light.castShadows) continue;  // visible without a ray
-      const glm::dvec3 axis = glm::normalize(glm::dvec3(light.direction));
       glm::dvec3 toLight;
       if (light.type == LightType::Directional) {
-        toLight = -axis;
+        toLight = -axes[l];
       } else {
-        const glm::dvec3 v = glm::dvec3(light.position) - p;
+        const glm::dvec3 v = positions[l] - p;
+        const double range = double(light.range);
+        const double dist2 = glm::dot(v, v);
+        if (!(dist2 > 0.0) || dist2 > 4.0 * range * range) continue;  // surely out of range: skip the root
         const double dist = glm::length(v);
-        if (!(dist > 0.0) || dist > double(light.range)) continue;
+        if (dist > range) continue;
         toLight = v / dist;
-        if (light.type == LightType::Spot && glm::dot(-toLight, axis) < std::cos(double(light.outerConeAngle)))
-          continue;
+        if (light.type == LightType::Spot && glm::dot(-toLight, axes[l]) < cosOuter[l]) continue;
       }
       if (hasNormal && !(glm::dot(n, toLight) > 0.0)) continue;
       count++;
     }
     o.perPixel[i] = count;
-    o.total += count;
+  }
+  });
+  for (size_t i = 0; i < surface.state.size(); ++i) {
+    if (surface.state[i] == SurfaceState::Sky) continue;
+    if (surface.state[i] != SurfaceState::Matched) o.pixelsWithoutNormal++;
+    o.total += o.perPixel[i];
   }
   return o;
 }
@@ -327,20 +379,26 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
                                 const CullingReadback& culling, uint32_t width, uint32_t height,
                                 uint32_t tileSize, bool rangeTest, const glm::vec4& cameraPos) {
   const size_t pixels = size_t(width) * height;
-  HB_ASSERT(shadows.visibility.size() == pixels && shadows.positions.size() == 4 * pixels &&
+  const uint32_t words = shadows.words;
+  HB_ASSERT(shadows.visibility.size() == words * pixels && shadows.positions.size() == 4 * pixels &&
             shadows.normals.size() == 4 * pixels);
+  const bool zbin = culling.lists == LightLists::Zbin;
+  HB_ASSERT(!zbin || shadows.ranges.size() == pixels);
   const std::vector<gpu::GpuLight> lights = packLights(scene.lights);
   glm::vec3 lo, hi;
   scene.bounds(lo, hi);
   const double diagonal = glm::length(glm::dvec3(hi) - glm::dvec3(lo));
   ShadowComparison c;
-  c.visibility.assign(pixels, 0u);
-  for (uint32_t y = 0; y < height; ++y)
+  c.visibility.assign(words * pixels, 0u);
+  std::vector<ShadowComparison> rows(height);  // counts per row, summed in row order
+  parallelFor(height, [&](size_t yy) {
+    const uint32_t y = uint32_t(yy);
+    ShadowComparison& row = rows[y];
     for (uint32_t x = 0; x < width; ++x) {
       const size_t i = size_t(y) * width + x;
-      const uint32_t gpuMask = shadows.visibility[i];
-      if (shadows.positions[4 * i + 3] != 1.0f) {  // sky: no pairs, the mask must be 0
-        if (gpuMask != 0u) c.mismatches += uint64_t(__builtin_popcount(gpuMask));
+      auto gpuWord = [&](uint32_t j) { return shadows.visibility[size_t(j) * pixels + i]; };
+      if (shadows.positions[4 * i + 3] != 1.0f) {  // sky: no pairs, word 0 must be 0
+        row.mismatches += uint64_t(std::popcount(gpuWord(0)));
         continue;
       }
       const glm::vec3 pf(shadows.positions[4 * i], shadows.positions[4 * i + 1], shadows.positions[4 * i + 2]);
@@ -348,22 +406,24 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
       const double tMin = gpu::shadowTMin(cameraPos, pf);  // as the GPU computed it, in float
       const glm::dvec3 n(shadows.normals[4 * i], shadows.normals[4 * i + 1], shadows.normals[4 * i + 2]);
       const uint32_t tile = tileIndexOf(culling, x, y, tileSize);
-      const uint32_t count = culling.count[tile], offset = culling.offset[tile];
-      HB_ASSERT(count <= gpu::kMaxLightsPerTile);
-      const uint32_t listMask = count == 32 ? ~0u : (1u << count) - 1u;
-      if (gpuMask & ~listMask) c.mismatches += uint64_t(__builtin_popcount(gpuMask & ~listMask));
-      uint32_t mask = 0;
+      const auto [first, last] = culling.pixelSlice(tile, zbin ? shadows.ranges[i] : 0u);
+      const uint32_t count = last - first;
+      HB_ASSERT((count + 31) / 32 <= std::max(words, 1u));
+      // Bits past the walk's end in its last word must be 0 (words past it are never written).
+      if (count % 32 != 0) row.mismatches += uint64_t(std::popcount(gpuWord(count / 32) & ~((1u << (count % 32)) - 1u)));
+      if (count == 0) row.mismatches += uint64_t(std::popcount(gpuWord(0)));
       for (uint32_t k = 0; k < count; ++k) {
-        const uint32_t li = culling.indices[offset + k];
+        const uint32_t li = culling.indices[first + k];
         HB_ASSERT(li < lights.size());
         const PairDecision d = decidePair(lights[li], p, n, rangeTest, tMin, bvh);
-        c.pairs++;
-        if (d.traced) c.rays++;
-        if (d.visible) mask |= 1u << k;
-        if (d.visible == bool(gpuMask & (1u << k))) continue;
-        c.mismatches++;
+        row.pairs++;
+        if (d.traced) row.rays++;
+        const uint32_t bit = 1u << (k % 32);
+        if (d.visible) c.visibility[size_t(k / 32) * pixels + i] |= bit;
+        if (d.visible == bool(gpuWord(k / 32) & bit)) continue;
+        row.mismatches++;
         if (d.nearTie) {
-          c.nearTie++;
+          row.nearTie++;
           continue;
         }
         if (!d.traced) continue;  // unexplained: a decision without a ray that is not a tie
@@ -371,20 +431,28 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
         const bool wide = bvh.occluded(p, d.dir, std::max(0.0, tMin - delta), d.tMax + delta);
         const bool narrow = bvh.occluded(p, d.dir, tMin + delta, std::max(tMin + delta, d.tMax - delta));
         if (wide != narrow) {
-          c.endpoint++;
+          row.endpoint++;
           continue;
         }
         for (int axis = 0; axis < 6; ++axis) {
           glm::dvec3 shift(0.0);
           shift[axis / 2] = axis % 2 ? delta : -delta;
           if (bvh.occluded(p + shift, d.dir, tMin, d.tMax) == d.visible) {  // the answer flips
-            c.grazing++;
+            row.grazing++;
             break;
           }
         }
       }
-      c.visibility[i] = mask;
     }
+  });
+  for (const ShadowComparison& row : rows) {
+    c.pairs += row.pairs;
+    c.rays += row.rays;
+    c.mismatches += row.mismatches;
+    c.nearTie += row.nearTie;
+    c.endpoint += row.endpoint;
+    c.grazing += row.grazing;
+  }
   return c;
 }
 

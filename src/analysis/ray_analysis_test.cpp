@@ -2,6 +2,7 @@
 // on hand-made readbacks and small scenes with known answers.
 #include "analysis/ray_analysis.h"
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -13,18 +14,23 @@
 namespace hb {
 namespace {
 
-uint32_t pack(uint32_t traced, uint32_t normal, uint32_t range, uint32_t atLight, uint32_t noShadow) {
-  return traced << gpu::kAccountTracedShift | normal << gpu::kAccountNormalShift | range << gpu::kAccountRangeShift |
-         atLight << gpu::kAccountAtLightShift | noShadow << gpu::kAccountNoShadowShift;
+// The shadow pass's texel (shadows_common.glsl.inc): 16-bit counts, two to a word.
+std::array<uint32_t, 4> pack(uint32_t traced, uint32_t normal, uint32_t range, uint32_t atLight, uint32_t noShadow,
+                             uint32_t listed) {
+  return {traced | listed << 16, normal | range << 16, atLight | noShadow << 16, 0u};
 }
 
+void append(std::vector<uint32_t>& v, const std::array<uint32_t, 4>& t) { v.insert(v.end(), t.begin(), t.end()); }
+
 TEST(RayAccounting, UnpacksEveryFieldOfTheTexel) {
-  const PixelAccount a = unpackAccount(pack(32, 1, 2, 3, 63));
-  EXPECT_EQ(a.traced, 32u);
+  const auto t = pack(4096, 1, 2, 3, 65535, 4000);
+  const PixelAccount a = unpackAccount(t.data());
+  EXPECT_EQ(a.traced, 4096u);
+  EXPECT_EQ(a.listed, 4000u);
   EXPECT_EQ(a.byNormal, 1u);
   EXPECT_EQ(a.byRange, 2u);
   EXPECT_EQ(a.atLight, 3u);
-  EXPECT_EQ(a.noShadow, 63u);
+  EXPECT_EQ(a.noShadow, 65535u);
 }
 
 // A 4x2 image in two 2x2 tiles, 5 scene lights: tile 0 kept 4 of which 3 were stored (overflow),
@@ -41,8 +47,10 @@ TEST(RayAccounting, EveryCandidateLandsInExactlyOneBucket) {
   c.indices = {0, 1, 2, 3, 4, 0};
   std::vector<float> depth = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.0f};
   ShadowReadback s;
-  s.accounting = {pack(3, 0, 0, 0, 0), pack(1, 2, 0, 0, 0), pack(0, 0, 2, 0, 0), pack(1, 0, 0, 1, 0),
-                  pack(2, 0, 0, 0, 1), pack(0, 1, 1, 1, 0), pack(2, 0, 0, 0, 0), 0u};
+  // Pixels (x, y) row by row: x 0-1 in tile 0 (3 stored), x 2-3 in tile 1 (2 stored).
+  for (const auto& t : {pack(3, 0, 0, 0, 0, 3), pack(1, 2, 0, 0, 0, 3), pack(0, 0, 2, 0, 0, 2), pack(1, 0, 0, 1, 0, 2),
+                        pack(2, 0, 0, 0, 1, 3), pack(0, 1, 1, 1, 0, 3), pack(2, 0, 0, 0, 0, 2), pack(0, 0, 0, 0, 0, 0)})
+    append(s.accounting, t);
   const RayAccounting r = accountRays(s, c, depth, w, h, tile, lights);
   EXPECT_EQ(r.candidates, 7u * 5u);
   EXPECT_EQ(r.culledByTile, 4u * 1u + 3u * 3u);  // 4 pixels in tile 0 lose 1, 3 in tile 1 lose 3
@@ -52,8 +60,10 @@ TEST(RayAccounting, EveryCandidateLandsInExactlyOneBucket) {
   EXPECT_EQ(r.culledByRange, 2u + 1);
   EXPECT_EQ(r.atLight, 1u + 1);
   EXPECT_EQ(r.noShadow, 1u);
+  EXPECT_EQ(r.culledByZbin, 0u);
+  EXPECT_EQ(r.walkMismatches, 0u);
   EXPECT_TRUE(r.addsUp());
-  ASSERT_EQ(r.histogram.size(), 6u);  // 0..5 rays
+  ASSERT_EQ(r.histogram.size(), 4u);  // 0..3 rays: up to the most any pixel traced
   EXPECT_EQ(r.histogram[0], 2u);      // pixels (2,0) and (1,1); sky is not counted
   EXPECT_EQ(r.histogram[1], 2u);
   EXPECT_EQ(r.histogram[2], 2u);
@@ -61,22 +71,44 @@ TEST(RayAccounting, EveryCandidateLandsInExactlyOneBucket) {
   EXPECT_EQ(r.perPixel[0], 3u);
   EXPECT_EQ(r.perPixel[7], 0u);
   const nlohmann::json j = toJson(r);
-  for (const char* key : {"candidates", "culled_by_tile", "dropped_by_overflow", "culled_by_range", "culled_by_normal",
-                          "at_light", "no_shadow", "traced", "per_pixel_histogram"})
+  for (const char* key : {"candidates", "culled_by_tile", "dropped_by_overflow", "culled_by_zbin", "culled_by_range",
+                          "culled_by_normal", "at_light", "no_shadow", "traced", "walk_mismatches",
+                          "per_pixel_histogram"})
     EXPECT_TRUE(j.contains(key)) << key;
-  EXPECT_EQ(j["per_pixel_histogram"].size(), 6u);
+  EXPECT_EQ(j["per_pixel_histogram"].size(), 4u);
   EXPECT_EQ(j["traced"].get<uint64_t>(), 9u);
 }
 
-TEST(RayAccounting, HeatmapMapsTheLightCountToRedAndCapsAt32) {
+TEST(RayAccounting, HeatmapMapsItsMaximumToRedCappedAt32ForTileLists) {
   const std::vector<uint32_t> counts = {0, 10, 32, 40};
   ImageRGBA8 img = rayHeatmap(counts, 4, 1, 10);
   EXPECT_EQ(img.px[4 * 1 + 0], 255);  // 10 of 10: red
   EXPECT_EQ(img.px[4 * 1 + 1], 0);
-  img = rayHeatmap(counts, 4, 1, 100);  // capped at 32: 32 is red, 10 is not
+  EXPECT_EQ(rayHeatmapMax(true, 100, counts), 32u);  // capped lists: 32 is the most a pixel traces
+  EXPECT_EQ(rayHeatmapMax(true, 10, counts), 10u);
+  EXPECT_EQ(rayHeatmapMax(false, 100, counts), 40u);  // uncapped: the most any pixel traced
+  img = rayHeatmap(counts, 4, 1, rayHeatmapMax(true, 100, counts));
   EXPECT_EQ(img.px[4 * 2 + 0], 255);
   EXPECT_EQ(img.px[4 * 2 + 1], 0);
   EXPECT_NE(img.px[4 * 1 + 0], 255);
+}
+
+// A zbin readback: tile 0 holds sorted lights 1, 4, 7 (scene 5, 2, 0); a pixel range [2, 7) walks
+// only sorted light 4, [0, 16) all three, an empty range none.
+TEST(CullingReadback, PixelSliceOfZbinListsIsTheRangeOfSortedIndices) {
+  CullingReadback c;
+  c.lists = LightLists::Zbin;
+  c.tilesX = c.tilesY = 1;
+  c.offset = {0};
+  c.count = c.total = {3};
+  c.sorted = {1, 4, 7};
+  c.indices = {5, 2, 0};
+  EXPECT_EQ(c.pixelSlice(0, 2u | 7u << 16), std::make_pair(1u, 2u));
+  EXPECT_EQ(c.pixelSlice(0, 0u | 16u << 16), std::make_pair(0u, 3u));
+  EXPECT_EQ(c.pixelSlice(0, 0u), std::make_pair(0u, 0u));
+  EXPECT_EQ(c.pixelSlice(0, 8u | 9u << 16).first, c.pixelSlice(0, 8u | 9u << 16).second);
+  c.lists = LightLists::Bitmask;  // the whole tile whatever the range
+  EXPECT_EQ(c.pixelSlice(0, 2u | 7u << 16), std::make_pair(0u, 3u));
 }
 
 TEST(RayEfficiency, IsOracleOverTracedAndOneWhenNothingIsTraced) {

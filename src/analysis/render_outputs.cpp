@@ -9,6 +9,7 @@
 #include "analysis/ao_analysis.h"
 #include "analysis/indirect_analysis.h"
 #include "analysis/primary_analysis.h"
+#include "base/errors.h"
 #include "reference/flip.h"
 #include "base/image_io.h"
 #include "analysis/ray_analysis.h"
@@ -22,9 +23,11 @@ namespace {
 
 ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr, const std::vector<float>& depth,
                              uint32_t w, uint32_t h, uint32_t tileSize, uint32_t light) {
-  // White: lit (in the tile's list, ray reached the light); dark red: in the list but shadowed or
-  // culled by the normal/range test; black: not in the tile's list; dark blue: sky.
+  // White: lit (in the pixel's light list, ray reached the light); dark red: in the list but
+  // shadowed or culled by the normal/range test; black: not in the pixel's list; dark blue: sky.
   ImageRGBA8 img{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)};
+  const size_t pixels = size_t(w) * h;
+  const bool zbin = cr.lists == LightLists::Zbin;
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       uint8_t* px = &img.px[(size_t(y) * w + x) * 4];
@@ -34,12 +37,13 @@ ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr
         continue;
       }
       const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
-      int slot = -1;
-      for (uint32_t k = 0; k < cr.count[tile]; ++k)
-        if (cr.indices[cr.offset[tile] + k] == light) slot = int(k);
+      const auto [first, last] = cr.pixelSlice(tile, zbin ? sh.ranges[i] : 0u);
+      int64_t slot = -1;
+      for (uint32_t k = first; k < last; ++k)
+        if (cr.indices[k] == light) slot = int64_t(k - first);
       if (slot < 0) {
         px[0] = px[1] = px[2] = 0;
-      } else if ((sh.visibility[i] >> slot) & 1u) {
+      } else if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u) {
         px[0] = px[1] = px[2] = 255;
       } else {
         px[0] = 110, px[1] = 20, px[2] = 20;
@@ -48,18 +52,24 @@ ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr
   return img;
 }
 
-// Per pixel, the scene lights whose bit is set in the pixel's visibility mask (the mask indexes the
-// pixel's tile list). Sky: 0. Precondition: every light index < 64.
+// Per pixel, the scene lights whose bit is set in the pixel's visibility words (bit k = the k-th
+// light of its walk). Sky: 0. Precondition: every light index < 64.
 std::vector<uint64_t> visibleSceneLights(const ShadowReadback& sh, const CullingReadback& cr,
                                          const std::vector<float>& depth, uint32_t w, uint32_t h, uint32_t tileSize) {
-  std::vector<uint64_t> out(size_t(w) * h, 0);
+  const size_t pixels = size_t(w) * h;
+  std::vector<uint64_t> out(pixels, 0);
+  const bool zbin = cr.lists == LightLists::Zbin;
   for (uint32_t y = 0; y < h; ++y)
     for (uint32_t x = 0; x < w; ++x) {
       const size_t i = size_t(y) * w + x;
       if (!(depth[i] > 0.0f)) continue;
       const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
-      for (uint32_t k = 0; k < cr.count[tile]; ++k)
-        if ((sh.visibility[i] >> k) & 1u) out[i] |= 1ull << cr.indices[cr.offset[tile] + k];
+      const auto [first, last] = cr.pixelSlice(tile, zbin ? sh.ranges[i] : 0u);
+      for (uint32_t k = 0; k < last - first; ++k)
+        if ((sh.visibility[size_t(k / 32) * pixels + i] >> (k % 32)) & 1u) {
+          HB_ASSERT(cr.indices[first + k] < 64);
+          out[i] |= 1ull << cr.indices[first + k];
+        }
     }
   return out;
 }
@@ -379,6 +389,10 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     ci.capacity = cr.capacity;
     CullingAnalysis ca = analyzeCulling(ci, cr);
     j["culling"] = ca.json;
+    // What the GPU allocated for the lists (the statistics' memory_bytes is the thesis's formula).
+    j["culling"]["light_lists"] = toString(cr.lists);
+    j["culling"]["list_memory_bytes"] = renderer.listMemoryBytes();
+    if (cr.lists != LightLists::Tile) j["culling"]["memory_bytes"] = renderer.listMemoryBytes();
     write("lights_per_tile.png", ca.heatmap,
           {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
     char line[256];
@@ -400,6 +414,18 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
     const uint32_t lightCount = uint32_t(scene.lights.size());
     RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
+    if (cr.lists == LightLists::Zbin) {
+      CullingInputs zi;
+      zi.depth = &depth;
+      zi.lights = &scene.lights;
+      zi.view = renderer.view();
+      zi.proj = renderer.proj();
+      zi.width = w;
+      zi.height = h;
+      zi.tileSize = s.tileSize;
+      zi.capacity = cr.capacity;
+      j["culling"]["zbin_missed_pairs"] = zbinMissedPairs(zi, cr, sh.ranges);
+    }
     const Bvh bvh = buildBvh(scene);
     const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
     const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
@@ -410,10 +436,13 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     rays["oracle_pixels_without_true_normal"] = oracle.pixelsWithoutNormal;
     rays["efficiency"] = rayEfficiency(oracle.total, acc.traced);
     j["rays"] = rays;
-    write("rays.png", rayHeatmap(acc.perPixel, w, h, lightCount),
-          {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-3, cyan/green 4-7, yellow/red 8-10 "
-                           "of 10; red = the light count)"}});
-    write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, lightCount),
+    const uint32_t heatMax = rayHeatmapMax(cr.lists == LightLists::Tile, lightCount, acc.perPixel);
+    write("rays.png", rayHeatmap(acc.perPixel, w, h, heatMax),
+          {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-30 %, cyan/green 40-70 %, yellow/red "
+                           "80-100 % of " + std::to_string(heatMax) + " rays; red = " +
+                           (cr.lists == LightLists::Tile ? "the most a capped tile list can trace)"
+                                                         : "the most any pixel traced)")}});
+    write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, heatMax),
           {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
     if (reference && !reference->visible.empty() && reference->width == w && reference->height == h) {
       // (pixel, light) pairs whose visibility differs from the reference, among the pairs that

@@ -9,6 +9,7 @@
 #include "report/compare.h"
 #include "base/errors.h"
 #include "report/ao_table.h"
+#include "report/many_lights_table.h"
 #include "report/primary_table.h"
 #include "report/tables.h"
 
@@ -37,6 +38,7 @@ int cmdTables(const std::string& resultsPath, const std::string& format) {
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
     if (const std::string ao = aoTableMarkdown(results); !ao.empty()) std::cout << "\n" << ao;
     if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) std::cout << "\n" << ind;
+    if (const std::string many = manyLightsTableMarkdown(results); !many.empty()) std::cout << "\n" << many;
     std::cout << "\n" << accuracyReportMarkdown(results);
   }
   return kExitOk;

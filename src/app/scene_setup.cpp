@@ -54,8 +54,8 @@ EffectsRequest effectsRequestFor(const Config& config) {
 RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& effects) {
   if (p.maxLightsPerTile != gpu::kMaxLightsPerTile)
     throw InputError("max_lights_per_tile=" + std::to_string(p.maxLightsPerTile) +
-                     ": only 32 (one 32-bit visibility mask per texel) is implemented; overflowing tiles are "
-                     "counted and reported instead of truncated silently");
+                     ": the thesis's tile lists hold 32 (one 32-bit visibility word per pixel); for more lights "
+                     "a tile without a cap set light_lists=bitmask or light_lists=zbin");
   RenderSettings s;
   s.width = p.resolution[0];
   s.height = p.resolution[1];
@@ -74,6 +74,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
                                                       : gpu::kWorldPosHit;
   s.rangeTest = p.rangeTest;
   s.depthSlices = p.depthSlices;
+  s.lightLists = lightListsFrom(p.lightLists);
   s.scaledTMin = p.tMin == ShadowTMin::Scaled;
   s.primary = toString(p.primary);
   s.r3dThreadBox = p.r3dThreadBox;

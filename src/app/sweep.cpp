@@ -22,6 +22,7 @@
 #include "shared/gpu_types.h"
 #include "report/stats.h"
 #include "report/ao_table.h"
+#include "report/many_lights_table.h"
 #include "report/primary_table.h"
 #include "report/tables.h"
 #include "base/version.h"
@@ -282,6 +283,7 @@ static void writeOutputs(const std::string& dir, const json& results) {
     if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) tables += "\n" + primary;
     if (const std::string ao = aoTableMarkdown(results); !ao.empty()) tables += "\n" + ao;
     if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) tables += "\n" + ind;
+    if (const std::string many = manyLightsTableMarkdown(results); !many.empty()) tables += "\n" + many;
     writeFileAtomic((fs::path(dir) / "tables.md").string(), tables);
   }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));

@@ -144,6 +144,8 @@ struct VariantParams {
   std::optional<CameraProjection> projection;
   ShadingMethod shading = ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
+  // tile (the thesis's capped lists) | bitmask | zbin (frame/passes/light_culling.h): no cap.
+  std::string lightLists = "tile";
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.
   std::optional<uint32_t> lightCount;

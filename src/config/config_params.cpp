@@ -65,7 +65,7 @@ namespace config_reader {
 const std::vector<std::string_view>& paramKeys() {
   static const std::vector<std::string_view> keys = {
       "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_count", "triangle_scale", "effects"};
+      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_lists", "light_count", "triangle_scale", "effects"};
   return keys;
 }
 
@@ -108,6 +108,9 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
     if (n % 32 != 0) where.fail(std::to_string(n) + " is not a multiple of 32");
     p.maxLightsPerTile = uint32_t(n);
+  } else if (key == "light_lists") {
+    static const char* const kLists[] = {"tile", "bitmask", "zbin"};
+    p.lightLists = kLists[readChoice(v, where, {"tile", "bitmask", "zbin"})];
   } else if (key == "light_count") {
     p.lightCount = uint32_t(readInt(v, where, 0, kMaxLightCount));
   } else if (key == "triangle_scale") {
@@ -152,6 +155,7 @@ nlohmann::json toJson(const VariantParams& p) {
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
+  j["light_lists"] = p.lightLists;
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;
   if (!p.effects.is_null()) j["effects"] = p.effects;
@@ -165,7 +169,7 @@ void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) 
     where.fail(
         "expected key=value, e.g. --set tile_size=16 (keys: tile_size, light_culling, aabb, "
         "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, primary, projection, "
-        "r3d_thread_box, shading, max_lights_per_tile, light_count, triangle_scale, effects)");
+        "r3d_thread_box, shading, max_lights_per_tile, light_lists, light_count, triangle_scale, effects)");
   std::string key = keyEqualsValue.substr(0, eq);
   std::string text = keyEqualsValue.substr(eq + 1);
 

@@ -1,6 +1,7 @@
 #include "frame/renderer.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -12,6 +13,13 @@
 #include "gpu/gpu_lights.h"
 
 namespace hb {
+
+template <typename T>
+static std::vector<T> bytesAs(const std::vector<uint8_t>& bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
 
 static std::string primaryPassName(const std::string& primary) {
   if (primary == "hardware") return "depth_prepass";
@@ -140,8 +148,25 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     cs.lightCulling = settings.lightCulling;
     cs.aabb = settings.aabb;
     cs.depthSlices = settings.depthSlices;
+    cs.lists = settings.lightLists;
+    cs.lightCount = lightCount;
+    if (settings.lightLists == LightLists::Zbin) {
+      // The bins span the near plane to the farthest corner of the scene's bounds in view depth.
+      glm::vec3 lo, hi;
+      scene.bounds(lo, hi);
+      float far = 0.0f;
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+        far = std::max(far, -(view_ * glm::vec4(corner, 1.0f)).z);
+      }
+      cs.zbinNear = camera_.znear;
+      cs.zbinFar = std::max(far, 2.0f * camera_.znear);
+    }
     culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
                                               depth_, pointSampler_);
+    fc.lists = culling_->listConstants();
+    fc.zbins = culling_->zbinConstants();
+    std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
   }
   if (plan_.hasPass("shadows")) {
     HB_ASSERT(culling_ && accel_);
@@ -158,8 +183,10 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     ss.normals = settings.normals;
     ss.worldPos = settings.worldPos;
     ss.rangeTest = settings.rangeTest;
+    ss.listMode = fc.lists.x;
+    ss.visibilityWords = fc.lists.z;
     CullingOutputs co = culling_->outputs();
-    shadowInputs_ = {&frameConstants_, &lights_, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
+    shadowInputs_ = {&frameConstants_, co.lights, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
     if (raster3d_) {
       shadowInputs_.hitIds = &raster3d_->visibility();
       shadowInputs_.hitRays = &raster3d_->constants();
@@ -206,9 +233,9 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     indirect_ = std::make_unique<IndirectPass>(ctx, gpuScene_, scene, is, settings.width, settings.height, ii);
   }
   CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
-  ShadingInputs shadingIn{&frameConstants_, &lights_, cullOut.grid, cullOut.indices,
-                   shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
-                          pointSampler_, raster3d_ ? &raster3d_->visibility() : nullptr,
+  ShadingInputs shadingIn{&frameConstants_, cullOut.lights ? cullOut.lights : &lights_, cullOut.grid,
+                          cullOut.indices, shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
+                          culling_ ? fc.lists.x : gpu::kListTile, raster3d_ ? &raster3d_->visibility() : nullptr,
                           settings.r3dShadingDepthTest, settings.visbufferShading,
                           raster3d_ ? &raster3d_->constants() : nullptr, ao_ ? &ao_->output() : nullptr,
                           indirect_ ? &indirect_->irradiance() : nullptr};
@@ -347,22 +374,61 @@ CullingReadback Renderer::readCulling() const {
   HB_ASSERT(culling_);
   CullingOutputs o = culling_->outputs();
   CullingReadback r;
+  r.lists = culling_->settings().lists;
   r.tilesX = o.tilesX;
   r.tilesY = o.tilesY;
-  r.capacity = culling_->settings().capacity;
-  std::vector<uint8_t> grid = readbackBuffer(ctx_, *o.grid);
-  std::vector<uint8_t> idx = readbackBuffer(ctx_, *o.indices);
   const size_t tiles = size_t(o.tilesX) * o.tilesY;
-  std::vector<gpu::LightGridEntry> entries(tiles);
-  std::memcpy(entries.data(), grid.data(), tiles * sizeof(gpu::LightGridEntry));
-  for (const auto& e : entries) {
-    r.offset.push_back(e.offset);
-    r.count.push_back(e.count);
-    r.total.push_back(e.total);
+  const std::vector<uint32_t> grid = bytesAs<uint32_t>(readbackBuffer(ctx_, *o.grid));
+  const std::vector<uint32_t> words = bytesAs<uint32_t>(readbackBuffer(ctx_, *o.indices));
+  HB_ASSERT(grid.size() >= tiles * 4);
+  if (r.lists == LightLists::Tile) {
+    r.capacity = culling_->settings().capacity;
+    for (size_t t = 0; t < tiles; ++t) {
+      r.offset.push_back(grid[4 * t]);
+      r.count.push_back(grid[4 * t + 1]);
+      r.total.push_back(grid[4 * t + 2]);
+    }
+    r.indices = words;
+    return r;
   }
-  r.indices.resize(idx.size() / 4);
-  std::memcpy(r.indices.data(), idx.data(), idx.size());
+  // Masks: every set bit, ascending, as a scene light index (zbin: through the sort's order).
+  const uint32_t lightCount = uint32_t(scene_.lights.size()), maskWords = culling_->maskWords();
+  r.capacity = lightCount;
+  if (r.lists == LightLists::Zbin) {
+    r.order = bytesAs<uint32_t>(readbackBuffer(ctx_, culling_->order()));
+    r.order.resize(lightCount);
+    const size_t binsAt = tiles * maskWords;
+    HB_ASSERT(words.size() >= binsAt + gpu::kZBins);
+    r.bins.assign(words.begin() + binsAt, words.begin() + binsAt + gpu::kZBins);
+  }
+  for (size_t t = 0; t < tiles; ++t) {
+    HB_ASSERT(grid[4 * t] == t * maskWords);
+    r.offset.push_back(uint32_t(r.indices.size()));
+    for (uint32_t w = 0; w < maskWords; ++w)
+      for (uint32_t bits = words[t * maskWords + w]; bits != 0; bits &= bits - 1) {
+        const uint32_t k = w * 32 + uint32_t(std::countr_zero(bits));
+        if (r.lists == LightLists::Zbin) {
+          r.sorted.push_back(k);
+          r.indices.push_back(k < r.order.size() ? r.order[k] : ~0u);
+        } else {
+          r.indices.push_back(k);
+        }
+      }
+    r.count.push_back(uint32_t(r.indices.size()) - r.offset.back());
+    r.total.push_back(grid[4 * t + 2]);
+  }
   return r;
+}
+
+std::pair<uint32_t, uint32_t> CullingReadback::pixelSlice(uint32_t tile, uint32_t range) const {
+  const uint32_t first = offset[tile], last = offset[tile] + count[tile];
+  if (lists != LightLists::Zbin) return {first, last};
+  // The tile's sorted indices ascend: the range [lo, hi) is one contiguous run of them.
+  const uint32_t lo = range & 0xFFFFu, hi = range >> 16;
+  const auto b = sorted.begin();
+  const uint32_t from = uint32_t(std::lower_bound(b + first, b + last, lo) - b);
+  const uint32_t to = uint32_t(std::lower_bound(b + first, b + last, std::max(lo, hi)) - b);
+  return {from, to};
 }
 
 template <typename T>
@@ -395,8 +461,14 @@ std::vector<float> Renderer::readRefNormals() const {
 ShadowReadback Renderer::readShadows() const {
   HB_ASSERT(shadows_);
   ShadowReadback r;
-  r.visibility = readImageAs<uint32_t>(ctx_, shadows_->visibility(), 4);
-  r.accounting = readImageAs<uint32_t>(ctx_, shadows_->accounting(), 4);
+  const size_t pixels = size_t(settings_.width) * settings_.height;
+  r.words = shadows_->settings().visibilityWords;
+  r.visibility = bytesAs<uint32_t>(readbackBuffer(ctx_, shadows_->visibility()));
+  HB_ASSERT(r.visibility.size() >= r.words * pixels);
+  if (shadows_->settings().listMode == gpu::kListZbin)
+    r.ranges.assign(r.visibility.begin() + r.words * pixels, r.visibility.begin() + (r.words + 1) * pixels);
+  r.visibility.resize(r.words * pixels);
+  r.accounting = readImageAs<uint32_t>(ctx_, shadows_->accounting(), 16);
   r.normals = readImageAs<float>(ctx_, shadows_->normals(), 16);
   r.positions = readImageAs<float>(ctx_, shadows_->positions(), 16);
   return r;

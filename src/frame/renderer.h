@@ -41,6 +41,7 @@ struct RenderSettings {
   uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
   bool rangeTest = false;
   uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
+  LightLists lightLists = LightLists::Tile;  // tile (capped at 32, the thesis) | bitmask | zbin
   bool scaledTMin = false;            // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
   std::string primary = "hardware";    // hardware (depth prepass) | 3dr | 3dr-binned | 2dr | raycast
   bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents
@@ -51,8 +52,13 @@ struct RenderSettings {
 
 // Readbacks of the shadow pass (analysis frames).
 struct ShadowReadback {
-  std::vector<uint32_t> visibility;  // per pixel bitmask over the tile's light list
-  std::vector<uint32_t> accounting;  // packed per-pixel counts (gpu_types.h kAccount*)
+  uint32_t words = 1;                // visibility words per pixel
+  // words × pixels, word-major (word j of pixel i at j·pixels + i): bit k of word j = the
+  // (32j + k)-th light of the pixel's list walk (CullingReadback::pixelLights) is visible. Words past
+  // the walk's last are left as the GPU found them.
+  std::vector<uint32_t> visibility;
+  std::vector<uint32_t> ranges;      // zbin: per pixel its bin range lo | hi << 16 (sorted lights); else empty
+  std::vector<uint32_t> accounting;  // per pixel 4 words (gpu_types.h kAccount*)
   std::vector<float> normals;        // xyzw per pixel (w unused; zero = none)
   std::vector<float> positions;      // xyzw per pixel (w = 1 where not sky)
 };
@@ -62,10 +68,22 @@ struct FrameTiming {
   std::vector<std::pair<std::string, double>> passMs;  // in frame order
 };
 
+// The light lists as scene light indices, whatever form the GPU kept them in.
 struct CullingReadback {
-  uint32_t tilesX = 0, tilesY = 0, capacity = 0;
-  std::vector<uint32_t> offset, count, total;  // per tile
-  std::vector<uint32_t> indices;               // tiles × capacity
+  LightLists lists = LightLists::Tile;
+  uint32_t tilesX = 0, tilesY = 0;
+  uint32_t capacity = 0;  // tile: lights stored per tile (32); masks: the scene's light count (no cap)
+  // Per tile: its lights at indices[offset, offset + count) in the order the pixels walk them
+  // (tile, bitmask: ascending scene index; zbin: ascending sorted index); total = lights that
+  // touched the tile (> count: the tile overflowed, tile lists only).
+  std::vector<uint32_t> offset, count, total;
+  std::vector<uint32_t> indices;
+  std::vector<uint32_t> sorted;  // zbin: per entry of indices, its sorted index (ascending in a tile)
+  std::vector<uint32_t> order;   // zbin: sorted index -> scene light index
+  std::vector<uint32_t> bins;    // zbin: kZBins ranges lo | hi << 16 over sorted indices
+  // The slice [first, last) of indices a pixel of `tile` walks; range: the pixel's z-bin range
+  // (ShadowReadback::ranges; ignored unless zbin).
+  std::pair<uint32_t, uint32_t> pixelSlice(uint32_t tile, uint32_t range) const;
 };
 
 class Renderer {
@@ -85,6 +103,7 @@ class Renderer {
   const std::vector<std::string>& passesRun() const { return passesRun_; }
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
   bool hasCulling() const { return bool(culling_); }
+  uint64_t listMemoryBytes() const { return culling_ ? culling_->memoryBytes() : 0; }  // grid, lists, bins
   bool hasShadows() const { return bool(shadows_); }
   const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr only
   const AccelerationStructures* accel() const { return accel_.get(); }

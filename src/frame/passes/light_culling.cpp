@@ -1,11 +1,34 @@
 #include "frame/passes/light_culling.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "base/errors.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
 
+const char* toString(LightLists l) {
+  return l == LightLists::Tile ? "tile" : l == LightLists::Bitmask ? "bitmask" : "zbin";
+}
+
+LightLists lightListsFrom(const std::string& name) {
+  if (name == "tile") return LightLists::Tile;
+  if (name == "bitmask") return LightLists::Bitmask;
+  if (name == "zbin") return LightLists::Zbin;
+  throw InputError("light_lists \"" + name + "\" is not one of tile, bitmask, zbin");
+}
+
 namespace {
+uint32_t listModeOf(LightLists l) {
+  return l == LightLists::Tile ? gpu::kListTile : l == LightLists::Bitmask ? gpu::kListBitmask : gpu::kListZbin;
+}
+
+VkDeviceSize listWords(const CullingSettings& s, uint32_t tiles, uint32_t maskWords) {
+  if (s.lists == LightLists::Tile) return VkDeviceSize(tiles) * s.capacity;
+  return VkDeviceSize(tiles) * maskWords + (s.lists == LightLists::Zbin ? gpu::kZBins : 0);
+}
+
 std::vector<Binding> cullingBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
   return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
@@ -13,7 +36,10 @@ std::vector<Binding> cullingBindings() {
           {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs}};
+          {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
 }
 }  // namespace
 
@@ -24,18 +50,35 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
       settings_(settings),
       tilesX_((width + settings.tileSize - 1) / settings.tileSize),
       tilesY_((height + settings.tileSize - 1) / settings.tileSize),
+      maskWords_(std::max<uint32_t>(1, (settings.lightCount + 31) / 32)),
+      lights_(lights),
       frustums_(ctx, VkDeviceSize(tilesX_) * tilesY_ * sizeof(gpu::TileFrustum), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                 false, MemClass::Culling),
       grid_(ctx, VkDeviceSize(tilesX_) * tilesY_ * sizeof(gpu::LightGridEntry),
             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
-      indices_(ctx, VkDeviceSize(tilesX_) * tilesY_ * settings.capacity * sizeof(uint32_t),
+      indices_(ctx, listWords(settings, tilesX_ * tilesY_, maskWords_) * sizeof(uint32_t),
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
+      // zbin only; one element otherwise (never read).
+      sortedLights_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(gpu::GpuLight),
+                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
+      order_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(uint32_t),
+             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
+      extents_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * 8,
+               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       sets_(ctx, cullingBindings()),
       frustumPipeline_(ctx),
-      cullPipeline_(ctx) {
+      cullPipeline_(ctx),
+      sortPipeline_(ctx),
+      binPipeline_(ctx) {
   if (settings.tileSize != 8 && settings.tileSize != 16 && settings.tileSize != 32)
     throw InputError("tile_size " + std::to_string(settings.tileSize) + " is not one of 8, 16, 32");
   HB_ASSERT(settings.capacity == gpu::kMaxLightsPerTile);
+  if (settings.lightCount > gpu::kMaxLights)
+    throw InputError(std::to_string(settings.lightCount) + " lights: light culling handles at most " +
+                     std::to_string(gpu::kMaxLights) + "; lower light_count");
+  if (settings.lists == LightLists::Zbin && !(settings.zbinNear > 0.0f && settings.zbinFar > settings.zbinNear))
+    throw InputError("light_lists=zbin: the bins need 0 < near < far (got " + std::to_string(settings.zbinNear) +
+                     ", " + std::to_string(settings.zbinFar) + ")");
   if (settings.depthSlices == 1 || settings.depthSlices > 32)
     throw InputError("depth_slices " + std::to_string(settings.depthSlices) + " is not 0 (off) or 2..32");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
@@ -45,13 +88,40 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   sets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, indices_.handle());
   sets_.writeImage(0, 5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth.view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, sampler);
+  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sortedLights_.handle());
+  sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
+  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
   frustumPipeline_.createLayout({sets_.layout()}, 4);
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);
   // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test,
-  // 3 depth slices.
+  // 3 depth slices, 4 list form.
   cullPipeline_.createCompute("light_cull.comp", {{settings.tileSize, settings.lightCulling ? 1u : 0u,
-                                                   settings.aabb ? 1u : 0u, settings.depthSlices}});
+                                                   settings.aabb ? 1u : 0u, settings.depthSlices,
+                                                   listModeOf(settings.lists)}});
+  if (settings.lists == LightLists::Zbin) {
+    sortPipeline_.createLayout({sets_.layout()}, 4);
+    sortPipeline_.createCompute("zbin_sort.comp");
+    binPipeline_.createLayout({sets_.layout()}, 4);
+    binPipeline_.createCompute("zbin_bins.comp");
+  }
+}
+
+uint64_t LightCulling::memoryBytes() const {
+  uint64_t bytes = grid_.size() + indices_.size();
+  if (settings_.lists == LightLists::Zbin) bytes += sortedLights_.size() + order_.size() + extents_.size();
+  return bytes;
+}
+
+glm::uvec4 LightCulling::listConstants() const {
+  const uint32_t words = settings_.lists == LightLists::Tile ? 0u : maskWords_;
+  return {listModeOf(settings_.lists), words, settings_.lists == LightLists::Tile ? 1u : maskWords_,
+          tilesX_ * tilesY_ * words};
+}
+
+glm::vec4 LightCulling::zbinConstants() const {
+  if (settings_.lists != LightLists::Zbin) return glm::vec4(1.0f, 1.0f, 0.0f, 0.0f);
+  return {settings_.zbinNear, float(gpu::kZBins) / std::log2(settings_.zbinFar / settings_.zbinNear), 0.0f, 0.0f};
 }
 
 LightCulling::~LightCulling() = default;
@@ -69,6 +139,19 @@ void LightCulling::recordFrustums(VkCommandBuffer cmd) const {
 
 void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const {
   VkDescriptorSet set = sets_.set();
+  if (settings_.lists == LightLists::Zbin) {
+    // Sort (ranks), then the bins and the tile masks over the sorted lights, which read it.
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sortPipeline_.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sortPipeline_.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, sortPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
+    vkCmdDispatch(cmd, std::max<uint32_t>(1, (lightCount + 255) / 256), 1, 1);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binPipeline_.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binPipeline_.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, binPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
+    vkCmdDispatch(cmd, gpu::kZBins / 256, 1, 1);
+  }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.layout(), 0, 1, &set, 0, nullptr);
   vkCmdPushConstants(cmd, cullPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);

@@ -1,13 +1,28 @@
 // Passes 2 and 3 (thesis 4.2): tile frustums (compute, once per camera/resolution/tile size) and
 // light culling (compute, every frame, one workgroup per tile, gather approach). Outputs the light
-// grid (offset, count, total per tile) and the light index list (fixed stride = capacity per
-// tile). Tile size, the AABB test and culling on/off are specialization constants: no dynamic
-// branching on them.
+// grid (offset, count, total per tile) and the tile lists, in one of three forms (light_lists):
+//   tile:    the thesis's index list, fixed stride = capacity (32) per tile, capped;
+//   bitmask: ceil(lights/32) mask words per tile, one bit per scene light, no cap (offset = the
+//            tile's first word, count = total);
+//   zbin:    the same masks over the lights sorted by view depth (Drobot 2017), followed in the list
+//            buffer by kZBins log-depth bins, each the [first, last] sorted light that can reach it.
+//            Sorting and binning run first in the same timed pass; later passes read the sorted
+//            lights (lightsForLists) and map back through order().
+// Tile size, the AABB test, culling on/off and the list form are specialization constants: no
+// dynamic branching on them.
 #pragma once
 #include "gpu/vk_pipeline.h"
+#include <string>
+
+#include <glm/glm.hpp>
+
 #include "gpu/vk_resources.h"
 
 namespace hb {
+
+enum class LightLists { Tile, Bitmask, Zbin };
+const char* toString(LightLists);
+LightLists lightListsFrom(const std::string& name);  // InputError unless tile, bitmask, zbin
 
 struct CullingSettings {
   uint32_t tileSize = 16;    // 8, 16 or 32
@@ -15,12 +30,16 @@ struct CullingSettings {
   bool aabb = false;         // Turanzkij's AABB test on top of the plane test
   uint32_t capacity = 32;    // lights stored per tile (one 32-bit visibility mask)
   uint32_t depthSlices = 0;  // 0 off, 2..32: Harada's 2.5D slab test after the plane/AABB tests
+  LightLists lists = LightLists::Tile;
+  uint32_t lightCount = 0;   // sizes the masks (at most gpu::kMaxLights)
+  float zbinNear = 0.1f, zbinFar = 100.0f;  // zbin: view distances the bins span (log-spaced)
 };
 
 // Buffers every later pass reads.
 struct CullingOutputs {
   const Buffer* grid = nullptr;     // LightGridEntry per tile
-  const Buffer* indices = nullptr;  // uint per (tile, slot)
+  const Buffer* indices = nullptr;  // tile: uint per (tile, slot); masks: words per tile (+ z-bins)
+  const Buffer* lights = nullptr;   // the lights the lists index (zbin: sorted by view depth)
   uint32_t tilesX = 0, tilesY = 0;
 };
 
@@ -37,17 +56,26 @@ class LightCulling {
   // Culls every frame. Depth must be readable by compute shaders.
   void recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const;
 
-  CullingOutputs outputs() const { return {&grid_, &indices_, tilesX_, tilesY_}; }
-  uint64_t memoryBytes() const { return grid_.size() + indices_.size(); }
+  CullingOutputs outputs() const {
+    return {&grid_, &indices_, settings_.lists == LightLists::Zbin ? &sortedLights_ : &lights_, tilesX_, tilesY_};
+  }
+  // The list memory: grid, lists (and for zbin the bins, sorted lights, order and extents).
+  uint64_t memoryBytes() const;
   const CullingSettings& settings() const { return settings_; }
+  // FrameConstants.lists and .zbins for these lists (gpu_types.h).
+  glm::uvec4 listConstants() const;
+  glm::vec4 zbinConstants() const;
+  uint32_t maskWords() const { return maskWords_; }  // bitmask, zbin: words per tile
+  const Buffer& order() const { return order_; }     // zbin: sorted index -> scene light index
 
  private:
   const VulkanContext& ctx_;
   CullingSettings settings_;
-  uint32_t tilesX_, tilesY_;
-  Buffer frustums_, grid_, indices_;
+  uint32_t tilesX_, tilesY_, maskWords_;
+  const Buffer& lights_;
+  Buffer frustums_, grid_, indices_, sortedLights_, order_, extents_;
   DescriptorSets sets_;
-  Pipeline frustumPipeline_, cullPipeline_;
+  Pipeline frustumPipeline_, cullPipeline_, sortPipeline_, binPipeline_;
 };
 
 }  // namespace hb

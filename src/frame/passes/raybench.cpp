@@ -19,9 +19,10 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
                                           {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
                                           {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
                                           {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
                                           {6, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
-                                          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st}};
+                                          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
             }()),
       compute_(ctx) {
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -29,14 +30,16 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
   sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
   sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeImage(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.traced().view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
   sets_.writeAccelerationStructure(0, 6, in.tlas);
   sets_.writeImage(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
+  const SpecConstants spec{{shadows.settings().listMode}};
   if (backend == ShadowBackend::RayQuery) {
     compute_.createLayout({sets_.layout()}, 0);
-    compute_.createCompute("raybench_rayquery.comp");
+    compute_.createCompute("raybench_rayquery.comp", spec);
   } else {
-    rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", SpecConstants{});
+    rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
   }
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     imageBarrier(cmd, result_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,

@@ -19,7 +19,7 @@ std::vector<Binding> shadingBindings() {
           {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs},
+          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
@@ -46,9 +46,8 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                       (in.visbuffer ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
                   VK_IMAGE_ASPECT_COLOR_BIT),
-      dummyVisibility_(ctx, 1, 1, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT,
-                       VK_IMAGE_ASPECT_COLOR_BIT),
       dummyIndirect_(ctx, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      dummyVisibility_(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
       sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
       layout_(ctx) {
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -56,9 +55,7 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
   sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.indices ? in.indices : in.lights)->handle());
-  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-                   (in.visibility ? in.visibility : &dummyVisibility_)->view(), VK_IMAGE_LAYOUT_GENERAL,
-                   in.pointSampler);
+  sets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.visibility ? in.visibility : &dummyVisibility_)->handle());
   sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
   sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
   sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
@@ -90,8 +87,6 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
       imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                    VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    imageBarrier(cmd, dummyVisibility_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE,
-                 0, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT);
     imageBarrier(cmd, dummyIndirect_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
                  VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
@@ -106,7 +101,7 @@ ShadingPass::~ShadingPass() {
 VkPipeline ShadingPass::createPipeline(bool analysis) {
   ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
-                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u}};
+                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -144,7 +139,7 @@ std::vector<Binding> visbufferBindings() {
                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
                             {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs}};
+                            {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
   for (uint32_t i = 5; i <= 8; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
   b.push_back({9, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs});
   b.push_back({10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
@@ -172,8 +167,7 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   v.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
   v.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
   v.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.indices ? in_.indices : in_.lights)->handle());
-  v.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-               (in_.visibility ? in_.visibility : &dummyVisibility_)->view(), VK_IMAGE_LAYOUT_GENERAL, in_.pointSampler);
+  v.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
   v.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
   v.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
   v.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
@@ -195,7 +189,8 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
     p->createLayout({v.layout()}, 0);
     p->createCompute("shading_visbuffer.comp",
-                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u}});
+                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u,
+                       in_.listMode}});
   }
 }
 

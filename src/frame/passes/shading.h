@@ -16,10 +16,10 @@ struct ShadingInputs {
   const Buffer* lights;
   const Buffer* grid;        // nullptr: no culling pass ran (every pixel loops over every light)
   const Buffer* indices;     // nullptr with grid
-  const Image* visibility;   // nullptr: no shadow pass (every light visible); else GENERAL layout
+  const Buffer* visibility;  // nullptr: no shadow pass (every light visible); ShadowPass::visibility()
   const Image* depth;        // DEPTH_READ_ONLY_OPTIMAL
   uint32_t tileSize;
-  VkSampler pointSampler;    // nearest, for the integer visibility mask
+  uint32_t listMode;         // gpu::kList*: how grid and indices hold the tile lists
   // 3D rasterization's visibility buffer (uint64 per pixel: t bits << 32 | triangle id), or
   // nullptr after the hardware prepass. Given: no depth test; a fragment is shaded only where its
   // triangle is the pixel's (the depths of two rasterizers differ in their last bits, so EQUAL
@@ -61,7 +61,8 @@ class ShadingPass {
   ShadingInputs in_;
   uint32_t width_, height_;
   GpuTextures textures_;
-  Image color_, refNormals_, dummyVisibility_, dummyIndirect_;
+  Image color_, refNormals_, dummyIndirect_;
+  Buffer dummyVisibility_;
   DescriptorSets sets_;
   Pipeline layout_;
   VkPipeline timed_ = VK_NULL_HANDLE, analysis_ = VK_NULL_HANDLE;

@@ -12,6 +12,23 @@ const char* toString(ShadowBackend b) { return b == ShadowBackend::RayQuery ? "r
 
 namespace {
 
+// Visibility (or traced-ray) words: settings.visibilityWords per pixel, plus the z-bin range plane.
+// One storage binding, so the device's maxStorageBufferRange bounds it; refused with what to lower.
+VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, uint32_t width, uint32_t height,
+                             const char* what) {
+  const VkDeviceSize words = VkDeviceSize(s.visibilityWords) + (s.listMode == gpu::kListZbin ? 1 : 0);
+  const VkDeviceSize bytes = words * width * height * sizeof(uint32_t);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(ctx.physical(), &props);
+  if (bytes > props.limits.maxStorageBufferRange)
+    throw InputError("the shadow pass's " + std::string(what) + " words (" + std::to_string(words) + " a pixel at " +
+                     std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(bytes >> 20) +
+                     " MiB) exceed device \"" + ctx.info().name + "\"'s storage buffer range of " +
+                     std::to_string(props.limits.maxStorageBufferRange >> 20) +
+                     " MiB; lower the resolution or light_count");
+  return bytes;
+}
+
 
 std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
   return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
@@ -20,11 +37,11 @@ std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
           {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
           {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
           {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
           {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
@@ -42,7 +59,7 @@ struct ShadowPass::Variant {
   std::unique_ptr<RaygenMissPipeline> rtProgram;  // pipeline backend
 
   Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
-    SpecConstants spec{{s.tileSize, s.normals, s.worldPos, s.rangeTest ? 1u : 0u, analysis ? 1u : 0u}};
+    SpecConstants spec{{s.tileSize, s.normals, s.worldPos, s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
     if (s.backend == ShadowBackend::RayQuery) {
       compute.createLayout({layout}, 0);
       compute.createCompute("shadows_rayquery.comp", spec);
@@ -59,17 +76,16 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
       settings_(settings),
       width_(width),
       height_(height),
-      visibility_(ctx, width, height, VK_FORMAT_R32_UINT,
-                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                  VK_IMAGE_ASPECT_COLOR_BIT),
-      accounting_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                  VK_IMAGE_ASPECT_COLOR_BIT),
+      visibility_(ctx, visibilityBytes(ctx, settings, width, height, "visibility"),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Images),
+      traced_(ctx, visibilityBytes(ctx, settings, width, height, "traced-ray"),
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Images),
+      accounting_(ctx, width, height, VK_FORMAT_R32G32B32A32_UINT,
+                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       normals_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
-      traced_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-              VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx, shadowBindings(stagesFor(settings.backend))) {
   if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
     throw InputError("backend=rayquery: device \"" + ctx.info().name +
@@ -93,9 +109,11 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
   sets_.writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.hitTriangles ? in.hitTriangles : in.lights)->handle());
-  const Image* images[5] = {&visibility_, &accounting_, &normals_, &positions_, &traced_};
-  for (uint32_t i = 0; i < 5; ++i)
-    sets_.writeImage(0, 6 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
+  sets_.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
+  const Image* images[3] = {&accounting_, &normals_, &positions_};
+  for (uint32_t i = 0; i < 3; ++i)
+    sets_.writeImage(0, 7 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
   analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {

@@ -1,7 +1,8 @@
 // Pass 4 (thesis 4.3): ray-traced hard shadows with two backends of one meaning —
 // `rayquery` (compute shader, tile depth in group shared memory, VK_KHR_ray_query) and `pipeline`
-// (ray generation + miss shader, VK_KHR_ray_tracing_pipeline). Writes the r32ui visibility mask
-// (bit i = light i of the pixel's tile is visible). Analysis frames use a second pipeline that
+// (ray generation + miss shader, VK_KHR_ray_tracing_pipeline). Writes the visibility words
+// (shadows_common.glsl.inc: bit k = the k-th light of the pixel's list walk is visible; as many
+// words per pixel as the lists need, so any number of lights). Analysis frames use a second pipeline that
 // also writes the per-pixel ray accounting, the reconstructed normals and the world positions;
 // timed frames carry none of it (specialization constants, not branches).
 #pragma once
@@ -21,6 +22,8 @@ struct ShadowSettings {
   uint32_t normals = 0;   // gpu::kNormalsOff / Naive / Improved / Geometric (needs hit ids)
   uint32_t worldPos = 0;  // gpu::kWorldPosAlg41 / Matrix / Hit (needs hit ids)
   bool rangeTest = false;
+  uint32_t listMode = 0;       // gpu::kList*
+  uint32_t visibilityWords = 1;  // per pixel: 1 for tile lists, ceil(lights/32) for the masks
 };
 
 // Inputs shared with the other passes.
@@ -49,11 +52,12 @@ class ShadowPass {
   // Images are in GENERAL layout after construction.
   void record(VkCommandBuffer cmd, bool analysis) const;
 
-  const Image& visibility() const { return visibility_; }
-  const Image& accounting() const { return accounting_; }
+  // Word-major: word j of pixel i at j·pixels + i; zbin: then a plane of pixel bin ranges.
+  const Buffer& visibility() const { return visibility_; }
+  const Image& accounting() const { return accounting_; }  // rgba32ui (gpu_types.h kAccount*)
   const Image& normals() const { return normals_; }
   const Image& positions() const { return positions_; }
-  const Image& traced() const { return traced_; }  // analysis: bit i = the ray to tile light i was traced
+  const Buffer& traced() const { return traced_; }  // analysis: as visibility, bit k = the ray was traced
   const ShadowSettings& settings() const { return settings_; }
 
  private:
@@ -61,7 +65,8 @@ class ShadowPass {
   const VulkanContext& ctx_;
   ShadowSettings settings_;
   uint32_t width_, height_;
-  Image visibility_, accounting_, normals_, positions_, traced_;
+  Buffer visibility_, traced_;
+  Image accounting_, normals_, positions_;
   DescriptorSets sets_;
   std::unique_ptr<Variant> timed_, analysis_;
 };
