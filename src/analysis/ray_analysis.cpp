@@ -36,6 +36,28 @@ PixelAccount unpackAccount(const uint32_t* t) {
           t[1] >> 16,             t[2] & gpu::kAccountMask, t[2] >> 16};
 }
 
+void RayAccounting::addCounts(const RayAccounting& o) {
+  candidates += o.candidates;
+  culledByTile += o.culledByTile;
+  droppedByOverflow += o.droppedByOverflow;
+  culledByZbin += o.culledByZbin;
+  culledByRange += o.culledByRange;
+  culledByNormal += o.culledByNormal;
+  atLight += o.atLight;
+  noShadow += o.noShadow;
+  traced += o.traced;
+  walkMismatches += o.walkMismatches;
+}
+
+void ShadowComparison::addCounts(const ShadowComparison& o) {
+  pairs += o.pairs;
+  rays += o.rays;
+  mismatches += o.mismatches;
+  nearTie += o.nearTie;
+  endpoint += o.endpoint;
+  grazing += o.grazing;
+}
+
 uint64_t RayAccounting::bucketSum() const {
   return culledByTile + droppedByOverflow + culledByZbin + culledByRange + culledByNormal + atLight + noShadow + traced;
 }
@@ -76,18 +98,7 @@ RayAccounting accountRays(const ShadowReadback& shadows, const CullingReadback& 
       r.perPixel[i] = a.traced;
     }
   });
-  for (const RayAccounting& row : rows) {
-    r.candidates += row.candidates;
-    r.culledByTile += row.culledByTile;
-    r.droppedByOverflow += row.droppedByOverflow;
-    r.culledByZbin += row.culledByZbin;
-    r.culledByRange += row.culledByRange;
-    r.culledByNormal += row.culledByNormal;
-    r.atLight += row.atLight;
-    r.noShadow += row.noShadow;
-    r.traced += row.traced;
-    r.walkMismatches += row.walkMismatches;
-  }
+  for (const RayAccounting& row : rows) r.addCounts(row);
   uint32_t most = 0;
   for (size_t i = 0; i < pixels; ++i)
     if (!isSky(depth[i])) most = std::max(most, r.perPixel[i]);
@@ -445,14 +456,7 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
       }
     }
   });
-  for (const ShadowComparison& row : rows) {
-    c.pairs += row.pairs;
-    c.rays += row.rays;
-    c.mismatches += row.mismatches;
-    c.nearTie += row.nearTie;
-    c.endpoint += row.endpoint;
-    c.grazing += row.grazing;
-  }
+  for (const ShadowComparison& row : rows) c.addCounts(row);
   return c;
 }
 

@@ -39,6 +39,7 @@ struct RayAccounting {
   std::vector<uint32_t> perPixel;   // traced rays per pixel (0 for sky), width*height
   std::vector<uint64_t> histogram;  // [k] = non-sky pixels that traced k rays; size = the most + 1
   uint64_t bucketSum() const;
+  void addCounts(const RayAccounting& other);  // every count (not perPixel, histogram)
   bool addsUp() const { return candidates == bucketSum() && walkMismatches == 0; }
 };
 
@@ -167,6 +168,7 @@ struct ShadowComparison {
   uint64_t mismatches = 0;
   uint64_t nearTie = 0, endpoint = 0, grazing = 0;  // explained mismatches, by first reason found
   uint64_t unexplained() const { return mismatches - nearTie - endpoint - grazing; }
+  void addCounts(const ShadowComparison& other);  // every count (not visibility)
 };
 // Preconditions as accountRays; shadows from an analysis frame.
 ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const ShadowReadback& shadows,

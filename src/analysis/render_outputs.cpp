@@ -1,6 +1,7 @@
 #include "analysis/render_outputs.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "analysis/indirect_analysis.h"
 #include "analysis/primary_analysis.h"
 #include "base/errors.h"
+#include "base/parallel.h"
 #include "reference/flip.h"
 #include "base/image_io.h"
 #include "analysis/ray_analysis.h"
@@ -314,6 +316,20 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     out.files.push_back(name);
   };
 
+  // The CPU analysis's wall time per stage (render.json "analysis_s"); printed as it goes when the
+  // frame is large (a million pixel-light pairs take seconds even on every core).
+  const bool longAnalysis = double(w) * h * std::max<size_t>(1, scene.lights.size()) >= 5e7;
+  const auto analysisStart = std::chrono::steady_clock::now();
+  auto lapStart = analysisStart;
+  nlohmann::json analysisSeconds = nlohmann::json::object();
+  auto lap = [&](const char* stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const double sec = std::chrono::duration<double>(now - lapStart).count();
+    analysisSeconds[stage] = sec;
+    lapStart = now;
+    if (longAnalysis) std::fprintf(stderr, "analysis: %s %.1f s (%u threads)\n", stage, sec, analysisThreads());
+  };
+
   nlohmann::json j;
   j["effects"] = renderer.plan().effectsJson();
   j["passes_run"] = renderer.passesRun();
@@ -372,22 +388,25 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     j["analysis_not_run"] = std::string("culling, ray accounting and shadow accuracy: their CPU references "
                                         "reconstruct a perspective view, and this one is ") +
                             toString(renderer.camera().projection);
+  // Everything the GPU culling pass saw (culling_analysis.h).
+  CullingInputs ci;
+  ci.depth = &depth;
+  ci.lights = &scene.lights;
+  ci.view = renderer.view();
+  ci.proj = renderer.proj();
+  ci.width = w;
+  ci.height = h;
+  ci.tileSize = s.tileSize;
+  ci.aabb = s.aabb;
+  ci.lightCulling = s.lightCulling;
+  ci.depthSlices = s.depthSlices;
+  lap("readbacks and images");
   if (perspective && renderer.hasCulling()) {
     // Culling statistics against the CPU reference of the same method and the exact test.
     const CullingReadback cr = renderer.readCulling();
-    CullingInputs ci;
-    ci.depth = &depth;
-    ci.lights = &scene.lights;
-    ci.view = renderer.view();
-    ci.proj = renderer.proj();
-    ci.width = w;
-    ci.height = h;
-    ci.tileSize = s.tileSize;
-    ci.aabb = s.aabb;
-    ci.lightCulling = s.lightCulling;
-    ci.depthSlices = s.depthSlices;
     ci.capacity = cr.capacity;
     CullingAnalysis ca = analyzeCulling(ci, cr);
+    lap("culling reference");
     j["culling"] = ca.json;
     // What the GPU allocated for the lists (the statistics' memory_bytes is the thesis's formula).
     j["culling"]["light_lists"] = toString(cr.lists);
@@ -414,22 +433,18 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
     const uint32_t lightCount = uint32_t(scene.lights.size());
     RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
+    lap("ray accounting");
     if (cr.lists == LightLists::Zbin) {
-      CullingInputs zi;
-      zi.depth = &depth;
-      zi.lights = &scene.lights;
-      zi.view = renderer.view();
-      zi.proj = renderer.proj();
-      zi.width = w;
-      zi.height = h;
-      zi.tileSize = s.tileSize;
-      zi.capacity = cr.capacity;
-      j["culling"]["zbin_missed_pairs"] = zbinMissedPairs(zi, cr, sh.ranges);
+      j["culling"]["zbin_missed_pairs"] = zbinMissedPairs(ci, cr, sh.ranges);
+      lap("z-bin check");
     }
     const Bvh bvh = buildBvh(scene);
+    lap("bvh");
     const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
     const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
+    lap("reference surface");
     const OracleRays oracle = oracleRays(scene, surface);
+    lap("oracle");
     nlohmann::json rays = toJson(acc);
     rays["adds_up"] = acc.addsUp();
     rays["oracle"] = oracle.total;
@@ -536,6 +551,11 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
           {{"Description", "true face normals of the visible triangles (analysis pass)"}});
   }
   if (!accuracy.empty()) j["accuracy"] = accuracy;
+  lap("rest");
+  analysisSeconds["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - analysisStart).count();
+  analysisSeconds["threads"] = analysisThreads();
+  j["analysis_s"] = analysisSeconds;
+  if (longAnalysis) std::fprintf(stderr, "analysis: %.1f s in all\n", analysisSeconds["total"].get<double>());
   out.json = j;
   return out;
 }

@@ -181,9 +181,16 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
   std::vector<double> rb;
   if (renderer.hasShadows()) {
+    // 30 warm-up and 30 measured repetitions, fewer (at least 3) where one repetition is long: a
+    // billion rays take most of a second, and 60 of them would be a minute per variant.
     const bool cpu = ctx.info().type == "cpu";
-    renderer.rayBench(cpu ? 1 : 30);
-    rb = renderer.rayBench(cpu ? 2 : 30);
+    const std::vector<double> first = renderer.rayBench(1);
+    constexpr double kRayBenchBudgetMs = 2000.0;
+    const uint32_t reps = cpu ? 2u
+                              : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3),
+                                                    3.0, 30.0));
+    renderer.rayBench(cpu ? 0 : reps - 1);
+    rb = renderer.rayBench(reps);
   }
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
 

@@ -11,16 +11,6 @@ namespace hb {
 using nlohmann::json;
 using namespace results;  // at, numberAt, medianOf, escapeCell
 
-namespace {
-
-std::string cell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
-
-double passMs(const json& run, const char* pass) {
-  const json& passes = at(run, "passes");
-  return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass]) : std::nan("");
-}
-
-}  // namespace
 
 std::string aoTableMarkdown(const json& results) {
   results::requireResultsFile(results);
@@ -44,7 +34,7 @@ std::string aoTableMarkdown(const json& results) {
     const json& res = at(at(run, "params"), "resolution");
     const std::string image = res.is_array() && res.size() == 2 ? res[0].dump() + "x" + res[1].dump() : "—";
     if (!a.is_object()) {
-      o << "| " << escapeCell(name) << " | off | — | — | " << image << " | — | — | " << cell(medianOf(at(run, "frame_ms")), "%.3f")
+      o << "| " << escapeCell(name) << " | off | — | — | " << image << " | — | — | " << numberCell(medianOf(at(run, "frame_ms")), "%.3f")
         << " | — | — | — | — | — | — | — |\n";
       continue;
     }
@@ -52,23 +42,23 @@ std::string aoTableMarkdown(const json& results) {
     const bool ldm = method == "ldm";
     const json& l = at(a, "ldm");
     const double mb = numberAt(at(a, "memory_bytes"), "ldm_links") / 1048576.0;
-    const std::string nodes = l.is_object() ? cell(numberAt(at(l, "nodes_per_pixel"), "mean"), "%.2f") + " / " +
-                                                  cell(numberAt(at(l, "nodes_per_pixel"), "p99"), "%.0f") + " / " +
-                                                  cell(numberAt(at(l, "nodes_per_pixel"), "max"), "%.0f")
+    const std::string nodes = l.is_object() ? numberCell(numberAt(at(l, "nodes_per_pixel"), "mean"), "%.2f") + " / " +
+                                                  numberCell(numberAt(at(l, "nodes_per_pixel"), "p99"), "%.0f") + " / " +
+                                                  numberCell(numberAt(at(l, "nodes_per_pixel"), "max"), "%.0f")
                                             : "—";
     const json& vr = at(a, "vs_raytraced");
     const json& vf = at(a, "vs_reference");
     o << "| " << escapeCell(name) << " | " << method << " | "
-      << (method == "reference" ? "—" : cell(numberAt(a, "directions"), "%.0f")) << " | "
-      << (ldm ? cell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | " << image << " | "
-      << cell(passMs(run, "ldm_build"), "%.3f") << " | " << cell(passMs(run, "ambient_occlusion"), "%.3f") << " | "
-      << cell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
-      << (ldm ? cell(mb, "%.1f") + " (" + cell(numberAt(l, "exact_bytes") / 1048576.0, "%.1f") + ")" : "—") << " | "
-      << nodes << " | " << (ldm ? cell(numberAt(l, "overflow"), "%.0f") : "—") << " | "
-      << (method == "raytraced" ? "0 (itself)" : cell(numberAt(vr, "mae"), "%.4f")) << " | "
-      << (method == "raytraced" ? "—" : cell(numberAt(vr, "bias"), "%+.4f")) << " | "
-      << (method == "reference" ? "0 (itself)" : cell(numberAt(vf, "mae"), "%.4f")) << " | "
-      << (method == "reference" ? "—" : cell(numberAt(vf, "flip"), "%.4f")) << " |\n";
+      << (method == "reference" ? "—" : numberCell(numberAt(a, "directions"), "%.0f")) << " | "
+      << (ldm ? numberCell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | " << image << " | "
+      << numberCell(passMedianMs(run, "ldm_build"), "%.3f") << " | " << numberCell(passMedianMs(run, "ambient_occlusion"), "%.3f") << " | "
+      << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
+      << (ldm ? numberCell(mb, "%.1f") + " (" + numberCell(numberAt(l, "exact_bytes") / 1048576.0, "%.1f") + ")" : "—") << " | "
+      << nodes << " | " << (ldm ? numberCell(numberAt(l, "overflow"), "%.0f") : "—") << " | "
+      << (method == "raytraced" ? "0 (itself)" : numberCell(numberAt(vr, "mae"), "%.4f")) << " | "
+      << (method == "raytraced" ? "—" : numberCell(numberAt(vr, "bias"), "%+.4f")) << " | "
+      << (method == "reference" ? "0 (itself)" : numberCell(numberAt(vf, "mae"), "%.4f")) << " | "
+      << (method == "reference" ? "—" : numberCell(numberAt(vf, "flip"), "%.4f")) << " |\n";
   }
   o << "\nThe paper (GTX 780 Ti, 800x800, Crytek Sponza; Figs. 8-10): AO with 512 LDMs of 200x200 in 512.4 ms and "
        "805.5 MB (d_max = 1280 m), of 50x50 in 373.0 ms and 204.1 MB (unattenuated); HBAO (512 directions, up to "
@@ -112,20 +102,20 @@ std::string indirectTableMarkdown(const json& results) {
     const json& vf = at(a, "vs_reference");
     const bool selfRt = method == "raytraced", selfRef = method == "reference";
     o << "| " << escapeCell(name) << " | " << method << " | "
-      << (photons ? cell(numberAt(a, "directions"), "%.0f") : "—") << " | "
-      << (method == "ldm" ? cell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | "
-      << (photons ? cell(perFace, "%.0f") + "²" : "—") << " | " << image << " | "
-      << cell(passMs(run, "indirect_ldm_build"), "%.3f") << " | "
-      << cell(passMs(run, photons ? "photon_trace" : "indirect_gather"), "%.3f") << " | "
-      << cell(passMs(run, "photon_splat"), "%.3f") << " | " << cell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
-      << cell(numberAt(p, "slots"), "%.0f") << " | " << cell(numberAt(p, "stored"), "%.0f") << " | "
-      << cell(100.0 * numberAt(p, "discarded_share"), "%.1f %%") << " | "
-      << cell(numberAt(at(a, "memory_bytes"), "total") / 1048576.0, "%.1f") << " | "
-      << (selfRt ? "0 (itself)" : cell(numberAt(vr, "rel_mse"), "%.4f")) << " | "
-      << (selfRt ? "—" : cell(numberAt(vr, "total_ratio"), "%.3f")) << " | "
-      << (selfRef ? "0 (itself)" : cell(numberAt(vf, "rel_mse"), "%.4f")) << " | "
-      << (selfRef ? "—" : cell(numberAt(vf, "total_ratio"), "%.3f")) << " | "
-      << (selfRef ? "—" : cell(numberAt(vf, "flip"), "%.4f")) << " |\n";
+      << (photons ? numberCell(numberAt(a, "directions"), "%.0f") : "—") << " | "
+      << (method == "ldm" ? numberCell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | "
+      << (photons ? numberCell(perFace, "%.0f") + "²" : "—") << " | " << image << " | "
+      << numberCell(passMedianMs(run, "indirect_ldm_build"), "%.3f") << " | "
+      << numberCell(passMedianMs(run, photons ? "photon_trace" : "indirect_gather"), "%.3f") << " | "
+      << numberCell(passMedianMs(run, "photon_splat"), "%.3f") << " | " << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
+      << numberCell(numberAt(p, "slots"), "%.0f") << " | " << numberCell(numberAt(p, "stored"), "%.0f") << " | "
+      << numberCell(100.0 * numberAt(p, "discarded_share"), "%.1f %%") << " | "
+      << numberCell(numberAt(at(a, "memory_bytes"), "total") / 1048576.0, "%.1f") << " | "
+      << (selfRt ? "0 (itself)" : numberCell(numberAt(vr, "rel_mse"), "%.4f")) << " | "
+      << (selfRt ? "—" : numberCell(numberAt(vr, "total_ratio"), "%.3f")) << " | "
+      << (selfRef ? "0 (itself)" : numberCell(numberAt(vf, "rel_mse"), "%.4f")) << " | "
+      << (selfRef ? "—" : numberCell(numberAt(vf, "total_ratio"), "%.3f")) << " | "
+      << (selfRef ? "—" : numberCell(numberAt(vf, "flip"), "%.4f")) << " |\n";
   }
   o << "\nThe paper (GTX 780 Ti, 800x800, Crytek Sponza, one spot light; Fig. 10): photon tracing 2062 ms with 512 "
        "LDMs of 200x200 (805.5 MB), splatting the larger share of the frame.\n";

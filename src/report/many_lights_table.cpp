@@ -15,12 +15,6 @@ using namespace results;  // at, numberAt, medianOf, escapeCell
 
 namespace {
 
-std::string cell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
-
-double passMs(const json& run, const char* pass) {
-  const json& passes = at(run, "passes");
-  return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass]) : std::nan("");
-}
 
 std::string listsOf(const json& run) {
   const json& l = at(at(run, "params"), "light_lists");
@@ -76,17 +70,17 @@ std::string manyLightsTableMarkdown(const json& results) {
     const json& cul = at(run, "culling");
     const json& rays = at(run, "rays");
     const double traced = numberAt(rays, "traced"), oracle = numberAt(rays, "oracle");
-    const double shadows = passMs(run, "shadows"), frame = medianOf(at(run, "frame_ms"));
+    const double shadows = passMedianMs(run, "shadows"), frame = medianOf(at(run, "frame_ms"));
     const double lights = numberAt(at(run, "params"), "light_count");
     const double listBytes = at(cul, "list_memory_bytes").is_number() ? numberAt(cul, "list_memory_bytes")
                                                                        : numberAt(cul, "memory_bytes");
-    o << "| " << escapeCell(name) << " | " << lists << " | " << cell(lights, "%.0f") << " | " << image << " | "
-      << cell(numberAt(cul, "lights_per_tile_mean"), "%.1f") << " / " << cell(numberAt(cul, "lights_per_tile_max"), "%.0f")
-      << " | " << cell(listBytes / 1048576.0, "%.2f") << " | " << cell(passMs(run, "light_culling"), "%.3f") << " | "
-      << cell(shadows, "%.2f") << " | " << cell(passMs(run, "shading"), "%.2f") << " | " << cell(frame, "%.2f")
-      << " | " << cell(traced, "%.0f") << " | " << cell(oracle, "%.0f") << " | "
-      << cell(numberAt(rays, "efficiency"), "%.4f") << " | " << cell(numberAt(rays, "dropped_by_overflow"), "%.0f")
-      << " | " << cell(traced / (shadows * 1e-3) / 1e9, "%.2f") << " |\n";
+    o << "| " << escapeCell(name) << " | " << lists << " | " << numberCell(lights, "%.0f") << " | " << image << " | "
+      << numberCell(numberAt(cul, "lights_per_tile_mean"), "%.1f") << " / " << numberCell(numberAt(cul, "lights_per_tile_max"), "%.0f")
+      << " | " << numberCell(listBytes / 1048576.0, "%.2f") << " | " << numberCell(passMedianMs(run, "light_culling"), "%.3f") << " | "
+      << numberCell(shadows, "%.2f") << " | " << numberCell(passMedianMs(run, "shading"), "%.2f") << " | " << numberCell(frame, "%.2f")
+      << " | " << numberCell(traced, "%.0f") << " | " << numberCell(oracle, "%.0f") << " | "
+      << numberCell(numberAt(rays, "efficiency"), "%.4f") << " | " << numberCell(numberAt(rays, "dropped_by_overflow"), "%.0f")
+      << " | " << numberCell(traced / (shadows * 1e-3) / 1e9, "%.2f") << " |\n";
     if (lists != "tile" && !std::isnan(oracle) && !std::isnan(frame)) {
       points[lists + " " + image].first.push_back(oracle);
       points[lists + " " + image].second.push_back(frame);

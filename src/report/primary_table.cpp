@@ -13,8 +13,6 @@ using namespace results;  // at, numberAt, medianOf, escapeCell
 
 namespace {
 
-std::string cell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
-
 // The primary-visibility pass of a run: the hardware prepass, rasterization in compute, or ray casting.
 double primaryPassMs(const json& run) {
   const json& passes = at(run, "passes");
@@ -26,7 +24,7 @@ double primaryPassMs(const json& run) {
 std::string coverageCell(const json& primary) {
   const json& c = at(primary, "coverage_check");
   if (!c.is_object()) return "—";
-  return cell(numberAt(c, "double_covers"), "%.0f") + " / " + cell(numberAt(c, "holes"), "%.0f");
+  return numberCell(numberAt(c, "double_covers"), "%.0f") + " / " + numberCell(numberAt(c, "holes"), "%.0f");
 }
 
 }  // namespace
@@ -62,16 +60,16 @@ std::string primaryTableMarkdown(const json& results) {
     if (at(p, "projection").is_string() && at(p, "projection") != "perspective")
       method += " (" + at(p, "projection").get<std::string>() + ")";
     const double refined = numberAt(p, "bins_refined");
-    const std::string emptyBins = refined > 0 ? cell(100.0 * numberAt(p, "bins_refined_without_hit") / refined, "%.1f %%") : "—";
+    const std::string emptyBins = refined > 0 ? numberCell(100.0 * numberAt(p, "bins_refined_without_hit") / refined, "%.1f %%") : "—";
     const double ms = primaryPassMs(run), frame = medianOf(at(run, "frame_ms"));
     const double setups = numberAt(p, "triangle_setups"), tested = numberAt(p, "pixels_tested");
     const double ops = kPaper3drSetupOps * setups + kPaper3drPixelOps * tested;
     o << "| " << escapeCell(at(run, "name").is_string() ? at(run, "name").get<std::string>() : "?") << " | " << method
-      << " | " << cell(ms, "%.3f") << " | " << cell(hardwareMs / ms, "%.2fx") << " | " << cell(frame, "%.3f") << " | "
-      << cell(setups, "%.0f") << " | " << cell(tested, "%.0f") << " | "
-      << cell(numberAt(p, "edge_evaluations_per_pixel"), "%.1f") << " | " << cell(numberAt(p, "atomics_per_pixel"), "%.2f")
-      << " | " << cell(100.0 * numberAt(p, "fp64_fallback_rate"), "%.4f %%") << " | " << cell(ops * 1e-6, "%.1f")
-      << " | " << coverageCell(p) << " | " << cell(numberAt(at(p, "against_ray_cast"), "not_ties"), "%.0f") << " | "
+      << " | " << numberCell(ms, "%.3f") << " | " << numberCell(hardwareMs / ms, "%.2fx") << " | " << numberCell(frame, "%.3f") << " | "
+      << numberCell(setups, "%.0f") << " | " << numberCell(tested, "%.0f") << " | "
+      << numberCell(numberAt(p, "edge_evaluations_per_pixel"), "%.1f") << " | " << numberCell(numberAt(p, "atomics_per_pixel"), "%.2f")
+      << " | " << numberCell(100.0 * numberAt(p, "fp64_fallback_rate"), "%.4f %%") << " | " << numberCell(ops * 1e-6, "%.1f")
+      << " | " << coverageCell(p) << " | " << numberCell(numberAt(at(p, "against_ray_cast"), "not_ties"), "%.0f") << " | "
       << emptyBins << " |\n";
   }
   return o.str();

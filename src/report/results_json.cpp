@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "base/text_format.h"
 #include "report/stats.h"
 
 namespace hb::results {
@@ -27,6 +28,13 @@ double medianOf(const json& stats) {
     if (v.is_number()) samples.push_back(v.get<double>());
   return samples.empty() ? std::numeric_limits<double>::quiet_NaN() : summarize(samples).median;
 }
+
+double passMedianMs(const json& run, const char* pass) {
+  const json& passes = at(run, "passes");
+  return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass]) : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string numberCell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
 
 void requireResultsFile(const json& r) {
   if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())

@@ -15,6 +15,10 @@ const json& at(const json& j, const char* key);
 double numberAt(const json& j, const char* key);
 // The median of a stats block: the recorded one, else the median of its samples, else NaN.
 double medianOf(const json& stats);
+// The median GPU time of pass `pass` in a run ("passes": {name: stats}), else NaN.
+double passMedianMs(const json& run, const char* pass);
+// A table cell: v through printf format fmt, "—" for NaN (a missing figure).
+std::string numberCell(double v, const char* fmt);
 // Throws InputError unless r is a schema_version 1 results file with a runs array.
 void requireResultsFile(const json& r);
 // A Markdown table cell: '|' escaped, newlines as spaces.
