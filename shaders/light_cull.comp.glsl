@@ -20,7 +20,7 @@ layout(set = 0, binding = 2) readonly buffer Frustums { TileFrustum frustums[]; 
 layout(set = 0, binding = 3) writeonly buffer Grid { LightGridEntry grid[]; };
 layout(set = 0, binding = 4) writeonly buffer Indices { uint lightIndices[]; };
 layout(set = 0, binding = 5) uniform sampler2D depthTex;
-layout(set = 0, binding = 6) readonly buffer SortedLights { GpuLight sortedLights[]; };  // zbin only
+layout(set = 0, binding = 9) readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uint sMinDepthBits;  // positive floats order like their bit patterns
@@ -34,12 +34,6 @@ shared float sSliceScale;
 shared uint sDepthMask;
 shared uint sTotal;
 
-GpuLight cullLight(uint i) {
-  GpuLight l;  // an if, not ?: (the two buffers' GpuLight are distinct SPIR-V types)
-  if (LIST_MODE == kListZbin) l = sortedLights[i];
-  else l = lights[i];
-  return l;
-}
 
 // bitmask, zbin: the tile's mask words written by every thread (no cap), the total counted.
 void writeMask(uint tile, uint local, uint groupSize, uint lightCount, bool all) {
@@ -121,7 +115,7 @@ void main() {
   // written in ascending index order (the first kMaxLightsPerTile of them, as cull_ref.h does).
   if (!sEmpty)
     for (uint i = local; i < lightCount; i += groupSize)
-      if (lightTouchesTile(cullLight(i), frame.view, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
+      if (lightTouchesTile(viewLights[i], sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
   barrier();
 
   if (LIST_MODE != kListTile) {

@@ -121,6 +121,16 @@ struct GpuLight {
   float tanOuter;          // tan(outer cone angle), for the cone-vs-plane test
 };
 
+// A light in view space, computed once per frame for light culling (light_view.comp.glsl; the
+// C++ mirror's ViewLight<float>): every tile tests these instead of transforming every light.
+struct GpuViewLight {
+  vec4 positionRange;  // xyz view-space position, w range
+  vec4 directionTan;   // xyz unit view-space direction, w tanOuter (spot: < 0 = no cone test)
+  float worldScale;    // |world position| + |view translation| (the 2.5D slab test's widening)
+  uint type;
+  uint pad0, pad1;
+};
+
 // Four side planes of a tile's frustum in view space: xyz = unit normal pointing into the tile,
 // w = distance (plane: dot(n, p) + w = 0; eye at origin so w = 0).
 struct TileFrustum {
@@ -340,6 +350,7 @@ static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConsta
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");
+static_assert(sizeof(GpuViewLight) == 48, "GpuViewLight layout");
 static_assert(sizeof(TileFrustum) == 64, "TileFrustum layout");
 static_assert(sizeof(LightGridEntry) == 16, "LightGridEntry layout");
 }  // namespace hb::gpu

@@ -39,7 +39,8 @@ std::vector<Binding> cullingBindings() {
           {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs},
           {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
 }
 }  // namespace
 
@@ -65,9 +66,12 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
       extents_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * 8,
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
+      viewLights_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(gpu::GpuViewLight),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       sets_(ctx, cullingBindings()),
       frustumPipeline_(ctx),
       cullPipeline_(ctx),
+      viewPipeline_(ctx),
       sortPipeline_(ctx),
       binPipeline_(ctx) {
   if (settings.tileSize != 8 && settings.tileSize != 16 && settings.tileSize != 32)
@@ -91,6 +95,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sortedLights_.handle());
   sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
   sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
+  sets_.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewLights_.handle());
   frustumPipeline_.createLayout({sets_.layout()}, 4);
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);
@@ -99,6 +104,8 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   cullPipeline_.createCompute("light_cull.comp", {{settings.tileSize, settings.lightCulling ? 1u : 0u,
                                                    settings.aabb ? 1u : 0u, settings.depthSlices,
                                                    listModeOf(settings.lists)}});
+  viewPipeline_.createLayout({sets_.layout()}, 4);
+  viewPipeline_.createCompute("light_view.comp", {{listModeOf(settings.lists)}});
   if (settings.lists == LightLists::Zbin) {
     sortPipeline_.createLayout({sets_.layout()}, 4);
     sortPipeline_.createCompute("zbin_sort.comp");
@@ -108,7 +115,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
 }
 
 uint64_t LightCulling::memoryBytes() const {
-  uint64_t bytes = grid_.size() + indices_.size();
+  uint64_t bytes = grid_.size() + indices_.size() + viewLights_.size();
   if (settings_.lists == LightLists::Zbin) bytes += sortedLights_.size() + order_.size() + extents_.size();
   return bytes;
 }
@@ -151,6 +158,14 @@ void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binPipeline_.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, binPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
     vkCmdDispatch(cmd, gpu::kZBins / 256, 1, 1);
+  }
+  if (settings_.lightCulling) {  // the lights in view space, then every tile tests them
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, viewPipeline_.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, viewPipeline_.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, viewPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
+    vkCmdDispatch(cmd, std::max<uint32_t>(1, (lightCount + 63) / 64), 1, 1);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.layout(), 0, 1, &set, 0, nullptr);

@@ -1,0 +1,21 @@
+#version 460
+// Light culling, first step (frame/passes/light_culling.h): every light in view space once per frame
+// (culling.glsl.inc toViewLight), so that each tile's test reads 48 bytes and transforms nothing.
+// zbin: the depth-sorted lights (after zbin_sort.comp.glsl), so indices stay sorted indices.
+#extension GL_GOOGLE_include_directive : require
+#include "culling.glsl.inc"
+layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
+
+layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = 6) readonly buffer SortedLights { GpuLight sortedLights[]; };
+layout(set = 0, binding = 9) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
+layout(push_constant) uniform Push { uint lightCount; } pc;
+
+void main() {
+  const uint i = gl_GlobalInvocationID.x;
+  if (i >= min(pc.lightCount, kMaxLights)) return;
+  if (LIST_MODE == kListZbin) viewLights[i] = toViewLight(sortedLights[i], frame.view);
+  else viewLights[i] = toViewLight(lights[i], frame.view);
+}
