@@ -23,35 +23,40 @@ namespace hb {
 
 namespace {
 
-ImageRGBA8 visibilityOfLight(const ShadowReadback& sh, const CullingReadback& cr, const std::vector<float>& depth,
-                             uint32_t w, uint32_t h, uint32_t tileSize, uint32_t light) {
-  // White: lit (in the pixel's light list, ray reached the light); dark red: in the list but
-  // shadowed or culled by the normal/range test; black: not in the pixel's list; dark blue: sky.
-  ImageRGBA8 img{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)};
+// Images of lights 0..count-1: white lit (in the pixel's list, ray reached the light); dark red in
+// the list but shadowed or culled by the normal/range test; black not in the pixel's list; dark
+// blue sky. One walk of each pixel's list for all of them, rows on every core.
+std::vector<ImageRGBA8> visibilityOfLights(const ShadowReadback& sh, const CullingReadback& cr,
+                                           const std::vector<float>& depth, uint32_t w, uint32_t h,
+                                           uint32_t tileSize, uint32_t count) {
+  std::vector<ImageRGBA8> imgs(count, ImageRGBA8{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)});
   const size_t pixels = size_t(w) * h;
   const bool zbin = cr.lists == LightLists::Zbin;
-  for (uint32_t y = 0; y < h; ++y)
+  parallelFor(h, [&](size_t yy) {
+    const uint32_t y = uint32_t(yy);
     for (uint32_t x = 0; x < w; ++x) {
-      uint8_t* px = &img.px[(size_t(y) * w + x) * 4];
       const size_t i = size_t(y) * w + x;
+      auto paint = [&](uint32_t l, uint8_t r, uint8_t g, uint8_t b) {
+        uint8_t* px = &imgs[l].px[i * 4];
+        px[0] = r, px[1] = g, px[2] = b;
+      };
       if (!(depth[i] > 0.0f)) {
-        px[0] = 16, px[1] = 24, px[2] = 80;
+        for (uint32_t l = 0; l < count; ++l) paint(l, 16, 24, 80);
         continue;
       }
+      for (uint32_t l = 0; l < count; ++l) paint(l, 0, 0, 0);  // not in the list unless found below
       const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
       const auto [first, last] = cr.pixelSlice(tile, zbin ? sh.ranges[i] : 0u);
-      int64_t slot = -1;
-      for (uint32_t k = first; k < last; ++k)
-        if (cr.indices[k] == light) slot = int64_t(k - first);
-      if (slot < 0) {
-        px[0] = px[1] = px[2] = 0;
-      } else if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u) {
-        px[0] = px[1] = px[2] = 255;
-      } else {
-        px[0] = 110, px[1] = 20, px[2] = 20;
+      for (uint32_t k = first; k < last; ++k) {
+        const uint32_t l = cr.indices[k];
+        if (l >= count) continue;
+        const uint32_t slot = k - first;
+        if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u) paint(l, 255, 255, 255);
+        else paint(l, 110, 20, 20);
       }
     }
-  return img;
+  });
+  return imgs;
 }
 
 // Per pixel, the scene lights whose bit is set in the pixel's visibility words (bit k = the k-th
@@ -401,9 +406,10 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   ci.lightCulling = s.lightCulling;
   ci.depthSlices = s.depthSlices;
   lap("readbacks and images");
+  // The light lists, read back once (the masks of thousands of lights at 4K are megabytes).
+  const CullingReadback cr = perspective && renderer.hasCulling() ? renderer.readCulling() : CullingReadback{};
   if (perspective && renderer.hasCulling()) {
     // Culling statistics against the CPU reference of the same method and the exact test.
-    const CullingReadback cr = renderer.readCulling();
     ci.capacity = cr.capacity;
     CullingAnalysis ca = analyzeCulling(ci, cr);
     lap("culling reference");
@@ -428,7 +434,6 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     out.summary.push_back(line);
   }
   if (perspective && renderer.hasCulling() && renderer.hasShadows()) {
-    const CullingReadback cr = renderer.readCulling();
     const ShadowReadback sh = renderer.readShadows();
     // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
     const uint32_t lightCount = uint32_t(scene.lights.size());
@@ -521,13 +526,16 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                   acc.addsUp() ? "adds up" : "DOES NOT ADD UP");
     out.summary.push_back(line);
 
-    const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
-    for (uint32_t l = 0; l < shown; ++l) {
-      char name[64];
-      std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
-      write(name, visibilityOfLight(sh, cr, depth, w, h, s.tileSize, l),
-            {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
-                             "tile's light list, blue sky"}});
+    if (writeImages) {  // computed only where written: a walk over every pixel's list
+      const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
+      const std::vector<ImageRGBA8> images = visibilityOfLights(sh, cr, depth, w, h, s.tileSize, shown);
+      for (uint32_t l = 0; l < shown; ++l) {
+        char name[64];
+        std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
+        write(name, images[l],
+              {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
+                               "pixel's light list, blue sky"}});
+      }
     }
     if (params.normalCulling != NormalCulling::Off) {
       std::vector<uint8_t> valid(size_t(w) * h);

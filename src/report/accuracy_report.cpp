@@ -266,6 +266,7 @@ struct Axis {
   double lo, hi, step;
   int decimals;
 };
+constexpr int kMaxTicks = 20;  // niceAxis asks for about 6: a bound, whatever the rounding
 
 // Ticks at 1, 2 or 5 × 10^k, about `target` of them, covering [lo, hi].
 Axis niceAxis(double lo, double hi, int target) {
@@ -319,14 +320,14 @@ std::string accuracyReportSvg(const json& results) {
        "</text>\n";
 
   // Grid, ticks and tick labels.
-  for (int i = 0; xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
+  for (int i = 0; i <= kMaxTicks && xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
     const double v = xa.lo + i * xa.step, x = px(v);
     s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x,
                 kT, x, kB);
     s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18,
                 xa.decimals, v);
   }
-  for (int i = 0; ya.lo + i * ya.step <= ya.hi + 0.5 * ya.step; ++i) {
+  for (int i = 0; i <= kMaxTicks && ya.lo + i * ya.step <= ya.hi + 0.5 * ya.step; ++i) {
     const double v = ya.lo + i * ya.step, y = py(v);
     s += format("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", kL,
                 y, kR, y);
@@ -373,10 +374,11 @@ std::string accuracyReportSvg(const json& results) {
                 x, y, color, color) +
          escapeXml(p.name + format(": %.3f ms, %.4g", p.frameMs, p.error)) + "</title></circle>\n";
     double lx = x + 6;  // shift right past labels already placed at about the same spot
-    for (bool moved = true; moved;) {
-      moved = false;
+    // Each move takes lx past one placed label, so there are at most labels.size() of them.
+    for (size_t pass = 0, moved = 1; moved && pass <= labels.size(); ++pass) {
+      moved = 0;
       for (const auto& [ox, oy] : labels)
-        if (std::abs(ox - lx) < 12 && std::abs(oy - (y - 6)) < 11) lx = ox + 12, moved = true;
+        if (std::abs(ox - lx) < 12 && std::abs(oy - (y - 6)) < 11) lx = ox + 12, moved = 1;
     }
     labels.emplace_back(lx, y - 6);
     s += format("<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">%zu</text>\n", lx,

@@ -215,5 +215,21 @@ TEST(AccuracyReport, RendersTheCommittedH100ThesisSweep) {
   }
 }
 
+// Dozens of runs drawn at nearly the same spot (every error 0): the number labels step aside a
+// bounded number of times (this sweep once hung the label placement).
+TEST(AccuracyReport, RendersTheCommittedManyLightsSweeps) {
+  for (const char* which : {"dense", "small"}) {
+    std::ifstream in(std::string(HYBRIDBENCH_SOURCE_DIR "/results/h200/many-lights/") + which + "/results.json");
+    if (!in) GTEST_SKIP() << "results/h200/many-lights/" << which << "/results.json not present";
+    const json results = json::parse(in);
+    std::string svg;
+    ASSERT_NO_THROW(svg = accuracyReportSvg(results));
+    EXPECT_EQ(xmlProblem(svg), "") << which;
+    size_t ok = 0;
+    for (const json& r : results["runs"]) ok += r["status"] == "ok";
+    EXPECT_EQ(count(svg, "<circle"), ok) << which;
+  }
+}
+
 }  // namespace
 }  // namespace hb
