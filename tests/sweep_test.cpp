@@ -355,6 +355,26 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   bool found51 = false;
   for (const std::string& row : rows) found51 |= csvFields(row)[0] == "5.1";
   EXPECT_TRUE(found51) << csv.out;
+
+  // Several files of one device are read as one: the same file twice doubles every run (the
+  // accuracy report has a row per run); another device is refused.
+  const RunResult twice = run({"tables", (out / "results.json").string(), (out / "results.json").string()});
+  ASSERT_EQ(twice.exitCode, 0) << twice.err;
+  const std::string row = "| " + results["runs"][0]["name"].get<std::string>() + " |";
+  auto occurrences = [&](const std::string& text) {
+    size_t n = 0;
+    for (size_t at = text.find(row); at != std::string::npos; at = text.find(row, at + 1)) ++n;
+    return n;
+  };
+  const size_t report = twice.out.find("## Accuracy vs frame time");
+  ASSERT_NE(report, std::string::npos) << twice.out;
+  EXPECT_EQ(occurrences(twice.out.substr(report)), 2 * occurrences(accuracyMd)) << twice.out;
+  nlohmann::json other = results;
+  other["context"]["device"]["name"] = "another GPU";
+  std::ofstream(out / "other.json") << other.dump();
+  const RunResult refused = run({"tables", (out / "results.json").string(), (out / "other.json").string()});
+  EXPECT_EQ(refused.exitCode, 2);
+  EXPECT_NE(refused.err.find("another GPU"), std::string::npos) << refused.err;
 }
 
 // Kill (SIGINT) after the first finished variant, resume and kill again (SIGTERM) after the next

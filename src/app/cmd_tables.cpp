@@ -11,6 +11,7 @@
 #include "report/ao_table.h"
 #include "report/many_lights_table.h"
 #include "report/primary_table.h"
+#include "report/results_json.h"
 #include "report/tables.h"
 
 namespace hb {
@@ -25,8 +26,22 @@ static nlohmann::json readResults(const std::string& path) {
   }
 }
 
-int cmdTables(const std::string& resultsPath, const std::string& format) {
-  nlohmann::json results = readResults(resultsPath);
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format) {
+  HB_ASSERT(!resultsPaths.empty());
+  nlohmann::json results = readResults(resultsPaths[0]);
+  for (size_t i = 1; i < resultsPaths.size(); ++i) {
+    const nlohmann::json more = readResults(resultsPaths[i]);
+    const auto deviceName = [](const nlohmann::json& r) {
+      const nlohmann::json& d = results::at(results::at(r, "context"), "device");
+      return results::at(d, "name").is_string() ? results::at(d, "name").get<std::string>() : std::string("?");
+    };
+    if (deviceName(more) != deviceName(results))
+      throw InputError(resultsPaths[i] + ": measured on \"" + deviceName(more) + "\", " + resultsPaths[0] + " on \"" +
+                       deviceName(results) + "\"; tables read several files only from one kind of device (use "
+                       "'hybridbench compare' across devices)");
+    results::requireResultsFile(more);
+    for (const nlohmann::json& run : more["runs"]) results["runs"].push_back(run);
+  }
   if (format == "csv") {
     std::cout << thesisTablesCsv(results);
   } else if (format == "svg") {

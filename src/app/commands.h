@@ -22,7 +22,9 @@ struct RenderOptions {
 };
 int cmdRender(const RenderOptions& options);
 
-int cmdTables(const std::string& resultsPath, const std::string& format);
+// Several files: their runs one after another under the first file's context (a study whose runs
+// did not fit one sweep); refused unless every file was measured on a device of the same name.
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format);
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json);
 
 int cmdSceneExport(const std::string& name, const std::string& out);

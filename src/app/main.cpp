@@ -43,9 +43,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 100000));
   sweepCmd->add_flag("--no-images", noImages, "write no per-variant images");
 
-  std::string tablesPath, tablesFormat = "md";
+  std::vector<std::string> tablesPaths;
+  std::string tablesFormat = "md";
   auto* tablesCmd = app.add_subcommand("tables", "regenerate the thesis tables from a results file");
-  tablesCmd->add_option("results", tablesPath, "results.json")->required();
+  tablesCmd->add_option("results", tablesPaths,
+                        "results.json; several files of one study on one kind of device are read as one (their runs "
+                        "in order)")->required();
   tablesCmd->add_option("--format", tablesFormat, "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
       ->check(CLI::IsMember({"md", "csv", "svg"}));
 
@@ -95,7 +98,7 @@ int main(int argc, char** argv) {
       sweep.images = !noImages;
       return cmdSweep(sweep);
     }
-    if (*tablesCmd) return cmdTables(tablesPath, tablesFormat);
+    if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat);
     if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
