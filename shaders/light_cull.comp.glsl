@@ -21,6 +21,7 @@ layout(set = 0, binding = 3) writeonly buffer Grid { LightGridEntry grid[]; };
 layout(set = 0, binding = 4) writeonly buffer Indices { uint lightIndices[]; };
 layout(set = 0, binding = 5) uniform sampler2D depthTex;
 layout(set = 0, binding = 9) readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
+layout(set = 0, binding = 10) readonly buffer ViewSpheres { vec4 viewSpheres[]; };       // the same, spheres only
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uint sMinDepthBits;  // positive floats order like their bit patterns
@@ -113,9 +114,23 @@ void main() {
 
   // Each thread tests lights round-robin; the visible set is a bitmask so the stored list can be
   // written in ascending index order (the first kMaxLightsPerTile of them, as cull_ref.h does).
-  if (!sEmpty)
-    for (uint i = local; i < lightCount; i += groupSize)
-      if (lightTouchesTile(viewLights[i], sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask)) atomicOr(sKept[i / 32], 1u << (i % 32));
+  // The range sphere's part of the test first, from 16 bytes a light (directional: an infinite
+  // radius, which no plane or box rejects); the full test, which repeats it with the same operands
+  // and so agrees, loads the rest only for the lights the sphere keeps.
+  if (!sEmpty) {
+    vec4 planes[6];
+    for (int p = 0; p < 4; ++p) planes[p] = sFrustum.planes[p];
+    planes[4] = nearPlane(sZNear);
+    planes[5] = farPlane(sZFar);
+    for (uint i = local; i < lightCount; i += groupSize) {
+      const vec4 sphere = viewSpheres[i];
+      bool keep = true;
+      for (int p = 0; p < 6; ++p) keep = keep && !sphereOutsidePlane(planes[p], sphere.xyz, sphere.w);
+      if (AABB == 1) keep = keep && sphereOverlapsAabb(sAabbMin, sAabbMax, sphere.xyz, sphere.w);
+      if (keep && lightTouchesTile(viewLights[i], sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask))
+        atomicOr(sKept[i / 32], 1u << (i % 32));
+    }
+  }
   barrier();
 
   if (LIST_MODE != kListTile) {

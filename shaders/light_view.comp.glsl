@@ -11,11 +11,16 @@ layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
 layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
 layout(set = 0, binding = 6) readonly buffer SortedLights { GpuLight sortedLights[]; };
 layout(set = 0, binding = 9) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
+// The range spheres alone (xyz, range; directional: +inf), what every tile reads first.
+layout(set = 0, binding = 10) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 void main() {
   const uint i = gl_GlobalInvocationID.x;
   if (i >= min(pc.lightCount, kMaxLights)) return;
-  if (LIST_MODE == kListZbin) viewLights[i] = toViewLight(sortedLights[i], frame.view);
-  else viewLights[i] = toViewLight(lights[i], frame.view);
+  GpuViewLight v;
+  if (LIST_MODE == kListZbin) v = toViewLight(sortedLights[i], frame.view);
+  else v = toViewLight(lights[i], frame.view);
+  viewLights[i] = v;
+  viewSpheres[i] = vec4(v.positionRange.xyz, v.type == kLightDirectional ? uintBitsToFloat(0x7F800000u) : v.positionRange.w);
 }

@@ -40,7 +40,8 @@ std::vector<Binding> cullingBindings() {
           {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
 }
 }  // namespace
 
@@ -68,6 +69,8 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       viewLights_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(gpu::GpuViewLight),
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
+      viewSpheres_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                   false, MemClass::Culling),
       sets_(ctx, cullingBindings()),
       frustumPipeline_(ctx),
       cullPipeline_(ctx),
@@ -96,6 +99,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
   sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
   sets_.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewLights_.handle());
+  sets_.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewSpheres_.handle());
   frustumPipeline_.createLayout({sets_.layout()}, 4);
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);
@@ -115,7 +119,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
 }
 
 uint64_t LightCulling::memoryBytes() const {
-  uint64_t bytes = grid_.size() + indices_.size() + viewLights_.size();
+  uint64_t bytes = grid_.size() + indices_.size() + viewLights_.size() + viewSpheres_.size();
   if (settings_.lists == LightLists::Zbin) bytes += sortedLights_.size() + order_.size() + extents_.size();
   return bytes;
 }

@@ -8,8 +8,8 @@
 //            buffer by kZBins log-depth bins, each the [first, last] sorted light that can reach it.
 //            Sorting and binning run first in the same timed pass; later passes read the sorted
 //            lights (lightsForLists) and map back through order().
-// Before the tiles, every light is put in view space once (light_view.comp.glsl), so each tile's
-// test reads 48 bytes per light and transforms nothing. Tile size, the AABB test, culling on/off
+// Before the tiles, every light is put in view space once (light_view.comp.glsl), so each tile
+// transforms nothing and tests a light's 16-byte range sphere first, the rest only where it passes. Tile size, the AABB test, culling on/off
 // and the list form are specialization constants: no dynamic branching on them.
 #pragma once
 #include "gpu/vk_pipeline.h"
@@ -74,7 +74,7 @@ class LightCulling {
   CullingSettings settings_;
   uint32_t tilesX_, tilesY_, maskWords_;
   const Buffer& lights_;
-  Buffer frustums_, grid_, indices_, sortedLights_, order_, extents_, viewLights_;
+  Buffer frustums_, grid_, indices_, sortedLights_, order_, extents_, viewLights_, viewSpheres_;
   DescriptorSets sets_;
   Pipeline frustumPipeline_, cullPipeline_, viewPipeline_, sortPipeline_, binPipeline_;
 };
