@@ -137,44 +137,37 @@ glm::vec4 LightCulling::zbinConstants() const {
 
 LightCulling::~LightCulling() = default;
 
-void LightCulling::recordFrustums(VkCommandBuffer cmd) const {
+void LightCulling::dispatch(VkCommandBuffer cmd, const Pipeline& pipeline, uint32_t push, uint32_t groupsX,
+                            uint32_t groupsY) const {
   VkDescriptorSet set = sets_.set();
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, frustumPipeline_.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, frustumPipeline_.layout(), 0, 1, &set, 0, nullptr);
-  uint32_t zero = 0;
-  vkCmdPushConstants(cmd, frustumPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &zero);
-  vkCmdDispatch(cmd, (tilesX_ * tilesY_ + 63) / 64, 1, 1);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
+  vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_ALL, 0, 4, &push);
+  vkCmdDispatch(cmd, groupsX, groupsY, 1);
+}
+
+void LightCulling::recordFrustums(VkCommandBuffer cmd) const {
+  dispatch(cmd, frustumPipeline_, 0, (tilesX_ * tilesY_ + 63) / 64);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
 }
 
 void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const {
-  VkDescriptorSet set = sets_.set();
-  if (settings_.lists == LightLists::Zbin) {
-    // Sort (ranks), then the bins and the tile masks over the sorted lights, which read it.
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sortPipeline_.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, sortPipeline_.layout(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, sortPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
-    vkCmdDispatch(cmd, std::max<uint32_t>(1, (lightCount + 255) / 256), 1, 1);
+  auto computeToCompute = [&] {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binPipeline_.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, binPipeline_.layout(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, binPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
-    vkCmdDispatch(cmd, gpu::kZBins / 256, 1, 1);
+  };
+  if (settings_.lists == LightLists::Zbin) {
+    // Sort (ranks), then the bins and the view-space lights over the sorted lights, which read it.
+    dispatch(cmd, sortPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 255) / 256));
+    computeToCompute();
+    dispatch(cmd, binPipeline_, lightCount, gpu::kZBins / 256);
   }
   if (settings_.lightCulling) {  // the lights in view space, then every tile tests them
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, viewPipeline_.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, viewPipeline_.layout(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, viewPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
-    vkCmdDispatch(cmd, std::max<uint32_t>(1, (lightCount + 63) / 64), 1, 1);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+    dispatch(cmd, viewPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 63) / 64));
+    computeToCompute();
   }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, cullPipeline_.layout(), 0, 1, &set, 0, nullptr);
-  vkCmdPushConstants(cmd, cullPipeline_.layout(), VK_SHADER_STAGE_ALL, 0, 4, &lightCount);
-  vkCmdDispatch(cmd, tilesX_, tilesY_, 1);
+  dispatch(cmd, cullPipeline_, lightCount, tilesX_, tilesY_);
 }
 
 }  // namespace hb

@@ -70,6 +70,9 @@ class LightCulling {
   const Buffer& order() const { return order_; }     // zbin: sorted index -> scene light index
 
  private:
+  // Binds `pipeline` with the pass's descriptor set, pushes `push` (4 bytes) and dispatches.
+  void dispatch(VkCommandBuffer cmd, const Pipeline& pipeline, uint32_t push, uint32_t groupsX,
+                uint32_t groupsY = 1) const;
   const VulkanContext& ctx_;
   CullingSettings settings_;
   uint32_t tilesX_, tilesY_, maskWords_;
