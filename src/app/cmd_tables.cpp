@@ -59,10 +59,12 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
   return kExitOk;
 }
 
-int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json) {
+int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format) {
   CompareReport report = compareResults(readResults(a), readResults(b), options);
-  if (json)
+  if (format == "json")
     std::cout << toJson(report).dump(2) << "\n";
+  else if (format == "junit")
+    std::cout << formatCompareJunit(report);
   else
     std::cout << formatCompare(report);
   return report.regression ? kExitRegression : kExitOk;

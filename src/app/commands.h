@@ -25,7 +25,8 @@ int cmdRender(const RenderOptions& options);
 // Several files: their runs one after another under the first file's context (a study whose runs
 // did not fit one sweep); refused unless every file was measured on a device of the same name.
 int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format);
-int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, bool json);
+// format: md (a Markdown table), json or junit (formatCompareJunit).
+int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
 
 int cmdSceneExport(const std::string& name, const std::string& out);
 int cmdSceneInfo(const std::string& path, bool json);

@@ -55,13 +55,16 @@ int main(int argc, char** argv) {
   std::string compareA, compareB;
   CompareOptions compareOpts;
   bool compareJson = false;
+  std::string compareFormat = "md";
   auto* compareCmd = app.add_subcommand("compare", "compare two results files (B against A); exit 1 on a regression");
   compareCmd->add_option("a", compareA, "baseline results.json")->required();
   compareCmd->add_option("b", compareB, "candidate results.json")->required();
   compareCmd->add_option("--threshold", compareOpts.thresholdPct, "slower beyond this many percent is a regression (default 5)");
   compareCmd->add_option("--alpha", compareOpts.alpha, "significance level of the Mann-Whitney U test (default 0.05)");
   compareCmd->add_flag("--force", compareOpts.force, "compare even when scenes or configs differ");
-  compareCmd->add_flag("--json", compareJson, "machine-readable report");
+  compareCmd->add_flag("--json", compareJson, "machine-readable report (the same as --format json)");
+  compareCmd->add_option("--format", compareFormat, "md (default: a Markdown table, also for a CI job summary), json, junit (JUnit XML: a test case per variant and pass, failed when slower)")
+      ->check(CLI::IsMember({"md", "json", "junit"}));
 
   auto* sceneCmd = app.add_subcommand("scene", "export or inspect scenes");
   sceneCmd->require_subcommand(1);
@@ -99,7 +102,7 @@ int main(int argc, char** argv) {
       return cmdSweep(sweep);
     }
     if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat);
-    if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson);
+    if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
     // No subcommand: the main job, the embedded default sweep (configs/thesis.json) on device 0.

@@ -280,6 +280,44 @@ std::string formatCompare(const CompareReport& r) {
   return out;
 }
 
+std::string formatCompareJunit(const CompareReport& r) {
+  size_t failures = 0, skipped = 0;
+  for (const CompareRow& row : r.rows) {
+    failures += row.verdict == "slower";
+    skipped += row.verdict == "too noisy";
+  }
+  const std::string counts = format("tests=\"%zu\" failures=\"%zu\" errors=\"0\" skipped=\"%zu\"", r.rows.size(),
+                                    failures, skipped);
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  out += "<testsuites name=\"hybridbench compare\" " + counts + ">\n";
+  out += "  <testsuite name=\"" + escapeXml(r.deviceB + " against " + r.deviceA) + "\" " + counts + ">\n";
+  out += "    <properties>\n";
+  out += "      <property name=\"device_a\" value=\"" + escapeXml(r.deviceA) + "\"/>\n";
+  out += "      <property name=\"device_b\" value=\"" + escapeXml(r.deviceB) + "\"/>\n";
+  out += format("      <property name=\"threshold_pct\" value=\"%.4g\"/>\n", r.thresholdPct);
+  out += format("      <property name=\"alpha\" value=\"%.4g\"/>\n", r.alpha);
+  out += "      <property name=\"geomean_frame_ratio\" value=\"" + num(r.geomeanRatio, "%.4f") + "\"/>\n";
+  out += "    </properties>\n";
+  for (const CompareRow& row : r.rows) {
+    const std::string what = "B/A " + num(row.ratio, "%.3f") + " (" + num(row.medianB, "%.3f") + " ms against " +
+                             num(row.medianA, "%.3f") + " ms), " + format("%.4g", 100 * (1 - r.alpha)) +
+                             " % CI [" + num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "], p " +
+                             num(row.p, "%.4g");
+    // time: B's median in seconds (JUnit's unit), 0 when missing.
+    out += "    <testcase classname=\"" + escapeXml("hybridbench." + row.variant) + "\" name=\"" + escapeXml(row.pass) +
+           "\" time=\"" + format("%.6f", std::isfinite(row.medianB) ? row.medianB / 1000.0 : 0.0) + "\"";
+    if (row.verdict == "slower") {
+      out += ">\n      <failure type=\"slower\" message=\"" + escapeXml("slower: " + what) + "\"/>\n    </testcase>\n";
+    } else if (row.verdict == "too noisy") {
+      out += ">\n      <skipped message=\"" + escapeXml("too noisy: " + what) + "\"/>\n    </testcase>\n";
+    } else {
+      out += ">\n      <system-out>" + escapeXml(row.verdict + ": " + what) + "</system-out>\n    </testcase>\n";
+    }
+  }
+  out += "  </testsuite>\n</testsuites>\n";
+  return out;
+}
+
 json toJson(const CompareReport& r) {
   json rows = json::array();
   for (const CompareRow& row : r.rows)

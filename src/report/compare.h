@@ -59,6 +59,12 @@ CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b,
 // flag and the warnings.
 std::string formatCompare(const CompareReport& report);
 
+// JUnit XML, as CI systems read test reports: one testsuite, one testcase per (variant, pass)
+// (classname "hybridbench.<variant>", name the pass, time B's median in seconds), a <failure> where
+// the verdict is "slower" (passes included; the exit code still follows the frame rows only), a
+// <skipped> where it is "too noisy"; the devices, threshold, alpha and geometric mean as properties.
+std::string formatCompareJunit(const CompareReport& report);
+
 nlohmann::json toJson(const CompareReport& report);
 
 }  // namespace hb

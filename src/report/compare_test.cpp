@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "report/xml_test_util.h"
+
 #include "config/config.h"
 #include "base/errors.h"
 #include "report/stats.h"
@@ -85,6 +87,31 @@ TEST(CompareResults, TwentyPercentSlowerIsARegression) {
     EXPECT_GT(row.ciLow, 1.05);
   }
   EXPECT_NEAR(r.geomeanRatio, 1.2, 1.2 * 0.013);
+}
+
+// The JUnit report: one test case per row, a failure per "slower" row (4 here: frame and shadows of
+// both variants; depth_prepass is not scaled in B), none when the two draws match; well-formed XML
+// with the counts in the suite's attributes.
+TEST(CompareResults, JunitReportHasATestCasePerRowAndAFailurePerSlowdown) {
+  const json a = makeResults("abc", 1, 30, 1.0), slow = makeResults("abc", 2, 30, 1.2), same = makeResults("abc", 2, 30, 1.0);
+  const CompareReport r = compareResults(a, slow, {});
+  const std::string xml = formatCompareJunit(r);
+  EXPECT_EQ(testing::xmlProblem(xml), "") << xml;
+  auto count = [&](const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+  };
+  size_t slower = 0;
+  for (const CompareRow& row : r.rows) slower += row.verdict == "slower";
+  EXPECT_EQ(slower, 4u);
+  EXPECT_EQ(count(xml, "<testcase "), r.rows.size());
+  EXPECT_EQ(count(xml, "<failure "), slower);
+  EXPECT_NE(xml.find("tests=\"6\" failures=\"4\""), std::string::npos) << xml;
+  const std::string fine = formatCompareJunit(compareResults(a, same, {}));
+  EXPECT_EQ(testing::xmlProblem(fine), "");
+  EXPECT_EQ(count(fine, "<failure "), 0u);
+  EXPECT_NE(fine.find("failures=\"0\""), std::string::npos);
 }
 
 TEST(CompareResults, TwentyPercentFasterIsNotARegression) {
