@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <regex>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -375,6 +376,54 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   const RunResult refused = run({"tables", (out / "results.json").string(), (out / "other.json").string()});
   EXPECT_EQ(refused.exitCode, 2);
   EXPECT_NE(refused.err.find("another GPU"), std::string::npos) << refused.err;
+}
+
+// scripts/ci-compare.sh, the recipe for a user's CI: sweeping the baseline's own config on the same
+// device is no regression (exit 0, compare.md and a JUnit report written); against a baseline
+// whose every time is halved, the new run is twice as slow: exit 1; a missing baseline: exit 2.
+// The threshold is 50 %: lavapipe's frame times on a shared 2-core runner move by tens of percent
+// between two sweeps, which a 5 % threshold would (rightly) call a change; 2x is far beyond 50 %.
+TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) {
+  const fs::path base = dir / "base";
+  // 8 frames a side: a U test of 3 against 3 cannot reach p < 0.05 however far apart they are.
+  const RunResult sweep = run({"sweep", kFixture.string(), "--no-images", "--frames", "8", "--out", base.string()});
+  ASSERT_EQ(sweep.exitCode, 0) << sweep.err;
+  const std::string script = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scripts/ci-compare.sh";
+  auto recipe = [&](const fs::path& baseline, const fs::path& out) {
+    const std::string cmd = "SWEEP_ARGS='--frames 8' COMPARE_ARGS='--threshold 50' HYBRIDBENCH_VALIDATION=1 HYBRIDBENCH='" + std::string(HYBRIDBENCH_BINARY) + "' bash '" + script +
+                            "' '" + baseline.string() + "' '' '" + out.string() + "' > '" + (out.string() + ".log") +
+                            "' 2>&1";
+    fs::create_directories(out.parent_path());
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  EXPECT_EQ(recipe(base / "results.json", dir / "same"), 0) << readFile(dir / "same.log");
+  EXPECT_NE(readFile(dir / "same" / "compare.md").find("regression (a frame time slower beyond the threshold): no"),
+            std::string::npos);
+  // The JUnit report: frame test cases pass (a pass's own time may still move on lavapipe).
+  const std::regex frameFailure(R"(name="frame" time="[0-9.]+">\s*<failure)");
+  const std::string sameJunit = readFile(dir / "same" / "compare.junit.xml");
+  EXPECT_NE(sameJunit.find("<testcase "), std::string::npos);
+  EXPECT_FALSE(std::regex_search(sameJunit, frameFailure)) << sameJunit;
+  EXPECT_EQ(readFile(dir / "same.log").find("validation:"), std::string::npos);
+
+  json fast = readJson(base / "results.json");
+  auto halve = [](json& stats) {
+    for (auto& [key, v] : stats.items())
+      if (key == "samples") {
+        for (json& x : v) x = x.get<double>() * 0.5;
+      } else if (key != "cv" && v.is_number()) {
+        v = v.get<double>() * 0.5;
+      }
+  };
+  for (json& r : fast["runs"]) {
+    halve(r["frame_ms"]);
+    for (auto& [pass, stats] : r["passes"].items()) halve(stats);
+  }
+  writeFile(dir / "fast.json", fast.dump());
+  EXPECT_EQ(recipe(dir / "fast.json", dir / "slow"), 1) << readFile(dir / "slow.log");
+  EXPECT_TRUE(std::regex_search(readFile(dir / "slow" / "compare.junit.xml"), frameFailure));
+  EXPECT_EQ(recipe(dir / "missing.json", dir / "none"), 2) << readFile(dir / "none.log");
 }
 
 // Kill (SIGINT) after the first finished variant, resume and kill again (SIGTERM) after the next

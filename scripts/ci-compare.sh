@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# A performance check for a CI job on a GPU runner: sweep CONFIG on this machine's GPU, compare the
+# result with a stored baseline results.json and fail the job on a regression.
+#
+#   scripts/ci-compare.sh BASELINE.json [CONFIG] [OUTDIR]
+#
+# CONFIG defaults to the config the baseline was swept with (its context.config is a full config),
+# so a baseline alone is enough. Writes OUTDIR (default out/ci-compare) with the new results.json,
+# compare.md (a Markdown table for the job summary; appended to $GITHUB_STEP_SUMMARY when set) and
+# compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower).
+# Exit: 0 no regression, 1 a frame time slower than the baseline beyond the threshold
+# (hybridbench compare's verdict), 2 bad input (missing baseline, config or device).
+# HYBRIDBENCH (default: hybridbench on PATH, else build/hybridbench), SWEEP_ARGS (e.g. "--frames
+# 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3") may be set.
+set -uo pipefail
+
+if [ $# -lt 1 ] || [ $# -gt 3 ]; then
+  echo "usage: scripts/ci-compare.sh BASELINE.json [CONFIG] [OUTDIR]" >&2
+  exit 2
+fi
+baseline="$1"
+config="${2:-}"
+out="${3:-out/ci-compare}"
+hb="${HYBRIDBENCH:-$(command -v hybridbench || echo build/hybridbench)}"
+if [ ! -x "$hb" ]; then
+  echo "ci-compare: no hybridbench binary at '$hb'; build it (cmake --build build) or set HYBRIDBENCH" >&2
+  exit 2
+fi
+if [ ! -f "$baseline" ]; then
+  echo "ci-compare: baseline '$baseline' does not exist; store a results.json from a sweep on this GPU first" >&2
+  exit 2
+fi
+mkdir -p "$out" || exit 2
+if [ -z "$config" ]; then
+  # The baseline's own config: results.json keeps the full effective config under context.config.
+  config="$out/baseline-config.json"
+  python3 -c 'import json,sys; json.dump(json.load(open(sys.argv[1]))["context"]["config"], open(sys.argv[2], "w"), indent=2)' \
+    "$baseline" "$config" || { echo "ci-compare: '$baseline' holds no context.config; pass CONFIG" >&2; exit 2; }
+fi
+
+echo "ci-compare: sweeping $config on this machine's GPU into $out/sweep"
+rm -rf "$out/sweep"
+# shellcheck disable=SC2086  # SWEEP_ARGS is a list of options
+"$hb" sweep "$config" --no-images --out "$out/sweep" ${SWEEP_ARGS:-} || exit 2
+
+# shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
+"$hb" compare "$baseline" "$out/sweep/results.json" --format junit ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
+"$hb" compare "$baseline" "$out/sweep/results.json" --format md ${COMPARE_ARGS:-} > "$out/compare.md"
+status=$?
+cat "$out/compare.md"
+if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/compare.md" >> "$GITHUB_STEP_SUMMARY"; fi
+case $status in
+  0) echo "ci-compare: no regression against $baseline" ;;
+  1) echo "ci-compare: REGRESSION against $baseline (see $out/compare.md, $out/compare.junit.xml)" ;;
+  *) echo "ci-compare: compare refused the pair (exit $status)" >&2 ;;
+esac
+exit $status
