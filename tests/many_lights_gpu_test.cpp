@@ -5,6 +5,7 @@
 // reference, and z-binning's own per-pixel check); nothing is dropped; the accounting adds up; and
 // the analysis on every core equals the serial one bit for bit.
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <map>
 #include <string>
@@ -165,6 +166,37 @@ TEST_P(ManyLightsGpuTest, UncappedListsDropNothingAndMatchTheCpuShadowRays) {
 
 INSTANTIATE_TEST_SUITE_P(Lights, ManyLightsGpuTest, ::testing::Values(33u, 64u, 100u, 256u),
                          [](const auto& param) { return std::to_string(param.param); });
+
+// Without a shadow pass the shading pass takes each pixel's z-bin range from its own depth: it
+// must light every pixel with the same lights as the bitmask lists do. The colours differ only by
+// the order the same terms are summed in (a few float ulps), below one step of the RGBA16F target
+// (2^-10 relative near the value): per channel |zbin - bitmask| <= 2^-10 · max(|zbin|, |bitmask|)
+// plus 2^-24 for values near zero (half's subnormal step).
+class ManyLightsShadingTest : public testing::GpuTest {};
+
+TEST_F(ManyLightsShadingTest, ZbinShadingWithoutShadowsLightsLikeTheBitmaskLists) {
+  const Scene& scene = atrium(64);
+  std::map<LightLists, std::vector<float>> colors;
+  for (LightLists lists : {LightLists::Bitmask, LightLists::Zbin}) {
+    RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = 16};
+    s.lightLists = lists;
+    s.effects.add(EffectSource::Config, "test", {{"shadows", false}});
+    Renderer r(*ctx, scene, s);
+    ASSERT_FALSE(r.hasShadows());
+    r.renderFrame(true);
+    colors[lists] = r.readColor();
+  }
+  const std::vector<float>& b = colors.at(LightLists::Bitmask);
+  const std::vector<float>& z = colors.at(LightLists::Zbin);
+  ASSERT_EQ(b.size(), z.size());
+  size_t off = 0, lit = 0;
+  for (size_t i = 0; i < b.size(); ++i) {
+    lit += b[i] > 0.0f;
+    off += std::abs(b[i] - z[i]) > std::ldexp(std::max(std::abs(b[i]), std::abs(z[i])), -10) + 0x1p-24f;
+  }
+  EXPECT_GT(lit, b.size() / 4);
+  EXPECT_EQ(off, 0u);
+}
 
 // The analysis on every core (parallelFor) equals the serial run (HYBRIDBENCH_THREADS=1) bit for bit.
 class ManyLightsAnalysisTest : public testing::GpuTest {};
