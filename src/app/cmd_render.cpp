@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/auto_scene.h"
 #include "scene/atrium.h"
 #include "app/commands.h"
 #include "config/config.h"
@@ -31,30 +32,42 @@ int cmdRender(const RenderOptions& options) {
   }
   // Effects: the scene's own (planFrame adds them) < the config's < each --set that names one.
   EffectsRequest effects = haveConfig ? effectsRequestFor(config) : EffectsRequest{};
+  bool cameraAuto = false;
   for (const std::string& set : options.sets) {
     if (isEffectSet(set)) {
       effects.layers.push_back(parseEffectSet(set));
       continue;
     }
+    if (set.rfind("camera=", 0) == 0) {
+      if (set != "camera=auto")
+        throw InputError("--set " + set + ": the only camera setting is camera=auto (a camera framing the scene's "
+                         "bounds); pick another of the scene's cameras with a config's \"camera\": {\"index\": N}");
+      cameraAuto = true;
+      continue;
+    }
     applySetOverride(params, set);
   }
   const bool sceneFlagGiven = options.sceneGiven || !haveConfig;
-  bool setsAtriumParams = false;
-  for (const std::string& set : options.sets)
-    setsAtriumParams |= set.rfind("light_count=", 0) == 0 || set.rfind("triangle_scale=", 0) == 0;
-  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && setsAtriumParams)
-    throw InputError("--set light_count/triangle_scale apply only to the built-in atrium, not to \"" + options.scene + "\"");
+  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && params.triangleScale)
+    throw InputError("--set triangle_scale applies only to the built-in atrium, not to \"" + options.scene + "\"");
   Scene scene;
   if (haveConfig && !sceneFlagGiven) {
+    if (cameraAuto) config.camera = CameraSpec{.autoFrame = true};
     checkParamsFitScene(config, params, "--set");
-    scene = sceneForVariant(config, params);
-  } else if (options.scene == "atrium") {
-    AtriumParams ap;
-    if (params.lightCount) ap.lightCount = *params.lightCount;
-    if (params.triangleScale) ap.triangleScale = *params.triangleScale;
-    scene = makeAtrium(ap);
+    scene = sceneForVariant(config, params);  // completes the scene itself
   } else {
-    scene = loadSceneArg(options.scene);
+    AutoRequest request;
+    request.camera = cameraAuto;
+    if (options.scene == "atrium") {
+      AtriumParams ap;
+      if (params.lightCount) ap.lightCount = *params.lightCount;
+      if (params.triangleScale) ap.triangleScale = *params.triangleScale;
+      scene = makeAtrium(ap);
+    } else {
+      scene = loadSceneArg(options.scene);
+      request.lightCount = params.lightCount;  // any other scene: that many automatic lights
+    }
+    for (const std::string& line : completeScene(scene, request)) std::fprintf(stderr, "%s\n", line.c_str());
   }
   RenderSettings settings = renderSettingsFor(params, effects);
 
@@ -77,6 +90,8 @@ int cmdRender(const RenderOptions& options) {
   for (const auto& [pass, ms] : timing.passMs) report["timing_ms"][pass] = ms;
   report["timing_ms"]["frame"] = timing.frameMs;
   report["params"] = toJson(params);
+  report["camera"] = {{"source", scene.cameraSource}, {"name", scene.cameras.front().name}};
+  report["lights"] = {{"source", scene.lightsSource}, {"count", scene.lights.size()}};
   const std::filesystem::path jsonPath = std::filesystem::path(options.out) / "render.json";
   {
     std::ofstream f(jsonPath.string() + ".tmp");

@@ -1,7 +1,9 @@
 #include "app/scene_setup.h"
 
+#include <cstdio>
 #include <filesystem>
 
+#include "app/auto_scene.h"
 #include "scene/atrium.h"
 #include "base/errors.h"
 #include "scene/gltf/gltf_io.h"
@@ -11,10 +13,15 @@
 namespace hb {
 
 void applySceneOverrides(const Config& config, Scene& scene) {
-  if (config.lights) scene.lights = *config.lights;
+  if (config.lights) {
+    scene.lights = *config.lights;
+    scene.lightsSource = "config";
+  }
   if (config.ambient) scene.ambient = *config.ambient;
+  if (config.camera.autoFrame) return;  // completeScene makes it
   if (config.camera.explicitPose) {
     scene.cameras.insert(scene.cameras.begin(), cameraFromSpec(config.camera));
+    scene.cameraSource = "config";
   } else if (config.camera.index > 0) {
     if (config.camera.index >= scene.cameras.size())
       throw InputError(config.sourceName + ": camera.index: " + std::to_string(config.camera.index) +
@@ -42,6 +49,10 @@ Scene sceneForVariant(const Config& config, const VariantParams& params) {
     scene = loadGltf(config.scene);
   }
   applySceneOverrides(config, scene);
+  AutoRequest request;
+  request.camera = config.camera.autoFrame;
+  if (!config.sceneIsBuiltin()) request.lightCount = params.lightCount;  // the atrium draws its own
+  for (const std::string& line : completeScene(scene, request)) std::fprintf(stderr, "%s\n", line.c_str());
   return scene;
 }
 

@@ -225,7 +225,8 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
                        {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
                        {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
   }
-  run["scene"] = {{"triangles", scene.triangleCount()}, {"lights", scene.lights.size()}};
+  run["scene"] = {{"triangles", scene.triangleCount()}, {"lights", scene.lights.size()},
+                  {"camera_source", scene.cameraSource}, {"lights_source", scene.lightsSource}};
   if (!images) run.erase("images");
   run["status"] = "ok";
   return run;
@@ -322,7 +323,9 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
   context["scene"] = {{"name", baseScene.name},
                       {"sha256", sceneSha256(baseScene)},
                       {"triangles", baseScene.triangleCount()},
-                      {"lights", baseScene.lights.size()}};
+                      {"lights", baseScene.lights.size()},
+                      {"camera_source", baseScene.cameraSource},
+                      {"lights_source", baseScene.lightsSource}};
   context["resolution"] = variants.front().params.resolution;
   context["config"] = toJson(config);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};

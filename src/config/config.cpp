@@ -105,6 +105,13 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
 }
 
 void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
+  if (v.is_string()) {
+    if (v.get<std::string>() != "auto")
+      w.fail(describe(v) + " is not \"auto\"; give \"auto\" (frame the scene's bounds), {\"index\": N} or "
+             "{\"position\", \"target\"}");
+    cam.autoFrame = true;
+    return;
+  }
   requireObjectWithKeys(v, w, {"index", "position", "target", "up", "yfov_deg", "znear", "zfar"});
   if (v.contains("index")) {
     if (v.size() != 1)
@@ -399,14 +406,12 @@ bool Config::sceneIsHardCase() const {
 }
 
 void checkParamsFitScene(const Config& c, const VariantParams& p, const std::string& where) {
-  if (!c.sceneIsBuiltin()) {
-    for (auto [set, key] : {std::pair{p.lightCount.has_value(), "light_count"},
-                            {p.triangleScale.has_value(), "triangle_scale"}})
-      if (set)
-        throw InputError(where + ": " + key +
-                         " applies only to the built-in \"atrium\" scene (this config renders " + c.scene +
-                         "); remove it");
-  } else if (c.lights && p.lightCount) {
+  // light_count works on any scene: the atrium draws its own lights, any other scene gets that
+  // many automatic ones (app/auto_scene.h).
+  if (!c.sceneIsBuiltin() && p.triangleScale)
+    throw InputError(where + ": triangle_scale applies only to the built-in \"atrium\" scene (this config renders " +
+                     c.scene + "); remove it");
+  if (c.lights && p.lightCount) {
     throw InputError(
         where + ": light_count cannot be combined with the config's explicit \"lights\" list; remove one");
   }
@@ -451,7 +456,9 @@ nlohmann::json toJson(const Config& c) {
     if (c.sceneParams.lightRangeMax > 0.0)
       j["scene_params"]["light_range"] = {c.sceneParams.lightRangeMin, c.sceneParams.lightRangeMax};
   }
-  if (c.camera.explicitPose)
+  if (c.camera.autoFrame)
+    j["camera"] = "auto";
+  else if (c.camera.explicitPose)
     j["camera"] = {{"position", vecJson(c.camera.position)},
                    {"target", vecJson(c.camera.target)},
                    {"up", vecJson(c.camera.up)},

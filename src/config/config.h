@@ -163,6 +163,7 @@ struct Variant {
 };
 
 struct CameraSpec {
+  bool autoFrame = false;     // "camera": "auto": app/auto_scene.h's camera, whatever the scene has
   bool explicitPose = false;  // false: use the scene's camera `index`
   uint32_t index = 0;
   glm::vec3 position{0.0f};

@@ -320,10 +320,16 @@ TEST(ConfigErrors, SceneSpecificParametersAreRefusedForGltfScenes) {
       errorOfText(R"({"name": "n", "scene": "s.gltf", "scene_params": {"lights": 3}})"),
       R"(x.json: scene_params: applies only to the built-in "atrium" scene; remove it or set "scene": "atrium")");
   std::string e = errorOfText(
-      R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"light_count": 3}}]})");
+      R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"triangle_scale": 2}}]})");
   EXPECT_EQ(
-      e.rfind("x.json: variants[0].params: light_count applies only to the built-in \"atrium\" scene", 0), 0u)
+      e.rfind("x.json: variants[0].params: triangle_scale applies only to the built-in \"atrium\" scene", 0), 0u)
       << e;
+  // light_count works on any scene (automatic lights, app/auto_scene.h), but not beside a list.
+  EXPECT_NO_THROW(parseText(
+      R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"light_count": 3}}]})"));
+  e = errorOfText(
+      R"({"name": "n", "scene": "s.gltf", "lights": [], "variants": [{"name": "a", "params": {"light_count": 3}}]})");
+  EXPECT_NE(e.find("light_count cannot be combined with the config's explicit \"lights\" list"), std::string::npos) << e;
   EXPECT_EQ(errorOfText(R"({"name": "n", "scene": "sponza"})"),
             R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes, microbench-262144, microbench-144) nor a .gltf/.glb path)");
 }
@@ -501,6 +507,16 @@ TEST(ConfigErrors, EveryMessageIsOneLine) {
     EXPECT_FALSE(e.empty()) << bad;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
+}
+
+TEST(ConfigCamera, AutoIsAcceptedAndWrittenBackAndAnythingElseIsNamed) {
+  Config c = parseText(R"({"name": "n", "scene": "s.gltf", "camera": "auto"})");
+  EXPECT_TRUE(c.camera.autoFrame);
+  EXPECT_FALSE(c.camera.explicitPose);
+  EXPECT_EQ(toJson(c)["camera"], "auto");
+  EXPECT_FALSE(parseText(R"({"name": "n", "scene": "s.gltf"})").camera.autoFrame);
+  EXPECT_EQ(errorOfText(R"({"name": "n", "camera": "front"})"),
+            R"(x.json: camera: "front" is not "auto"; give "auto" (frame the scene's bounds), {"index": N} or {"position", "target"})");
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "scene/camera.h"
 #include "base/errors.h"
+#include "base/splitmix64.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -16,20 +17,6 @@ namespace hb {
 namespace {
 
 constexpr double kPi = 3.141592653589793;
-
-// splitmix64 (Steele, Lea, Flood 2014): a tiny PRNG whose output is fixed by its definition, so
-// the scene is the same on every compiler and standard library.
-struct SplitMix64 {
-  uint64_t state;
-  uint64_t next() {
-    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return double(next() >> 11) * 0x1.0p-53; }  // [0, 1), 53 exact bits
-  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
-};
 
 // ---- Layout (metres). Sponza after its node scale: 29.8 x 12.4 x 18.3 (reference-figures.md).
 constexpr double kHalfX = 14.9, kHalfZ = 9.15, kFloorY = -0.2, kTopY = 12.2;

@@ -111,6 +111,11 @@ struct Scene {
   std::vector<Texture> textures;
   std::vector<Light> lights;
   std::vector<Camera> cameras;  // cameras[0] is the one a render uses unless told otherwise
+  // Where cameras[0] and the lights came from: "scene" (the file or the built-in), "config" (a
+  // config's camera or lights) or "auto" (app/auto_scene.h: the scene brought none, or
+  // light_count / camera=auto asked for them). Results record both.
+  std::string cameraSource = "scene";
+  std::string lightsSource = "scene";
   // The effects the scene calls for (a glTF's scenes[s].extras.effects, checked against
   // effects/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
   nlohmann::json effects;

@@ -1,0 +1,149 @@
+// Bring your own glTF (issue #18): a scene with no camera and no lights renders and sweeps with
+// automatic ones, says so, and records where its camera and lights came from; a scene with its own
+// is unchanged. End to end: the built tool on the device present (lavapipe on CI).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "base/image_io.h"
+#include "tool_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hb::testing::readFile;
+using hb::testing::RunResult;
+using hb::testing::writeFile;
+using json = nlohmann::json;
+
+class AutoScene : public hb::testing::ToolTest {
+ protected:
+  // The built-in cube exported (its own camera and light), and the same file with every camera
+  // and light removed: what most real glTF assets look like.
+  void SetUp() override {
+    ToolTest::SetUp();
+    own = dir / "cube.gltf";
+    bare = dir / "bare.gltf";
+    const RunResult ex = run({"scene", "export", "cube", own.string()});
+    ASSERT_EQ(ex.exitCode, 0) << ex.err;
+    json doc = json::parse(readFile(own));
+    json nodes = json::array();
+    json roots = json::array();
+    for (const json& node : doc["nodes"])
+      if (node.contains("mesh")) {
+        roots.push_back(nodes.size());
+        nodes.push_back(node);
+      }
+    ASSERT_FALSE(nodes.empty());
+    doc["nodes"] = nodes;
+    doc["scenes"][0]["nodes"] = roots;
+    for (const char* key : {"cameras", "extensions", "extensionsUsed"}) doc.erase(key);
+    writeFile(bare, doc.dump(1));
+  }
+
+  json renderJson(const std::vector<std::string>& extra, const fs::path& out, RunResult& r) {
+    std::vector<std::string> args{"render", "--size", "64x36", "--out", out.string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    r = run(args);
+    if (r.exitCode != 0) return json();
+    return json::parse(readFile(out / "render.json"), nullptr, false);
+  }
+
+  fs::path own, bare;
+};
+
+TEST_F(AutoScene, AGltfWithNoCameraAndNoLightsRendersWithAutomaticOnesAndSaysSo) {
+  RunResult r;
+  const json j = renderJson({"--scene", bare.string()}, dir / "bare-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  ASSERT_TRUE(j.is_object());
+  EXPECT_NE(r.err.find("has no camera: automatic camera"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("has no lights: 10 automatic point light(s)"), std::string::npos) << r.err;
+  EXPECT_EQ(j["camera"]["source"], "auto");
+  EXPECT_EQ(j["lights"]["source"], "auto");
+  EXPECT_EQ(j["lights"]["count"], 10);
+  // Shadows are traced: the shadow pass ran and traced rays.
+  EXPECT_GT(j["rays"].value("traced", uint64_t(0)), 0u) << j["rays"].dump();
+  // A non-empty image, lit where the scene is. The cube's 8 m ground square, projected through the
+  // automatic camera (auto_scene.h: centre (0, 0.75, 0), r = 5.72, eye at 2r from azimuth 30° and
+  // elevation 20°, yfov 60°) by hand, covers 9.94 % of a 16:9 frame: 229 of 64x36 pixels, the
+  // cube inside that outline. Its outline crosses about 60 pixels, each of which may fall either
+  // way, so at least 229 - 60 = 169 pixels must be lit (brighter than black by more than 8/255 per
+  // channel on average, well above the tone mapper's rounding).
+  const hb::ImageRGBA8 color = hb::readPng(dir / "bare-out" / "color.png");
+  size_t lit = 0;
+  for (size_t i = 0; i < size_t(color.width) * color.height; ++i)
+    lit += color.px[4 * i] + color.px[4 * i + 1] + color.px[4 * i + 2] > 24;
+  EXPECT_GE(lit, 169u) << lit << " lit pixels";
+}
+
+TEST_F(AutoScene, AGltfWithItsOwnCameraAndLightsIsUnchanged) {
+  RunResult r;
+  const json j = renderJson({"--scene", own.string()}, dir / "own-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(r.err.find("automatic"), std::string::npos) << r.err;
+  EXPECT_EQ(j["camera"]["source"], "scene");
+  EXPECT_EQ(j["lights"]["source"], "scene");
+  EXPECT_EQ(j["lights"]["count"], 1);
+  // ... and draws the same image as the built-in it was exported from.
+  const json b = renderJson({"--scene", "cube"}, dir / "builtin-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readFile(dir / "own-out" / "color.png") == readFile(dir / "builtin-out" / "color.png"), true);
+}
+
+TEST_F(AutoScene, LightCountAndCameraAutoWorkOnAnyScene) {
+  RunResult r;
+  const json j = renderJson({"--scene", own.string(), "--set", "light_count=3", "--set", "camera=auto"},
+                            dir / "asked-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(j["camera"]["source"], "auto");
+  EXPECT_EQ(j["camera"]["name"], "auto");
+  EXPECT_EQ(j["lights"]["source"], "auto");
+  EXPECT_EQ(j["lights"]["count"], 3);
+  const json hc = renderJson({"--scene", "depth-step", "--set", "light_count=40", "--set", "light_lists=bitmask"},
+                             dir / "hard-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(hc["lights"]["count"], 40);
+  EXPECT_EQ(hc["rays"].value("dropped_by_overflow", uint64_t(1)), 0u);
+
+  const RunResult bad = run({"render", "--scene", own.string(), "--set", "camera=front", "--out", (dir / "x").string()});
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("camera=auto"), std::string::npos) << bad.err;
+  const RunResult scale =
+      run({"render", "--scene", own.string(), "--set", "triangle_scale=2", "--out", (dir / "y").string()});
+  EXPECT_EQ(scale.exitCode, 2);
+  EXPECT_NE(scale.err.find("triangle_scale applies only to the built-in atrium"), std::string::npos) << scale.err;
+}
+
+TEST_F(AutoScene, ASweepOverLightCountsOfABareGltfRecordsTheSources) {
+  const json config = {{"name", "bare-lights"},
+                       {"scene", bare.string()},
+                       {"camera", "auto"},
+                       {"resolution", {64, 36}},
+                       {"frames", {{"warmup", 1}, {"measured", 2}}},
+                       {"defaults", {{"light_lists", "bitmask"}}},
+                       {"variants",
+                        {{{"name", "2 lights"}, {"params", {{"light_count", 2}}}},
+                         {{"name", "40 lights"}, {"params", {{"light_count", 40}}}}}}};
+  writeFile(dir / "bare.json", config.dump(1));
+  const RunResult r = run({"sweep", (dir / "bare.json").string(), "--out", (dir / "sweep").string(), "--no-images"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const json results = json::parse(readFile(dir / "sweep" / "results.json"));
+  EXPECT_EQ(results["context"]["scene"]["camera_source"], "auto");
+  EXPECT_EQ(results["context"]["scene"]["lights_source"], "auto");
+  ASSERT_EQ(results["runs"].size(), 2u);
+  const uint64_t counts[] = {2, 40};
+  for (size_t i = 0; i < 2; ++i) {
+    const json& run = results["runs"][i];
+    ASSERT_EQ(run.value("status", ""), "ok") << run.dump();
+    EXPECT_EQ(run["scene"]["lights"], counts[i]);
+    EXPECT_EQ(run["scene"]["lights_source"], "auto");
+    EXPECT_EQ(run["scene"]["camera_source"], "auto");
+    EXPECT_GT(run["rays"].value("traced", uint64_t(0)), 0u);
+  }
+}
+
+}  // namespace
