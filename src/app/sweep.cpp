@@ -10,8 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <sys/utsname.h>
+#include <thread>
 
 #include "report/accuracy_report.h"
 #include "base/errors.h"
@@ -25,6 +27,7 @@
 #include "report/many_lights_table.h"
 #include "report/primary_table.h"
 #include "report/tables.h"
+#include "base/text_format.h"
 #include "base/version.h"
 #include "gpu/vk_context.h"
 #include "gpu/vk_resources.h"
@@ -90,20 +93,56 @@ json deviceJson(const DeviceInfo& d, const std::string& backend) {
 volatile std::sig_atomic_t gInterrupted = 0;
 void onSignal(int) { gInterrupted = 1; }
 
+// One device's console output. When several devices sweep at once (`--device all`) stdout is
+// shared: every write is whole lines under one lock, each line prefixed with the device
+// ("[1 NVIDIA H200] "), and the progress bar becomes a line per variant.
+class Console {
+ public:
+  explicit Console(std::string prefix = "") : prefix_(std::move(prefix)) {}
+  bool shared() const { return !prefix_.empty(); }
+  void print(const std::string& text) const {
+    std::lock_guard<std::mutex> lock(mutex());
+    if (!shared()) {
+      std::fputs(text.c_str(), stdout);
+    } else {
+      size_t start = 0;
+      while (start < text.size()) {
+        const size_t end = text.find('\n', start);
+        const std::string line = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+        std::printf("%s%s\n", prefix_.c_str(), line.c_str());
+        if (end == std::string::npos) break;
+        start = end + 1;
+      }
+    }
+    std::fflush(stdout);
+  }
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+
+ private:
+  std::string prefix_;
+};
+
 class Progress {
  public:
-  Progress(size_t total) : total_(total), tty_(isatty(fileno(stdout))), start_(std::chrono::steady_clock::now()) {}
+  Progress(size_t total, const Console& console)
+      : total_(total), tty_(isatty(fileno(stdout)) && !console.shared()), console_(console),
+        start_(std::chrono::steady_clock::now()) {}
   void update(size_t done, const std::string& what) {
     double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     double eta = done ? elapsed / double(done) * double(total_ - done) : 0.0;
-    if (tty_) {
+    if (!tty_) {
+      console_.print(format("[%zu/%zu] %s (elapsed %.0fs, eta %.0fs)\n", done, total_, what.c_str(), elapsed, eta));
+      return;
+    }
+    {
       const int width = 28;
       int filled = total_ ? int(width * done / total_) : width;
       std::printf("\r[%s%s] %zu/%zu  %-44.44s  elapsed %4.0fs  eta %4.0fs", std::string(filled, '#').c_str(),
                   std::string(width - filled, '.').c_str(), done, total_, what.c_str(), elapsed, eta);
       if (done == total_) std::printf("\n");
-    } else {
-      std::printf("[%zu/%zu] %s (elapsed %.0fs, eta %.0fs)\n", done, total_, what.c_str(), elapsed, eta);
     }
     std::fflush(stdout);
   }
@@ -111,6 +150,7 @@ class Progress {
  private:
   size_t total_;
   bool tty_;
+  const Console& console_;
   std::chrono::steady_clock::time_point start_;
 };
 
@@ -298,11 +338,13 @@ static void writeOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
 }
 
-static int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
+// `concurrent`: the other devices sweeping at the same time (named in the results' context).
+static int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
+                          const Console& console, const std::vector<std::string>& concurrent) {
   VulkanContext ctx(device.index);
   if (device.type == "cpu") {
     config = lowerForCpuDevice(config);
-    std::printf("note: %s\n", config.notes.back().c_str());
+    console.print("note: " + config.notes.back() + "\n");
   }
   if (options.frames > 0) config.measuredFrames = uint32_t(options.frames);
   if (options.warmup >= 0) config.warmupFrames = uint32_t(options.warmup);
@@ -329,6 +371,8 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
   context["resolution"] = variants.front().params.resolution;
   context["config"] = toJson(config);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
+  if (!concurrent.empty())
+    context["concurrent_with"] = concurrent;  // other devices swept at the same time (one thread each)
   context["timing_source"] = "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
   if (ctx.info().type == "cpu")
     context["timing_caveat"] =
@@ -353,13 +397,14 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
       throw InputError(resultsPath + ": --resume needs the same config (frame counts included) and device as the interrupted sweep; use another --out");
     for (const json& run : old.value("runs", json::array()))
       if (run.value("status", "") == "ok") done[run.value("name", "")] = run;
-    std::printf("resume: %zu of %zu variants already done\n", done.size(), variants.size());
+    console.print(format("resume: %zu of %zu variants already done\n", done.size(), variants.size()));
   }
 
-  std::printf("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n", config.name.c_str(),
-              ctx.info().name.c_str(), variants.size(), config.warmupFrames, config.measuredFrames, outDir.c_str());
+  console.print(format("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n",
+                       config.name.c_str(), ctx.info().name.c_str(), variants.size(), config.warmupFrames,
+                       config.measuredFrames, outDir.c_str()));
   ReferenceCache references;
-  Progress progress(variants.size());
+  Progress progress(variants.size(), console);
   size_t index = 0, failures = 0;
   for (const Variant& v : variants) {
     if (gInterrupted) break;
@@ -375,7 +420,8 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
         if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
         run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
         ++failures;
-        std::printf("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) ? "\n" : "", v.name.c_str(), e.what());
+        console.print(format("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
+                             v.name.c_str(), e.what()));
       }
       results["runs"].push_back(run);
     }
@@ -383,17 +429,18 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
     ++index;
   }
   if (gInterrupted) {
-    std::printf("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n", index,
-                variants.size(), outDir.c_str(), outDir.c_str());
+    console.print(format("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n", index,
+                         variants.size(), outDir.c_str(), outDir.c_str()));
     return 130;
   }
   progress.update(variants.size(), "done");
-  std::printf("%s", thesisTablesMarkdown(results).c_str());
-  std::printf("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
-              options.images ? " and images per variant" : "");
-  if (failures) std::printf("%zu variant(s) failed: see status \"error\" in results.json\n", failures);
+  if (!console.shared()) console.print(thesisTablesMarkdown(results));  // concurrent: in tables.md only
+  console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
+                       options.images ? " and images per variant" : ""));
+  if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
   if (ctx.validationMessages()) {
-    std::fprintf(stderr, "hybridbench: %u validation message(s)\n", ctx.validationMessages());
+    std::fprintf(stderr, "hybridbench: %s%u validation message(s)\n", console.shared() ? (device.name + ": ").c_str() : "",
+                 ctx.validationMessages());
     return kExitDeviceFailure;
   }
   return kExitOk;
@@ -405,28 +452,85 @@ int cmdSweep(const SweepOptions& options) {
   if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
   Config config = options.config.empty() ? embeddedDefaultConfig() : loadConfig(options.config);
   std::vector<DeviceInfo> devices = enumerateDevices();
+  // "all", a comma-separated list ("0,1"; a device may be named twice: two sweeps on one GPU at
+  // once), or one index or name substring.
   std::vector<DeviceInfo> chosen;
-  if (options.device == "all") chosen = devices;
-  else chosen.push_back(devices[resolveDevice(devices, options.device)]);
-  if (chosen.empty()) throw DeviceError("no Vulkan device found");
+  if (options.device == "all") {
+    chosen = devices;
+  } else if (options.device.find(',') != std::string::npos) {
+    if (options.device.front() == ',' || options.device.back() == ',')
+      throw InputError("--device " + options.device + ": an empty item; write e.g. --device 0,1");
+    std::stringstream list(options.device);
+    for (std::string item; std::getline(list, item, ',');) {
+      if (item.empty()) throw InputError("--device " + options.device + ": an empty item; write e.g. --device 0,1");
+      chosen.push_back(devices[resolveDevice(devices, item)]);
+    }
+  } else {
+    chosen.push_back(devices[resolveDevice(devices, options.device)]);
+  }
+  if (chosen.empty()) throw DeviceError("no Vulkan device found; install a driver (lavapipe: mesa-vulkan-drivers)");
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
-  int rc = kExitOk;
-  for (const DeviceInfo& d : chosen) {
-    std::string dir = options.out;
-    if (dir.empty()) {
-      std::time_t now = std::time(nullptr);
-      char stamp[32];
-      std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
-      dir = "out/" + config.name + "-" + slug(d.name) + "-" + stamp + "-" + gitRevision();
-    } else if (chosen.size() > 1) {
-      dir = (fs::path(options.out) / slug(d.name)).string();
-    }
-    int r = sweepOneDevice(options, config, d, dir);
-    if (r != kExitOk) rc = r;
-    if (gInterrupted) break;
+
+  // One folder per device: DIR/<position>-<device> when several (two identical GPUs differ in
+  // position only), else DIR, or out/<config>-<device>-<time>-<git> without --out.
+  std::time_t now = std::time(nullptr);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
+  std::vector<std::string> dirs, names;
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    const std::string tag = chosen.size() > 1 ? std::to_string(k) + "-" + slug(chosen[k].name) : slug(chosen[k].name);
+    names.push_back(std::to_string(k) + ": " + chosen[k].name);  // position, then name (a device may repeat)
+    if (options.out.empty())
+      dirs.push_back("out/" + config.name + "-" + tag + "-" + stamp + "-" + gitRevision());
+    else
+      dirs.push_back(chosen.size() > 1 ? (fs::path(options.out) / tag).string() : options.out);
   }
-  return rc;
+  if (chosen.size() == 1) return sweepOneDevice(options, config, chosen[0], dirs[0], Console(), {});
+
+  // Several devices: one thread (own Vulkan instance, device and queue) per device, all at once.
+  // The host's cores are shared by their analysis frames; GPU timestamps are each device's own.
+  std::printf("sweep on %zu devices concurrently (one thread and queue per device): ", chosen.size());
+  for (size_t k = 0; k < chosen.size(); ++k) std::printf("%s%s -> %s", k ? "; " : "", names[k].c_str(), dirs[k].c_str());
+  std::printf("\n");
+  std::fflush(stdout);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<int> rcs(chosen.size(), kExitOk);
+  std::vector<std::exception_ptr> errors(chosen.size());
+  std::vector<double> seconds(chosen.size(), 0.0);
+  std::vector<std::thread> threads;
+  for (size_t k = 0; k < chosen.size(); ++k)
+    threads.emplace_back([&, k] {
+      std::vector<std::string> others;
+      for (size_t o = 0; o < chosen.size(); ++o)
+        if (o != k) others.push_back(names[o]);
+      try {
+        rcs[k] = sweepOneDevice(options, config, chosen[k], dirs[k], Console("[" + names[k] + "] "), others);
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+      seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    });
+  for (std::thread& t : threads) t.join();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  int rc = kExitOk;
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    if (errors[k]) {  // as main() reports one device's: one line, exit 2 for bad input, 3 otherwise
+      try {
+        std::rethrow_exception(errors[k]);
+      } catch (const InputError& e) {
+        std::fprintf(stderr, "hybridbench: [%s] %s\n", names[k].c_str(), e.what());
+        rcs[k] = kExitBadInput;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "hybridbench: [%s] device failure: %s\n", names[k].c_str(), e.what());
+        rcs[k] = kExitDeviceFailure;
+      }
+    }
+    std::printf("[%s] finished after %.1f s -> %s\n", names[k].c_str(), seconds[k], dirs[k].c_str());
+    if (rcs[k] != kExitOk && rc == kExitOk) rc = rcs[k];
+  }
+  std::printf("sweep on %zu devices: %.1f s wall time in all\n", chosen.size(), wall);
+  return gInterrupted ? 130 : rc;
 }
 
 }  // namespace hb
