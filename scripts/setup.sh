@@ -16,7 +16,11 @@ fi
 
 PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libtinygltf-dev
   nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev vulkan-validationlayers vulkan-tools
-  libssl-dev libglvnd0 libglx0 libegl1 libgl1 libopengl0)
+  libssl-dev libglvnd0 libglx0 libegl1 libgl1 libopengl0
+  clang libclang-rt-14-dev llvm)  # the fuzzers: clang, libFuzzer's runtime, llvm-symbolizer
+# node and npm run the glTF validator test; a node that brings its own npm (NodeSource's) is kept,
+# since Debian's npm package conflicts with it.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
 BACKPORTS_LIST=/etc/apt/sources.list.d/hybridbench-backports.list
 
 missing=()
@@ -46,6 +50,14 @@ if [ ${#missing[@]} -gt 0 ] || [ $mesa_ok = 0 ]; then
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${PACKAGES[@]}"
   $SUDO apt-get install -y -qq --no-install-recommends -t bookworm-backports mesa-vulkan-drivers
+fi
+
+# The Khronos glTF Validator for the tests: the version pinned in tools/package.json (integrity in
+# tools/package-lock.json) into tools/node_modules/ (git-ignored); nothing to do when it is there.
+# Without the npm registry the run goes on and that one test fails, saying how to install it.
+if ! node scripts/validate-gltf.mjs --check-installed >/dev/null 2>&1; then
+  npm ci --prefix tools --no-audit --no-fund >/dev/null ||
+    echo "setup.sh: could not install gltf-validator (is the npm registry reachable?); the glTF validator test fails until 'npm ci --prefix tools' succeeds" >&2
 fi
 
 if [ "${HYBRIDBENCH_SKIP_BUILD:-0}" != 1 ]; then

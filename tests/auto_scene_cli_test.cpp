@@ -80,6 +80,19 @@ TEST_F(AutoScene, AGltfWithNoCameraAndNoLightsRendersWithAutomaticOnesAndSaysSo)
   EXPECT_GE(lit, 169u) << lit << " lit pixels";
 }
 
+// `scene export --no-camera --no-lights` writes such a file from any built-in.
+TEST_F(AutoScene, ExportCanLeaveTheCameraAndLightsOut) {
+  const fs::path out = dir / "atrium-bare.glb";
+  const RunResult ex = run({"scene", "export", "depth-step", out.string(), "--no-camera", "--no-lights"});
+  ASSERT_EQ(ex.exitCode, 0) << ex.err;
+  const RunResult info = run({"scene", "info", out.string(), "--json"});
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  const json j = json::parse(info.out);
+  EXPECT_EQ(j["cameras"], 0);
+  EXPECT_EQ(j["lights"]["total"], 0);
+  EXPECT_EQ(j["triangles"], 4);
+}
+
 TEST_F(AutoScene, AGltfWithItsOwnCameraAndLightsIsUnchanged) {
   RunResult r;
   const json j = renderJson({"--scene", own.string()}, dir / "own-out", r);
@@ -88,6 +101,12 @@ TEST_F(AutoScene, AGltfWithItsOwnCameraAndLightsIsUnchanged) {
   EXPECT_EQ(j["camera"]["source"], "scene");
   EXPECT_EQ(j["lights"]["source"], "scene");
   EXPECT_EQ(j["lights"]["count"], 1);
+  // An atrium config's own light count (scene_params) does not carry over to another --scene.
+  writeFile(dir / "atrium.json", R"({"name": "a", "scene": "atrium", "scene_params": {"lights": 20}})");
+  const json withConfig = renderJson({(dir / "atrium.json").string(), "--scene", own.string()}, dir / "cfg-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(withConfig["lights"]["source"], "scene");
+  EXPECT_EQ(withConfig["lights"]["count"], 1);
   // ... and draws the same image as the built-in it was exported from.
   const json b = renderJson({"--scene", "cube"}, dir / "builtin-out", r);
   ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -48,7 +48,14 @@ int cmdRender(const RenderOptions& options) {
     applySetOverride(params, set);
   }
   const bool sceneFlagGiven = options.sceneGiven || !haveConfig;
-  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && params.triangleScale)
+  // What --set says, not an atrium config's own defaults (its scene_params), which do not carry
+  // over to another --scene.
+  bool setsTriangleScale = false, setsLightCount = false;
+  for (const std::string& set : options.sets) {
+    setsTriangleScale |= set.rfind("triangle_scale=", 0) == 0;
+    setsLightCount |= set.rfind("light_count=", 0) == 0;
+  }
+  if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && setsTriangleScale)
     throw InputError("--set triangle_scale applies only to the built-in atrium, not to \"" + options.scene + "\"");
   Scene scene;
   if (haveConfig && !sceneFlagGiven) {
@@ -65,7 +72,7 @@ int cmdRender(const RenderOptions& options) {
       scene = makeAtrium(ap);
     } else {
       scene = loadSceneArg(options.scene);
-      request.lightCount = params.lightCount;  // any other scene: that many automatic lights
+      if (setsLightCount) request.lightCount = params.lightCount;  // any other scene: that many automatic lights
     }
     for (const std::string& line : completeScene(scene, request)) std::fprintf(stderr, "%s\n", line.c_str());
   }

@@ -28,8 +28,17 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
 // format: md (a Markdown table), json or junit (formatCompareJunit).
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
 
-int cmdSceneExport(const std::string& name, const std::string& out);
+// --no-camera / --no-lights leave them out: a file like most glTF assets, for the automatic ones.
+int cmdSceneExport(const std::string& name, const std::string& out, bool noCamera = false, bool noLights = false);
 int cmdSceneInfo(const std::string& path, bool json);
+// Lists the built-in scenes (name, triangles, lights, a one-line description) and the .gltf/.glb
+// files in a scenes folder and its subfolders (path, triangles, lights, what the file's
+// extras.effects calls for; a file that does not load is listed with its error, and the listing
+// still succeeds). dir: that folder; empty: ./scenes when the current directory has one, else the
+// scenes/ of the repository the executable sits in (the nearest of its ancestor directories that
+// holds both scenes/ and CMakeLists.txt), else none. Throws InputError when a given dir is not a
+// directory.
+int cmdSceneList(const std::string& dir, bool json);
 
 // A built-in scene name (see builtinSceneNames) or a path to a .gltf/.glb file.
 Scene loadSceneArg(const std::string& nameOrPath);

@@ -34,7 +34,7 @@ int main(int argc, char** argv) {
   bool noImages = false;
   auto* sweepCmd = app.add_subcommand("sweep", "run a benchmark sweep from a config (default: the embedded thesis.json)");
   sweepCmd->add_option("config", sweep.config, "config file (JSON)");
-  sweepCmd->add_option("--device", sweep.device, "device index, name substring, or all");
+  sweepCmd->add_option("--device", sweep.device, "device index, name substring, a comma-separated list of them (0,1), or all; several sweep concurrently, one folder each");
   sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
   sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
   sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)")
@@ -66,16 +66,24 @@ int main(int argc, char** argv) {
   compareCmd->add_option("--format", compareFormat, "md (default: a Markdown table, also for a CI job summary), json, junit (JUnit XML: a test case per variant and pass, failed when slower)")
       ->check(CLI::IsMember({"md", "json", "junit"}));
 
-  auto* sceneCmd = app.add_subcommand("scene", "export or inspect scenes");
+  auto* sceneCmd = app.add_subcommand("scene", "export, inspect or list scenes");
   sceneCmd->require_subcommand(1);
   std::string exportName, exportOut, infoPath;
   bool infoJson = false;
   auto* exportCmd = sceneCmd->add_subcommand("export", "write a built-in scene as glTF");
   exportCmd->add_option("name", exportName, "built-in scene name")->required();
   exportCmd->add_option("out", exportOut, "output .gltf or .glb")->required();
+  bool exportNoCamera = false, exportNoLights = false;
+  exportCmd->add_flag("--no-camera", exportNoCamera, "leave the cameras out (what most glTF assets look like)");
+  exportCmd->add_flag("--no-lights", exportNoLights, "leave the lights out");
   auto* infoCmd = sceneCmd->add_subcommand("info", "print a scene's statistics");
   infoCmd->add_option("path", infoPath, "built-in scene name or .gltf/.glb path")->required();
   infoCmd->add_flag("--json", infoJson, "machine-readable output");
+  std::string listDir;
+  bool listJson = false;
+  auto* listCmd = sceneCmd->add_subcommand("list", "list the built-in scenes and the .gltf/.glb files in scenes/");
+  listCmd->add_option("--dir", listDir, "folder to list (default: ./scenes, else the executable's repository's scenes/)");
+  listCmd->add_flag("--json", listJson, "machine-readable output");
 
   try {
     app.parse(argc, argv);
@@ -103,8 +111,9 @@ int main(int argc, char** argv) {
     }
     if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat);
     if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
-    if (*exportCmd) return cmdSceneExport(exportName, exportOut);
+    if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
+    if (*listCmd) return cmdSceneList(listDir, listJson);
     // No subcommand: the main job, the embedded default sweep (configs/thesis.json) on device 0.
     return cmdSweep(SweepOptions{});
   } catch (const InputError& e) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "scene/atrium.h"
 #include "scene/camera.h"
@@ -268,6 +269,28 @@ std::vector<std::string> allSceneNames() {
   std::vector<std::string> names = builtinSceneNames();
   for (const std::string& n : benchmarkSceneNames()) names.push_back(n);
   return names;
+}
+
+std::string builtinSceneDescription(const std::string& name) {
+  static const std::pair<const char*, const char*> kDescriptions[] = {
+      {"atrium", "the default: a procedural atrium shaped like Crytek Sponza, 10 point lights"},
+      {"plane", "a 10 m quad seen head-on"},
+      {"depth-step", "a 1 m depth step down the middle of the image"},
+      {"cube", "a closed cube with exactly shared edges over a ground quad"},
+      {"tiny-triangles", "a field of 2 cm triangles (~1.9 px at 1080p) and 1-px strips against the sky"},
+      {"grazing", "a light at N.L = 0.01 over a ground quad"},
+      {"grazing-far", "the grazing light on a plane 433-1100 m away: shadow acne with a constant t_min"},
+      {"thin-gap", "an occluder 1 mm above its receiver"},
+      {"degenerate", "48 zero-area triangles mixed into a grid"},
+      {"open-occluder", "a single double-sided quad casting a shadow, seen from behind"},
+      {"far-origin", "the cube 10 km from the origin, where float spacing is ~1 mm"},
+      {"far-planes", "planes at 0.1 m, 100 m and 900 m (znear 0.05, zfar 1000)"},
+      {"microbench-262144", "3D rasterization paper's microbenchmark: 262,144 random triangles"},
+      {"microbench-144", "3D rasterization paper's microbenchmark: 144 random triangles"},
+  };
+  for (const auto& [n, description] : kDescriptions)
+    if (name == n) return description;
+  return "";
 }
 
 Scene makeBuiltinScene(const std::string& name) {

@@ -94,6 +94,10 @@ std::vector<std::string> benchmarkSceneNames();
 // builtinSceneNames() then benchmarkSceneNames(): every name makeBuiltinScene accepts.
 std::vector<std::string> allSceneNames();
 
+// One line for people (`hybridbench scene list`): what the built-in scene `name` is and what it
+// isolates; "" for a name that is not built in.
+std::string builtinSceneDescription(const std::string& name);
+
 // Builds a built-in scene by name ("atrium" uses the default AtriumParams). Throws InputError
 // naming the valid names when `name` is not one of them.
 Scene makeBuiltinScene(const std::string& name);

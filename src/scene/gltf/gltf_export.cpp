@@ -1,10 +1,14 @@
 // glTF 2.0 export through tinygltf's writer: one buffer (data URI in .gltf, BIN chunk in .glb),
-// non-interleaved float attributes, uint32 indices, PNG images stored in the buffer.
+// non-interleaved float attributes, uint32 indices, PNG images stored in the buffer. Its output
+// passes the Khronos glTF Validator with no error and no warning (tests/gltf_validator_test.sh).
 #include <stb_image_write.h>
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <filesystem>
 #include <glm/gtc/matrix_inverse.hpp>
 
@@ -79,6 +83,9 @@ class Exporter {
   }
 
   int addNode(tinygltf::Node node) {
+    // The identity is glTF's default transform: written out, the Khronos validator reports it
+    // (NODE_MATRIX_DEFAULT), and a node without a matrix loads as the identity anyway.
+    if (node.matrix == matrixOf(glm::dmat4(1.0))) node.matrix.clear();
     model_.nodes.push_back(std::move(node));
     return static_cast<int>(model_.nodes.size() - 1);
   }
@@ -184,9 +191,16 @@ class Exporter {
       prim.attributes["NORMAL"] = addAccessor(
           addView(normals.data(), normals.size() * sizeof(glm::vec3), TINYGLTF_TARGET_ARRAY_BUFFER),
           TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
-      prim.attributes["TEXCOORD_0"] = addAccessor(
-          addView(uvs.data(), uvs.size() * sizeof(glm::vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
-          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, p.vertexCount);
+      // Coordinates that are all +0 are what the loader gives a primitive without TEXCOORD_0, so
+      // they are left out (the validator reports an attribute no texture reads, UNUSED_OBJECT);
+      // any others are written, read by a texture or not, so that the scene loads back the same.
+      const bool allZero = std::all_of(uvs.begin(), uvs.end(), [](const glm::vec2& uv) {
+        return uv.x == 0.0f && uv.y == 0.0f && !std::signbit(uv.x) && !std::signbit(uv.y);
+      });
+      if (!allZero)
+        prim.attributes["TEXCOORD_0"] = addAccessor(
+            addView(uvs.data(), uvs.size() * sizeof(glm::vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
+            TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, p.vertexCount);
       prim.indices =
           addAccessor(addView(indices.data(), indices.size() * sizeof(uint32_t),
                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),

@@ -15,6 +15,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "base/errors.h"
@@ -55,7 +56,7 @@ std::string num(double v) {  // shortest readable form: 5, -2, 0.25, 1e+30, nan
 // "range" (tinygltf stores a missing range as 0). Null when the file has none.
 // The file's JSON as nlohmann::json (tinygltf's Value drops what these readers need to check),
 // or null when it cannot be read (tinygltf has then already failed with its own message).
-nlohmann::json rawDocument(const std::vector<char>& bytes, bool binary) {
+nlohmann::json rawDocument(std::span<const uint8_t> bytes, bool binary) {
   std::string text;
   if (binary) {
     // GLB: 12-byte header, then chunk 0 = JSON: uint32 length, uint32 type, data.
@@ -63,7 +64,7 @@ nlohmann::json rawDocument(const std::vector<char>& bytes, bool binary) {
     if (bytes.size() < 20) return nullptr;
     std::memcpy(&length, bytes.data() + 12, 4);
     if (length > bytes.size() - 20) return nullptr;
-    text.assign(bytes.data() + 20, length);
+    text.assign(reinterpret_cast<const char*>(bytes.data()) + 20, length);
   } else {
     text.assign(bytes.begin(), bytes.end());
   }
@@ -108,15 +109,20 @@ namespace gltf_detail {
 
 Scene Loader::load(GltfLoadWarnings& warnings) {
   warnings_ = &warnings;
+  checkExtensions(model_, path_, warnings);
   loadTextures();
   loadMaterials();
   for (size_t m = 0; m < model_.meshes.size(); ++m) loadMesh(static_cast<int>(m));
   loadNodes();
   markSrgbTextures();
-  if (warnings.skippedPrimitives > 0)
+  if (warnings.skippedPrimitives > 0) {
+    if (scene_.indices.empty())
+      fail(firstSkippedPrimitive_, "every primitive is points or lines, which draw no surface to render",
+           "give the scene triangle primitives (mode 4, 5 or 6)");
     warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedPrimitives) +
-                                " primitive(s) whose mode is not TRIANGLES (4), first " +
+                                " primitive(s) of points or lines (they draw no surface), first " +
                                 firstSkippedPrimitive_);
+  }
   if (warnings.skippedCameras > 0)
     warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedCameras) +
                                 " camera node(s) that are neither perspective nor orthographic, first " +
@@ -351,21 +357,38 @@ Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path + ": file not found (or not a regular file); check the path");
-  std::vector<char> bytes;
+  std::vector<uint8_t> bytes;
   {
     std::ifstream in(path, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     if (!in.good() && !in.eof())
       throw InputError(path + ": cannot read the file; check its permissions");
   }
+  // The base directory tinygltf's own file loaders use: all before the last '/' or '\'.
+  const size_t slash = path.find_last_of("/\\");
+  return loadGltfFromMemory(bytes, path, slash == std::string::npos ? "" : path.substr(0, slash),
+                            warnings);
+}
+
+Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path,
+                         const std::string& baseDir, GltfLoadWarnings* warnings) {
+  if (bytes.size() > std::numeric_limits<uint32_t>::max())  // tinygltf takes 32-bit sizes
+    throw InputError(path + ": is larger than 4 GiB, more than glTF can hold; split the scene");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const auto size = static_cast<unsigned int>(bytes.size());
 
   tinygltf::TinyGLTF gltf;
   tinygltf::Model model;
   gltf.SetImageLoader(gltf_detail::checkedImageLoader, &model);
   std::string err, warn;
-  bool ok = binary ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
-                   : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok = false;
+  if (bytes.empty())
+    err = "Empty file.";  // what tinygltf's file loader says
+  else if (binary)
+    ok = gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, baseDir);
+  else
+    ok = gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                  size, baseDir);
   if (!ok)
     throw InputError(path + ": not a valid glTF 2.0 " +
                      (binary ? "binary (.glb)" : "JSON (.gltf)") +

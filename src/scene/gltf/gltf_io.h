@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -12,30 +13,41 @@ namespace hb {
 // What loadGltf skipped without failing. Each kind of skip is counted, and one line per kind
 // says what was skipped and where it first happened.
 struct GltfLoadWarnings {
-  uint32_t skippedPrimitives = 0;  // mode other than TRIANGLES (points, lines, strips, fans)
-  uint32_t skippedCameras = 0;     // orthographic cameras
+  uint32_t skippedPrimitives = 0;  // points and lines (modes 0-3); strips and fans are converted
+  uint32_t skippedCameras = 0;     // cameras neither perspective nor orthographic
   std::vector<std::string> messages;
 };
 
 // Loads a .gltf (JSON, external or data-URI buffers) or .glb file; the container is recognised by
 // its first bytes, not its extension. Reads the default scene (or, with no scenes, every root
-// node): each glTF mesh becomes one hb::Mesh whose TRIANGLES primitives append to the shared
-// Scene::vertices/indices; each node with a mesh becomes an Instance with its world transform;
-// perspective cameras and KHR_lights_punctual lights attached to nodes take the node's world
+// node): each glTF mesh becomes one hb::Mesh whose TRIANGLES primitives (and strips and fans,
+// converted to triangle lists) append to the shared Scene::vertices/indices; each node with a mesh
+// becomes an Instance with its world transform; perspective and orthographic cameras and
+// KHR_lights_punctual lights attached to nodes take the node's world
 // transform (camera view = inverse world; light position = world translation, direction = world
 // -Z). Missing NORMALs are computed (area-weighted), missing TEXCOORD_0 is (0,0), missing indices
 // are 0..n-1, a point/spot light with no range gets rangeFromIntensity(intensity) (thesis eq.
 // 4.1), a directional light gets range 0. Light extras {"castShadows": false} turn its shadows off.
 // Textures are decoded to RGBA8; the ones used as base colour are flagged sRGB. Primitives with
 // no material use a "default" material appended to Scene::materials.
-// Non-triangle primitives and orthographic cameras are skipped: they are counted in *warnings if
-// given, otherwise one line per kind goes to stderr.
+// Points and lines are skipped (a scene of nothing else is refused), and so are cameras of an
+// unknown type: they are counted in *warnings if given, otherwise one line per kind goes to stderr,
+// as does one line naming the optional extensions the loader ignores. Extensions it cannot read
+// (Draco, meshopt, quantized attributes, KTX2/WebP/AVIF textures, any unknown required one) are
+// refused by name (gltf_extensions.cpp).
 // Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file,
 // malformed JSON or not glTF, an index that points past its array, an accessor that does not fit
 // its bufferView or buffer, an unsupported component type or accessor type, a vertex index past
 // the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node
-// graph.
+// graph, an extension it cannot read.
 Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings = nullptr);
+
+// loadGltf on a file's bytes already in memory (the fuzz targets' entry; loadGltf reads the file
+// and calls it): `path` names the file in every message and its stem names a scene that has no
+// name; external buffer and image URIs resolve against baseDir (against the working directory
+// when empty). Throws as loadGltf.
+Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path,
+                         const std::string& baseDir, GltfLoadWarnings* warnings = nullptr);
 
 // Writes `scene` as glTF 2.0: a .glb if path ends in ".glb" (case-insensitive), else a .gltf with
 // its one buffer embedded as a base64 data URI. Every texture is embedded as PNG; every instance,

@@ -25,6 +25,12 @@ bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::strin
                         int size, void* userData);
 
 // A validated accessor: `count` elements of `elementSize` bytes, `stride` apart from `data`.
+// The file's extensions against what the loader reads (gltf_extensions.cpp): one that changes
+// what is drawn and that the loader cannot read (Draco, meshopt, quantized attributes, KTX2/WebP
+// textures, any unknown required one) is an InputError naming it and how to re-export; optional
+// ones the loader ignores go into one warning line.
+void checkExtensions(const tinygltf::Model& model, const std::string& path, GltfLoadWarnings& warnings);
+
 struct AccessorView {
   const uint8_t* data = nullptr;
   size_t count = 0;

@@ -1,4 +1,4 @@
-// glTF meshes: TRIANGLES primitives appended to the scene's shared vertex and index arrays,
+// glTF meshes: TRIANGLES primitives (and strips and fans, as triangle lists) appended to the scene's shared vertex and index arrays,
 // with computed normals and sequential indices where the file has none (Loader members
 // declared in gltf_load_internal.h).
 #include <cmath>
@@ -28,6 +28,25 @@ std::vector<glm::vec3> areaWeightedNormals(const std::vector<glm::vec3>& positio
   return out;
 }
 
+// A strip or fan as a triangle list, with glTF 2.0's vertex order (§3.7.2.1): strip triangle i is
+// (v_i, v_{i+1+i%2}, v_{i+2-i%2}), which keeps every triangle's winding; fan triangle i is
+// (v_{i+1}, v_{i+2}, v_0).
+std::vector<uint32_t> triangleList(const std::vector<uint32_t>& v, int mode) {
+  std::vector<uint32_t> out;
+  for (size_t i = 0; i + 2 < v.size(); ++i) {
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+      out.insert(out.end(), {v[i], v[i + 1 + i % 2], v[i + 2 - i % 2]});
+    else
+      out.insert(out.end(), {v[i + 1], v[i + 2], v[0]});
+  }
+  return out;
+}
+
+bool drawsTriangles(int mode) {
+  return mode == -1 || mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+         mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
 }  // namespace
 
 void Loader::loadMesh(int meshIndex) {
@@ -38,7 +57,7 @@ void Loader::loadMesh(int meshIndex) {
     const std::string field =
         "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
     const tinygltf::Primitive& prim = mesh.primitives[p];
-    if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES) {
+    if (!drawsTriangles(prim.mode)) {
       if (warnings_->skippedPrimitives++ == 0)
         firstSkippedPrimitive_ = field + " (mode " + std::to_string(prim.mode) + ")";
       continue;
@@ -106,6 +125,12 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
   } else {
     indices.resize(vertexCount);
     for (size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<uint32_t>(i);
+  }
+  if (prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    if (indices.size() < 3)
+      fail(prim.indices >= 0 ? indicesField : positionField,
+           std::to_string(indices.size()) + " vertices make no triangle of a strip or fan", "give it at least 3");
+    indices = triangleList(indices, prim.mode);
   }
   if (indices.size() % 3 != 0)
     fail(prim.indices >= 0 ? indicesField : positionField,

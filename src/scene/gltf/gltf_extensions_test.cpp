@@ -1,0 +1,86 @@
+// Extensions the loader cannot read are named in one line (exit 2 from the tool), optional ones it
+// ignores in one warning (gltf_extensions.cpp).
+#include <gtest/gtest.h>
+
+#include "scene/gltf/gltf_test_util.h"
+
+namespace hb::gltf_test {
+namespace {
+
+TEST(GltfExtensions, GeometryAndImageExtensionsWeCannotReadAreNamedWithAFix) {
+  TestDir dir;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"KHR_draco_mesh_compression", "Draco-compressed meshes"},
+      {"EXT_meshopt_compression", "meshopt"},
+      {"KHR_mesh_quantization", "quantized"},
+      {"KHR_texture_basisu", "KTX2"},
+      {"EXT_texture_webp", "WebP"}};
+  for (const auto& [ext, what] : cases)
+    for (bool required : {true, false}) {
+      GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 10}});
+      b.doc["extensionsUsed"].push_back(ext);
+      if (required) b.doc["extensionsRequired"] = {ext};
+      const fs::path path = b.writeGltf(dir / (ext + (required ? "-req" : "-used") + ".gltf"));
+      SCOPED_TRACE(path.string());
+      expectInputError(path, {ext, what, "re-export it"});
+    }
+}
+
+TEST(GltfExtensions, AnUnknownRequiredExtensionIsNamedAndOptionalOnesAreAWarning) {
+  TestDir dir;
+  GltfBuilder req = quadWithLight({{"type", "point"}, {"intensity", 10}});
+  req.doc["extensionsUsed"] = {"KHR_lights_punctual", "EXT_made_up"};
+  req.doc["extensionsRequired"] = {"EXT_made_up"};
+  expectInputError(req.writeGltf(dir / "required.gltf"), {"requires EXT_made_up", "re-export it without"});
+
+  GltfBuilder opt = quadWithLight({{"type", "point"}, {"intensity", 10}});
+  opt.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_clearcoat", "KHR_texture_transform"};
+  GltfLoadWarnings warnings;
+  const Scene s = loadGltf(opt.writeGltf(dir / "optional.gltf").string(), &warnings);
+  EXPECT_EQ(s.lights.size(), 1u);
+  ASSERT_EQ(warnings.messages.size(), 1u);
+  EXPECT_NE(warnings.messages[0].find("KHR_materials_clearcoat, KHR_texture_transform"), std::string::npos)
+      << warnings.messages[0];
+  EXPECT_EQ(warnings.messages[0].find("KHR_lights_punctual"), std::string::npos) << warnings.messages[0];
+
+  // The lights extension alone (what our exporter writes) warns about nothing.
+  GltfLoadWarnings none;
+  loadGltf(quadWithLight({{"type", "point"}, {"intensity", 10}}).writeGltf(dir / "plain.gltf").string(), &none);
+  EXPECT_TRUE(none.messages.empty());
+}
+
+// Strips and fans are triangles: they load as the triangle lists glTF 2.0 §3.7.2.1 defines (a
+// strip keeps every triangle's winding). Points or lines alone draw nothing: refused by name.
+TEST(GltfModes, StripsAndFansLoadAsTriangleListsAndPointsAloneAreRefused) {
+  TestDir dir;
+  for (int mode : {5, 6}) {
+    GltfBuilder b;
+    b.quad();
+    // The quad's 4 vertices (0,0) (1,0) (1,1) (0,1) as a strip 0 1 3 2 and as a fan 0 1 2 3.
+    const int idx = b.accessor(b.view(mode == 5 ? std::vector<uint16_t>{0, 1, 3, 2} : std::vector<uint16_t>{0, 1, 2, 3}),
+                               kU16, "SCALAR", 4);
+    b.doc["meshes"][0]["primitives"][0]["indices"] = idx;
+    b.doc["meshes"][0]["primitives"][0]["mode"] = mode;
+    b.scene({b.node({{"mesh", 0}})});
+    GltfLoadWarnings warnings;
+    const Scene s = loadGltf(b.writeGltf(dir / ("mode" + std::to_string(mode) + ".gltf")).string(), &warnings);
+    EXPECT_EQ(warnings.skippedPrimitives, 0u);
+    const std::vector<uint32_t> expected =
+        mode == 5 ? std::vector<uint32_t>{0, 1, 3, 1, 2, 3} : std::vector<uint32_t>{1, 2, 0, 2, 3, 0};
+    EXPECT_EQ(s.indices, expected) << "mode " << mode;
+    // Both triangles face +z like the quad's TRIANGLES (counter-clockwise seen from +z).
+    for (size_t t = 0; t < 2; ++t) {
+      const glm::vec3 a = s.vertices[s.indices[3 * t]].position, b2 = s.vertices[s.indices[3 * t + 1]].position,
+                      c = s.vertices[s.indices[3 * t + 2]].position;
+      EXPECT_GT(glm::cross(b2 - a, c - a).z, 0.0f) << "mode " << mode << " triangle " << t;
+    }
+  }
+  GltfBuilder points;
+  points.quad();
+  points.doc["meshes"][0]["primitives"][0]["mode"] = 0;
+  points.scene({points.node({{"mesh", 0}})});
+  expectInputError(points.writeGltf(dir / "points.gltf"), {"meshes[0].primitives[0] (mode 0)", "points or lines"});
+}
+
+}  // namespace
+}  // namespace hb::gltf_test
