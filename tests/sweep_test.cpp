@@ -306,6 +306,14 @@ TEST_F(Sweep, SeveralDevicesSweepConcurrentlyIntoOneFolderEachWithEqualCounts) {
   ASSERT_FALSE(a.is_discarded());
   ASSERT_FALSE(b.is_discarded());
   ASSERT_EQ(a["context"]["concurrent_with"].size(), 1u);
+  // One device named twice: both sweeps say their times include the other's work, once on stderr.
+  EXPECT_TRUE(a["context"].contains("timing_caveat_shared_device"));
+  EXPECT_TRUE(b["context"].contains("timing_caveat_shared_device"));
+  size_t warnings = 0;
+  for (size_t at = r.err.find("is named more than once"); at != std::string::npos;
+       at = r.err.find("is named more than once", at + 1))
+    ++warnings;
+  EXPECT_EQ(warnings, 1u) << r.err;
   EXPECT_NE(a["context"]["concurrent_with"][0].get<std::string>().rfind("1: ", 0), std::string::npos);
   ASSERT_EQ(a["runs"].size(), b["runs"].size());
   ASSERT_EQ(a["runs"].size(), readJson(kFixture)["variants"].size());

@@ -93,6 +93,12 @@ json deviceJson(const DeviceInfo& d, const std::string& backend) {
 volatile std::sig_atomic_t gInterrupted = 0;
 void onSignal(int) { gInterrupted = 1; }
 
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
 // One device's console output. When several devices sweep at once (`--device all`) stdout is
 // shared: every write is whole lines under one lock, each line prefixed with the device
 // ("[1 NVIDIA H200] "), and the progress bar becomes a line per variant.
@@ -340,7 +346,8 @@ static void writeOutputs(const std::string& dir, const json& results) {
 
 // `concurrent`: the other devices sweeping at the same time (named in the results' context).
 static int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
-                          const Console& console, const std::vector<std::string>& concurrent) {
+                          const Console& console, const std::vector<std::string>& concurrent,
+                          const std::vector<std::string>& sharing = {}) {
   VulkanContext ctx(device.index);
   if (device.type == "cpu") {
     config = lowerForCpuDevice(config);
@@ -373,6 +380,10 @@ static int sweepOneDevice(const SweepOptions& options, Config config, const Devi
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
   if (!concurrent.empty())
     context["concurrent_with"] = concurrent;  // other devices swept at the same time (one thread each)
+  if (!sharing.empty())
+    context["timing_caveat_shared_device"] =
+        "this device also ran the sweep(s) of " + joinNames(sharing) +
+        " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
   context["timing_source"] = "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
   if (ctx.info().type == "cpu")
     context["timing_caveat"] =
@@ -489,7 +500,23 @@ int cmdSweep(const SweepOptions& options) {
   if (chosen.size() == 1) return sweepOneDevice(options, config, chosen[0], dirs[0], Console(), {});
 
   // Several devices: one thread (own Vulkan instance, device and queue) per device, all at once.
-  // The host's cores are shared by their analysis frames; GPU timestamps are each device's own.
+  // The host's cores are shared by their analysis frames; GPU timestamps are each device's own,
+  // unless a device is named twice: then its sweeps share it and each one's times include the
+  // other's work (measured on an H200: an A/A compare of the two says "slower"/"faster" by up to
+  // 1.9x per pass), so the results say so and only the counts compare.
+  std::vector<std::vector<std::string>> sharing(chosen.size());
+  for (size_t k = 0; k < chosen.size(); ++k)
+    for (size_t o = 0; o < chosen.size(); ++o)
+      if (o != k && chosen[o].index == chosen[k].index) sharing[k].push_back(names[o]);
+  for (size_t k = 0; k < chosen.size(); ++k) {
+    bool first = true;  // one warning per device, at its first position
+    for (size_t o = 0; o < k; ++o) first &= chosen[o].index != chosen[k].index;
+    if (!sharing[k].empty() && first)
+      std::fprintf(stderr,
+                   "warning: device %u (%s) is named more than once: its sweeps share it, so their times include "
+                   "each other's work; compare their counts, not their times\n",
+                   chosen[k].index, chosen[k].name.c_str());
+  }
   std::printf("sweep on %zu devices concurrently (one thread and queue per device): ", chosen.size());
   for (size_t k = 0; k < chosen.size(); ++k) std::printf("%s%s -> %s", k ? "; " : "", names[k].c_str(), dirs[k].c_str());
   std::printf("\n");
@@ -505,7 +532,7 @@ int cmdSweep(const SweepOptions& options) {
       for (size_t o = 0; o < chosen.size(); ++o)
         if (o != k) others.push_back(names[o]);
       try {
-        rcs[k] = sweepOneDevice(options, config, chosen[k], dirs[k], Console("[" + names[k] + "] "), others);
+        rcs[k] = sweepOneDevice(options, config, chosen[k], dirs[k], Console("[" + names[k] + "] "), others, sharing[k]);
       } catch (...) {
         errors[k] = std::current_exception();
       }
