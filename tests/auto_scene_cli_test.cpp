@@ -1,6 +1,7 @@
 // Bring your own glTF (issue #18): a scene with no camera and no lights renders and sweeps with
 // automatic ones, says so, and records where its camera and lights came from; a scene with its own
 // is unchanged. End to end: the built tool on the device present (lavapipe on CI).
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -111,6 +112,35 @@ TEST_F(AutoScene, AGltfWithItsOwnCameraAndLightsIsUnchanged) {
   const json b = renderJson({"--scene", "cube"}, dir / "builtin-out", r);
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(readFile(dir / "own-out" / "color.png") == readFile(dir / "builtin-out" / "color.png"), true);
+}
+
+// A glTF whose own camera is orthographic renders (through the hardware path's reverse-Z
+// orthographic matrix) with light culling off, and says so; asking for culling is a clear error.
+TEST_F(AutoScene, AGltfWithAnOrthographicCameraRenders) {
+  json doc = json::parse(readFile(own));
+  ASSERT_TRUE(doc.contains("cameras"));
+  for (json& c : doc["cameras"]) {
+    c.erase("perspective");
+    c["type"] = "orthographic";
+    c["orthographic"] = {{"xmag", 4.0}, {"ymag", 2.25}, {"znear", 0.1}, {"zfar", 100.0}};
+  }
+  const fs::path ortho = dir / "ortho.gltf";
+  writeFile(ortho, doc.dump(1));
+  RunResult r;
+  const json j = renderJson({"--scene", ortho.string()}, dir / "ortho-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_NE(r.err.find("its camera is orthographic: light_culling=false"), std::string::npos) << r.err;
+  EXPECT_EQ(j["camera"]["source"], "scene");
+  EXPECT_EQ(j["params"]["light_culling"], false);
+  // Shadows are traced; the CPU references of the analysis reconstruct perspective views only,
+  // and the results say so rather than count.
+  const json& passes = j["passes_run"];
+  EXPECT_NE(std::find(passes.begin(), passes.end(), "shadows"), passes.end()) << passes.dump();
+  EXPECT_NE(j.value("analysis_not_run", "").find("orthographic"), std::string::npos) << j.dump();
+  const RunResult culled =
+      run({"render", "--scene", ortho.string(), "--set", "light_culling=true", "--out", (dir / "c").string()});
+  EXPECT_EQ(culled.exitCode, 2);
+  EXPECT_NE(culled.err.find("needs light_culling=false"), std::string::npos) << culled.err;
 }
 
 TEST_F(AutoScene, LightCountAndCameraAutoWorkOnAnyScene) {

@@ -50,10 +50,11 @@ int cmdRender(const RenderOptions& options) {
   const bool sceneFlagGiven = options.sceneGiven || !haveConfig;
   // What --set says, not an atrium config's own defaults (its scene_params), which do not carry
   // over to another --scene.
-  bool setsTriangleScale = false, setsLightCount = false;
+  bool setsTriangleScale = false, setsLightCount = false, setsCulling = false;
   for (const std::string& set : options.sets) {
     setsTriangleScale |= set.rfind("triangle_scale=", 0) == 0;
     setsLightCount |= set.rfind("light_count=", 0) == 0;
+    setsCulling |= set.rfind("light_culling=", 0) == 0 || set.rfind("projection=", 0) == 0;
   }
   if (!(haveConfig && !sceneFlagGiven) && options.scene != "atrium" && setsTriangleScale)
     throw InputError("--set triangle_scale applies only to the built-in atrium, not to \"" + options.scene + "\"");
@@ -75,6 +76,15 @@ int cmdRender(const RenderOptions& options) {
       if (setsLightCount) request.lightCount = params.lightCount;  // any other scene: that many automatic lights
     }
     for (const std::string& line : completeScene(scene, request)) std::fprintf(stderr, "%s\n", line.c_str());
+  }
+  // A glTF's own orthographic camera: the light tiles are frusta of a perspective view (tile
+  // culling for orthographic views is not built), so a run that did not ask for culling renders
+  // it without, and says so; asking for it is the renderer's clear error.
+  if (!haveConfig && !setsCulling && params.lightCulling && !scene.cameras.empty() &&
+      scene.cameras[0].projection == CameraProjection::Orthographic && !params.projection) {
+    params.lightCulling = false;
+    std::fprintf(stderr, "scene \"%s\": its camera is orthographic: light_culling=false (tile culling is built for "
+                 "perspective views)\n", scene.name.c_str());
   }
   RenderSettings settings = renderSettingsFor(params, effects);
 
