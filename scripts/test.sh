@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Set-up if needed, build (Release, warnings as errors), run every test on the Vulkan device that
-# is present (lavapipe on a machine without a GPU) with validation layers on.
+# is present (lavapipe on a machine without a GPU) with validation layers on. Arguments go to ctest;
+# without any (the full run CI makes) the unit tests also run under AddressSanitizer and UBSan
+# (scripts/sanitize.sh) and each fuzzer runs for 60 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 HYBRIDBENCH_SKIP_BUILD=1 bash scripts/setup.sh
@@ -9,4 +11,8 @@ cmake --build build -j"$(nproc)"
 export HYBRIDBENCH_VALIDATION=1
 # lavapipe's thread count: both cores, but no more (CI has 2).
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
-cd build && ctest --output-on-failure -j1 --timeout 900 "$@"
+(cd build && ctest --output-on-failure -j1 --timeout 900 "$@")
+if [ $# -eq 0 ]; then
+  bash scripts/sanitize.sh
+  bash scripts/fuzz.sh 60
+fi

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <set>
 
 #include "base/errors.h"
@@ -126,6 +127,25 @@ double readNumber(const Json& value, const Where& where, double lo, double hi, b
   return v;
 }
 
+// Found by fuzz_config: a light direction of [0.3, -1, 2e307] became (0.3, -1, inf) as a float and
+// NaN once normalised.
+static float checkedFloat(double v, const Json& value, const Where& where) {
+  if (!(std::abs(v) <= double(std::numeric_limits<float>::max())))
+    where.fail(describe(value) + " is out of range for a float; give a magnitude below 3.4e38");
+  return static_cast<float>(v);
+}
+
+float readFloat(const Json& value, const Where& where, double lo, double hi, bool loExclusive) {
+  return checkedFloat(readNumber(value, where, lo, hi, loExclusive), value, where);
+}
+
+std::vector<float> readFloats(const Json& value, const Where& where, size_t n, const char* shape) {
+  const std::vector<double> numbers = readNumbers(value, where, n, shape);
+  std::vector<float> out;
+  for (size_t i = 0; i < n; ++i) out.push_back(checkedFloat(numbers[i], value[i], where.index(i)));
+  return out;
+}
+
 size_t readChoice(const Json& value, const Where& where, std::initializer_list<const char*> choices) {
   std::string list;
   for (const char* c : choices) list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
@@ -229,6 +249,14 @@ Json parseText(const std::string& text, const std::string& source) {
       throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
                        ": malformed JSON: " + what.substr(at + size_t(consumed)));
     throw InputError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " + what);
+  } catch (const nlohmann::json::out_of_range& e) {
+    // The parser's one other error (406): a number beyond a double's range, e.g. 1e999. Its
+    // what() reads "[json.exception.out_of_range.406] number overflow parsing '1e999'" and carries
+    // no position; the number itself names the place.
+    std::string what = e.what();
+    if (size_t at = what.find("] "); at != std::string::npos) what.erase(0, at + 2);
+    throw InputError(source + ": malformed JSON: " + what +
+                     "; write a number a double can hold (magnitude below 1.8e308)");
   }
 }
 

@@ -50,9 +50,14 @@ double readNumber(const Json& value, const Where& where, double lo, double hi, b
 size_t readChoice(const Json& value, const Where& where, std::initializer_list<const char*> choices);
 // An array of exactly n finite numbers.
 std::vector<double> readNumbers(const Json& value, const Where& where, size_t n, const char* shape);
+// readNumber and readNumbers for values kept as float: a number beyond a float's range (3.4e38)
+// fails too, where a cast would make it inf (and a direction normalised from it NaN).
+float readFloat(const Json& value, const Where& where, double lo, double hi, bool loExclusive);
+std::vector<float> readFloats(const Json& value, const Where& where, size_t n, const char* shape);
 
 // Parses text as JSON (comments allowed). Malformed text fails as "<source>:<line>:<col>: malformed
-// JSON: ..."; a key given twice in one object fails naming its path.
+// JSON: ...", a number beyond a double's range (1e999) as "<source>: malformed JSON: number overflow
+// parsing '1e999'; ..."; a key given twice in one object fails naming its path.
 Json parseText(const std::string& text, const std::string& source);
 
 }  // namespace hb::json_reader

@@ -53,8 +53,8 @@ double cleanFloat(float f) {
 nlohmann::json vecJson(glm::vec3 v) { return {cleanFloat(v.x), cleanFloat(v.y), cleanFloat(v.z)}; }
 
 glm::vec3 readVec3(const Json& v, const Where& where, const char* shape) {
-  std::vector<double> n = readNumbers(v, where, 3, shape);
-  return glm::vec3(float(n[0]), float(n[1]), float(n[2]));
+  std::vector<float> n = readFloats(v, where, 3, shape);
+  return glm::vec3(n[0], n[1], n[2]);
 }
 
 bool isGltfPath(const std::string& s) {
@@ -130,8 +130,8 @@ void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
   if (v.contains("up")) cam.up = readVec3(v["up"], w.key("up"), "[x, y, z]");
   if (v.contains("yfov_deg"))
     cam.yfovDeg = float(readNumber(v["yfov_deg"], w.key("yfov_deg"), 1.0, 179.0, false));
-  if (v.contains("znear")) cam.znear = float(readNumber(v["znear"], w.key("znear"), 0.0, kInf, true));
-  if (v.contains("zfar")) cam.zfar = float(readNumber(v["zfar"], w.key("zfar"), 0.0, kInf, true));
+  if (v.contains("znear")) cam.znear = readFloat(v["znear"], w.key("znear"), 0.0, kInf, true);
+  if (v.contains("zfar")) cam.zfar = readFloat(v["zfar"], w.key("zfar"), 0.0, kInf, true);
   if (!(cam.zfar > cam.znear))
     w.key("zfar").fail("must be greater than znear (" + std::to_string(cam.znear) + ")");
   glm::vec3 forward = cam.target - cam.position;
@@ -169,9 +169,11 @@ Light parseLight(const Json& v, const Where& w) {
   if (v.contains("name")) l.name = readString(v["name"], w.key("name"));
   if (positioned) l.position = readVec3(v["position"], w.key("position"), "[x, y, z]");
   if (aimed) {
-    glm::vec3 d = readVec3(v["direction"], w.key("direction"), "[x, y, z]");
-    if (glm::length(d) == 0.0f) w.key("direction").fail("must not be zero");
-    l.direction = glm::normalize(d);
+    // Normalised in double: a float length overflows from components of about 1.8e19 and made
+    // [0.3, -1, 2e31] the zero direction (found by fuzz_config).
+    const glm::dvec3 d(readVec3(v["direction"], w.key("direction"), "[x, y, z]"));
+    if (glm::length(d) == 0.0) w.key("direction").fail("must not be zero");
+    l.direction = glm::vec3(d / glm::length(d));
   }
   if (v.contains("color")) {
     l.color = readVec3(v["color"], w.key("color"), "[r, g, b]");
@@ -179,9 +181,9 @@ Light parseLight(const Json& v, const Where& w) {
       if (l.color[i] < 0.0f) w.key("color").index(size_t(i)).fail(describe(v["color"][i]) + " is negative");
   }
   if (v.contains("intensity"))
-    l.intensity = float(readNumber(v["intensity"], w.key("intensity"), 0.0, kInf, false));
+    l.intensity = readFloat(v["intensity"], w.key("intensity"), 0.0, kInf, false);
   if (v.contains("range")) {
-    l.range = float(readNumber(v["range"], w.key("range"), 0.0, kInf, true));
+    l.range = readFloat(v["range"], w.key("range"), 0.0, kInf, true);
   } else if (positioned) {
     l.range = std::max(float(rangeFromIntensity(l.intensity)), kMinEq41Range);  // thesis eq. 4.1
     l.rangeFromEq41 = true;

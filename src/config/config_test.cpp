@@ -498,6 +498,20 @@ TEST(ConfigCamera, ExplicitPoseLooksFromPositionToTarget) {
   EXPECT_NEAR(cam.yfov, glm::radians(90.0f), 1e-7f);
 }
 
+// Found by fuzz_config (tests/fuzz/corpus/config/float-overflow.json): a light's numbers beyond a
+// float became inf (a direction then NaN), and a direction with a component of 2e31 normalised to
+// zero in float (its length overflowed).
+TEST(ConfigErrors, LightNumbersBeyondAFloatAreNamedAndHugeDirectionsStayUnit) {
+  EXPECT_EQ(errorOfText(R"({"name": "n", "lights": [{"type": "directional", "direction": [0.3, -1, 2.1e307]}]})"),
+            "x.json: lights[0].direction[2]: 2.1e+307 is out of range for a float; give a magnitude below 3.4e38");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "lights": [{"type": "point", "position": [0, 0, 0], "intensity": 1e39}]})"),
+            "x.json: lights[0].intensity: 1e+39 is out of range for a float; give a magnitude below 3.4e38");
+  Config c = parseText(R"({"name": "n", "lights": [{"type": "directional", "direction": [0.3, -1, 2.07e31]}]})");
+  ASSERT_TRUE(c.lights.has_value());
+  EXPECT_EQ((*c.lights)[0].direction.z, 1.0f);
+  EXPECT_EQ(parseConfig(toJson(c), "x.json").lights->at(0).direction.z, 1.0f);  // and reads back
+}
+
 TEST(ConfigErrors, EveryMessageIsOneLine) {
   for (const char* bad :
        {R"({"name": "n", "grdi": 1})", R"({"name": "n", "defaults": {"tile_size": "big"}})",

@@ -10,12 +10,12 @@ Ambient readAmbient(const nlohmann::ordered_json& value, const json_reader::Wher
   if (!value.contains("intensity")) where.fail("has no \"intensity\"; give the sky's radiance scale, e.g. 0.5");
   Ambient a;
   const double inf = std::numeric_limits<double>::infinity();
-  a.intensity = float(readNumber(value["intensity"], where.key("intensity"), 0.0, inf, false));
+  a.intensity = readFloat(value["intensity"], where.key("intensity"), 0.0, inf, false);
   if (value.contains("color")) {
-    const std::vector<double> c = readNumbers(value["color"], where.key("color"), 3, "[r, g, b]");
+    const std::vector<float> c = readFloats(value["color"], where.key("color"), 3, "[r, g, b]");
     for (int i = 0; i < 3; ++i) {
-      if (!(c[i] >= 0.0)) where.key("color").fail("has a negative component; give linear RGB >= 0");
-      a.color[i] = float(c[i]);
+      if (!(c[i] >= 0.0f)) where.key("color").fail("has a negative component; give linear RGB >= 0");
+      a.color[i] = c[i];
     }
   }
   return a;

@@ -46,6 +46,17 @@ std::string oneLine(const std::string& text) {
   return out;
 }
 
+// Whether the scene's floats can hold a double of the file: finite and at most 3.4e38 in magnitude
+// (found by fuzz_gltf: a node translation of 3e120, finite as the file's double, put a light at
+// infinity; a camera node of scale 0 gave an inf/NaN view).
+bool fitsFloat(double v) { return std::abs(v) <= double(std::numeric_limits<float>::max()); }
+bool fitsFloat(const glm::dmat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 4; ++k)
+      if (!fitsFloat(m[c][k])) return false;
+  return true;
+}
+
 std::string num(double v) {  // shortest readable form: 5, -2, 0.25, 1e+30, nan
   std::ostringstream s;
   s << v;
@@ -70,6 +81,20 @@ nlohmann::json rawDocument(std::span<const uint8_t> bytes, bool binary) {
   }
   nlohmann::json doc = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   return doc.is_object() ? doc : nlohmann::json();
+}
+
+// tinygltf's file reader for external buffers and images, but only for regular files. Its own
+// sizes the buffer by seeking to the end, which on a directory (a URI such as "textures/") gives
+// 2^63 - 1 on ext4: it threw bad_alloc, out of the loader as an internal error (found by
+// fuzz_gltf). A FIFO or device would block or read nothing; the URI must name a file.
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* userData) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (err) *err += "not a regular file (a directory?)";
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, path, userData);
 }
 
 nlohmann::json rawLightsJson(const nlohmann::json& doc) {
@@ -211,6 +236,9 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
          "make the nodes a tree: no node may be its own ancestor");
   const tinygltf::Node& node = model_.nodes[n];
   const glm::dmat4 world = parent * localTransform(node, field);
+  if (!fitsFloat(world))
+    fail(field, "its world transform (its ancestors' times its own) has a number beyond 3.4e38",
+         "scale the node transforms down so that a float holds them");
   if (node.mesh >= 0) {
     Instance inst;
     inst.mesh = static_cast<uint32_t>(
@@ -236,19 +264,26 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
 void Loader::addCamera(size_t c, const glm::dmat4& world) {
   const tinygltf::Camera& cam = model_.cameras[c];
   const std::string field = "cameras[" + std::to_string(c) + "]";
+  auto viewOf = [&] {  // the node's inverse, in double
+    const glm::dmat4 view = glm::inverse(world);
+    if (!fitsFloat(view))
+      fail("nodes (of " + field + ")", "the node's transform has no inverse a float can hold",
+           "give the camera's node a non-zero scale");
+    return glm::mat4(view);
+  };
   if (cam.type == "orthographic") {
     const tinygltf::OrthographicCamera& o = cam.orthographic;
-    if (!(o.xmag != 0.0 && std::isfinite(o.xmag)) || !(o.ymag != 0.0 && std::isfinite(o.ymag)))
+    if (!(o.xmag != 0.0 && fitsFloat(o.xmag)) || !(o.ymag != 0.0 && fitsFloat(o.ymag)))
       fail(field + ".orthographic", "has xmag " + num(o.xmag) + ", ymag " + num(o.ymag),
            "give non-zero finite half-extents");
-    if (!(o.znear >= 0.0 && std::isfinite(o.znear)))
+    if (!(o.znear >= 0.0 && fitsFloat(o.znear)))
       fail(field + ".orthographic.znear", "is " + num(o.znear), "give a near distance >= 0");
-    if (!(o.zfar > o.znear && std::isfinite(o.zfar)))
+    if (!(o.zfar > o.znear && fitsFloat(o.zfar)))
       fail(field + ".orthographic.zfar", "is " + num(o.zfar) + ", not beyond znear",
            "give a far distance greater than znear");
     Camera out;
     out.name = cam.name;
-    out.view = glm::mat4(glm::inverse(world));
+    out.view = viewOf();
     out.projection = CameraProjection::Orthographic;
     // glTF's signs of xmag/ymag flip the image; the view's extent is their magnitude.
     out.xmag = static_cast<float>(std::abs(o.xmag));
@@ -266,16 +301,16 @@ void Loader::addCamera(size_t c, const glm::dmat4& world) {
   if (!(p.yfov > 0.0 && p.yfov < glm::pi<double>()))
     fail(field + ".perspective.yfov", "is " + num(p.yfov),
          "give a field of view in (0, pi) radians");
-  if (!(p.znear > 0.0 && std::isfinite(p.znear)))
+  if (!(p.znear > 0.0 && fitsFloat(p.znear)))
     fail(field + ".perspective.znear", "is " + num(p.znear), "give a positive near distance");
-  if (p.zfar != 0.0 && !(p.zfar > p.znear && std::isfinite(p.zfar)))  // tinygltf: 0 = absent
+  if (p.zfar != 0.0 && !(p.zfar > p.znear && fitsFloat(p.zfar)))  // tinygltf: 0 = absent
     fail(field + ".perspective.zfar", "is " + num(p.zfar) + ", not beyond znear",
          "give a far distance greater than znear or leave it out");
   Camera out;
   out.name = cam.name;
   // Inverted in double: the result is within a few double ulps of the exact inverse, so it
   // rounds to the float a float inverse would only approximate.
-  out.view = glm::mat4(glm::inverse(world));
+  out.view = viewOf();
   out.yfov = static_cast<float>(p.yfov);
   out.znear = static_cast<float>(p.znear);
   out.zfar = p.zfar != 0.0 ? static_cast<float>(p.zfar) : kDefaultZfar;
@@ -304,14 +339,17 @@ void Loader::addLight(size_t l, const glm::dmat4& world) {
     if (light.color.size() != 3)
       fail(field + ".color", "has " + std::to_string(light.color.size()) + " numbers",
            "give it 3 (linear RGB)");
+    for (double component : light.color)
+      if (!fitsFloat(component))
+        fail(field + ".color", "has " + num(component), "give linear RGB factors below 3.4e38");
     out.color = glm::vec3(glm::make_vec3(light.color.data()));
   }
-  if (!(light.intensity >= 0.0 && std::isfinite(light.intensity)))
+  if (!(light.intensity >= 0.0 && fitsFloat(light.intensity)))
     fail(field + ".intensity", "is " + num(light.intensity), "give a finite intensity >= 0");
   out.intensity = static_cast<float>(light.intensity);
   // tinygltf reads a missing range as 0, so whether it was written comes from the raw JSON.
   const bool hasRange = raw != nullptr && raw->contains("range");
-  if (hasRange && !(light.range > 0.0 && std::isfinite(light.range)))
+  if (hasRange && !(light.range > 0.0 && fitsFloat(light.range)))
     fail(field + ".range", "is " + num(light.range) + " but must be > 0",
          "give a positive range in metres or leave it out (then thesis eq. 4.1 sets it)");
   if (out.type == LightType::Directional) {
@@ -380,6 +418,8 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
   tinygltf::TinyGLTF gltf;
   tinygltf::Model model;
   gltf.SetImageLoader(gltf_detail::checkedImageLoader, &model);
+  gltf.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readRegularFile,
+                       &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   bool ok = false;
   if (bytes.empty())

@@ -39,7 +39,8 @@ struct GltfLoadWarnings {
 // malformed JSON or not glTF, an index that points past its array, an accessor that does not fit
 // its bufferView or buffer, an unsupported component type or accessor type, a vertex index past
 // the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node
-// graph, an extension it cannot read.
+// graph, an extension it cannot read, a number in a transform, camera or light that a float cannot
+// hold (beyond 3.4e38), a camera node with no inverse, an external URI that is not a regular file.
 Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings = nullptr);
 
 // loadGltf on a file's bytes already in memory (the fuzz targets' entry; loadGltf reads the file

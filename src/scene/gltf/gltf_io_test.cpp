@@ -257,5 +257,56 @@ TEST(GltfLoadErrors, MissingImageFileNamesTheImage) {
   expectInputError(b.writeGltf(dir / "noimage.gltf"), {"gone.png"});
 }
 
+// Found by fuzz_gltf: numbers that a double holds but the scene's floats do not (beyond 3.4e38)
+// became inf, and a camera node of scale 0 an inf/NaN view; each now names its field.
+TEST(GltfLoadErrors, ANumberBeyondAFloatOrACameraWithoutAViewNamesItsField) {
+  TestDir dir;
+  GltfBuilder far = quadWithLight({{"type", "point"}, {"intensity", 8}});
+  far.doc["nodes"][1]["translation"] = {0, 3e120, 0};  // the light's node
+  expectInputError(far.writeGltf(dir / "far.gltf"), {"nodes[1]", "beyond 3.4e38"});
+  GltfBuilder nested = quadWithLight({{"type", "point"}, {"intensity", 8}});  // 1e20 * 1e20
+  nested.doc["nodes"][1]["scale"] = {1e20, 1e20, 1e20};
+  nested.doc["nodes"][1]["children"] = {nested.node({{"mesh", 0}, {"translation", {1e20, 0, 0}}})};
+  expectInputError(nested.writeGltf(dir / "nested.gltf"), {"nodes[2]", "beyond 3.4e38"});
+  for (const char* key : {"intensity", "range"}) {
+    json light = {{"type", "point"}, {"intensity", 8}};
+    light[key] = 1e39;
+    GltfBuilder bright = quadWithLight(light);
+    expectInputError(bright.writeGltf(dir / "bright.gltf"),
+                     {std::string("KHR_lights_punctual.lights[0].") + key, "1e+39"});
+  }
+  GltfBuilder colored = quadWithLight({{"type", "point"}, {"color", {1, 1e39, 1}}});
+  expectInputError(colored.writeGltf(dir / "colored.gltf"), {"lights[0].color", "1e+39"});
+  GltfBuilder flat;
+  flat.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.05}}}}};
+  flat.scene({flat.node({{"camera", 0}, {"scale", {1, 0, 1}}})});
+  expectInputError(flat.writeGltf(dir / "flat-camera.gltf"), {"nodes (of cameras[0])", "inverse"});
+  GltfBuilder deep;
+  deep.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 1e39}}}}};
+  deep.scene({deep.node({{"camera", 0}})});
+  expectInputError(deep.writeGltf(dir / "deep-camera.gltf"), {"cameras[0].perspective.znear"});
+}
+
+// Found by fuzz_gltf: tinygltf sized its read of an external file by seeking to the end, which for
+// a directory is 2^63 - 1 on ext4, and the bad_alloc escaped the loader as an internal error.
+TEST(GltfLoadErrors, ABufferOrImageUriThatNamesADirectoryIsAnInputError) {
+  TestDir dir;
+  fs::create_directories(dir / "textures");
+  GltfBuilder image;
+  image.quad(true, 0);
+  image.doc["images"] = {{{"uri", "textures/"}}};
+  image.doc["textures"] = {{{"source", 0}}};
+  image.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  image.scene({image.node({{"mesh", 0}})});
+  expectInputError(image.writeGltf(dir / "image-dir.gltf"), {"images[0]", "textures/"});
+
+  GltfBuilder buffer = quadWithLight({{"type", "point"}, {"intensity", 8}});
+  const fs::path path = buffer.writeGltf(dir / "buffer-dir.gltf");
+  json doc = json::parse(std::ifstream(path));
+  doc["buffers"][0]["uri"] = "textures";
+  std::ofstream(path) << doc.dump();
+  expectInputError(path, {"textures", "not a regular file"});
+}
+
 }  // namespace
 }  // namespace hb::gltf_test
