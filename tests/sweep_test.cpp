@@ -380,17 +380,21 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
 
 // scripts/ci-compare.sh, the recipe for a user's CI: sweeping the baseline's own config on the same
 // device is no regression (exit 0, compare.md and a JUnit report written); against a baseline
-// whose every time is halved, the new run is twice as slow: exit 1; a missing baseline: exit 2.
-// The threshold is 50 %: lavapipe's frame times on a shared 2-core runner move by tens of percent
-// between two sweeps, which a 5 % threshold would (rightly) call a change; 2x is far beyond 50 %.
+// whose every time is a hundredth, the new run is 100x as slow: exit 1; a missing baseline: exit 2.
+// The threshold is 900 % (below): lavapipe's frame times move with the machine's load, which a
+// 5 % threshold would (rightly) call a change.
 TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) {
   const fs::path base = dir / "base";
   // 8 frames a side: a U test of 3 against 3 cannot reach p < 0.05 however far apart they are.
   const RunResult sweep = run({"sweep", kFixture.string(), "--no-images", "--frames", "8", "--out", base.string()});
   ASSERT_EQ(sweep.exitCode, 0) << sweep.err;
   const std::string script = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scripts/ci-compare.sh";
+  // lavapipe's frame times move with the machine's load: the same sweep twice on a 2-core machine
+  // that was also compiling read 1.8x slower in one variant. The threshold is 900 % (10x), far
+  // beyond that, and the "faster" baseline below is 100x faster, far beyond the threshold: the
+  // test checks the recipe's plumbing and verdicts, not lavapipe's timing.
   auto recipe = [&](const fs::path& baseline, const fs::path& out) {
-    const std::string cmd = "SWEEP_ARGS='--frames 8' COMPARE_ARGS='--threshold 50' HYBRIDBENCH_VALIDATION=1 HYBRIDBENCH='" + std::string(HYBRIDBENCH_BINARY) + "' bash '" + script +
+    const std::string cmd = "SWEEP_ARGS='--frames 8' COMPARE_ARGS='--threshold 900' HYBRIDBENCH_VALIDATION=1 HYBRIDBENCH='" + std::string(HYBRIDBENCH_BINARY) + "' bash '" + script +
                             "' '" + baseline.string() + "' '' '" + out.string() + "' > '" + (out.string() + ".log") +
                             "' 2>&1";
     fs::create_directories(out.parent_path());
@@ -408,17 +412,17 @@ TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) 
   EXPECT_EQ(readFile(dir / "same.log").find("validation:"), std::string::npos);
 
   json fast = readJson(base / "results.json");
-  auto halve = [](json& stats) {
+  auto hundredth = [](json& stats) {  // 100x faster
     for (auto& [key, v] : stats.items())
       if (key == "samples") {
-        for (json& x : v) x = x.get<double>() * 0.5;
+        for (json& x : v) x = x.get<double>() * 0.01;
       } else if (key != "cv" && v.is_number()) {
-        v = v.get<double>() * 0.5;
+        v = v.get<double>() * 0.01;
       }
   };
   for (json& r : fast["runs"]) {
-    halve(r["frame_ms"]);
-    for (auto& [pass, stats] : r["passes"].items()) halve(stats);
+    hundredth(r["frame_ms"]);
+    for (auto& [pass, stats] : r["passes"].items()) hundredth(stats);
   }
   writeFile(dir / "fast.json", fast.dump());
   EXPECT_EQ(recipe(dir / "fast.json", dir / "slow"), 1) << readFile(dir / "slow.log");

@@ -140,6 +140,15 @@ void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
   // far below any deliberate choice and far above float round-off of a parallel pair.
   if (glm::length(glm::cross(forward, cam.up)) <= 1e-6f * glm::length(forward) * glm::length(cam.up))
     w.key("up").fail("must not be zero or parallel to target - position");
+  // lookAt works in float: from about 1.8e19 (target - position, or up) its squared lengths
+  // overflow and the view is NaN or collapses (position [-3e38, 0, 0] with target [3e38, 0, 0]
+  // passed the checks above). A view is finite and its rotation has determinant 1.
+  const glm::mat4 view = lookAt(cam.position, cam.target, cam.up);
+  bool isView = std::abs(glm::determinant(glm::mat3(view)) - 1.0f) < 1e-3f;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) isView = isView && std::isfinite(view[c][r]);
+  if (!isView)
+    w.fail("position, target and up give no view in float; give them in metres below 1e19");
 }
 
 Light parseLight(const Json& v, const Where& w) {

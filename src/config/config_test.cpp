@@ -512,6 +512,13 @@ TEST(ConfigErrors, LightNumbersBeyondAFloatAreNamedAndHugeDirectionsStayUnit) {
   EXPECT_EQ(parseConfig(toJson(c), "x.json").lights->at(0).direction.z, 1.0f);  // and reads back
 }
 
+// Numbers a float holds, 6e38 m apart: lookAt's float view was NaN (fuzz_config's camera check).
+TEST(ConfigErrors, ACameraPoseWithoutAViewIsNamed) {
+  EXPECT_EQ(errorOfText(R"({"name": "n", "camera": {"position": [-3e38, 0, 0], "target": [3e38, 0, 0]}})"),
+            "x.json: camera: position, target and up give no view in float; give them in metres "
+            "below 1e19");
+}
+
 TEST(ConfigErrors, EveryMessageIsOneLine) {
   for (const char* bad :
        {R"({"name": "n", "grdi": 1})", R"({"name": "n", "defaults": {"tile_size": "big"}})",
