@@ -195,6 +195,14 @@ TEST_F(Cli, UnknownSetKeyIsOneLineNamingIt) {
   expectBadInput(renderArgs({"--set", "nosuchkey=1"}, dir / "out"), {"nosuchkey"});
 }
 
+// A results file with a number beyond a double (JSON's out_of_range, not a parse_error) is bad
+// input, not an internal error.
+TEST_F(Cli, ResultsFileWithANumberBeyondADoubleIsOneLineNamingIt) {
+  const fs::path path = dir / "results.json";
+  writeFile(path, R"({"schema_version": 1, "runs": [], "x": 1e999})");
+  expectBadInput({"tables", path.string()}, {path.string(), "1e999"});
+}
+
 TEST_F(Cli, ConfigWithUnknownKeyIsOneLineNamingFileAndKey) {
   const fs::path config = dir / "bad-config.json";
   writeFile(config, R"({"name": "bad", "frames": {"warmup": 1, "measured": 1}, "nosuchfield": 3})");

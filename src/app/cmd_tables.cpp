@@ -21,7 +21,7 @@ static nlohmann::json readResults(const std::string& path) {
   if (!f) throw InputError(path + ": cannot open; pass a results.json written by 'hybridbench sweep'");
   try {
     return nlohmann::json::parse(f);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
     throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); pass a results.json written by 'hybridbench sweep'");
   }
 }
