@@ -18,28 +18,15 @@
 #include "base/json_reader.h"
 #include "config/config.h"
 
+#define FUZZ_TARGET_NAME "fuzz_config"
+#include "fuzz_checks.h"
+
 namespace {
 
 // Its directory does not exist: a relative "scene" path resolves into it and is never read.
 constexpr const char* kSource = "/nonexistent-hybridbench-fuzz-dir/fuzz.json";
 
-#define FUZZ_CHECK(cond)                                                       \
-  do {                                                                         \
-    if (!(cond)) {                                                             \
-      std::fprintf(stderr, "fuzz_config: parsed config breaks: %s\n", #cond);  \
-      std::abort();                                                            \
-    }                                                                          \
-  } while (0)
-
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
+using hb::fuzz::finite;
 
 bool sameRuns(const std::vector<hb::Variant>& a, const std::vector<hb::Variant>& b) {
   if (a.size() != b.size()) return false;

@@ -14,29 +14,16 @@
 #include "base/errors.h"
 #include "scene/gltf/gltf_io.h"
 
+#define FUZZ_TARGET_NAME "fuzz_gltf"
+#include "fuzz_checks.h"
+
 namespace {
 
 // A directory that does not exist: external buffer and image URIs are not found, so the fuzzer
 // exercises data URIs and .glb chunks, never the files of the machine it runs on.
 constexpr const char* kNoBaseDir = "/nonexistent-hybridbench-fuzz-dir";
 
-#define FUZZ_CHECK(cond)                                                       \
-  do {                                                                         \
-    if (!(cond)) {                                                             \
-      std::fprintf(stderr, "fuzz_gltf: loaded scene breaks: %s\n", #cond);     \
-      std::abort();                                                            \
-    }                                                                          \
-  } while (0)
-
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
+using hb::fuzz::finite;
 
 // What the GPU upload and the CPU references rely on after a successful load: indices inside their
 // arrays, and finite transforms, lights and cameras (a float that overflowed to inf, or a NaN).
