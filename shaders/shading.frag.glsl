@@ -13,7 +13,7 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;  // 0: no culling pass ran, loop over all lights
 layout(constant_id = 2) const uint SHADOWS = 1;   // 0: every light visible
 layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference normal
-// 1: primary visibility came from 3D rasterization (frame/passes/primary_3dr.h): the depth test
+// 1: primary visibility came from 3D rasterization (frame/passes/raster3d.h): the depth test
 // is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
 layout(constant_id = 4) const uint ID_MATCH = 0;
 layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (binding 10)

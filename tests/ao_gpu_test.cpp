@@ -12,8 +12,10 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/ao_analysis.h"
+#include "effects/ambient_occlusion/ao_analysis.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
+#include "effects/ambient_occlusion/ao_part.h"
 #include "gpu_fixture.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
@@ -69,7 +71,7 @@ Scene closedBox() {
 std::vector<float> aoOf(const VulkanContext& ctx, const Scene& scene, const RenderSettings& rs) {
   Renderer r(ctx, scene, rs);
   r.renderFrame(true);
-  return r.ambientOcclusion()->readAo();
+  return aoPassOf(r)->readAo();
 }
 
 class AoGpuTest : public testing::GpuTest {};
@@ -87,7 +89,7 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
   Renderer r(*ctx, scene,
              aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}, {"ldm_list", list}}));
   r.renderFrame(true);
-  const LdmBuild& ldm = *r.ambientOcclusion()->ldm();
+  const LdmBuild& ldm = *aoPassOf(r)->ldm();
   const std::vector<std::vector<float>> lists = ldm.readLists();
   const LdmCounters counters = ldm.readCounters();
   EXPECT_EQ(counters.overflow, 0u);
@@ -172,8 +174,8 @@ TEST_F(AoGpuTest, InsideAClosedBoxNothingSeesTheSky) {
     RenderSettings rs = aoSettings(48, 32, {{"method", method}, {"samples", 64}, {"ldm_resolution", 64}});
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
-    const std::vector<float> ao = r.ambientOcclusion()->readAo();
-    const ShadowReadback sh = r.readShadows();
+    const std::vector<float> ao = aoPassOf(r)->readAo();
+    const ShadowReadback sh = shadowsOf(r)->readShadows();
     size_t inside = 0, interior = 0;
     double worst = 0;
     for (size_t i = 0; i < ao.size(); ++i) {
@@ -204,11 +206,11 @@ TEST_F(AoGpuTest, InsideAClosedBoxNothingSeesTheSky) {
 TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
   const Scene scene = makeAtrium(AtriumParams{});
   RenderSettings rs = aoSettings(64, 36, {{"method", "raytraced"}});
-  rs.normals = gpu::kNormalsImproved;
+  rs.normals = NormalCulling::Improved;
   Renderer r(*ctx, scene, rs);
   r.renderFrame(true);
-  const std::vector<float> ao = r.ambientOcclusion()->readAo();
-  const ShadowReadback sh = r.readShadows();
+  const std::vector<float> ao = aoPassOf(r)->readAo();
+  const ShadowReadback sh = shadowsOf(r)->readShadows();
   const Bvh bvh = buildBvh(scene);
   const std::vector<glm::dvec3> dirs = ldmDirections(64);
   size_t compared = 0, equal = 0;
@@ -246,13 +248,13 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
   };
   for (const Case c : {Case{64, 128, 0.015, 0.03, 0.01}, Case{128, 256, 0.007, 1.0, 1.0}}) {
     RenderSettings rs = aoSettings(128, 72, {{"directions", c.n}, {"ldm_resolution", c.res}});
-    rs.primary = "3dr";
-    rs.worldPos = gpu::kWorldPosHit;
-    rs.normals = gpu::kNormalsGeometric;
+    rs.primary = hb::testing::primaryNamed("3dr");
+    rs.worldPos = WorldPosMethod::Hit;
+    rs.normals = NormalCulling::Geometric;
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
-    const std::vector<float> ldm = r.ambientOcclusion()->readAo();
-    const std::vector<float> rt = r.ambientOcclusion()->computeWith(AoMethod::RayTraced);
+    const std::vector<float> ldm = aoPassOf(r)->readAo();
+    const std::vector<float> rt = aoPassOf(r)->computeWith(AoMethod::RayTraced);
     const AoErrors e = aoErrors(ldm, rt, 128, 72);
     std::printf("atrium 128x72, ldm N=%u %ux%u vs raytraced: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f over %llu "
                 "pixels\n",
@@ -289,10 +291,10 @@ TEST_F(AoGpuTest, HbaoBuildsNoMapsAndNoRayTracer) {
   const Scene scene = openSky();
   Renderer r(*ctx, scene, aoSettings(32, 32, {{"method", "hbao"}}, false));
   EXPECT_EQ(r.accel(), nullptr);
-  EXPECT_EQ(r.ambientOcclusion()->ldm(), nullptr);
+  EXPECT_EQ(aoPassOf(r)->ldm(), nullptr);
   EXPECT_FALSE(r.plan().hasPass("ldm_build"));
   r.renderFrame(true);
-  EXPECT_FALSE(r.ambientOcclusion()->canTrace());
+  EXPECT_FALSE(aoPassOf(r)->canTrace());
 }
 
 // A scene that does not call for AO (or cannot: no ambient term) builds nothing for it.
@@ -303,13 +305,13 @@ TEST_F(AoGpuTest, WithoutTheEffectNoLdmIsBuiltAndNothingIsAllocated) {
   rs.height = 32;
   {
     Renderer r(*ctx, scene, rs);
-    EXPECT_EQ(r.ambientOcclusion(), nullptr);
+    EXPECT_EQ(aoPassOf(r), nullptr);
     r.renderFrame(false);
     EXPECT_EQ(std::count(r.passesRun().begin(), r.passesRun().end(), "ldm_build"), 0);
   }
   scene.ambient.reset();
   Renderer r(*ctx, scene, aoSettings(32, 32, true));
-  EXPECT_EQ(r.ambientOcclusion(), nullptr);
+  EXPECT_EQ(aoPassOf(r), nullptr);
   EXPECT_FALSE(r.plan().runs("ambient_occlusion"));
 }
 

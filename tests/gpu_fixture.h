@@ -2,9 +2,12 @@
 // context per test, and a check that the validation layers stayed silent.
 #pragma once
 #include <memory>
+#include <string>
+#include <string_view>
 
 #include <gtest/gtest.h>
 
+#include "config/config.h"
 #include "gpu/vk_context.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -33,6 +36,26 @@ inline Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
   c.znear = 0.05f;
   c.zfar = 100.0f;
   return c;
+}
+
+// A setting by its config name ("3dr", "pipeline"), through the code's own names (toString):
+// tests name settings as users write them. Fails the test on a name the code does not have.
+template <typename Enum, size_t N>
+Enum settingNamed(std::string_view name, const Enum (&values)[N]) {
+  for (Enum v : values)
+    if (name == toString(v)) return v;
+  ADD_FAILURE() << "no setting named \"" << name << "\"";
+  return values[0];
+}
+inline PrimaryMethod primaryNamed(std::string_view name) {
+  static constexpr PrimaryMethod kAll[] = {PrimaryMethod::Hardware, PrimaryMethod::Raster3d,
+                                           PrimaryMethod::Raster3dBinned, PrimaryMethod::Raster2d,
+                                           PrimaryMethod::RayCast};
+  return settingNamed(name, kAll);
+}
+inline RtBackend backendNamed(std::string_view name) {
+  static constexpr RtBackend kAll[] = {RtBackend::Auto, RtBackend::RayQuery, RtBackend::Pipeline};
+  return settingNamed(name, kAll);
 }
 
 }  // namespace hb::testing

@@ -14,6 +14,7 @@
 #include "gpu_fixture.h"
 #include "scene/hard_cases.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -39,11 +40,11 @@ class ShadowGrazing : public testing::GpuTest {
     s.width = 320;
     s.height = 180;
     s.tileSize = 16;
-    s.normals = gpu::kNormalsOff;
-    s.scaledTMin = scaledTMin;
+    s.normals = NormalCulling::Off;
+    s.tMin = scaledTMin ? ShadowTMin::Scaled : ShadowTMin::Constant;
     Renderer renderer(*ctx, scene, s);
     renderer.renderFrame(true);
-    const ShadowReadback sh = renderer.readShadows();
+    const ShadowReadback sh = shadowsOf(renderer)->readShadows();
     const std::vector<float> depth = renderer.readDepth();
     const glm::dvec3 eye(glm::inverse(glm::dmat4(scene.cameras[0].view))[3]);
     const glm::dvec3 light(scene.lights[0].position);

@@ -14,9 +14,11 @@
 
 #include <gtest/gtest.h>
 
-#include "analysis/indirect_analysis.h"
+#include "effects/indirect/indirect_analysis.h"
 #include "base/input_error_of.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
+#include "effects/indirect/indirect_part.h"
 #include "gpu_fixture.h"
 #include "reference/bvh.h"
 #include "reference/eq_partition.h"
@@ -168,8 +170,8 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
     Renderer r(*ctx, scene,
                indirectSettings(48, 32, {{"method", method}, {"directions", N}, {"photons", kSide}, {"ldm_resolution", R}}));
     r.renderFrame(true);
-    ASSERT_NE(r.indirect(), nullptr);
-    const IndirectPass& pass = *r.indirect();
+    ASSERT_NE(indirectPassOf(r), nullptr);
+    const IndirectPass& pass = *indirectPassOf(r);
     ASSERT_EQ(pass.primaries(), prims.size());
     // The pass's emitted flux is Σ I·(R + G + B)·Ω (white: 3I).
     EXPECT_NEAR(pass.emittedFlux(), 20.0 * 3.0 * omegaSum, 1e-12 * pass.emittedFlux());
@@ -273,8 +275,8 @@ TEST_F(IndirectGpuTest, LdmPhotonsLandOnTheSurfacesTheRayTracedPhotonsLandOn) {
   Renderer r(*ctx, scene,
              indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 128}, {"photons", 8}, {"ldm_resolution", 64}}));
   r.renderFrame(true);
-  ASSERT_NE(r.indirect(), nullptr);
-  IndirectPass& pass = *r.indirect();
+  ASSERT_NE(indirectPassOf(r), nullptr);
+  IndirectPass& pass = *indirectPassOf(r);
   const std::vector<gpu::Photon> ldm = pass.readPhotons();
   const std::vector<float> ldmE = pass.readIrradiance();
   std::vector<gpu::Photon> rt;
@@ -307,14 +309,14 @@ TEST_F(IndirectGpuTest, LdmIrradianceIsBitForBitDeterministic) {
   {
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
-    first = r.indirect()->readIrradiance();
+    first = indirectPassOf(r)->readIrradiance();
     r.renderFrame(true);
-    second = r.indirect()->readIrradiance();
+    second = indirectPassOf(r)->readIrradiance();
   }
   {
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
-    other = r.indirect()->readIrradiance();
+    other = indirectPassOf(r)->readIrradiance();
   }
   ASSERT_EQ(first.size(), size_t(48 * 32 * 4));
   ASSERT_EQ(second.size(), first.size());
@@ -360,12 +362,12 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
                  {{"shadows", true}, {"indirect", {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}}}});
   Renderer r(*ctx, scene, rs);
   r.renderFrame(true);
-  ASSERT_NE(r.indirect(), nullptr);
-  const IndirectPass& pass = *r.indirect();
+  ASSERT_NE(indirectPassOf(r), nullptr);
+  const IndirectPass& pass = *indirectPassOf(r);
   const std::vector<float> gpuE = pass.readIrradiance();
   const std::vector<gpu::Photon> photons = pass.readPhotons();
   const std::vector<float> depth = r.readDepth();
-  const ShadowReadback sh = r.readShadows();
+  const ShadowReadback sh = shadowsOf(r)->readShadows();
   ASSERT_EQ(gpuE.size(), size_t(W * H * 4));
   ASSERT_EQ(depth.size(), size_t(W * H));
   ASSERT_EQ(sh.positions.size(), size_t(W * H * 4));
@@ -469,7 +471,7 @@ TEST_F(IndirectGpuTest, NothingIsBuiltWhenTheEffectIsOffOrCannotAct) {
   {
     const Scene scene = diffuseBox("closed-box", false);
     Renderer r(*ctx, scene, indirectSettings(32, 32, false));
-    EXPECT_EQ(r.indirect(), nullptr);
+    EXPECT_EQ(indirectPassOf(r), nullptr);
     EXPECT_FALSE(r.plan().runs("indirect"));
     EXPECT_EQ(r.accel(), nullptr);
     r.renderFrame(false);
@@ -482,7 +484,7 @@ TEST_F(IndirectGpuTest, NothingIsBuiltWhenTheEffectIsOffOrCannotAct) {
   scene.lights[0].type = LightType::Directional;
   scene.lights[0].direction = {0, -1, 0};
   Renderer r(*ctx, scene, indirectSettings(32, 32, true));
-  EXPECT_EQ(r.indirect(), nullptr);
+  EXPECT_EQ(indirectPassOf(r), nullptr);
   EXPECT_FALSE(r.plan().runs("indirect"));
   EXPECT_EQ(r.accel(), nullptr);
   std::string why;

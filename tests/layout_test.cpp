@@ -18,15 +18,26 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Lowest first. effects/ reads scenes (can an effect act on this one?); scene/gltf sits above it:
-// the glTF loader builds Scenes and checks their extras.effects against the effects schema.
-const std::vector<std::string> kOrder = {"base", "scene", "effects", "scene/gltf", "config", "reference",
-                                         "gpu",  "frame", "analysis", "report",     "app"};
+// Lowest first. effects/ (the schema, the plan and the registry) reads scenes (can an effect act on
+// this one?); scene/gltf sits above it: the glTF loader builds Scenes and checks their
+// extras.effects against the effects schema. "effects/*" is every effect's own folder
+// (effects/<name>/: its passes, analysis, report and table), above everything it uses and below
+// the commands.
+const std::vector<std::string> kOrder = {"base",     "scene",  "effects",   "scene/gltf", "config", "reference", "gpu",
+                                         "frame",    "analysis", "report",  "effects/*",  "app"};
 
 int rankOf(const std::string& relPath) {  // "gpu/accel.h" -> rank of "gpu"; -1 if not in a folder
   int best = -1;
   size_t bestLen = 0;
   for (size_t i = 0; i < kOrder.size(); ++i) {
+    if (kOrder[i] == "effects/*") {  // a file in a subfolder of effects/
+      const size_t slash = relPath.find('/', 8);
+      if (relPath.rfind("effects/", 0) == 0 && slash != std::string::npos && 9 > bestLen) {  // longer than "effects/"
+        best = int(i);
+        bestLen = 9;
+      }
+      continue;
+    }
     const std::string prefix = kOrder[i] + "/";
     if (relPath.rfind(prefix, 0) == 0 && prefix.size() > bestLen) {
       best = int(i);

@@ -17,6 +17,7 @@
 #include "base/errors.h"
 #include "base/parallel.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "gpu/gpu_lights.h"
 #include "gpu_fixture.h"
 #include "reference/bvh.h"
@@ -38,15 +39,15 @@ struct ManyLightsFrame {
 };
 
 ManyLightsFrame render(const VulkanContext& ctx, const Scene& scene, LightLists lists,
-                       uint32_t normals = gpu::kNormalsImproved, const std::string& primary = "hardware") {
+                       NormalCulling normals = NormalCulling::Improved, const std::string& primary = "hardware") {
   RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = 16};
   s.lightLists = lists;
   s.rangeTest = true;
   s.normals = normals;
-  s.primary = primary;
+  s.primary = hb::testing::primaryNamed(primary);
   Renderer r(ctx, scene, s);
   r.renderFrame(true);
-  return {s, r.readDepth(), r.readCulling(), r.readShadows(), r.view(), r.proj()};
+  return {s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj()};
 }
 
 const Scene& atrium(uint32_t lights) {
@@ -139,7 +140,7 @@ TEST_P(ManyLightsGpuTest, UncappedListsDropNothingAndMatchTheCpuShadowRays) {
     // With the range test and exact normals nothing can cull wrongly, so no variant traces fewer
     // rays than the oracle needs: the triangle's own normal (3D rasterization's ids) decides N·L as
     // the oracle does, up to float ties; without normal culling every ray in range is traced.
-    for (const auto& [normals, primary] : {std::pair{gpu::kNormalsGeometric, "3dr"}, std::pair{gpu::kNormalsOff, "hardware"}}) {
+    for (const auto& [normals, primary] : {std::pair{NormalCulling::Geometric, "3dr"}, std::pair{NormalCulling::Off, "hardware"}}) {
       SCOPED_TRACE(primary);
       const ManyLightsFrame e = render(*ctx, scene, lists, normals, primary);
       const RayAccounting ea = accountRays(e.shadows, e.culling, e.depth, kWidth, kHeight, 16, lightCount);
@@ -182,7 +183,7 @@ TEST_F(ManyLightsShadingTest, ZbinShadingWithoutShadowsLightsLikeTheBitmaskLists
     s.lightLists = lists;
     s.effects.add(EffectSource::Config, "test", {{"shadows", false}});
     Renderer r(*ctx, scene, s);
-    ASSERT_FALSE(r.hasShadows());
+    ASSERT_FALSE((shadowsOf(r) != nullptr));
     r.renderFrame(true);
     colors[lists] = r.readColor();
   }

@@ -15,7 +15,9 @@
 #include "analysis/primary_analysis.h"
 #include "base/errors.h"
 #include "base/image_io.h"
+#include "frame/passes/raster3d.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "reference/flip.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
@@ -83,7 +85,7 @@ Coverage rasterize(const VulkanContext& ctx, const Scene& scene, bool fp64Fallba
   RenderSettings rs;
   rs.width = width;
   rs.height = height;
-  rs.primary = primary;
+  rs.primary = hb::testing::primaryNamed(primary);
   rs.fp64Fallback = fp64Fallback;
   rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
   Renderer r(ctx, scene, rs);
@@ -171,7 +173,7 @@ RenderSettings atrium3drSettings() {
   RenderSettings rs;
   rs.width = 160;
   rs.height = 90;
-  rs.primary = "3dr";
+  rs.primary = hb::testing::primaryNamed("3dr");
   return rs;
 }
 
@@ -411,7 +413,7 @@ TEST_F(Raster3dTest, FarFromTheOriginTheCameraRelativeSetupMatchesTheDoubleRayCa
     RenderSettings rs;
     rs.width = 320;
     rs.height = 180;
-    rs.primary = "3dr";
+    rs.primary = hb::testing::primaryNamed("3dr");
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
     const PrimaryComparison c = comparePrimary(buildBvh(scene), r.raster3d()->readVisibility(),
@@ -435,11 +437,11 @@ TEST_F(Raster3dTest, GeometricNormalsAreTheVisibleTrianglesOwnAndHitPositionsNee
   // triangles 100x longer than wide).
   const Scene scene = makeAtrium(AtriumParams{});
   RenderSettings rs = atrium3drSettings();
-  rs.normals = gpu::kNormalsGeometric;
-  rs.worldPos = gpu::kWorldPosHit;
+  rs.normals = NormalCulling::Geometric;
+  rs.worldPos = WorldPosMethod::Hit;
   Renderer r(*ctx, scene, rs);
   r.renderFrame(true);
-  const ShadowReadback sh = r.readShadows();
+  const ShadowReadback sh = shadowsOf(r)->readShadows();
   const std::vector<float> ref = r.readRefNormals();
   size_t compared = 0, off = 0;
   for (size_t i = 0; i < ref.size() / 4; ++i) {
@@ -453,7 +455,7 @@ TEST_F(Raster3dTest, GeometricNormalsAreTheVisibleTrianglesOwnAndHitPositionsNee
   EXPECT_GT(compared, 10000u);
   EXPECT_EQ(off, 0u);
   RenderSettings hw = rs;
-  hw.primary = "hardware";
+  hw.primary = hb::testing::primaryNamed("hardware");
   EXPECT_THROW(Renderer(*ctx, scene, hw), InputError);
 }
 
@@ -469,8 +471,8 @@ TEST_F(Raster3dTest, VisbufferShadingMatchesTheForwardPass) {
     RenderSettings rs;
     rs.width = 160;
     rs.height = 90;
-    rs.primary = "3dr";
-    rs.visbufferShading = visbuffer;
+    rs.primary = hb::testing::primaryNamed("3dr");
+    rs.shading = (visbuffer) ? ShadingMethod::Visbuffer : ShadingMethod::Forward;
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
     normals = r.readRefNormals();
@@ -504,7 +506,7 @@ TEST_F(Raster3dTest, VisbufferShadingMatchesTheForwardPass) {
   EXPECT_LE(forwardMissed, valid / 100);
   EXPECT_LT(flip.mean, 0.05);
   RenderSettings hw;
-  hw.visbufferShading = true;
+  hw.shading = ShadingMethod::Visbuffer;
   EXPECT_THROW(Renderer(*ctx, scene, hw), InputError);
 }
 
@@ -517,8 +519,8 @@ TEST_F(Raster3dTest, On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades) {
     RenderSettings rs;
     rs.width = 160;
     rs.height = 90;
-    rs.primary = "3dr";
-    rs.r3dShadingDepthTest = depthTest;
+    rs.primary = hb::testing::primaryNamed("3dr");
+    rs.raster3dShadingDepthTest = depthTest;
     Renderer r(*ctx, scene, rs);
     r.renderFrame(false);
     return r.readColor();
@@ -541,7 +543,7 @@ TEST_F(Raster3dTest, AtriumFrameOnTopOf3drMatchesTheHardwarePrepassDepth) {
     RenderSettings rs;
     rs.width = 160;
     rs.height = 90;
-    rs.primary = primary;
+    rs.primary = hb::testing::primaryNamed(primary);
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
     return r.readDepth();
@@ -598,7 +600,7 @@ TEST_F(Raster3dTest, RaycastGivesTheSameIdsAndDepthsAsTheDoubleRayCastAnd3dr) {
   // the same 1e-6 at p99.9 as 3dr).
   const Scene scene = makeAtrium(AtriumParams{});
   RenderSettings rs = atrium3drSettings();
-  rs.primary = "raycast";
+  rs.primary = hb::testing::primaryNamed("raycast");
   Renderer r(*ctx, scene, rs);
   r.renderFrame(true);
   EXPECT_EQ(r.passesRun().front(), "raycast");
@@ -651,7 +653,7 @@ TEST_F(Raster3dTest, EachDispatchIsTimedInsideItsPass) {
   const Scene scene = makeAtrium(AtriumParams{});
   for (const char* primary : {"3dr", "3dr-binned", "raycast"}) {
     RenderSettings rs = atrium3drSettings();
-    rs.primary = primary;
+    rs.primary = hb::testing::primaryNamed(primary);
     rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
     Renderer r(*ctx, scene, rs);
     const FrameTiming t = r.renderFrame(false);

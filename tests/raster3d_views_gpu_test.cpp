@@ -16,7 +16,9 @@
 
 #include "analysis/primary_analysis.h"
 #include "base/errors.h"
+#include "frame/passes/raster3d.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/mesh_builder.h"
@@ -99,11 +101,11 @@ RenderSettings viewSettings(const ViewCase& v, const char* primary) {
   RenderSettings rs;
   rs.width = v.width;
   rs.height = v.height;
-  rs.primary = primary;
-  rs.visbufferShading = true;
+  rs.primary = hb::testing::primaryNamed(primary);
+  rs.shading = ShadingMethod::Visbuffer;
   rs.lightCulling = false;
-  rs.worldPos = gpu::kWorldPosHit;
-  rs.normals = gpu::kNormalsGeometric;
+  rs.worldPos = WorldPosMethod::Hit;
+  rs.normals = NormalCulling::Geometric;
   return rs;
 }
 
@@ -182,9 +184,9 @@ TEST_F(Raster3dViewsTest, TheAtriumThroughEveryViewAgreesWithRayCastingAlongTheS
     RenderSettings rs = viewSettings({p, 160, 90}, "3dr");
     rs.projection = p;
     const Frame r3 = render(*ctx, atrium, rs);
-    rs.primary = "raycast";
+    rs.primary = hb::testing::primaryNamed("raycast");
     const Frame rc = render(*ctx, atrium, rs);
-    rs.primary = "3dr-binned";
+    rs.primary = hb::testing::primaryNamed("3dr-binned");
     const Frame bin = render(*ctx, atrium, rs);
     EXPECT_EQ(bin.vis, r3.vis);
     // A pixel agrees when both name the same triangle (or both nothing), or both hit within the
@@ -235,25 +237,25 @@ TEST_F(Raster3dViewsTest, TheHardwarePathDrawsOrthographicViewsWithTheDepthAndPo
     std::vector<float> depth, positions;
     Camera cam;
   };
-  auto run = [&](const char* primary, uint32_t worldPos) {
+  auto run = [&](const char* primary, WorldPosMethod worldPos) {
     RenderSettings rs;
     rs.width = 160;
     rs.height = 90;
-    rs.primary = primary;
+    rs.primary = hb::testing::primaryNamed(primary);
     rs.projection = CameraProjection::Orthographic;
     rs.lightCulling = false;
     rs.worldPos = worldPos;
-    rs.visbufferShading = std::string(primary) != "hardware";
+    rs.shading = (std::string(primary) != "hardware") ? ShadingMethod::Visbuffer : ShadingMethod::Forward;
     Renderer r(*ctx, atrium, rs);
     r.renderFrame(true);
-    return Out{r.readDepth(), r.readShadows().positions, r.camera()};
+    return Out{r.readDepth(), shadowsOf(r)->readShadows().positions, r.camera()};
   };
-  const Out hit = run("3dr", gpu::kWorldPosHit);
+  const Out hit = run("3dr", WorldPosMethod::Hit);
   const double u = 5.9604644775390625e-8, zn = hit.cam.znear, zf = hit.cam.zfar;
   const glm::dvec3 eye = glm::dvec3(glm::inverse(glm::dmat4(hit.cam.view))[3]);
   const double bound = 16.0 * u * (zf - zn + glm::length(eye) + std::max(hit.cam.xmag, hit.cam.ymag));
-  for (uint32_t worldPos : {gpu::kWorldPosAlg41, gpu::kWorldPosMatrix}) {
-    SCOPED_TRACE(worldPos == gpu::kWorldPosAlg41 ? "alg41" : "matrix");
+  for (WorldPosMethod worldPos : {WorldPosMethod::Alg41, WorldPosMethod::Matrix}) {
+    SCOPED_TRACE(worldPos == WorldPosMethod::Alg41 ? "alg41" : "matrix");
     const Out hw = run("hardware", worldPos);
     size_t both = 0, depthClose = 0, positionClose = 0, skyMismatch = 0;
     double worstClose = 0;
@@ -292,28 +294,28 @@ TEST_F(Raster3dViewsTest, ViewsAMethodCannotDrawAreRefusedWithWhatToSet) {
   RenderSettings rs = viewSettings({CameraProjection::Latlong, 64, 32}, "hardware");
   rs.projection = CameraProjection::Latlong;
   EXPECT_NE(message(rs).find("needs primary=3dr, 3dr-binned or raycast"), std::string::npos) << message(rs);
-  rs.primary = "3dr";
-  rs.visbufferShading = false;
+  rs.primary = hb::testing::primaryNamed("3dr");
+  rs.shading = ShadingMethod::Forward;
   EXPECT_NE(message(rs).find("needs shading=visbuffer"), std::string::npos) << message(rs);
-  rs.visbufferShading = true;
+  rs.shading = ShadingMethod::Visbuffer;
   rs.lightCulling = true;
   EXPECT_NE(message(rs).find("needs light_culling=false"), std::string::npos) << message(rs);
   rs.lightCulling = false;
-  rs.worldPos = gpu::kWorldPosAlg41;
+  rs.worldPos = WorldPosMethod::Alg41;
   EXPECT_NE(message(rs).find("needs world_pos=hit"), std::string::npos) << message(rs);
-  rs.worldPos = gpu::kWorldPosHit;
+  rs.worldPos = WorldPosMethod::Hit;
   EXPECT_EQ(message(rs), "accepted");
   // Orthographic: the hardware path draws it, with the forward pass and depth-reconstructed
   // positions; 2dr does not; the forward pass does not on top of a compute method.
   rs = viewSettings({CameraProjection::Orthographic, 64, 48}, "hardware");
   rs.projection = CameraProjection::Orthographic;
-  rs.visbufferShading = false;
-  rs.worldPos = gpu::kWorldPosAlg41;
-  rs.normals = gpu::kNormalsImproved;
+  rs.shading = ShadingMethod::Forward;
+  rs.worldPos = WorldPosMethod::Alg41;
+  rs.normals = NormalCulling::Improved;
   EXPECT_EQ(message(rs), "accepted");
-  rs.primary = "2dr";
+  rs.primary = hb::testing::primaryNamed("2dr");
   EXPECT_NE(message(rs).find("needs primary=3dr, 3dr-binned or raycast"), std::string::npos) << message(rs);
-  rs.primary = "3dr";
+  rs.primary = hb::testing::primaryNamed("3dr");
   EXPECT_NE(message(rs).find("needs shading=visbuffer with primary=3dr"), std::string::npos) << message(rs);
 }
 

@@ -18,6 +18,7 @@
 #include "base/image_io.h"
 #include "scene/mesh_builder.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 
 namespace hb {
 namespace {
@@ -537,7 +538,7 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
     s.width = s.height = kSize;
     Renderer r(*ctx, *c.scene, s);
     EXPECT_EQ(r.accel(), nullptr);
-    EXPECT_FALSE(r.hasShadows());
+    EXPECT_FALSE((shadowsOf(r) != nullptr));
     r.renderFrame();
     bool skipped = false;
     for (const auto& [pass, why] : r.passesSkipped()) skipped = skipped || pass == "shadows";

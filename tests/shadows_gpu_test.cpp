@@ -12,6 +12,7 @@
 #include "scene/hard_cases.h"
 #include "analysis/ray_analysis.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -19,7 +20,7 @@ namespace {
 
 constexpr double kU = 1.0 / 16777216.0;  // 2^-24, float unit roundoff
 constexpr uint32_t kWidth = 320, kHeight = 180;
-constexpr uint32_t kNormalModes[] = {gpu::kNormalsOff, gpu::kNormalsNaive, gpu::kNormalsImproved};
+constexpr NormalCulling kNormalModes[] = {NormalCulling::Off, NormalCulling::Naive, NormalCulling::Improved};
 
 struct Frame {
   RenderSettings settings;
@@ -31,14 +32,14 @@ struct Frame {
   size_t pixels() const { return depth.size(); }
 };
 
-Frame render(const VulkanContext& ctx, const Scene& scene, uint32_t normals, const std::string& backend,
+Frame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals, const std::string& backend,
              uint32_t tileSize = 16, bool scaledTMin = false) {
-  RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = tileSize, .backend = backend, .normals = normals};
-  s.scaledTMin = scaledTMin;
+  RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = tileSize, .backend = hb::testing::backendNamed(backend), .normals = normals};
+  s.tMin = scaledTMin ? ShadowTMin::Scaled : ShadowTMin::Constant;
   Renderer r(ctx, scene, s);
-  EXPECT_EQ(r.backendUsed(), backend);
+  EXPECT_EQ(toString(shadowsOf(r)->shadowPass().settings().backend), backend);
   r.renderFrame(true);
-  Frame f{s, r.readDepth(), r.readCulling(), r.readShadows(), r.view(), r.proj(), {}};
+  Frame f{s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj(), {}};
   f.cam = reconstructionCamera<double>(glm::dmat4(f.view), glm::dmat4(f.proj), s.width, s.height);
   return f;
 }
@@ -59,7 +60,7 @@ ShadowComparison compare(const Frame& f, const Scene& scene, const Bvh& bvh) {
   // The camera position and t_min scale exactly as the renderer uploads them.
   const glm::vec4 cameraPos =
       makeFrameConstants(f.view, f.proj, f.settings.width, f.settings.height, f.settings.tileSize, 0,
-                         f.settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f)
+                         f.settings.tMin == ShadowTMin::Scaled ? gpu::kShadowTMinPerMetre : 0.0f)
           .cameraPos;
   return compareShadows(scene, bvh, f.shadows, f.culling, f.settings.width, f.settings.height, f.settings.tileSize,
                         f.settings.rangeTest, cameraPos);
@@ -92,8 +93,8 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
   const Scene& scene = sceneNamed(GetParam());
   const Bvh bvh = buildBvh(scene);
   const Bvh tbvh = buildBvh(scene);
-  for (uint32_t normals : kNormalModes) {
-    const std::string what = GetParam() + " normals=" + std::to_string(normals);
+  for (NormalCulling normals : kNormalModes) {
+    const std::string what = GetParam() + " normals=" + toString(normals);
     const Frame rq = render(*ctx, scene, normals, "rayquery");
     const Frame rt = render(*ctx, scene, normals, "pipeline");
     size_t visDiff = 0, accDiff = 0;
@@ -110,7 +111,7 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     EXPECT_TRUE(acc.addsUp()) << what << ": " << acc.candidates << " candidates, buckets sum to " << acc.bucketSum();
     EXPECT_TRUE(account(rt, scene).addsUp()) << what;
     EXPECT_EQ(acc.culledByRange, 0u) << what << ": range test is off";
-    if (normals == gpu::kNormalsOff) {
+    if (normals == NormalCulling::Off) {
       // Nothing between the tile list and the ray but lights at the point and non-casters.
       EXPECT_EQ(acc.culledByNormal, 0u) << what;
       EXPECT_EQ(acc.traced, acc.candidates - acc.culledByTile - acc.droppedByOverflow - acc.atLight - acc.noShadow)
@@ -141,9 +142,9 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     if (GetParam() != "grazing-far") {
       EXPECT_LE(cmp.mismatches, cmp.rays / 1000) << what;
     }
-    std::printf("[ shadows ] %-14s normals=%u traced %llu of %llu candidates, CPU mismatches %llu "
+    std::printf("[ shadows ] %-14s normals=%s traced %llu of %llu candidates, CPU mismatches %llu "
                 "(tie %llu, endpoint %llu, grazing %llu)\n",
-                GetParam().c_str(), normals, (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
+                GetParam().c_str(), toString(normals), (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
                 (unsigned long long)cmp.mismatches, (unsigned long long)cmp.nearTie,
                 (unsigned long long)cmp.endpoint, (unsigned long long)cmp.grazing);
   }
@@ -170,8 +171,8 @@ TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
   for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
     const Scene& scene = sceneNamed(name);
     const Bvh bvh = buildBvh(scene);
-    const Frame rq = render(*ctx, scene, gpu::kNormalsImproved, "rayquery", 16, /*scaledTMin=*/true);
-    const Frame rt = render(*ctx, scene, gpu::kNormalsImproved, "pipeline", 16, /*scaledTMin=*/true);
+    const Frame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", 16, /*scaledTMin=*/true);
+    const Frame rt = render(*ctx, scene, NormalCulling::Improved, "pipeline", 16, /*scaledTMin=*/true);
     size_t visDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
     EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between rayquery and pipeline";
@@ -228,7 +229,7 @@ size_t pixelsBeyondPlaneBound(const Frame& f, const Scene& scene, const Referenc
 
 TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
   const Scene& scene = sceneNamed("plane");
-  const Frame f = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
+  const Frame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(buildBvh(scene), f.depth, f.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
@@ -239,13 +240,13 @@ TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
 TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
   const Scene& scene = sceneNamed("depth-step");
   const Bvh bvh = buildBvh(scene);
-  const Frame improved = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
+  const Frame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, improved.depth, improved.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
   EXPECT_EQ(pixelsBeyondPlaneBound(improved, scene, ref, &ratio), 0u) << "improved normals mixed the two sides";
   // The scene does test something: naive normals take the derivative across the step there.
-  const Frame naive = render(*ctx, scene, gpu::kNormalsNaive, "rayquery");
+  const Frame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
   const NormalAccuracy acc = normalAccuracy(naive.shadows.normals, ref);
   EXPECT_GT(acc.maxAngleDeg, 45.0);
   std::printf("[ normals ] depth-step improved: max angle / bound = %.3g; naive max %.1f deg\n", ratio,
@@ -255,8 +256,8 @@ TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
 TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
   const Scene& scene = sceneNamed("atrium");
   const Bvh bvh = buildBvh(scene);
-  const Frame naive = render(*ctx, scene, gpu::kNormalsNaive, "rayquery");
-  const Frame improved = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
+  const Frame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
+  const Frame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, naive.depth, naive.cam);
   const NormalAccuracy a = normalAccuracy(naive.shadows.normals, ref);
   const NormalAccuracy b = normalAccuracy(improved.shadows.normals, ref);
@@ -287,13 +288,13 @@ TEST_F(ShadowNormals, ImprovedMeanAngularErrorIsAtMost028OfNaiveOnTheAtriumAt108
     s.width = 1920;
     s.height = 1080;
     s.tileSize = 8;
-    s.normals = k == 0 ? gpu::kNormalsNaive : gpu::kNormalsImproved;
+    s.normals = k == 0 ? NormalCulling::Naive : NormalCulling::Improved;
     Renderer r(*ctx, scene, s);
     r.renderFrame(true);
     if (k == 0)
       ref = referenceSurface(bvh, r.readDepth(),
                              reconstructionCamera<double>(glm::dmat4(r.view()), glm::dmat4(r.proj()), s.width, s.height));
-    acc[k] = normalAccuracy(r.readShadows().normals, ref);
+    acc[k] = normalAccuracy(shadowsOf(r)->readShadows().normals, ref);
   }
   const double ratio = acc[1].meanAngleDeg / acc[0].meanAngleDeg;
   std::printf("[ normals ] atrium 1920x1080: naive mean %.3f deg, image diff %.5f | improved mean %.3f deg, image diff "
@@ -316,7 +317,7 @@ class ShadowPositions : public testing::GpuTest {};
 TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
   for (const std::string& name : builtinSceneNames()) {
     if (name == "far-origin") continue;
-    const Frame f = render(*ctx, sceneNamed(name), gpu::kNormalsOff, "rayquery");
+    const Frame f = render(*ctx, sceneNamed(name), NormalCulling::Off, "rayquery");
     const PositionAccuracy acc = positionAccuracy(f.shadows.positions, f.depth, f.cam);
     EXPECT_EQ(acc.nonFinite, 0u) << name;
     EXPECT_LE(acc.maxRelative, 8.0 * kU) << name;
@@ -331,7 +332,7 @@ TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
 // distance, stay within the same 4·2^-23·distance bound (derivation above), and each plane has
 // its own figure, so that a precision loss at one distance cannot hide in the others' average.
 TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance) {
-  const Frame f = render(*ctx, sceneNamed("far-planes"), gpu::kNormalsOff, "rayquery");
+  const Frame f = render(*ctx, sceneNamed("far-planes"), NormalCulling::Off, "rayquery");
   struct PlaneFigure {
     size_t pixels = 0;
     double maxRel = 0, sumRel = 0;
@@ -373,7 +374,7 @@ TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance
 // where v is the view-space point, d = |v| and Md = inverse in double.
 TEST_F(ShadowPositions, FarFromTheOriginTheErrorFollowsTheEyeDistanceBound) {
   const Scene& scene = sceneNamed("far-origin");
-  const Frame f = render(*ctx, scene, gpu::kNormalsOff, "rayquery");
+  const Frame f = render(*ctx, scene, NormalCulling::Off, "rayquery");
   const glm::dmat4 mf(glm::inverse(f.view));  // what makeFrameConstants uploads
   const glm::dmat4 md = glm::inverse(glm::dmat4(f.view));
   const glm::dvec3 t(md[3]);
@@ -437,7 +438,7 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
   Scene scene = sceneNamed("thin-gap");
   scene.lights[0].position = {1.5f, 0.15f, 0.0f};
   const Bvh tbvh = buildBvh(scene);
-  const Frame f = render(*ctx, scene, gpu::kNormalsImproved, "rayquery");
+  const Frame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ShadowComparison cmp = compare(f, scene, buildBvh(scene));
   EXPECT_EQ(cmp.unexplained(), 0u);
   const glm::dvec3 light(scene.lights[0].position);
@@ -464,7 +465,7 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
 TEST_F(ShadowHardCases, OpenOccluderShadowsFromBehind) {
   const Scene& scene = sceneNamed("open-occluder");
   for (const char* backend : {"rayquery", "pipeline"}) {
-    const Frame f = render(*ctx, scene, gpu::kNormalsImproved, backend);
+    const Frame f = render(*ctx, scene, NormalCulling::Improved, backend);
     const glm::dvec3 light(scene.lights[0].position);
     int inShadow = 0;
     for (size_t i = 0; i < f.pixels(); ++i) {

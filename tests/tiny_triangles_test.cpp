@@ -15,6 +15,7 @@
 #include "analysis/ray_analysis.h"
 #include "reference/reconstruct_ref.h"
 #include "frame/renderer.h"
+#include "effects/shadows/shadows_part.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -23,7 +24,7 @@ namespace {
 class ShadowTinyTriangles : public testing::GpuTest {};
 
 // An analysis frame of the tiny-triangles scene at w x h, 16x16 tiles, with the given normals.
-RenderSettings tinySettings(uint32_t w, uint32_t h, uint32_t normals) {
+RenderSettings tinySettings(uint32_t w, uint32_t h, NormalCulling normals) {
   RenderSettings s;
   s.width = w;
   s.height = h;
@@ -35,13 +36,13 @@ RenderSettings tinySettings(uint32_t w, uint32_t h, uint32_t normals) {
 TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
   const Scene scene = makeBuiltinScene("tiny-triangles");
   const Bvh bvh = buildBvh(scene);
-  for (uint32_t method : {gpu::kNormalsNaive, gpu::kNormalsImproved}) {
+  for (NormalCulling method : {NormalCulling::Naive, NormalCulling::Improved}) {
     // The scene's triangles are ~1.9 px wide at 1920x1080 (hard_cases.h).
     const RenderSettings s = tinySettings(1920, 1080, method);
     Renderer renderer(*ctx, scene, s);
     renderer.renderFrame(true);
     const std::vector<float> depth = renderer.readDepth();
-    const ShadowReadback sh = renderer.readShadows();
+    const ShadowReadback sh = shadowsOf(renderer)->readShadows();
     uint64_t unit = 0, flagged = 0, bad = 0;
     for (size_t i = 0; i < depth.size(); ++i) {
       if (!(depth[i] > 0.0f)) continue;
@@ -59,12 +60,12 @@ TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
     uint64_t over10 = 0;
     for (float a : acc.angleDeg) over10 += a > 10.0f;
     std::printf("tiny triangles, %s normals: %llu compared with the true surface (%llu without one); ",
-                method == gpu::kNormalsNaive ? "naive" : "improved", (unsigned long long)acc.compared,
+                method == NormalCulling::Naive ? "naive" : "improved", (unsigned long long)acc.compared,
                 (unsigned long long)acc.withoutReference);
     // Flagged pixels (no neighbour on the same surface) get no normal test: their rays are traced.
     std::printf("%s: %llu unit, %llu flagged, mean error %.2f deg, p95 %.2f deg, %.1f %% of "
                 "compared pixels off by more than 10 deg\n",
-                method == gpu::kNormalsNaive ? "naive" : "improved", (unsigned long long)unit,
+                method == NormalCulling::Naive ? "naive" : "improved", (unsigned long long)unit,
                 (unsigned long long)flagged, acc.meanAngleDeg, acc.p95AngleDeg,
                 acc.compared ? 100.0 * double(over10) / double(acc.compared) : 0.0);
     EXPECT_EQ(bad, 0u);
@@ -79,12 +80,12 @@ TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
 TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) {
   const Scene scene = makeBuiltinScene("tiny-triangles");
   for (auto [w, h] : {std::pair<uint32_t, uint32_t>{321, 181}, {320, 180}}) {
-    for (uint32_t method : {gpu::kNormalsOff, gpu::kNormalsImproved}) {
+    for (NormalCulling method : {NormalCulling::Off, NormalCulling::Improved}) {
       const RenderSettings s = tinySettings(w, h, method);
       Renderer renderer(*ctx, scene, s);
       renderer.renderFrame(true);
       const std::vector<float> depth = renderer.readDepth();
-      const ShadowReadback sh = renderer.readShadows();
+      const ShadowReadback sh = shadowsOf(renderer)->readShadows();
       const CullingReadback cull = renderer.readCulling();
       const std::vector<float> color = renderer.readColor();
       uint64_t sky = 0, skyWithSomething = 0, surface = 0, nonFinite = 0;
@@ -112,7 +113,7 @@ TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) 
           ++emptyTiles;
           emptyTilesWithLights += cull.count[ty * cull.tilesX + tx] != 0u;
         }
-      const std::string what = std::to_string(w) + "x" + std::to_string(h) + " normals=" + std::to_string(method);
+      const std::string what = std::to_string(w) + "x" + std::to_string(h) + " normals=" + toString(method);
       EXPECT_GT(sky, depth.size() / 2) << what;  // the case is about sky: most of the image
       EXPECT_GT(surface, 0u) << what;
       EXPECT_EQ(skyWithSomething, 0u) << what << ": sky pixels with a position, normal, ray or mask bit";

@@ -176,7 +176,7 @@ struct GpuDraw {
   uint triangleBase;
 };
 
-// 3D rasterization (Davidovic et al. 2012; frame/passes/primary_3dr.h). Rays from the eye through
+// 3D rasterization (Davidovic et al. 2012; frame/passes/raster3d.h). Rays from the eye through
 // pixel centres: d(x, y) = rayD0 + x·rayDx + y·rayDy for pixel indices x, y, with d's component
 // along the camera's forward axis 1, so a hit's ray parameter t is its view depth.
 struct Raster3dConstants {

@@ -7,9 +7,9 @@
 #include <filesystem>
 
 #include "analysis/culling_analysis.h"
-#include "analysis/ao_analysis.h"
-#include "analysis/indirect_analysis.h"
+#include "analysis/effect_report.h"
 #include "analysis/primary_analysis.h"
+#include "frame/passes/raster3d.h"
 #include "base/errors.h"
 #include "base/parallel.h"
 #include "reference/flip.h"
@@ -21,80 +21,6 @@
 
 namespace hb {
 
-namespace {
-
-// Images of lights 0..count-1: white lit (in the pixel's list, ray reached the light); dark red in
-// the list but shadowed or culled by the normal/range test; black not in the pixel's list; dark
-// blue sky. One walk of each pixel's list for all of them, rows on every core.
-std::vector<ImageRGBA8> visibilityOfLights(const ShadowReadback& sh, const CullingReadback& cr,
-                                           const std::vector<float>& depth, uint32_t w, uint32_t h,
-                                           uint32_t tileSize, uint32_t count) {
-  std::vector<ImageRGBA8> imgs(count, ImageRGBA8{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)});
-  const size_t pixels = size_t(w) * h;
-  const bool zbin = cr.lists == LightLists::Zbin;
-  parallelFor(h, [&](size_t yy) {
-    const uint32_t y = uint32_t(yy);
-    for (uint32_t x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      auto paint = [&](uint32_t l, uint8_t r, uint8_t g, uint8_t b) {
-        uint8_t* px = &imgs[l].px[i * 4];
-        px[0] = r, px[1] = g, px[2] = b;
-      };
-      if (!(depth[i] > 0.0f)) {
-        for (uint32_t l = 0; l < count; ++l) paint(l, 16, 24, 80);
-        continue;
-      }
-      for (uint32_t l = 0; l < count; ++l) paint(l, 0, 0, 0);  // not in the list unless found below
-      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
-      const auto [first, last] = cr.pixelSlice(tile, zbin ? sh.ranges[i] : 0u);
-      for (uint32_t k = first; k < last; ++k) {
-        const uint32_t l = cr.indices[k];
-        if (l >= count) continue;
-        const uint32_t slot = k - first;
-        if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u) paint(l, 255, 255, 255);
-        else paint(l, 110, 20, 20);
-      }
-    }
-  });
-  return imgs;
-}
-
-// Per pixel, the scene lights whose bit is set in the pixel's visibility words (bit k = the k-th
-// light of its walk). Sky: 0. Precondition: every light index < 64.
-std::vector<uint64_t> visibleSceneLights(const ShadowReadback& sh, const CullingReadback& cr,
-                                         const std::vector<float>& depth, uint32_t w, uint32_t h, uint32_t tileSize) {
-  const size_t pixels = size_t(w) * h;
-  std::vector<uint64_t> out(pixels, 0);
-  const bool zbin = cr.lists == LightLists::Zbin;
-  for (uint32_t y = 0; y < h; ++y)
-    for (uint32_t x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * w + x;
-      if (!(depth[i] > 0.0f)) continue;
-      const uint32_t tile = (y / tileSize) * cr.tilesX + x / tileSize;
-      const auto [first, last] = cr.pixelSlice(tile, zbin ? sh.ranges[i] : 0u);
-      for (uint32_t k = 0; k < last - first; ++k)
-        if ((sh.visibility[size_t(k / 32) * pixels + i] >> (k % 32)) & 1u) {
-          HB_ASSERT(cr.indices[first + k] < 64);
-          out[i] |= 1ull << cr.indices[first + k];
-        }
-    }
-  return out;
-}
-
-// Does light l send light to the true surface point p with true normal n (range, cone, N·L)? Only
-// those (pixel, light) pairs change the image, so only they count as shadow mismatches.
-bool lightReaches(const Light& l, const glm::dvec3& p, const glm::dvec3& n) {
-  if (l.type == LightType::Directional) return glm::dot(n, -glm::dvec3(l.direction)) > 0.0;
-  glm::dvec3 d = glm::dvec3(l.position) - p;
-  const double dist = glm::length(d);
-  if (!(dist > 0.0) || dist > l.range) return false;
-  d /= dist;
-  if (l.type == LightType::Spot && glm::dot(-d, glm::normalize(glm::dvec3(l.direction))) < std::cos(double(l.outerConeAngle)))
-    return false;
-  return glm::dot(n, d) > 0.0;
-}
-
-}  // namespace
 
 VariantParams referenceParams(const VariantParams& params) {
   VariantParams r = params;
@@ -121,11 +47,8 @@ ReferenceFrame captureReference(const Renderer& renderer, const Scene& scene) {
   ref.width = s.width;
   ref.height = s.height;
   ref.lightCount = uint32_t(scene.lights.size());
-  const std::vector<float> depth = renderer.readDepth();
-  if (renderer.camera().projection == CameraProjection::Perspective && renderer.hasCulling() &&
-      renderer.hasShadows() && ref.lightCount <= 64)
-    ref.visible = visibleSceneLights(renderer.readShadows(), renderer.readCulling(), depth, s.width, s.height,
-                                     s.tileSize);
+  for (const EffectDef* def : allEffects())
+    if (def->captureReference && renderer.plan().runs(def->name)) def->captureReference(renderer, ref);
   ImageF hdr{s.width, s.height, 4, renderer.readColor()};
   ref.color = toneMapToSrgb(hdr, 0.0f, ToneMapOperator::AcesFitted).image;
   return ref;
@@ -146,12 +69,12 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
   // Coverage counted additively needs the method's own per-pixel counts: a ray cast has one hit.
   nlohmann::json coverage = "not counted: a ray cast reports one hit per pixel";
   const CameraProjection projection = renderer.camera().projection;
-  if (r3->mode() != PrimaryMode::RayCast && projection != CameraProjection::Perspective)
+  if (r3->mode() != PrimaryMethod::RayCast && projection != CameraProjection::Perspective)
     coverage = "not counted: the exact CPU rasterization covers perspective views (the GPU fill-rule tests check "
                "other views on closed meshes around the eye)";
-  else if (r3->mode() != PrimaryMode::RayCast)
+  else if (r3->mode() != PrimaryMethod::RayCast)
     coverage = toJson(compareCoverage(scene, rays, r3->readCoverage()));
-  return {{"method", renderer.settings().primary},
+  return {{"method", toString(renderer.settings().primary)},
           {"projection", toString(projection)},
           {"bins_refined", c.binsRefined},
           {"bins_refined_without_hit", c.binsEmpty},
@@ -176,135 +99,6 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
           {"against_ray_cast", toJson(exact)}};
 }
 
-// The LDMs' memory and lists (issue #16: heads, nodes allocated and used, nodes per pixel).
-static nlohmann::json ldmJson(const LdmBuild& ldm, uint64_t linkBytes) {
-  const LdmCounters c = ldm.readCounters();
-  std::vector<uint32_t> lengths = ldm.readListLengths();
-  std::sort(lengths.begin(), lengths.end());
-  const uint64_t heads = uint64_t(lengths.size());
-  const uint64_t exactBytes = ldm.exactBytes(c.allocated);  // a head per map pixel, a node per fragment
-  return {{"maps", ldm.mapCount()},
-          {"resolution", ldm.resolution()},
-          {"heads", heads},
-          {"nodes_capacity", ldm.nodeCapacity()},
-          {"nodes_used", std::min<uint64_t>(c.allocated, ldm.nodeCapacity())},
-          {"fragments", c.allocated},
-          {"overflow", c.overflow},
-          {"unfinished_insertions", c.unfinished},
-          {"cas_retries", c.casRetries},
-          {"fp64_edges", c.fp64Edges},
-          {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
-                               {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
-                               {"max", lengths.empty() ? 0u : lengths.back()}}},
-          {"exact_bytes", exactBytes},
-          {"allocated_over_exact", exactBytes ? double(linkBytes) / double(exactBytes) : 0.0}};
-}
-
-// Ambient occlusion: its settings, memory and LDM lists, the AO image, and (where the frame has a
-// ray tracer) its errors against the same directions ray traced and the Monte Carlo reference, on
-// the same surface (AoPass::computeWith), each with an error map.
-template <typename Write>
-static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, Write& write, std::vector<std::string>& summary) {
-  nlohmann::json a = ao.settings().ao.toJson();
-  const std::vector<float> mine = ao.readAo();
-  uint64_t sky = 0, noNormal = 0;
-  for (float v : mine) {
-    sky += v == gpu::kAoSky;
-    noNormal += v == gpu::kAoNoNormal;
-  }
-  a["pixels_sky"] = sky;
-  a["pixels_without_normal"] = noNormal;
-  const AoMemory m = ao.memory();
-  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes}, {"ldm_maps", m.ldmMapBytes}, {"directions", m.directionBytes},
-                       {"output", m.outputBytes}, {"total", m.total()}};
-  if (const LdmBuild* ldm = ao.ldm()) a["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
-  write("ao.png", aoToImage(mine, w, h),
-        {{"Description", std::string("ambient occlusion (") + toString(ao.settings().ao.method) +
-                             "): grey = AO, white unoccluded; sky blue; magenta no normal"}});
-  if (!ao.canTrace()) {
-    a["errors_not_computed"] = "the frame has no ray tracer (shadows off and method ldm): its references need one";
-    return a;
-  }
-  for (AoMethod ref : {AoMethod::RayTraced, AoMethod::Reference}) {
-    if (ref == ao.settings().ao.method) {  // the method is its own reference: no error by definition
-      a[std::string("vs_") + toString(ref)] = {{"mae", 0.0}, {"rmse", 0.0}, {"bias", 0.0}, {"flip", 0.0}, {"itself", true}};
-      continue;
-    }
-    const std::vector<float> r = ao.computeWith(ref);
-    const AoErrors e = aoErrors(mine, r, w, h);
-    const std::string name = std::string("vs_") + toString(ref);
-    a[name] = toJson(e);
-    write("ao_error_" + name + ".png", aoErrorToImage(mine, r, w, h, 0.25f),
-          {{"Description", std::string("|AO - AO ") + toString(ref) + "|, viridis 0..0.25"}});
-    char line[200];
-    std::snprintf(line, sizeof line, "ambient occlusion (%s) vs %s: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f",
-                  toString(ao.settings().ao.method), toString(ref), e.mae, e.rmse, e.bias, e.p95, e.flip);
-    summary.push_back(line);
-  }
-  return a;
-}
-
-// Indirect light: its settings, memory, photons and flux, the irradiance image, and its errors
-// against the same photons ray traced and the gathered reference (IndirectPass::computeWith).
-template <typename Write>
-static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, Write& write,
-                                   std::vector<std::string>& summary) {
-  nlohmann::json j = ind.settings().indirect.toJson();
-  const IndirectMemory m = ind.memory();
-  j["memory_bytes"] = {{"ldm", m.ldmBytes}, {"photons", m.photonBytes}, {"faces", m.faceBytes},
-                       {"directions", m.directionBytes}, {"target", m.targetBytes}, {"textures", m.textureBytes},
-                       {"total", m.total()}};
-  if (const LdmBuild* ldm = ind.ldm()) j["ldm"] = ldmJson(*ldm, ldm->links().size());
-  j["emitters"] = ind.emitters();
-  j["flux_emitted_w"] = ind.emittedFlux();
-  const IndirectMethod method = ind.method();
-  std::vector<gpu::Photon> photons;
-  const std::vector<float> mine = ind.computeWith(method, &photons);
-  if (method != IndirectMethod::Reference) {
-    const PhotonTally t = tallyPhotons(photons);
-    j["split_photons"] = {{"primaries", ind.primaries()}, {"slots", t.slots}, {"stored", t.stored}, {"hidden", t.hidden},
-                    {"escaped", t.escaped}, {"grazing", t.grazing}, {"empty", t.empty},
-                    {"flux_reflected_w", t.fluxReflected()}, {"flux_stored_w", t.fluxStored},
-                    {"flux_hidden_w", t.fluxHidden}, {"flux_escaped_w", t.fluxEscaped}, {"flux_grazing_w", t.fluxGrazing},
-                    {"discarded_share", t.slots ? double(t.hidden + t.escaped + t.grazing) / double(t.slots) : 0.0}};
-  }
-  const float scale = indirectScale(mine);
-  j["image_scale"] = scale;
-  write("indirect.png", indirectToImage(mine, w, h, scale),
-        {{"Description", std::string("indirect irradiance (") + toString(method) + "), ACES after x" +
-                             std::to_string(scale) + " (its 99th percentile to 1)"}});
-  for (IndirectMethod ref : {IndirectMethod::RayTraced, IndirectMethod::Reference}) {
-    const std::string name = std::string("vs_") + toString(ref);
-    if (ref == method) {
-      j[name] = {{"rel_mse", 0.0}, {"total_ratio", 1.0}, {"flip", 0.0}, {"itself", true}};
-      continue;
-    }
-    if (method == IndirectMethod::Reference) continue;  // the reference is not held against photons
-    std::vector<gpu::Photon> refPhotons;
-    const std::vector<float> r = ind.computeWith(ref, ref == IndirectMethod::RayTraced ? &refPhotons : nullptr);
-    const IndirectErrors e = indirectErrors(mine, r, w, h);
-    j[name] = toJson(e);
-    if (ref == IndirectMethod::RayTraced) {
-      const PhotonAgreement a = comparePhotons(photons, refPhotons, ind.landingTolerance());
-      j[name]["photons"] = {{"same_status_share", a.slots ? double(a.sameStatus) / double(a.slots) : 0.0},
-                            {"both_stored", a.bothStored}, {"off_surface", a.offSurface},
-                            {"landing_tolerance_m", ind.landingTolerance()},
-                            {"median_distance_m", a.p50Distance}, {"p99_distance_m", a.p99Distance},
-                            {"max_distance_m", a.maxDistance}};
-    }
-    const float rs = indirectScale(r);
-    write("indirect_" + std::string(toString(ref)) + ".png", indirectToImage(r, w, h, rs),
-          {{"Description", std::string("indirect irradiance (") + toString(ref) + "), ACES after x" + std::to_string(rs)}});
-    write("indirect_error_" + name + ".png", indirectErrorToImage(mine, r, w, h, rs),
-          {{"Description", std::string("|Y - Y ") + toString(ref) + "| over the reference's 99th percentile, viridis 0..0.5"}});
-    char line[200];
-    std::snprintf(line, sizeof line, "indirect (%s) vs %s: relMSE %.4f, total %.4f, FLIP %.4f", toString(method),
-                  toString(ref), e.relMse, e.totalRatio, e.flip);
-    summary.push_back(line);
-  }
-  return j;
-}
-
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
                                  const VariantParams& params, const std::string& dir, bool writeImages,
                                  const ReferenceFrame* reference) {
@@ -313,13 +107,13 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   const RenderSettings& s = renderer.settings();
   const uint32_t w = s.width, h = s.height;
   if (writeImages) fs::create_directories(dir);
-  auto write = [&](const std::string& name, const ImageRGBA8& img, std::map<std::string, std::string> text = {}) {
+  const ImageWriter write{[&](const std::string& name, const ImageRGBA8& img, std::map<std::string, std::string> text) {
     if (!writeImages) return;
     text["Software"] = "hybridbench " + toolVersion() + " (" + gitRevision() + ")";
     text["Device"] = ctx.info().name + " / " + ctx.info().driverInfo;
     writePng(fs::path(dir) / name, img, text);
     out.files.push_back(name);
-  };
+  }};
 
   // The CPU analysis's wall time per stage (render.json "analysis_s"); printed as it goes when the
   // frame is large (a million pixel-light pairs take seconds even on every core).
@@ -340,7 +134,8 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   j["passes_run"] = renderer.passesRun();
   j["passes_skipped"] = nlohmann::json::object();
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
-  j["backend"] = renderer.backendUsed();
+  j["frame_resources"] = renderer.resources().toJson();
+  j["backend"] = "none";  // the shadows effect's report names the ray-tracing backend it used
   j["primary"] = primaryJson(renderer, scene);
   if (const Raster3dPass* r3 = renderer.raster3d()) {
     // Edge evaluations per pixel (3 per triangle tested there), viridis from 0 to the 99th
@@ -356,8 +151,6 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
           {{"Description", "3D rasterization: edge evaluations per pixel, viridis 0.." + std::to_string(int(p99)) +
                                " (the 99th percentile; above it yellow)"}});
   }
-  if (AoPass* ao = renderer.ambientOcclusion()) j["ambient_occlusion"] = aoJson(*ao, w, h, write, out.summary);
-  if (IndirectPass* ind = renderer.indirect()) j["indirect"] = indirectJson(*ind, w, h, write, out.summary);
   if (const AccelerationStructures* as = renderer.accel())
     j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};
@@ -433,120 +226,11 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                 : "");
     out.summary.push_back(line);
   }
-  if (perspective && renderer.hasCulling() && renderer.hasShadows()) {
-    const ShadowReadback sh = renderer.readShadows();
-    // Ray accounting, the oracle and the accuracy of positions and normals (design.md "Accuracy").
-    const uint32_t lightCount = uint32_t(scene.lights.size());
-    RayAccounting acc = accountRays(sh, cr, depth, w, h, s.tileSize, lightCount);
-    lap("ray accounting");
-    if (cr.lists == LightLists::Zbin) {
-      j["culling"]["zbin_missed_pairs"] = zbinMissedPairs(ci, cr, sh.ranges);
-      lap("z-bin check");
-    }
-    const Bvh bvh = buildBvh(scene);
-    lap("bvh");
-    const auto rcam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), w, h);
-    const ReferenceSurface surface = referenceSurface(bvh, depth, rcam);
-    lap("reference surface");
-    const OracleRays oracle = oracleRays(scene, surface);
-    lap("oracle");
-    nlohmann::json rays = toJson(acc);
-    rays["adds_up"] = acc.addsUp();
-    rays["oracle"] = oracle.total;
-    rays["oracle_pixels_without_true_normal"] = oracle.pixelsWithoutNormal;
-    rays["efficiency"] = rayEfficiency(oracle.total, acc.traced);
-    j["rays"] = rays;
-    const uint32_t heatMax = rayHeatmapMax(cr.lists == LightLists::Tile, lightCount, acc.perPixel);
-    write("rays.png", rayHeatmap(acc.perPixel, w, h, heatMax),
-          {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-30 %, cyan/green 40-70 %, yellow/red "
-                           "80-100 % of " + std::to_string(heatMax) + " rays; red = " +
-                           (cr.lists == LightLists::Tile ? "the most a capped tile list can trace)"
-                                                         : "the most any pixel traced)")}});
-    write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, heatMax),
-          {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
-    if (reference && !reference->visible.empty() && reference->width == w && reference->height == h) {
-      // (pixel, light) pairs whose visibility differs from the reference, among the pairs that
-      // change the image (the light reaches the true surface): wrongly dark = the reference sees
-      // the light, this variant does not (culled or shadowed); wrongly lit = the reverse.
-      const std::vector<uint64_t> mine = visibleSceneLights(sh, cr, depth, w, h, s.tileSize);
-      uint64_t dark = 0, lit = 0, pairs = 0;
-      for (size_t i = 0; i < mine.size(); ++i) {
-        if (surface.state[i] != SurfaceState::Matched) continue;
-        for (uint32_t l = 0; l < lightCount; ++l) {
-          if (!lightReaches(scene.lights[l], surface.position[i], surface.normal[i])) continue;
-          ++pairs;
-          const bool a = (reference->visible[i] >> l) & 1ull, b = (mine[i] >> l) & 1ull;
-          dark += a && !b;
-          lit += !a && b;
-        }
-      }
-      accuracy["shadow_mismatches"] = {{"wrongly_dark", dark}, {"wrongly_lit", lit}, {"pairs_compared", pairs}};
-    }
-    PositionAccuracy pa = positionAccuracy(sh.positions, depth, rcam);
-    accuracy["world_pos"] = toJson(pa);
-    accuracy["world_pos_rel_error"] = pa.maxRelative;
-    {
-      // Against the true surface (the eye ray's exact hit in double, where it matches the
-      // rasterized depth): what a method's positions are worth, whatever it computes them from.
-      double maxRel = 0, sumRel = 0;
-      uint64_t compared = 0;
-      for (size_t i = 0; i < surface.state.size(); ++i) {
-        if (surface.state[i] != SurfaceState::Matched || sh.positions[4 * i + 3] != 1.0f) continue;
-        const glm::dvec3 gpuPos(sh.positions[4 * i], sh.positions[4 * i + 1], sh.positions[4 * i + 2]);
-        const double rel = glm::length(gpuPos - surface.position[i]) / glm::length(surface.position[i] - surface.eye);
-        maxRel = std::max(maxRel, rel);
-        sumRel += rel;
-        ++compared;
-      }
-      accuracy["world_pos_vs_surface"] = {{"compared", compared},
-                                          {"max_relative", maxRel},
-                                          {"mean_relative", compared ? sumRel / double(compared) : 0.0},
-                                          {"reference", "the eye ray's exact hit (double, watertight BVH)"}};
-    }
-    if (params.normalCulling != NormalCulling::Off) {
-      NormalAccuracy na = normalAccuracy(sh.normals, surface);
-      accuracy["normals"] = toJson(na);
-      accuracy["normal_angular_error_deg"] = na.meanAngleDeg;
-      accuracy["normal_image_error"] = na.meanImageDifference;
-      write(std::string("normal_error_") + toString(params.normalCulling) + ".png",
-            errorMapToImage(na.angleDeg, w, h, 45.0f),
-            {{"Description", "angle between reconstructed and true normal, viridis 0..45 degrees"}});
-      char line[200];
-      std::snprintf(line, sizeof line, "normals (%s): mean %.3f deg, p95 %.3f deg, image difference %.5f",
-                    toString(params.normalCulling), na.meanAngleDeg, na.p95AngleDeg, na.meanImageDifference);
-      out.summary.push_back(line);
-    }
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "rays: %llu candidates, %llu culled by tile, %llu by normal, %llu traced; oracle %llu "
-                  "(efficiency %.3f); accounting %s",
-                  (unsigned long long)acc.candidates, (unsigned long long)acc.culledByTile,
-                  (unsigned long long)acc.culledByNormal, (unsigned long long)acc.traced,
-                  (unsigned long long)oracle.total, rayEfficiency(oracle.total, acc.traced),
-                  acc.addsUp() ? "adds up" : "DOES NOT ADD UP");
-    out.summary.push_back(line);
-
-    if (writeImages) {  // computed only where written: a walk over every pixel's list
-      const uint32_t shown = std::min<uint32_t>(uint32_t(scene.lights.size()), 16);
-      const std::vector<ImageRGBA8> images = visibilityOfLights(sh, cr, depth, w, h, s.tileSize, shown);
-      for (uint32_t l = 0; l < shown; ++l) {
-        char name[64];
-        std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
-        write(name, images[l],
-              {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
-                               "pixel's light list, blue sky"}});
-      }
-    }
-    if (params.normalCulling != NormalCulling::Off) {
-      std::vector<uint8_t> valid(size_t(w) * h);
-      std::vector<float> n3(size_t(w) * h * 3);
-      for (size_t i = 0; i < valid.size(); ++i) {
-        for (int c = 0; c < 3; ++c) n3[i * 3 + c] = sh.normals[i * 4 + c];
-        valid[i] = (n3[i * 3] != 0.0f || n3[i * 3 + 1] != 0.0f || n3[i * 3 + 2] != 0.0f) ? 1 : 0;
-      }
-      write(std::string("normals_") + toString(params.normalCulling) + ".png", normalsToImage(n3, valid, w, h));
-    }
-  }
+  // The effects' own reports, in effect order (effects/effect.h EffectDef::report).
+  EffectReport report{ctx,       renderer, scene,   params, reference, writeImages, j, accuracy, out.summary,
+                      write,     lap,      depth,   cr,     ci,        perspective};
+  for (const EffectDef* def : allEffects())
+    if (def->report && renderer.plan().runs(def->name)) def->report(report);
   {
     const std::vector<float> ref = renderer.readRefNormals();
     std::vector<uint8_t> valid(size_t(w) * h);

@@ -8,9 +8,7 @@
 #include "app/commands.h"
 #include "report/compare.h"
 #include "base/errors.h"
-#include "report/ao_table.h"
-#include "report/many_lights_table.h"
-#include "report/primary_table.h"
+#include "report/all_tables.h"
 #include "report/results_json.h"
 #include "report/tables.h"
 
@@ -47,13 +45,8 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
   } else if (format == "svg") {
     std::cout << accuracyReportSvg(results);
   } else {
-    // As sweep writes them: tables.md (the thesis's tables, then the primary-visibility table when
-    // the runs carry one), then accuracy.md.
-    std::cout << thesisTablesMarkdown(results);
-    if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) std::cout << "\n" << primary;
-    if (const std::string ao = aoTableMarkdown(results); !ao.empty()) std::cout << "\n" << ao;
-    if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) std::cout << "\n" << ind;
-    if (const std::string many = manyLightsTableMarkdown(results); !many.empty()) std::cout << "\n" << many;
+    // As sweep writes them: tables.md, then accuracy.md.
+    std::cout << allTablesMarkdown(results);
     std::cout << "\n" << accuracyReportMarkdown(results);
   }
   return kExitOk;

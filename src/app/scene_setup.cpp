@@ -75,21 +75,16 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.aabb = p.aabb;
   s.effects = effects;
   if (!p.effects.is_null()) s.effects.add(EffectSource::Config, "the variant's params.effects", p.effects);
-  s.backend = toString(p.backend);
-  s.normals = p.normalCulling == NormalCulling::Off        ? gpu::kNormalsOff
-              : p.normalCulling == NormalCulling::Naive    ? gpu::kNormalsNaive
-              : p.normalCulling == NormalCulling::Improved ? gpu::kNormalsImproved
-                                                           : gpu::kNormalsGeometric;
-  s.worldPos = p.worldPos == WorldPosMethod::Alg41    ? gpu::kWorldPosAlg41
-               : p.worldPos == WorldPosMethod::Matrix ? gpu::kWorldPosMatrix
-                                                      : gpu::kWorldPosHit;
+  s.backend = p.backend;
+  s.normals = p.normalCulling;
+  s.worldPos = p.worldPos;
   s.rangeTest = p.rangeTest;
   s.depthSlices = p.depthSlices;
-  s.lightLists = lightListsFrom(p.lightLists);
-  s.scaledTMin = p.tMin == ShadowTMin::Scaled;
-  s.primary = toString(p.primary);
-  s.r3dThreadBox = p.r3dThreadBox;
-  s.visbufferShading = p.shading == ShadingMethod::Visbuffer;
+  s.lightLists = p.lightLists;
+  s.tMin = p.tMin;
+  s.primary = p.primary;
+  s.raster3dThreadBox = p.r3dThreadBox;
+  s.shading = p.shading;
   s.projection = p.projection;
   return s;
 }

@@ -19,13 +19,12 @@
 #include "base/errors.h"
 #include "scene/gltf/gltf_io.h"
 #include "analysis/render_outputs.h"
+#include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "app/scene_setup.h"
 #include "shared/gpu_types.h"
 #include "report/stats.h"
-#include "report/ao_table.h"
-#include "report/many_lights_table.h"
-#include "report/primary_table.h"
+#include "report/all_tables.h"
 #include "report/tables.h"
 #include "base/text_format.h"
 #include "base/version.h"
@@ -226,17 +225,17 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   // Ray throughput right after it, while the GPU is as warm as in the measured frames (the CPU
   // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
   std::vector<double> rb;
-  if (renderer.hasShadows()) {
+  if (ShadowsPart* shadows = shadowsOf(renderer)) {
     // 30 warm-up and 30 measured repetitions, fewer (at least 3) where one repetition is long: a
     // billion rays take most of a second, and 60 of them would be a minute per variant.
     const bool cpu = ctx.info().type == "cpu";
-    const std::vector<double> first = renderer.rayBench(1);
+    const std::vector<double> first = shadows->rayBench(renderer.timer(), 1);
     constexpr double kRayBenchBudgetMs = 2000.0;
     const uint32_t reps = cpu ? 2u
                               : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3),
                                                     3.0, 30.0));
-    renderer.rayBench(cpu ? 0 : reps - 1);
-    rb = renderer.rayBench(reps);
+    shadows->rayBench(renderer.timer(), cpu ? 0 : reps - 1);
+    rb = shadows->rayBench(renderer.timer(), reps);
   }
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
 
@@ -333,12 +332,7 @@ static void writeOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "results.json").string(), results.dump(1) + "\n");
   writeFileAtomic((fs::path(dir) / "results.csv").string(), resultsCsv(results));
   {
-    std::string tables = thesisTablesMarkdown(results);
-    if (const std::string primary = primaryTableMarkdown(results); !primary.empty()) tables += "\n" + primary;
-    if (const std::string ao = aoTableMarkdown(results); !ao.empty()) tables += "\n" + ao;
-    if (const std::string ind = indirectTableMarkdown(results); !ind.empty()) tables += "\n" + ind;
-    if (const std::string many = manyLightsTableMarkdown(results); !many.empty()) tables += "\n" + many;
-    writeFileAtomic((fs::path(dir) / "tables.md").string(), tables);
+    writeFileAtomic((fs::path(dir) / "tables.md").string(), allTablesMarkdown(results));
   }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));

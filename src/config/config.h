@@ -110,15 +110,30 @@
 
 #include "scene/atrium.h"
 #include "scene/scene.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
-enum class NormalCulling { Off, Naive, Improved, Geometric };
+// The settings a config chooses, as the frame and the shaders take them: where a shader reads a
+// setting, the enum's value is the shader's constant (shaders/shared/gpu_types.h), so a setting
+// goes from the config to the GPU without a string in between.
+enum class NormalCulling : uint32_t {
+  Off = gpu::kNormalsOff,
+  Naive = gpu::kNormalsNaive,
+  Improved = gpu::kNormalsImproved,
+  Geometric = gpu::kNormalsGeometric,
+};
 enum class RtBackend { Auto, RayQuery, Pipeline };
-enum class WorldPosMethod { Alg41, Matrix, Hit };
+enum class WorldPosMethod : uint32_t {
+  Alg41 = gpu::kWorldPosAlg41,
+  Matrix = gpu::kWorldPosMatrix,
+  Hit = gpu::kWorldPosHit,
+};
 enum class ShadowTMin { Constant, Scaled };
 enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned, Raster2d, RayCast };
 enum class ShadingMethod { Forward, Visbuffer };
+// tile (the thesis's lists, capped at 32 a tile) | bitmask | zbin: no cap (docs/methods/many-lights.md).
+enum class LightLists : uint32_t { Tile = gpu::kListTile, Bitmask = gpu::kListBitmask, Zbin = gpu::kListZbin };
 
 const char* toString(NormalCulling);
 const char* toString(RtBackend);
@@ -126,6 +141,7 @@ const char* toString(WorldPosMethod);
 const char* toString(ShadowTMin);
 const char* toString(PrimaryMethod);
 const char* toString(ShadingMethod);
+const char* toString(LightLists);
 
 struct VariantParams {
   uint32_t tileSize = 8;
@@ -144,8 +160,7 @@ struct VariantParams {
   std::optional<CameraProjection> projection;
   ShadingMethod shading = ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
-  // tile (the thesis's capped lists) | bitmask | zbin (frame/passes/light_culling.h): no cap.
-  std::string lightLists = "tile";
+  LightLists lightLists = LightLists::Tile;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.
   std::optional<uint32_t> lightCount;

@@ -41,6 +41,15 @@ const char* toString(WorldPosMethod v) {
 
 const char* toString(ShadingMethod v) { return v == ShadingMethod::Forward ? "forward" : "visbuffer"; }
 
+const char* toString(LightLists v) {
+  switch (v) {
+    case LightLists::Tile: return "tile";
+    case LightLists::Bitmask: return "bitmask";
+    case LightLists::Zbin: return "zbin";
+  }
+  return "?";
+}
+
 const char* toString(PrimaryMethod v) {
   switch (v) {
     case PrimaryMethod::Hardware: return "hardware";
@@ -78,7 +87,9 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
   } else if (key == "aabb") {
     p.aabb = readBool(v, where);
   } else if (key == "normal_culling") {
-    p.normalCulling = NormalCulling(readChoice(v, where, {"off", "naive", "improved", "geometric"}));
+    static constexpr NormalCulling kNormals[] = {NormalCulling::Off, NormalCulling::Naive, NormalCulling::Improved,
+                                                 NormalCulling::Geometric};
+    p.normalCulling = kNormals[readChoice(v, where, {"off", "naive", "improved", "geometric"})];
   } else if (key == "backend") {
     p.backend = RtBackend(readChoice(v, where, {"auto", "rayquery", "pipeline"}));
   } else if (key == "resolution") {
@@ -86,7 +97,8 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     p.resolution = {uint32_t(readInt(v[0], where.index(0), 1, kMaxResolution)),
                     uint32_t(readInt(v[1], where.index(1), 1, kMaxResolution))};
   } else if (key == "world_pos") {
-    p.worldPos = WorldPosMethod(readChoice(v, where, {"alg41", "matrix", "hit"}));
+    static constexpr WorldPosMethod kWorldPos[] = {WorldPosMethod::Alg41, WorldPosMethod::Matrix, WorldPosMethod::Hit};
+    p.worldPos = kWorldPos[readChoice(v, where, {"alg41", "matrix", "hit"})];
   } else if (key == "range_test") {
     p.rangeTest = readBool(v, where);
   } else if (key == "depth_slices") {
@@ -109,7 +121,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
     if (n % 32 != 0) where.fail(std::to_string(n) + " is not a multiple of 32");
     p.maxLightsPerTile = uint32_t(n);
   } else if (key == "light_lists") {
-    static const char* const kLists[] = {"tile", "bitmask", "zbin"};
+    static constexpr LightLists kLists[] = {LightLists::Tile, LightLists::Bitmask, LightLists::Zbin};
     p.lightLists = kLists[readChoice(v, where, {"tile", "bitmask", "zbin"})];
   } else if (key == "light_count") {
     p.lightCount = uint32_t(readInt(v, where, 0, kMaxLightCount));
@@ -155,7 +167,7 @@ nlohmann::json toJson(const VariantParams& p) {
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;
-  j["light_lists"] = p.lightLists;
+  j["light_lists"] = toString(p.lightLists);
   if (p.lightCount) j["light_count"] = *p.lightCount;
   if (p.triangleScale) j["triangle_scale"] = *p.triangleScale;
   if (!p.effects.is_null()) j["effects"] = p.effects;

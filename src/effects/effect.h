@@ -1,8 +1,10 @@
-// An effect: something a scene calls for (shadows today; ambient occlusion and indirect light
-// next), declared once with its schema, what it needs from the frame and which passes it adds
-// (design.md "Effects"). The frame is assembled from the effects that run (effects.h), so a new
-// effect is one pair of files like shadows.{h,cpp} plus one line in allEffects().
+// An effect: something a scene calls for (shadows, ambient occlusion, indirect light, ...),
+// declared once with its schema, what it needs from the frame, the passes it adds and the hooks
+// that build, report and tabulate it (docs/frame.md "Effects", docs/contributing.md "Adding an
+// effect or a pass"). An effect lives in one folder, src/effects/<name>/, and is listed once in
+// src/effects/builtin/builtin_effects.cpp; a test registers its own with registerEffect (effects.h).
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -13,6 +15,12 @@
 
 namespace hb {
 
+class FramePart;
+class Renderer;
+struct FrameBuilder;
+struct EffectReport;
+struct ReferenceFrame;
+
 // What a pass needs that is allocated only when some pass of the frame needs it.
 enum class FrameResource : uint32_t {
   Depth,                   // the primary-visibility depth buffer
@@ -22,8 +30,12 @@ enum class FrameResource : uint32_t {
 };
 const char* toString(FrameResource r);
 
+// Where an effect's passes go in the frame: after the light lists and before shading (the
+// effects that shading composes), or after shading (effects on the shaded image).
+enum class FramePhase : uint32_t { BeforeShading, AfterShading };
+
 struct EffectDef {
-  const char* name;     // the key in "effects" / "extras.effects"
+  const char* name;     // the key in "effects" / "extras.effects", render.json and results.json
   const char* summary;  // one line: what it simulates and how
   // Its value when nothing asks otherwise (built-in default).
   nlohmann::json defaultValue;
@@ -40,6 +52,21 @@ struct EffectDef {
   // static lists. A pass of `passes` that a value does not add is listed as skipped.
   std::vector<FrameResource> (*needsOf)(const nlohmann::json& value) = nullptr;
   std::vector<const char*> (*passesOf)(const nlohmann::json& value) = nullptr;
+
+  FramePhase phase = FramePhase::BeforeShading;
+  // Builds the effect's GPU state and passes for the frame (frame/frame_builder.h): the passes
+  // of the plan it runs, each declaring what it reads and writes; publishes what later parts read.
+  // Throws InputError when the settings cannot run on this frame or device.
+  std::unique_ptr<FramePart> (*build)(FrameBuilder& frame) = nullptr;
+  // After an analysis frame: writes report.run[name] (render.json and each results.json run),
+  // its images, its summary lines and its accuracy figures (analysis/effect_report.h).
+  void (*report)(EffectReport& report) = nullptr;
+  // After an analysis frame of the reference parameters (analysis/render_outputs.h
+  // captureReference): keeps what the effect's accuracy is measured against.
+  void (*captureReference)(const Renderer& renderer, ReferenceFrame& reference) = nullptr;
+  // Its table from a results file, Markdown ("" when the file has no rows for it): `sweep`
+  // writes it into tables.md and `tables` prints it.
+  std::string (*table)(const nlohmann::json& results) = nullptr;
 };
 
 // An effect's value asks for it unless it is false (true, or an object of its settings).

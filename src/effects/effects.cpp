@@ -3,19 +3,30 @@
 #include <algorithm>
 
 #include "base/errors.h"
-#include "effects/ambient_occlusion.h"
-#include "effects/indirect.h"
-#include "effects/shadows.h"
 
 namespace hb {
 
-const std::vector<const EffectDef*>& allEffects() {
-  static const std::vector<const EffectDef*> effects = {
-      &shadowsEffect(),
-      &ambientOcclusionEffect(),
-      &indirectEffect(),
-  };
+static std::vector<const EffectDef*>& effectRegistry() {
+  static std::vector<const EffectDef*> effects = builtinEffects();
   return effects;
+}
+
+const std::vector<const EffectDef*>& allEffects() { return effectRegistry(); }
+
+void registerEffect(const EffectDef& def) {
+  HB_ASSERT(findEffect(def.name) == nullptr);
+  for (const char* pass : def.passes) {
+    const std::vector<std::string> order = framePassOrder();
+    HB_ASSERT(std::find(order.begin(), order.end(), pass) == order.end());
+  }
+  effectRegistry().push_back(&def);
+}
+
+void unregisterEffect(const EffectDef& def) {
+  const std::vector<const EffectDef*> builtin = builtinEffects();
+  HB_ASSERT(std::find(builtin.begin(), builtin.end(), &def) == builtin.end());
+  auto& r = effectRegistry();
+  r.erase(std::remove(r.begin(), r.end(), &def), r.end());
 }
 
 const EffectDef* findEffect(std::string_view name) {
@@ -24,10 +35,21 @@ const EffectDef* findEffect(std::string_view name) {
   return nullptr;
 }
 
-const std::vector<const char*>& framePassOrder() {
-  static const std::vector<const char*> order = {"depth_prepass", "raster3d", "raycast",          "light_culling",
-                                                     "shadows",       "ldm_build", "ambient_occlusion", "indirect_ldm_build",
-                                                     "photon_trace",  "photon_splat", "indirect_gather", "shading"};
+constexpr const char* kPrimaryPasses[] = {kDepthPrepassPass, kRaster3dPass, kRayCastPass};
+
+bool isBaseFramePass(std::string_view pass) {
+  return std::find(std::begin(kPrimaryPasses), std::end(kPrimaryPasses), pass) != std::end(kPrimaryPasses) ||
+         pass == kLightCullingPass || pass == kShadingPass;
+}
+
+std::vector<std::string> framePassOrder() {
+  std::vector<std::string> order(std::begin(kPrimaryPasses), std::end(kPrimaryPasses));
+  order.push_back(kLightCullingPass);
+  for (FramePhase phase : {FramePhase::BeforeShading, FramePhase::AfterShading}) {
+    if (phase == FramePhase::AfterShading) order.push_back(kShadingPass);
+    for (const EffectDef* e : allEffects())
+      if (e->phase == phase) order.insert(order.end(), e->passes.begin(), e->passes.end());
+  }
   return order;
 }
 
@@ -168,19 +190,18 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
   // The base frame: primary visibility and shading always; tile light lists for direct light
   // when some light can be culled into tiles (a directional light reaches every pixel).
   addResource(FrameResource::Depth);
-  if (primaryPass == "raycast") addResource(FrameResource::AccelerationStructures);
+  if (primaryPass == kRayCastPass) addResource(FrameResource::AccelerationStructures);
   const bool anyLocalLight = std::any_of(scene.lights.begin(), scene.lights.end(),
                                          [](const Light& l) { return l.type != LightType::Directional; });
   if (anyLocalLight) addResource(FrameResource::LightLists);
 
-  for (const char* pass : framePassOrder()) {
-    const std::string p = pass;
+  for (const std::string& p : framePassOrder()) {
     const bool byEffect = std::find(effectPasses.begin(), effectPasses.end(), p) != effectPasses.end();
-    if (p == "depth_prepass" || p == "raster3d" || p == "raycast") {
+    if (std::find(std::begin(kPrimaryPasses), std::end(kPrimaryPasses), p) != std::end(kPrimaryPasses)) {
       if (p == primaryPass) plan.passes.push_back(p);  // the other methods are not "skipped": not asked for
-    } else if (p == "shading" || byEffect) {
+    } else if (p == kShadingPass || byEffect) {
       plan.passes.push_back(p);
-    } else if (p == "light_culling") {
+    } else if (p == kLightCullingPass) {
       if (plan.needs(FrameResource::LightLists))
         plan.passes.push_back(p);
       else

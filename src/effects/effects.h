@@ -1,8 +1,7 @@
-// The effects a scene calls for, and the frame they make (design.md "Effects: simulate only what
-// the scene calls for").
+// The effects a scene calls for, and the frame they make (docs/frame.md "Effects").
 //
 // One schema, used as a config's "effects" and as a glTF scene's "extras.effects":
-//   {"shadows": true|false}                  (ambient_occlusion and indirect come next)
+//   {"shadows": true|false, "ambient_occlusion": ..., "indirect": ...}   (hybridbench help effects)
 // Precedence, lowest first: the built-in default < the scene's extras < the config < --set.
 // An effect called for that cannot act on the scene (no light casts shadows) is skipped with that
 // reason. The frame is the list of passes in frame order that the base frame (primary
@@ -22,12 +21,31 @@
 
 namespace hb {
 
-// Every effect, in the order reports list them. Adding an effect: one line here.
+// Every effect, in the order reports list them: the built-in ones (builtinEffects), then those
+// registered.
 const std::vector<const EffectDef*>& allEffects();
 const EffectDef* findEffect(std::string_view name);  // nullptr if none is called that
+// The effects of src/effects/<name>/, listed once in src/effects/builtin/builtin_effects.cpp.
+std::vector<const EffectDef*> builtinEffects();
+// Adds an effect defined elsewhere (a test's own, say) after the others; `def` outlives every use.
+// Precondition: its name and its passes' names are new.
+void registerEffect(const EffectDef& def);
+// Removes an effect registerEffect added (a test's clean-up); built-in effects stay.
+void unregisterEffect(const EffectDef& def);
 
-// Every pass the frame can run, in frame order.
-const std::vector<const char*>& framePassOrder();
+// The base frame's passes: primary visibility (one of three methods), the light lists, shading.
+inline constexpr const char* kDepthPrepassPass = "depth_prepass";
+inline constexpr const char* kRaster3dPass = "raster3d";
+inline constexpr const char* kRayCastPass = "raycast";
+inline constexpr const char* kLightCullingPass = "light_culling";
+inline constexpr const char* kShadingPass = "shading";
+
+// Every pass the frame can run, in frame order: primary visibility, light culling, the
+// passes of the effects that come before shading (in effect order), shading, then the passes of
+// the effects after shading.
+std::vector<std::string> framePassOrder();
+// The passes of the base frame, which no effect adds.
+bool isBaseFramePass(std::string_view pass);
 
 enum class EffectSource { Default, Scene, Config, Set };
 const char* toString(EffectSource source);
@@ -83,9 +101,9 @@ struct FramePlan {
 
 // The effects of a scene under a request, and the frame they make. scene.effects (the glTF's
 // extras.effects, validated by the loader) is the Scene layer.
-// primaryPass: the pass that computes primary visibility ("depth_prepass", "raster3d" or "raycast";
-// ray casting needs the acceleration structures).
+// primaryPass: the pass that computes primary visibility (kDepthPrepassPass, kRaster3dPass or
+// kRayCastPass; ray casting needs the acceleration structures).
 FramePlan planFrame(const Scene& scene, const EffectsRequest& request,
-                    const std::string& primaryPass = "depth_prepass");
+                    const std::string& primaryPass = kDepthPrepassPass);
 
 }  // namespace hb

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "base/input_error_of.h"
-#include "effects/ambient_occlusion.h"
+#include "effects/ambient_occlusion/ao_effect.h"
 
 namespace hb {
 namespace {

@@ -8,8 +8,9 @@
 #include <glm/gtc/packing.hpp>
 
 #include "base/errors.h"
-#include "effects/ambient_occlusion.h"
-#include "effects/indirect.h"
+#include "frame/base_parts.h"
+#include "frame/frame_builder.h"
+#include "frame/passes/depth_prepass.h"
 #include "gpu/gpu_lights.h"
 
 namespace hb {
@@ -19,11 +20,6 @@ static std::vector<T> bytesAs(const std::vector<uint8_t>& bytes) {
   std::vector<T> out(bytes.size() / sizeof(T));
   std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
   return out;
-}
-
-static std::string primaryPassName(const std::string& primary) {
-  if (primary == "hardware") return "depth_prepass";
-  return primaryModeFrom(primary) == PrimaryMode::RayCast ? "raycast" : "raster3d";
 }
 
 // The camera, with the projection the settings ask for. A perspective camera made orthographic
@@ -51,16 +47,18 @@ static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
   if (c.projection != CameraProjection::Perspective) {
     const std::string what = std::string("projection=") + toString(c.projection);
     const bool planar = c.projection == CameraProjection::Orthographic;
-    if (settings.primary == "2dr" || (settings.primary == "hardware" && !planar))
+    const bool hardware = settings.primary == PrimaryMethod::Hardware;
+    const std::string primary = toString(settings.primary);
+    if (settings.primary == PrimaryMethod::Raster2d || (hardware && !planar))
       throw InputError(what + " needs primary=3dr, 3dr-binned or raycast" + (planar ? "" : " (or hardware for orthographic)") +
-                       " (primary=" + settings.primary + " draws " +
-                       (settings.primary == "hardware" ? "planar views only" : "perspective views only") + ")");
+                       " (primary=" + primary + " draws " + (hardware ? "planar views only" : "perspective views only") +
+                       ")");
     // The forward pass draws through the view's matrix, which a curved view has not; on top of a
     // compute method its depth test is derived for perspective depth (shading.cpp).
-    if (!settings.visbufferShading && !(planar && settings.primary == "hardware"))
+    if (settings.shading != ShadingMethod::Visbuffer && !(planar && hardware))
       throw InputError(what + " needs shading=visbuffer" +
-                       (planar ? " with primary=" + settings.primary + " (the forward pass draws orthographic views only "
-                                                                     "on top of primary=hardware)"
+                       (planar ? " with primary=" + primary + " (the forward pass draws orthographic views only "
+                                                              "on top of primary=hardware)"
                                : " (the forward pass rasterizes through a planar matrix)"));
     if (settings.lightCulling)
       throw InputError(what + " needs light_culling=false (the light tiles are frusta of a perspective view)");
@@ -75,7 +73,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     : ctx_(ctx),
       scene_(scene),
       settings_(settings),
-      plan_(planFrame(scene, settings.effects, primaryPassName(settings.primary))),
+      plan_(planFrame(scene, settings.effects, primaryPassOf(settings.primary))),
       camera_(pickCamera(scene, settings)),
       view_(camera_.view),
       proj_(camera_.projection == CameraProjection::Orthographic
@@ -89,27 +87,25 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
              VK_IMAGE_ASPECT_DEPTH_BIT),
       frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
       lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-              true, MemClass::Other),
-      depthPrepass_(ctx),
-      timer_(ctx, 24) {
+              true, MemClass::Other) {
   // Settings the frame cannot run with are refused before anything is created by hand.
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
   const bool curved = camera_.projection != CameraProjection::Perspective &&
                       camera_.projection != CameraProjection::Orthographic;
-  if (curved && plan_.hasPass("shadows") && settings.worldPos != gpu::kWorldPosHit)
+  if (curved && plan_.runs("shadows") && settings.worldPos != WorldPosMethod::Hit)
     throw InputError(std::string("projection=") + toString(camera_.projection) +
                      " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
                      "matrix otherwise)");
   if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
     throw InputError("device \"" + ctx.info().name +
                      "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
-                     (plan_.hasPass("shadows") ? "set effects.shadows=false (--set shadows=false)"
-                                               : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
+                     (plan_.runs("shadows") ? "set effects.shadows=false (--set shadows=false)"
+                                            : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
   VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   si.magFilter = si.minFilter = VK_FILTER_NEAREST;
   si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   VK_CHECK(vkCreateSampler(ctx.device(), &si, nullptr, &pointSampler_));
-  // A pass below may still refuse (InputError, DeviceError): the destructor does not run then, so
+  // A part below may still refuse (InputError, DeviceError): the destructor does not run then, so
   // the sampler is destroyed here unless the constructor completes.
   struct SamplerGuard {
     VkDevice device;
@@ -122,245 +118,113 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
 
   const uint32_t lightCount = uint32_t(scene.lights.size());
   gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
-                                              settings.scaledTMin ? gpu::kShadowTMinPerMetre : 0.0f);
-  if (plan_.runs("ambient_occlusion")) {  // the ambient term lights the frame through AO only (scene.h)
-    HB_ASSERT(scene.ambient);
-    fc.ambient = glm::vec4(scene.ambient->color * scene.ambient->intensity, 1.0f);
-  }
-  std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
+                                              settings.tMin == ShadowTMin::Scaled ? gpu::kShadowTMinPerMetre : 0.0f);
   std::vector<gpu::GpuLight> packed = packLights(scene.lights);
   if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
 
-  // The frame follows the plan (effects/effects.h): light lists when direct light or an effect
-  // needs them, acceleration structures and the shadow pass only when the shadows effect runs.
+  // The frame's shared resources, then its parts in frame order: each part finds what the parts
+  // before it published (frame/frame_builder.h).
   passesSkipped_ = plan_.skipped;
   if (plan_.needs(FrameResource::AccelerationStructures)) accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
-  if (plan_.hasPass("raster3d") || plan_.hasPass("raycast")) {
-    RayCastInputs cast;
-    if (accel_) cast = {accel_->tlas(), ctx.info().rayQuery};
-    raster3d_ = std::make_unique<Raster3dPass>(ctx, scene, camera_, settings.width, settings.height,
-                                               primaryModeFrom(settings.primary), settings.r3dThreadBox,
-                                               settings.fp64Fallback, cast);
-  }
-  if (plan_.needs(FrameResource::LightLists)) {
-    CullingSettings cs;
-    cs.tileSize = settings.tileSize;
-    cs.lightCulling = settings.lightCulling;
-    cs.aabb = settings.aabb;
-    cs.depthSlices = settings.depthSlices;
-    cs.lists = settings.lightLists;
-    cs.lightCount = lightCount;
-    if (settings.lightLists == LightLists::Zbin) {
-      // The bins span the near plane to the farthest corner of the scene's bounds in view depth.
-      glm::vec3 lo, hi;
-      scene.bounds(lo, hi);
-      float far = 0.0f;
-      for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
-        far = std::max(far, -(view_ * glm::vec4(corner, 1.0f)).z);
-      }
-      cs.zbinNear = camera_.znear;
-      cs.zbinFar = std::max(far, 2.0f * camera_.znear);
+  resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
+  resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
+  resources_.publish(res::kFrameConstants, frameConstants_, "gpu::FrameConstants", "1");
+  resources_.publish(res::kLights, lights_, "gpu::GpuLight", std::to_string(lightCount) + " lights");
+  resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT");
+  resources_.publishSampler(res::kPointSampler, pointSampler_);
+  if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
+
+  FrameBuilder builder{ctx, scene, settings_, plan_, camera_, view_, proj_, gpuScene_, resources_, fc, nullptr};
+  auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) { parts_.emplace_back(std::move(name), std::move(part)); };
+  addPart("primary", std::make_unique<PrimaryPart>(builder));
+  if (plan_.needs(FrameResource::LightLists)) addPart("light_lists", std::make_unique<LightListsPart>(builder));
+  auto addEffects = [&](FramePhase phase) {
+    for (const EffectDef* def : allEffects()) {
+      if (def->phase != phase || !plan_.runs(def->name)) continue;
+      HB_ASSERT(def->build != nullptr);  // an effect that runs has passes to build
+      for (const EffectState& e : plan_.effects)
+        if (e.name == def->name) builder.value = e.value;
+      addPart(def->name, def->build(builder));
+      builder.value = nullptr;
     }
-    culling_ = std::make_unique<LightCulling>(ctx, cs, settings.width, settings.height, frameConstants_, lights_,
-                                              depth_, pointSampler_);
-    fc.lists = culling_->listConstants();
-    fc.zbins = culling_->zbinConstants();
-    std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
-  }
-  if (plan_.hasPass("shadows")) {
-    HB_ASSERT(culling_ && accel_);
-    ShadowSettings ss;
-    if (settings.backend == "auto")
-      ss.backend = ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
-    else if (settings.backend == "rayquery")
-      ss.backend = ShadowBackend::RayQuery;
-    else if (settings.backend == "pipeline")
-      ss.backend = ShadowBackend::Pipeline;
-    else
-      throw InputError("backend \"" + settings.backend + "\" is not one of auto, rayquery, pipeline");
-    ss.tileSize = settings.tileSize;
-    ss.normals = settings.normals;
-    ss.worldPos = settings.worldPos;
-    ss.rangeTest = settings.rangeTest;
-    ss.listMode = fc.lists.x;
-    ss.visibilityWords = fc.lists.z;
-    CullingOutputs co = culling_->outputs();
-    shadowInputs_ = {&frameConstants_, co.lights, co.grid, co.indices, &depth_, pointSampler_, accel_->tlas()};
-    if (raster3d_) {
-      shadowInputs_.hitIds = &raster3d_->visibility();
-      shadowInputs_.hitRays = &raster3d_->constants();
-      shadowInputs_.hitTriangles = &raster3d_->triangles();
+  };
+  addEffects(FramePhase::BeforeShading);
+  addPart("shading", std::make_unique<ShadingPart>(builder));
+  addEffects(FramePhase::AfterShading);
+  std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
+
+  // The declarations hold the frame together: every pass the plan runs is built exactly once,
+  // and reads only what the frame or a pass before it wrote.
+  std::vector<std::string> written;
+  for (const char* name : {res::kSceneVertices, res::kSceneIndices, res::kFrameConstants, res::kLights,
+                                  res::kPointSampler, res::kTlas})
+    if (resources_.has(name)) written.push_back(name);
+  uint32_t timerEntries = 0;
+  for (const std::string& name : plan_.passes) {
+    const FramePass* found = nullptr;
+    for (const auto& [partName, part] : parts_)
+      for (const FramePass& pass : part->passes())
+        if (pass.name == name) {
+          HB_ASSERT(found == nullptr);  // two parts build the same pass
+          found = &pass;
+        }
+    HB_ASSERT(found != nullptr && found->record);  // the plan runs a pass no part built
+    for (const std::string& read : found->reads) {
+      const bool before = std::find(written.begin(), written.end(), read) != written.end();
+      if (!before) std::fprintf(stderr, "internal error: pass %s reads %s before any pass writes it\n", name.c_str(), read.c_str());
+      HB_ASSERT(before);
     }
-    shadows_ = std::make_unique<ShadowPass>(ctx, ss, settings.width, settings.height, shadowInputs_);
+    written.insert(written.end(), found->writes.begin(), found->writes.end());
+    order_.push_back(found);
+    timerEntries += 1 + uint32_t(found->subPasses.size());
   }
-  if (plan_.hasPass("ambient_occlusion")) {
-    AoPassSettings as;
-    for (const EffectState& e : plan_.effects)
-      if (e.name == "ambient_occlusion") as.ao = aoSettingsOf(e.value);
-    // The shadow pass's positions; a normal always (AO has no "off"): the triangle's own where the
-    // primary gives ids, else the improved reconstruction.
-    as.worldPos = settings.worldPos;
-    as.normals = raster3d_ ? gpu::kNormalsGeometric : gpu::kNormalsImproved;
-    AoInputs ai{&frameConstants_, &depth_, pointSampler_, accel_ ? accel_->tlas() : VK_NULL_HANDLE};
-    if (raster3d_) {
-      ai.hitIds = &raster3d_->visibility();
-      ai.hitRays = &raster3d_->constants();
-      ai.hitTriangles = &raster3d_->triangles();
-    } else if (settings.worldPos == gpu::kWorldPosHit) {
-      throw InputError("world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
-                       "3dr-binned, 2dr or raycast");
-    }
-    ao_ = std::make_unique<AoPass>(ctx, gpuScene_, scene, as, settings.width, settings.height, ai);
-  }
-  if (plan_.runs("indirect")) {
-    IndirectPassSettings is;
-    for (const EffectState& e : plan_.effects)
-      if (e.name == "indirect") is.indirect = indirectSettingsOf(e.value);
-    is.worldPos = settings.worldPos;  // the surface as ambient occlusion takes it
-    is.normals = raster3d_ ? gpu::kNormalsGeometric : gpu::kNormalsImproved;
-    is.rayQuery = settings.backend != "pipeline" && ctx.info().rayQuery;  // backend=pipeline: every ray pass
-    HB_ASSERT(accel_);
-    IndirectInputs ii{&frameConstants_, &lights_, &depth_, pointSampler_, accel_->tlas()};
-    if (raster3d_) {
-      ii.hitIds = &raster3d_->visibility();
-      ii.hitRays = &raster3d_->constants();
-      ii.hitTriangles = &raster3d_->triangles();
-    } else if (settings.worldPos == gpu::kWorldPosHit) {
-      throw InputError("world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
-                       "3dr-binned, 2dr or raycast");
-    }
-    indirect_ = std::make_unique<IndirectPass>(ctx, gpuScene_, scene, is, settings.width, settings.height, ii);
-  }
-  CullingOutputs cullOut = culling_ ? culling_->outputs() : CullingOutputs{};
-  ShadingInputs shadingIn{&frameConstants_, cullOut.lights ? cullOut.lights : &lights_, cullOut.grid,
-                          cullOut.indices, shadows_ ? &shadows_->visibility() : nullptr, &depth_, settings.tileSize,
-                          culling_ ? fc.lists.x : gpu::kListTile, raster3d_ ? &raster3d_->visibility() : nullptr,
-                          settings.r3dShadingDepthTest, settings.visbufferShading,
-                          raster3d_ ? &raster3d_->constants() : nullptr, ao_ ? &ao_->output() : nullptr,
-                          indirect_ ? &indirect_->irradiance() : nullptr};
-  shading_ = std::make_unique<ShadingPass>(ctx, gpuScene_, settings.width, settings.height, shadingIn);
+  size_t built = 0;
+  for (const auto& [partName, part] : parts_) built += part->passes().size();
+  HB_ASSERT(built == order_.size());  // a part built a pass the plan does not run
+  timer_ = std::make_unique<GpuTimer>(ctx, std::max(timerEntries, 1u));
   samplerGuard.armed = false;  // ~Renderer destroys it from here on
 }
 
 Renderer::~Renderer() {
   vkDeviceWaitIdle(ctx_.device());
+  parts_.clear();  // before the sampler they sample with
   vkDestroySampler(ctx_.device(), pointSampler_, nullptr);
 }
 
-FrameTiming Renderer::renderFrame(bool analysis) {
-  passesRun_.clear();
-  const uint32_t lightCount = uint32_t(scene_.lights.size());
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    if (culling_ && !frustumsDone_) culling_->recordFrustums(cmd);  // once per camera/resolution/tile size
-    frustumsDone_ = true;
-    timer_.frameBegin(cmd);
+std::vector<const FramePass*> Renderer::framePasses() const { return order_; }
 
-    if (raster3d_) {
-      const char* pass = raster3d_->mode() == PrimaryMode::RayCast ? "raycast" : "raster3d";
-      timer_.begin(cmd, pass);
-      raster3d_->record(cmd, depth_, analysis, &timer_);  // leaves depth_ in DEPTH_READ_ONLY_OPTIMAL
-      timer_.end(cmd);
-      passesRun_.push_back(pass);
-    } else {
-      imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                   VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-      timer_.begin(cmd, "depth_prepass");
-      depthPrepass_.record(cmd, gpuScene_, proj_ * view_, depth_);
-      timer_.end(cmd);
-      passesRun_.push_back("depth_prepass");
-      imageBarrier(cmd, depth_, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                       VK_ACCESS_2_TRANSFER_READ_BIT);
-    }
+bool Renderer::hasCulling() const { return part<LightListsPart>("light_lists") != nullptr; }
 
-    if (culling_) {
-      timer_.begin(cmd, "light_culling");
-      culling_->recordCulling(cmd, lightCount);
-      timer_.end(cmd);
-      passesRun_.push_back("light_culling");
-      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                        VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
-    }
-    if (shadows_) {
-      timer_.begin(cmd, "shadows");
-      shadows_->record(cmd, analysis);
-      timer_.end(cmd);
-      passesRun_.push_back("shadows");
-      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                    VK_ACCESS_2_SHADER_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
-                        VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                    VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
-    }
-    if (ao_) {
-      if (ao_->buildsLdms()) {
-        timer_.begin(cmd, "ldm_build");
-        ao_->recordBuild(cmd);
-        timer_.end(cmd);
-        passesRun_.push_back("ldm_build");
-      }
-      timer_.begin(cmd, "ambient_occlusion");
-      ao_->recordAo(cmd);
-      timer_.end(cmd);
-      passesRun_.push_back("ambient_occlusion");
-    }
-    if (indirect_) {
-      auto pass = [&](const char* name, auto&& record) {
-        timer_.begin(cmd, name);
-        record();
-        timer_.end(cmd);
-        passesRun_.push_back(name);
-      };
-      if (indirect_->buildsLdms()) pass("indirect_ldm_build", [&] { indirect_->recordBuild(cmd); });
-      if (indirect_->method() == IndirectMethod::Reference) {
-        pass("indirect_gather", [&] { indirect_->recordGather(cmd); });
-      } else {
-        pass("photon_trace", [&] { indirect_->recordTrace(cmd); });
-        pass("photon_splat", [&] { indirect_->recordSplat(cmd); });
-      }
-    }
-    timer_.begin(cmd, "shading");
-    shading_->record(cmd, proj_ * view_, analysis);
-    timer_.end(cmd);
-    passesRun_.push_back("shading");
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    timer_.frameEnd(cmd);
-  });
-  FrameTiming t;
-  t.passMs = timer_.read(&t.frameMs);
-  return t;
+uint64_t Renderer::listMemoryBytes() const {
+  const LightListsPart* lists = part<LightListsPart>("light_lists");
+  return lists ? lists->culling().memoryBytes() : 0;
 }
 
-std::vector<double> Renderer::rayBench(uint32_t repetitions) {
-  HB_ASSERT(shadows_);
-  if (!rayBench_)
-    rayBench_ = std::make_unique<RayBenchPass>(ctx_, shadows_->settings().backend, settings_.width, settings_.height,
-                                               shadowInputs_, *shadows_);
-  std::vector<double> ms;
-  for (uint32_t r = 0; r < repetitions; ++r) {
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-      timer_.reset(cmd);
-      timer_.frameBegin(cmd);
-      timer_.begin(cmd, "raybench");
-      rayBench_->record(cmd);
-      timer_.end(cmd);
-      timer_.frameEnd(cmd);
-    });
-    auto t = timer_.read(nullptr);
-    ms.push_back(t.empty() ? 0.0 : t[0].second);
-  }
-  return ms;
+const Raster3dPass* Renderer::raster3d() const { return part<PrimaryPart>("primary")->raster3d(); }
+
+FrameTiming Renderer::renderFrame(bool analysis) {
+  passesRun_.clear();
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    GpuTimer& timer = *timer_;
+    timer.reset(cmd);
+    if (!onceDone_)  // once per camera/resolution/tile size
+      for (const auto& [name, part] : parts_) part->recordOnce(cmd);
+    onceDone_ = true;
+    timer.frameBegin(cmd);
+    const PassFrame frame{analysis, &timer};
+    for (const FramePass* pass : order_) {
+      if (pass->before) pass->before(cmd);
+      timer.begin(cmd, pass->name);
+      pass->record(cmd, frame);
+      timer.end(cmd);
+      if (pass->after) pass->after(cmd);
+      passesRun_.push_back(pass->name);
+    }
+    timer.frameEnd(cmd);
+  });
+  FrameTiming t;
+  t.passMs = timer_->read(&t.frameMs);
+  return t;
 }
 
 std::vector<float> Renderer::readDepth() const {
@@ -371,10 +235,12 @@ std::vector<float> Renderer::readDepth() const {
 }
 
 CullingReadback Renderer::readCulling() const {
-  HB_ASSERT(culling_);
-  CullingOutputs o = culling_->outputs();
+  const LightListsPart* lists = part<LightListsPart>("light_lists");
+  HB_ASSERT(lists);
+  const LightCulling& culling = lists->culling();
+  CullingOutputs o = culling.outputs();
   CullingReadback r;
-  r.lists = culling_->settings().lists;
+  r.lists = culling.settings().lists;
   r.tilesX = o.tilesX;
   r.tilesY = o.tilesY;
   const size_t tiles = size_t(o.tilesX) * o.tilesY;
@@ -382,7 +248,7 @@ CullingReadback Renderer::readCulling() const {
   const std::vector<uint32_t> words = bytesAs<uint32_t>(readbackBuffer(ctx_, *o.indices));
   HB_ASSERT(grid.size() >= tiles * 4);
   if (r.lists == LightLists::Tile) {
-    r.capacity = culling_->settings().capacity;
+    r.capacity = culling.settings().capacity;
     for (size_t t = 0; t < tiles; ++t) {
       r.offset.push_back(grid[4 * t]);
       r.count.push_back(grid[4 * t + 1]);
@@ -392,10 +258,10 @@ CullingReadback Renderer::readCulling() const {
     return r;
   }
   // Masks: every set bit, ascending, as a scene light index (zbin: through the sort's order).
-  const uint32_t lightCount = uint32_t(scene_.lights.size()), maskWords = culling_->maskWords();
+  const uint32_t lightCount = uint32_t(scene_.lights.size()), maskWords = culling.maskWords();
   r.capacity = lightCount;
   if (r.lists == LightLists::Zbin) {
-    r.order = bytesAs<uint32_t>(readbackBuffer(ctx_, culling_->order()));
+    r.order = bytesAs<uint32_t>(readbackBuffer(ctx_, culling.order()));
     r.order.resize(lightCount);
     const size_t binsAt = tiles * maskWords;
     HB_ASSERT(words.size() >= binsAt + gpu::kZBins);
@@ -440,7 +306,7 @@ static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, ui
 }
 
 std::vector<float> Renderer::readColor() const {
-  std::vector<uint8_t> bytes = readbackImage(ctx_, shading_->color(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 8);
+  std::vector<uint8_t> bytes = readbackImage(ctx_, resources_.requireImage(res::kColor), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 8);
   std::vector<float> out(bytes.size() / 2);
   for (size_t i = 0; i < out.size(); ++i) {
     uint16_t h;
@@ -452,26 +318,11 @@ std::vector<float> Renderer::readColor() const {
 
 std::vector<float> Renderer::readRefNormals() const {
   std::vector<uint8_t> bytes =
-      readbackImage(ctx_, shading_->refNormals(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 16);
+      readbackImage(ctx_, resources_.requireImage(res::kRefNormals), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 16);
   std::vector<float> out(bytes.size() / 4);
   std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
 }
 
-ShadowReadback Renderer::readShadows() const {
-  HB_ASSERT(shadows_);
-  ShadowReadback r;
-  const size_t pixels = size_t(settings_.width) * settings_.height;
-  r.words = shadows_->settings().visibilityWords;
-  r.visibility = bytesAs<uint32_t>(readbackBuffer(ctx_, shadows_->visibility()));
-  HB_ASSERT(r.visibility.size() >= r.words * pixels);
-  if (shadows_->settings().listMode == gpu::kListZbin)
-    r.ranges.assign(r.visibility.begin() + r.words * pixels, r.visibility.begin() + (r.words + 1) * pixels);
-  r.visibility.resize(r.words * pixels);
-  r.accounting = readImageAs<uint32_t>(ctx_, shadows_->accounting(), 16);
-  r.normals = readImageAs<float>(ctx_, shadows_->normals(), 16);
-  r.positions = readImageAs<float>(ctx_, shadows_->positions(), 16);
-  return r;
-}
 
 }  // namespace hb

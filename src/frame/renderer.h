@@ -1,54 +1,28 @@
-// The frame: a flat list of passes in frame order (design.md "The frame"), the resources they
-// share, and per-pass GPU timestamps. Which passes run, and which resources exist, follow from the
-// effects the scene calls for (planFrame); passesRun() and passesSkipped() say which and why.
+// The frame: the passes the plan runs, in frame order, each declaring what it reads and writes
+// (frame/frame_pass.h), and per-pass GPU timestamps (docs/frame.md "The frame"). Which passes run,
+// and which resources exist, follow from the effects the scene calls for (planFrame); the Renderer
+// allocates the frame's shared resources, builds the base parts and the effects' parts in frame
+// order, checks every pass's reads against what came before it, sizes the timer from the
+// declarations and records the passes in one loop. passesRun() and passesSkipped() say which ran
+// and why the others did not.
 #pragma once
-#include <optional>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 #include "effects/effects.h"
-#include "scene/camera.h"
+#include "frame/frame_pass.h"
+#include "frame/render_settings.h"
+#include "gpu/accel.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
-#include "frame/passes/ambient_occlusion.h"
-#include "frame/passes/depth_prepass.h"
-#include "frame/passes/indirect.h"
-#include "frame/passes/primary_3dr.h"
-#include "gpu/accel.h"
-#include "frame/passes/light_culling.h"
-#include "frame/passes/shading.h"
-#include "frame/passes/raybench.h"
-#include "frame/passes/shadows.h"
+#include "scene/camera.h"
 
 namespace hb {
 
-struct RenderSettings {
-  uint32_t width = 1920;
-  uint32_t height = 1080;
-  uint32_t cameraIndex = 0;
-  // The view's projection instead of the camera's own (config "projection"); empty: the camera's.
-  std::optional<CameraProjection> projection;
-  uint32_t tileSize = 16;
-  bool lightCulling = true;
-  bool aabb = false;
-  // The effects asked for above the scene's own (config, --set); the frame is planned from them
-  // and the scene (effects/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
-  EffectsRequest effects;
-  std::string backend = "auto";        // auto | rayquery | pipeline
-  uint32_t normals = 0;                // gpu::kNormalsOff / Naive / Improved
-  uint32_t worldPos = 0;               // gpu::kWorldPosAlg41 / Matrix
-  bool rangeTest = false;
-  uint32_t depthSlices = 0;            // 0 off, 2..32: 2.5D slab test in light culling
-  LightLists lightLists = LightLists::Tile;  // tile (capped at 32, the thesis) | bitmask | zbin
-  bool scaledTMin = false;            // shadow t_min: false kShadowTMin, true max(that, kShadowTMinPerMetre·dist)
-  std::string primary = "hardware";    // hardware (depth prepass) | 3dr | 3dr-binned | 2dr | raycast
-  bool fp64Fallback = true;            // 3dr: false only to measure what the fallback prevents
-  uint32_t r3dThreadBox = Raster3dPass::kDefaultSmallArea;  // 3dr: largest box one thread rasterizes
-  bool visbufferShading = false;       // shading=visbuffer: in compute from the 3DR visibility buffer
-  bool r3dShadingDepthTest = true;     // 3dr: early depth test before the id test (false: check only)
-};
+class Raster3dPass;
 
 // Readbacks of the shadow pass (analysis frames).
 struct ShadowReadback {
@@ -92,9 +66,11 @@ class Renderer {
   ~Renderer();
 
   // Records, submits and waits for one frame; returns its GPU timings. An analysis frame also
-  // writes the shadow pass's accounting, normals and positions (never timed in a sweep).
+  // writes the passes' counters and readback images (never timed in a sweep).
   FrameTiming renderFrame(bool analysis = false);
 
+  const VulkanContext& context() const { return ctx_; }
+  const Scene& scene() const { return scene_; }
   const glm::mat4& view() const { return view_; }
   const glm::mat4& proj() const { return proj_; }
   const Camera& camera() const { return camera_; }
@@ -102,24 +78,28 @@ class Renderer {
   const FramePlan& plan() const { return plan_; }
   const std::vector<std::string>& passesRun() const { return passesRun_; }
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
-  bool hasCulling() const { return bool(culling_); }
-  uint64_t listMemoryBytes() const { return culling_ ? culling_->memoryBytes() : 0; }  // grid, lists, bins
-  bool hasShadows() const { return bool(shadows_); }
-  const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr only
-  const AccelerationStructures* accel() const { return accel_.get(); }
-  AoPass* ambientOcclusion() const { return ao_.get(); }  // when the effect runs
-  IndirectPass* indirect() const { return indirect_.get(); }  // when the effect runs
-  std::string backendUsed() const { return shadows_ ? toString(shadows_->settings().backend) : "none"; }
+  const FrameResources& resources() const { return resources_; }
+  // Every pass of the frame as it declared itself, in frame order.
+  std::vector<const FramePass*> framePasses() const;
+  // The part an effect built (by the effect's name), or a base part ("primary", "light_lists",
+  // "shading"); null when it is not in this frame or is not a T.
+  template <typename T>
+  T* part(std::string_view name) const {
+    for (const auto& [partName, p] : parts_)
+      if (partName == name) return dynamic_cast<T*>(p.get());
+    return nullptr;
+  }
+  // The frame's timer, for work timed outside the frame (a pass's micro-benchmark, say).
+  GpuTimer& timer() { return *timer_; }
 
-  // Ray throughput: re-traces the rays of the last analysis frame `repetitions` times as a pure
-  // ray workload (passes/raybench.h); returns each repetition's GPU time in ms.
-  // Precondition: hasShadows() and the last frame was an analysis frame.
-  std::vector<double> rayBench(uint32_t repetitions);
+  bool hasCulling() const;
+  uint64_t listMemoryBytes() const;  // grid, lists, bins; 0 without culling
+  const Raster3dPass* raster3d() const;  // primary visibility by compute (raster3d, raycast) only
+  const AccelerationStructures* accel() const { return accel_.get(); }
 
   // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
   CullingReadback readCulling() const;
-  ShadowReadback readShadows() const;
   std::vector<float> readColor() const;       // linear HDR RGBA per pixel
   std::vector<float> readRefNormals() const;  // analysis frames: true face normal xyz, w = 1 where valid
 
@@ -131,21 +111,17 @@ class Renderer {
   Camera camera_;
   glm::mat4 view_, proj_;
   GpuScene gpuScene_;
+  // The frame's shared resources, allocated when the plan needs them; then the parts, which may
+  // hold references to them (declared after them: destroyed first).
   Image depth_;
   VkSampler pointSampler_ = VK_NULL_HANDLE;
   Buffer frameConstants_, lights_;
-  DepthPrepass depthPrepass_;
-  std::unique_ptr<Raster3dPass> raster3d_;
-  std::unique_ptr<LightCulling> culling_;
   std::unique_ptr<AccelerationStructures> accel_;
-  std::unique_ptr<ShadowPass> shadows_;
-  std::unique_ptr<AoPass> ao_;
-  std::unique_ptr<IndirectPass> indirect_;
-  std::unique_ptr<ShadingPass> shading_;
-  std::unique_ptr<RayBenchPass> rayBench_;
-  ShadowInputs shadowInputs_{};
-  GpuTimer timer_;
-  bool frustumsDone_ = false;
+  FrameResources resources_;
+  std::vector<std::pair<std::string, std::unique_ptr<FramePart>>> parts_;
+  std::vector<const FramePass*> order_;  // the plan's passes, in frame order
+  std::unique_ptr<GpuTimer> timer_;      // sized from the passes' declarations
+  bool onceDone_ = false;
   std::vector<std::string> passesRun_;
   std::vector<std::pair<std::string, std::string>> passesSkipped_;
 };

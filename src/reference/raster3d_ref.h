@@ -36,7 +36,7 @@ struct Raster3dView {
 };
 
 // The view of `camera` at width × height pixels, computed in double and rounded once (the same
-// values as raster3dConstants in frame/passes/primary_3dr.cpp): pixel (x, y)'s centre has NDC
+// values as raster3dConstants in frame/passes/raster3d.cpp): pixel (x, y)'s centre has NDC
 // (2(x + 0.5)/W − 1, 2(y + 0.5)/H − 1), view direction (ndc.x·a·tan(fov/2), −ndc.y·tan(fov/2), −1).
 Raster3dView pinholeView(const Camera& camera, uint32_t width, uint32_t height);
 

@@ -8,21 +8,8 @@
 
 namespace hb {
 
-const char* toString(LightLists l) {
-  return l == LightLists::Tile ? "tile" : l == LightLists::Bitmask ? "bitmask" : "zbin";
-}
-
-LightLists lightListsFrom(const std::string& name) {
-  if (name == "tile") return LightLists::Tile;
-  if (name == "bitmask") return LightLists::Bitmask;
-  if (name == "zbin") return LightLists::Zbin;
-  throw InputError("light_lists \"" + name + "\" is not one of tile, bitmask, zbin");
-}
-
 namespace {
-uint32_t listModeOf(LightLists l) {
-  return l == LightLists::Tile ? gpu::kListTile : l == LightLists::Bitmask ? gpu::kListBitmask : gpu::kListZbin;
-}
+uint32_t listModeOf(LightLists l) { return uint32_t(l); }  // the enum's values are the shaders' kList*
 
 VkDeviceSize listWords(const CullingSettings& s, uint32_t tiles, uint32_t maskWords) {
   if (s.lists == LightLists::Tile) return VkDeviceSize(tiles) * s.capacity;

@@ -12,18 +12,15 @@
 // transforms nothing and tests a light's 16-byte range sphere first, the rest only where it passes. Tile size, the AABB test, culling on/off
 // and the list form are specialization constants: no dynamic branching on them.
 #pragma once
-#include "gpu/vk_pipeline.h"
 #include <string>
 
 #include <glm/glm.hpp>
 
+#include "config/config.h"
+#include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 
 namespace hb {
-
-enum class LightLists { Tile, Bitmask, Zbin };
-const char* toString(LightLists);
-LightLists lightListsFrom(const std::string& name);  // InputError unless tile, bitmask, zbin
 
 struct CullingSettings {
   uint32_t tileSize = 16;    // 8, 16 or 32

@@ -1,0 +1,128 @@
+#include "effects/ambient_occlusion/ao_effect.h"
+
+#include <cmath>
+#include <limits>
+
+#include "effects/ambient_occlusion/ao_part.h"
+#include "effects/ambient_occlusion/ao_table.h"
+
+namespace hb {
+
+const char* toString(AoMethod m) {
+  switch (m) {
+    case AoMethod::Ldm: return "ldm";
+    case AoMethod::RayTraced: return "raytraced";
+    case AoMethod::Reference: return "reference";
+    case AoMethod::Hbao: return "hbao";
+  }
+  return "?";
+}
+
+AoSettings aoSettingsOf(const nlohmann::json& value);
+
+namespace {
+
+constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao"};
+
+AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  using namespace json_reader;
+  AoSettings s;
+  if (value.is_boolean()) return s;
+  requireObjectWithKeys(value, where,
+                        {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples", "steps"});
+  if (value.contains("method"))
+    s.method = AoMethod(
+        readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2], kMethods[3]}));
+  if (value.contains("steps")) s.steps = uint32_t(readInt(value["steps"], where.key("steps"), 1, 1024));
+  if (value.contains("directions"))
+    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
+  if (value.contains("ldm_resolution"))
+    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
+  if (value.contains("d_max") && !value["d_max"].is_null())
+    s.dMax = readNumber(value["d_max"], where.key("d_max"), 0.0, std::numeric_limits<double>::infinity(), true);
+  if (value.contains("bias"))
+    s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readSquareSamples(value, where, s.samples);
+  return s;
+}
+
+void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  if (value.is_boolean()) return;
+  if (!value.is_object())
+    where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, d_max, bias, "
+               "ldm_list, ldm_build, samples, steps), got " + json_reader::describe(value));
+  read(value, where);
+}
+
+std::vector<FrameResource> needsOf(const nlohmann::json& value) {
+  const AoMethod m = aoSettingsOf(value).method;
+  if (m == AoMethod::Ldm) return {FrameResource::Depth, FrameResource::LayeredDepthMaps};
+  if (m == AoMethod::Hbao) return {FrameResource::Depth};
+  return {FrameResource::Depth, FrameResource::AccelerationStructures};
+}
+
+std::vector<const char*> passesOf(const nlohmann::json& value) {
+  if (aoSettingsOf(value).method == AoMethod::Ldm) return {kLdmBuildPass, kAmbientOcclusionPass};
+  return {kAmbientOcclusionPass};
+}
+
+std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
+  if (!scene.ambient) return "the scene has no ambient term (add extras.ambient to the glTF scene or \"ambient\" to the config)";
+  if (!(scene.ambient->intensity > 0.0f)) return "the scene's ambient intensity is 0";
+  return "";
+}
+
+}  // namespace
+
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
+                         std::string& build) {
+  using namespace json_reader;
+  if (value.contains("ldm_list"))
+    list = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
+                                                                           {"max64", "cas", "sbuffer"})];
+  if (value.contains("ldm_build"))
+    build = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
+}
+
+void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples) {
+  if (!value.contains("samples")) return;
+  samples = uint32_t(json_reader::readInt(value["samples"], where.key("samples"), 16, 65536));
+  const uint32_t side = uint32_t(std::lround(std::sqrt(double(samples))));
+  if (side * side != samples)
+    where.key("samples").fail(std::to_string(samples) + " is not a square (the strata are side x side); use e.g. 256");
+}
+
+AoSettings aoSettingsOf(const nlohmann::json& value) {
+  return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "ambient_occlusion"});
+}
+
+nlohmann::json AoSettings::toJson() const {
+  nlohmann::json j = {{"method", hb::toString(method)}, {"directions", directions}, {"ldm_resolution", ldmResolution},
+                      {"d_max", dMax ? nlohmann::json(*dMax) : nlohmann::json()}, {"bias", bias},
+                      {"ldm_list", ldmList}, {"ldm_build", ldmBuild}};
+  if (method == AoMethod::Reference) j["samples"] = samples;
+  if (method == AoMethod::Hbao) j["steps"] = steps;
+  return j;
+}
+
+const EffectDef& ambientOcclusionEffect() {
+  static const EffectDef def{
+      .name = "ambient_occlusion",
+      .summary = "ambient occlusion of the scene's ambient term: layered depth maps along N directions, the same "
+                 "directions ray traced, or a Monte Carlo reference",
+      .defaultValue = false,
+      .validate = validate,
+      .needs = {FrameResource::Depth},
+      .passes = {kLdmBuildPass, kAmbientOcclusionPass},
+      .cannotAct = cannotAct,
+      .needsOf = needsOf,
+      .passesOf = passesOf,
+      .build = buildAmbientOcclusion,
+      .report = reportAmbientOcclusion,
+      .table = aoTableMarkdown,
+  };
+  return def;
+}
+
+}  // namespace hb

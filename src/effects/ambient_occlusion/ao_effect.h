@@ -1,0 +1,58 @@
+// Ambient occlusion (Aalund, Frisvad, Bærentzen 2015, Sect. 3.3): how much of the sky's ambient
+// light (scene.h Ambient) reaches each visible point, AO(x) = (1/π)∫ V(x, ω) cos θ dω.
+// Value: false | true (the defaults below) | an object of these settings, each optional:
+//   method          "ldm" (layered depth maps along N deterministic directions, Eq. 2)
+//                   | "raytraced" (the same N directions, positions and normals through the
+//                     ray tracer: differs from ldm by the LDM approximation alone)
+//                   | "reference" (cosine-weighted Monte Carlo, `samples` stratified rays: the
+//                     converged answer, which differs from raytraced by the direction count)
+//   directions      N, the LDMs (each traced both ways), 1..2048             default 64
+//   ldm_resolution  R: each map is R×R over the scene's bounding sphere, 8..4096  default 128
+//   d_max           obscurance: occluders farther than this (m) do not count; null = none
+//   bias            scale of the derived slope-scaled LDM bias (ao.glsl.inc), > 0   default 1
+//   ldm_list        how the lists are built: "max64" (64-bit atomicMax insertion) | "cas" (the
+//                   paper's: 32-bit links swung by compare-and-swap) | "sbuffer" (count, scan,
+//                   fill, sort each range: exact allocation, deterministic words)  default max64
+//   ldm_build       "hardware" (one instanced draw over the N maps) | "3dr" (compute: one
+//                   thread per (triangle, map), orthographic 3D edge functions) default hardware
+//   samples         reference rays per pixel, a square 16..65536                  default 1024
+//   steps           hbao samples per screen direction, 1..1024                    default 32
+// It acts when the scene has an ambient term; the frame then composes direct + ambient·AO.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "effects/effect.h"
+
+namespace hb {
+
+enum class AoMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2, Hbao = 3 };
+const char* toString(AoMethod m);
+
+struct AoSettings {
+  AoMethod method = AoMethod::Ldm;
+  uint32_t directions = 64;
+  uint32_t ldmResolution = 128;
+  std::optional<double> dMax;
+  double bias = 1.0;
+  std::string ldmList = "max64";
+  std::string ldmBuild = "hardware";
+  uint32_t samples = 1024;
+  uint32_t steps = 32;
+  nlohmann::json toJson() const;
+};
+
+// The settings of a value that passed validation (true: the defaults). Precondition: called for.
+AoSettings aoSettingsOf(const nlohmann::json& value);
+
+const EffectDef& ambientOcclusionEffect();
+void reportAmbientOcclusion(EffectReport& report);  // ao_report.cpp
+
+// The settings the LDM effects share (ambient occlusion, indirect light), read where `value` has
+// them: ldm_list, ldm_build, and samples (a square 16..65536: the strata are side x side).
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
+                         std::string& build);
+void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples);
+
+}  // namespace hb

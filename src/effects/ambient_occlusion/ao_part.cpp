@@ -1,0 +1,55 @@
+#include "effects/ambient_occlusion/ao_part.h"
+
+#include <string>
+
+#include "base/errors.h"
+#include "effects/ambient_occlusion/ao_effect.h"
+#include "frame/base_parts.h"
+
+namespace hb {
+
+AoPart::AoPart(FrameBuilder& f) {
+  // The ambient term lights the frame through AO only (scene.h).
+  HB_ASSERT(f.scene.ambient);
+  f.constants.ambient = glm::vec4(f.scene.ambient->color * f.scene.ambient->intensity, 1.0f);
+  const SurfaceInputs surface = surfaceInputs(f);
+  AoPassSettings as;
+  as.ao = aoSettingsOf(f.value);
+  as.worldPos = surface.worldPos;
+  as.normals = surface.normals;
+  const FrameResources& r = f.resources;
+  AoInputs ai{&r.requireBuffer(res::kFrameConstants), &r.requireImage(res::kDepth), r.sampler(res::kPointSampler),
+              r.tlas(res::kTlas), surface.hitIds, surface.hitRays, surface.hitTriangles};
+  ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
+  f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
+                      std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+
+  std::vector<std::string> surfaceReads = {res::kFrameConstants, res::kDepth};
+  if (surface.hitIds) surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  if (ao_->buildsLdms()) {
+    f.resources.publish("ambient_occlusion.ldm", ao_->ldm()->links(), "u64 or u32 list nodes", "counted per frame + 5 %");
+    FramePass build;
+    build.name = kLdmBuildPass;
+    build.reads = {res::kSceneVertices, res::kSceneIndices};
+    build.writes = {"ambient_occlusion.ldm"};
+    build.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordBuild(cmd); };
+    passes_.push_back(std::move(build));
+  }
+  FramePass pass;
+  pass.name = kAmbientOcclusionPass;
+  pass.reads = surfaceReads;
+  if (ao_->buildsLdms()) pass.reads.push_back("ambient_occlusion.ldm");
+  if (r.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
+  pass.writes = {res::kAmbientOcclusion};
+  pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordAo(cmd); };
+  passes_.push_back(std::move(pass));
+}
+
+AoPass* aoPassOf(const Renderer& renderer) {
+  const AoPart* p = renderer.part<AoPart>(ambientOcclusionEffect().name);
+  return p ? &p->pass() : nullptr;
+}
+
+std::unique_ptr<FramePart> buildAmbientOcclusion(FrameBuilder& frame) { return std::make_unique<AoPart>(frame); }
+
+}  // namespace hb

@@ -1,0 +1,199 @@
+#include "effects/ambient_occlusion/ao_pass.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "base/errors.h"
+#include "reference/eq_partition.h"
+#include "reference/ldm_ref.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+namespace {
+
+std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
+  std::vector<Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+                            {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  if (tlas) b.push_back({5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
+  return b;
+}
+
+}  // namespace
+
+struct AoPass::Program {
+  Pipeline compute;
+  std::unique_ptr<RaygenMissPipeline> rt;
+  explicit Program(const VulkanContext& c) : compute(c) {}
+  const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
+};
+
+AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
+               uint32_t width, uint32_t height, const AoInputs& in)
+    : ctx_(ctx), settings_(settings), width_(width), height_(height), tlas_(in.tlas) {
+  const AoSettings& ao = settings.ao;
+  if ((ao.method == AoMethod::RayTraced || ao.method == AoMethod::Reference) && !tlas_)
+    throw InputError(std::string("effects.ambient_occlusion.method=") + toString(ao.method) +
+                     " needs the ray tracer, which this frame has not (use method ldm or hbao)");
+  std::vector<glm::dvec3> dirs;
+  try {
+    dirs = ldmDirections(ao.directions);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("effects.ambient_occlusion.directions: ") + e.what());
+  }
+  std::vector<glm::vec4> packed;
+  for (const glm::dvec3& d : dirs) packed.emplace_back(glm::vec3(d), 0.0f);
+  directions_ = uploadBuffer(ctx, packed.data(), packed.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             MemClass::Other);
+  uint32_t maxSteps = 1;
+  if (ao.method == AoMethod::Ldm) {
+    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, "ambient_occlusion");
+    maxSteps = ldm_->nodeCapacity();
+  }
+  gpu::AoConstants c{};
+  c.directions = ao.directions;
+  c.resolution = ao.ldmResolution;
+  c.mapPixels = ldm_ ? ldm_->mapCount() * ao.ldmResolution * ao.ldmResolution : 0;
+  c.samples = ao.samples;
+  c.samplesSide = uint32_t(std::lround(std::sqrt(double(ao.samples))));
+  c.dMax = ao.dMax ? float(*ao.dMax) : 0.0f;
+  c.biasScale = float(ao.bias);
+  c.maxListSteps = maxSteps;
+  c.hbaoSteps = ao.steps;
+  {
+    glm::vec3 lo, hi;
+    scene.bounds(lo, hi);
+    c.hbaoRadius = ao.dMax ? float(*ao.dMax) : std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  }
+  if (ldm_) {
+    c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
+    c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
+                : ldm_->list() == LdmList::Cas     ? gpu::kLdmListCas
+                                                   : gpu::kLdmListSbuffer;
+    c.ldmCapacity = ldm_->nodeCapacity();
+  }
+  params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+  const VkDeviceSize pixels = VkDeviceSize(width) * height;
+  const VkBufferUsageFlags outUsage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  output_ = Buffer(ctx, pixels * sizeof(float), outUsage, false, MemClass::Other);
+  placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
+
+  const bool rayQuery = ctx.info().rayQuery;
+  const VkShaderStageFlags stages =
+      tlas_ && !rayQuery ? VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_COMPUTE_BIT
+                         : VK_SHADER_STAGE_COMPUTE_BIT;
+  const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
+  HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
+  auto makeSets = [&](const Buffer& out) {
+    auto sets = std::make_unique<DescriptorSets>(ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE));
+    sets->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+    sets->writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+                     VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+    if (tlas_) sets->writeAccelerationStructure(0, 5, tlas_);
+    // Without hits bindings 11-13 are never read; any buffer of the right type will do.
+    sets->writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? *in.hitIds : placeholder_).handle());
+    sets->writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
+    sets->writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
+    sets->writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
+    sets->writeBuffer(0, 15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
+    sets->writeBuffer(0, 17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
+    sets->writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+    return sets;
+  };
+  sets_ = makeSets(output_);
+  if (tlas_) {
+    scratch_ = Buffer(ctx, pixels * sizeof(float), outUsage, false, MemClass::Other);
+    scratchSets_ = makeSets(scratch_);
+  }
+  program(ao.method);  // the frame's own, created up front
+}
+
+AoPass::~AoPass() = default;
+
+const AoPass::Program& AoPass::program(AoMethod method) {
+  auto it = programs_.find(method);
+  if (it != programs_.end()) return *it->second;
+  auto p = std::make_unique<Program>(ctx_);
+  if (method == AoMethod::Ldm || method == AoMethod::Hbao) {
+    HB_ASSERT(method == AoMethod::Hbao || ldm_);
+    p->compute.createLayout({sets_->layout()}, 0);
+    p->compute.createCompute("ao_compute.comp", SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
+                                                              method == AoMethod::Ldm ? gpu::kAoLdm : gpu::kAoHbao}});
+  } else {
+    HB_ASSERT(tlas_);
+    const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
+                              method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced}};
+    if (ctx_.info().rayQuery) {
+      p->compute.createLayout({sets_->layout()}, 0);
+      p->compute.createCompute("ao_rayquery.comp", spec);
+    } else {
+      p->rt = std::make_unique<RaygenMissPipeline>(ctx_, sets_->layout(), "ao.rgen", "shadows.rmiss", spec);
+    }
+  }
+  return *programs_.emplace(method, std::move(p)).first->second;
+}
+
+void AoPass::recordBuild(VkCommandBuffer cmd) const {
+  if (ldm_) ldm_->record(cmd);
+}
+
+void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, const DescriptorSets& sets) const {
+  VkDescriptorSet set = sets.set();
+  const Pipeline& pl = p.pipeline();
+  vkCmdBindPipeline(cmd, pl.bindPoint(), pl.handle());
+  vkCmdBindDescriptorSets(cmd, pl.bindPoint(), pl.layout(), 0, 1, &set, 0, nullptr);
+  if (p.rt)
+    p.rt->traceRays(cmd, width_, height_);
+  else
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                    VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void AoPass::recordAo(VkCommandBuffer cmd) const {
+  recordProgram(cmd, *programs_.at(settings_.ao.method), *sets_);
+}
+
+static std::vector<float> readFloats(const VulkanContext& ctx, const Buffer& b) {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx, b);
+  std::vector<float> out(bytes.size() / sizeof(float));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(float));
+  return out;
+}
+
+std::vector<float> AoPass::readAo() const { return readFloats(ctx_, output_); }
+
+std::vector<float> AoPass::computeWith(AoMethod method) {
+  if (method == settings_.ao.method) return readAo();
+  HB_ASSERT((method == AoMethod::RayTraced || method == AoMethod::Reference) && tlas_);
+  const Program& p = program(method);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); },
+                     "ambient occlusion for the analysis");
+  return readFloats(ctx_, scratch_);
+}
+
+AoMemory AoPass::memory() const {
+  AoMemory m;
+  if (ldm_) {
+    m.ldmLinkBytes = ldm_->links().size();
+    m.ldmMapBytes = ldm_->mapsBuffer().size();
+  }
+  m.directionBytes = directions_.size();
+  m.outputBytes = output_.size();
+  return m;
+}
+
+}  // namespace hb

@@ -1,0 +1,90 @@
+// Ambient occlusion (effects/ambient_occlusion.h; Aalund et al. 2015 Sect. 3.3): per pixel, from
+// the same position and normal the shadow pass uses (shaders/surface.glsl.inc), the share of the
+// ambient light that arrives, by one of three methods of one meaning (shaders/ao_common.glsl.inc):
+//   ldm        layered depth maps along the N directions (LdmBuild, then a compute trace);
+//   raytraced  the same N directions through the ray tracer (ray query, or the ray-tracing
+//              pipeline on devices without it);
+//   reference  cosine-weighted stratified Monte Carlo through the ray tracer;
+//   hbao       screen space, horizon-based, from the depth buffer (the paper's comparison).
+// The frame's method writes output(); an analysis frame can compute the other methods on the same
+// surface (computeWith) to measure the frame's method against them.
+#pragma once
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "config/config.h"
+#include "effects/ambient_occlusion/ao_effect.h"
+#include "frame/passes/ldm_build.h"
+#include "gpu/gpu_timer.h"
+#include "gpu/rt_pipeline.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu/vk_resources.h"
+#include "scene/scene.h"
+
+namespace hb {
+
+struct AoInputs {
+  const Buffer* frameConstants = nullptr;
+  const Image* depth = nullptr;  // DEPTH_READ_ONLY_OPTIMAL
+  VkSampler sampler = VK_NULL_HANDLE;
+  // The ray tracer's scene (null: only ldm can run, and computeWith cannot).
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  // As ShadowInputs: 3D rasterization's visibility buffer, rays and world triangles, or null.
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
+};
+
+struct AoPassSettings {
+  AoSettings ao;
+  NormalCulling normals = NormalCulling::Improved;  // frame_builder.h SurfaceInputs
+  WorldPosMethod worldPos = WorldPosMethod::Alg41;
+};
+
+struct AoMemory {
+  uint64_t ldmLinkBytes = 0, ldmMapBytes = 0, directionBytes = 0, outputBytes = 0;
+  uint64_t total() const { return ldmLinkBytes + ldmMapBytes + directionBytes + outputBytes; }
+};
+
+class AoPass {
+ public:
+  // Throws InputError when the settings cannot run here (directions, a method without a tracer).
+  AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
+         uint32_t width, uint32_t height, const AoInputs& inputs);
+  ~AoPass();
+
+  // The LDM build (method ldm; timed as "ldm_build") and the AO computation ("ambient_occlusion").
+  // After it, output() holds one float per pixel (AO in [0, 1], gpu::kAoSky, gpu::kAoNoNormal).
+  void recordBuild(VkCommandBuffer cmd) const;
+  void recordAo(VkCommandBuffer cmd) const;
+  bool buildsLdms() const { return bool(ldm_); }
+
+  const Buffer& output() const { return output_; }
+  std::vector<float> readAo() const;
+  // Analysis frames: the AO of `method` on the surface of the last frame (its own submission).
+  // Precondition: a tracer (inputs.tlas) for raytraced/reference.
+  std::vector<float> computeWith(AoMethod method);
+  bool canTrace() const { return tlas_ != VK_NULL_HANDLE; }
+
+  const AoPassSettings& settings() const { return settings_; }
+  const LdmBuild* ldm() const { return ldm_.get(); }
+  AoMemory memory() const;
+  uint32_t ldmNodeCapacity() const { return ldm_ ? ldm_->nodeCapacity() : 0; }
+
+ private:
+  struct Program;  // one method's pipeline
+  const Program& program(AoMethod method);
+  void recordProgram(VkCommandBuffer cmd, const Program& p, const DescriptorSets& sets) const;
+
+  const VulkanContext& ctx_;
+  AoPassSettings settings_;
+  uint32_t width_, height_;
+  VkAccelerationStructureKHR tlas_;
+  std::unique_ptr<LdmBuild> ldm_;
+  Buffer directions_, params_, output_, scratch_, placeholder_;
+  std::unique_ptr<DescriptorSets> sets_, scratchSets_;
+  std::map<AoMethod, std::unique_ptr<Program>> programs_;
+};
+
+}  // namespace hb

@@ -1,0 +1,118 @@
+#include "effects/indirect/indirect_effect.h"
+
+#include <algorithm>
+
+#include "effects/ambient_occlusion/ao_effect.h"
+#include "effects/indirect/indirect_part.h"
+#include "effects/indirect/indirect_table.h"
+
+namespace hb {
+
+const char* toString(IndirectMethod m) {
+  switch (m) {
+    case IndirectMethod::Ldm: return "ldm";
+    case IndirectMethod::RayTraced: return "raytraced";
+    case IndirectMethod::Reference: return "reference";
+  }
+  return "?";
+}
+
+namespace {
+
+IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  using namespace json_reader;
+  IndirectSettings s;
+  if (value.is_boolean()) return s;
+  requireObjectWithKeys(value, where,
+                        {"method", "directions", "ldm_resolution", "photons", "bias", "ldm_list", "ldm_build", "samples"});
+  if (value.contains("method"))
+    s.method = IndirectMethod(readChoice(value["method"], where.key("method"), {"ldm", "raytraced", "reference"}));
+  if (value.contains("directions"))
+    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
+  if (value.contains("ldm_resolution"))
+    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
+  if (value.contains("photons")) s.photons = uint32_t(readInt(value["photons"], where.key("photons"), 1, 1024));
+  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readSquareSamples(value, where, s.samples);
+  return s;
+}
+
+void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  if (value.is_boolean()) return;
+  if (!value.is_object())
+    where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, photons, bias, "
+               "ldm_list, ldm_build, samples), got " + json_reader::describe(value));
+  read(value, where);
+}
+
+// Every method meets the primary photons' (or the gathered rays') surfaces through the ray tracer.
+std::vector<FrameResource> needsOf(const nlohmann::json& value) {
+  if (indirectSettingsOf(value).method == IndirectMethod::Ldm)
+    return {FrameResource::Depth, FrameResource::AccelerationStructures, FrameResource::LayeredDepthMaps};
+  return {FrameResource::Depth, FrameResource::AccelerationStructures};
+}
+
+std::vector<const char*> passesOf(const nlohmann::json& value) {
+  switch (indirectSettingsOf(value).method) {
+    case IndirectMethod::Ldm: return {kIndirectLdmBuildPass, kPhotonTracePass, kPhotonSplatPass};
+    case IndirectMethod::RayTraced: return {kPhotonTracePass, kPhotonSplatPass};
+    case IndirectMethod::Reference: return {kIndirectGatherPass};
+  }
+  return {};
+}
+
+std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
+  const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
+    return l.type != LightType::Directional && l.intensity > 0.0f;
+  });
+  if (!emits)
+    return scene.lights.empty() ? "the scene has no lights"
+                                : "no point or spot light with a positive intensity (directional lights emit no photons)";
+  return "";
+}
+
+}  // namespace
+
+IndirectSettings indirectSettingsOf(const nlohmann::json& value) {
+  return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "indirect"});
+}
+
+nlohmann::json IndirectSettings::toJson() const {
+  nlohmann::json j = {{"method", hb::toString(method)}};
+  if (method == IndirectMethod::Reference) {
+    j["samples"] = samples;
+    return j;
+  }
+  j["directions"] = directions;
+  j["photons"] = photons;
+  if (method == IndirectMethod::Ldm) {
+    j["ldm_resolution"] = ldmResolution;
+    j["bias"] = bias;
+    j["ldm_list"] = ldmList;
+    j["ldm_build"] = ldmBuild;
+  }
+  return j;
+}
+
+const EffectDef& indirectEffect() {
+  static const EffectDef def{
+      .name = "indirect",
+      .summary = "single-bounce indirect light from point and spot lights: photons split into N directions, traced "
+                 "through layered depth maps or the ray tracer and splatted with their differentials, or a gathered "
+                 "reference",
+      .defaultValue = false,
+      .validate = validate,
+      .needs = {FrameResource::Depth, FrameResource::AccelerationStructures},
+      .passes = {kIndirectLdmBuildPass, kPhotonTracePass, kPhotonSplatPass, kIndirectGatherPass},
+      .cannotAct = cannotAct,
+      .needsOf = needsOf,
+      .passesOf = passesOf,
+      .build = buildIndirect,
+      .report = reportIndirect,
+      .table = indirectTableMarkdown,
+  };
+  return def;
+}
+
+}  // namespace hb

@@ -1,0 +1,403 @@
+#include "effects/indirect/indirect_pass.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "base/errors.h"
+#include "gpu/raster_pipeline.h"
+#include "reference/eq_partition.h"
+#include "reference/photon_ref.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+namespace {
+
+constexpr VkFormat kIrradianceFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
+
+// A spot light whose cone reaches within 3° of its plane (tan → ∞) emits through a cube instead.
+constexpr double kSpotCubeCos = 0.05;
+
+double spotFactor(const Light& l, const glm::dvec3& d) {
+  if (l.type != LightType::Spot) return 1.0;
+  const double cosOuter = std::cos(double(l.outerConeAngle)), cosInner = std::cos(double(l.innerConeAngle));
+  const double t = std::clamp((glm::dot(glm::dvec3(l.direction), d) - cosOuter) / std::max(cosInner - cosOuter, 1e-4), 0.0, 1.0);
+  return t * t;
+}
+
+}  // namespace
+
+PhotonTally tallyPhotons(const std::vector<gpu::Photon>& photons) {
+  PhotonTally t;
+  t.slots = photons.size();
+  for (const gpu::Photon& p : photons) {
+    uint32_t status;
+    std::memcpy(&status, &p.normalStatus.w, 4);
+    const double flux = double(p.positionFluxR.w) + double(p.duFluxG.w) + double(p.dvFluxB.w);
+    switch (status) {
+      case gpu::kPhotonStored: ++t.stored; t.fluxStored += flux; break;
+      case gpu::kPhotonHidden: ++t.hidden; t.fluxHidden += flux; break;
+      case gpu::kPhotonEscaped: ++t.escaped; t.fluxEscaped += flux; break;
+      case gpu::kPhotonGrazing: ++t.grazing; t.fluxGrazing += flux; break;
+      default: ++t.empty; break;
+    }
+  }
+  return t;
+}
+
+struct IndirectPass::Program {
+  Pipeline compute;
+  std::unique_ptr<RaygenMissPipeline> rt;
+  explicit Program(const VulkanContext& c) : compute(c) {}
+  const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
+};
+
+IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
+                           const IndirectPassSettings& settings, uint32_t width, uint32_t height,
+                           const IndirectInputs& in)
+    : ctx_(ctx), gpuScene_(gpuScene), settings_(settings), in_(in), width_(width), height_(height), splat_(ctx) {
+  const IndirectSettings& s = settings.indirect;
+  if (!in.tlas)
+    throw InputError("effects.indirect needs the ray tracer (its photons and gathered rays meet surfaces by ray); "
+                     "this device has none");
+  VkFormatProperties fp{};
+  vkGetPhysicalDeviceFormatProperties(ctx.physical(), kIrradianceFormat, &fp);
+  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+  if ((fp.optimalTilingFeatures & needed) != needed)
+    throw DeviceError("device \"" + ctx.info().name + "\" cannot blend into or store RGBA32F images, which photon "
+                      "splatting needs; use effects.indirect.method=reference or another device");
+  std::vector<glm::dvec3> dirs;
+  try {
+    dirs = ldmDirections(s.directions);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("effects.indirect.directions: ") + e.what());
+  }
+
+  // The emitters' faces, their primaries and the flux leaving through them (in double).
+  std::vector<gpu::PhotonFace> faces;
+  for (uint32_t li = 0; li < scene.lights.size(); ++li) {
+    const Light& l = scene.lights[li];
+    if (l.type == LightType::Directional || !(l.intensity > 0.0f)) continue;
+    ++emitters_;
+    std::vector<PhotonFace> lf;
+    if (l.type == LightType::Spot && std::cos(double(l.outerConeAngle)) > kSpotCubeCos)
+      lf.push_back(spotFace(glm::normalize(glm::dvec3(l.direction)), std::cos(double(l.outerConeAngle)), s.photons));
+    else
+      lf = cubeFaces(s.photons);
+    const double rgb = double(l.color.r) + double(l.color.g) + double(l.color.b);
+    for (const PhotonFace& f : lf) {
+      faces.push_back({glm::vec4(glm::vec3(f.forward), float(f.halfExtent)), glm::vec4(glm::vec3(f.right), 0.0f),
+                       glm::vec4(glm::vec3(f.up), 0.0f), li, primaries_, 0, 0});
+      for (uint32_t b = 0; b < s.photons; ++b)
+        for (uint32_t a = 0; a < s.photons; ++a)
+          emittedFlux_ += double(l.intensity) * rgb * texelSolidAngle(f, a, b) * spotFactor(l, texelDirection(f, a, b));
+      const uint64_t next = uint64_t(primaries_) + uint64_t(s.photons) * s.photons;
+      if (next > 0xFFFFFFFFull) throw InputError("effects.indirect.photons: too many primary photons; lower photons");
+      primaries_ = uint32_t(next);
+    }
+  }
+  HB_ASSERT(!faces.empty());  // effects/indirect.cpp cannotAct
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(ctx.physical(), &props);
+  const uint64_t photonBytes = slots() * sizeof(gpu::Photon);
+  if (photonBytes > props.limits.maxStorageBufferRange)
+    throw InputError("effects.indirect: " + std::to_string(slots()) + " photon slots (" + std::to_string(primaries_) +
+                     " primaries x " + std::to_string(s.directions) + " directions, " +
+                     std::to_string(photonBytes >> 20) + " MiB) exceed this device's storage-buffer range of " +
+                     std::to_string(props.limits.maxStorageBufferRange >> 20) + " MiB; lower photons or directions");
+
+  std::vector<glm::vec4> packed;
+  for (const glm::dvec3& d : dirs) packed.emplace_back(glm::vec3(d), 0.0f);
+  directions_ = uploadBuffer(ctx, packed.data(), packed.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             MemClass::Other);
+  faces_ = uploadBuffer(ctx, faces.data(), faces.size() * sizeof(gpu::PhotonFace), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        MemClass::Other);
+  const DrawTables tables = drawTables(gpuScene);
+  draws_ = uploadBuffer(ctx, tables.draws.data(), tables.draws.size() * sizeof(gpu::GpuDraw),
+                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  triangleDraw_ = uploadBuffer(ctx, tables.triangleDraw.data(),
+                               std::max<size_t>(1, tables.triangleDraw.size()) * sizeof(uint32_t),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  const std::vector<uint32_t> idBase = triangleIdBase(scene);
+  idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                         MemClass::Other);
+  placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
+  textures_ = std::make_unique<GpuTextures>(ctx, scene);
+
+  if (s.method == IndirectMethod::Ldm)
+    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect");
+  gpu::IndirectConstants c{};
+  c.directions = s.directions;
+  c.resolution = s.ldmResolution;
+  c.mapPixels = ldm_ ? ldm_->mapCount() * s.ldmResolution * s.ldmResolution : 0;
+  c.ldmList = !ldm_ ? 0u
+              : ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
+              : ldm_->list() == LdmList::Cas   ? gpu::kLdmListCas
+                                               : gpu::kLdmListSbuffer;
+  c.ldmCapacity = ldm_ ? ldm_->nodeCapacity() : 0;
+  c.maxListSteps = ldm_ ? ldm_->nodeCapacity() : 1;
+  c.biasScale = float(s.bias);
+  c.side = s.photons;
+  if (ldm_) c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
+  c.primaries = primaries_;
+  c.samples = s.samples;
+  c.samplesSide = uint32_t(std::lround(std::sqrt(double(s.samples))));
+  c.faces = uint32_t(faces.size());
+  {
+    glm::vec3 lo, hi;
+    scene.bounds(lo, hi);
+    const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-6) * (1.0 + 1e-6);
+    c.ldmPixel = float(2.0 * radius / s.ldmResolution);  // the LDM's pixel (ldmMaps), for both methods
+    ldmPixel_ = c.ldmPixel;
+  }
+  params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+
+  if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
+  const VkShaderStageFlags trace = settings_.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                                                       : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
+                                                                            VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+                                                                            VK_SHADER_STAGE_MISS_BIT_KHR);
+  const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  bindings_ = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace},
+               {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
+               {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace}};
+  for (uint32_t b : {6u, 7u, 8u, 9u, 10u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
+  bindings_.push_back({11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
+  bindings_.push_back({12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all});
+  bindings_.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
+  for (uint32_t b : {14u, 15u, 16u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
+  bindings_.push_back({17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
+  bindings_.push_back({18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace});
+  bindings_.push_back({19, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
+  bindings_.push_back({20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace});
+  bindings_.push_back({21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true});
+  const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
+  HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
+
+  frame_ = makeTarget(s.method != IndirectMethod::Reference);
+  splat_.createLayout({frame_.sets->layout()}, 0);
+  {
+    ShaderModule vert(ctx, "photon_splat.vert"), frag(ctx, "photon_splat.frag");
+    const SpecConstants spec{{uint32_t(settings.normals), uint32_t(settings.worldPos)}};
+    std::vector<VkSpecializationMapEntry> entries;
+    const VkSpecializationInfo si = specializationInfo(spec, entries);
+    RasterPipelineDesc desc;
+    desc.layout = splat_.layout();
+    desc.vertex = vert.handle();
+    desc.fragment = frag.handle();
+    desc.fragmentSpec = &si;
+    desc.vertexAttributes = 0;
+    desc.depthTest = false;
+    desc.colorFormats = {kIrradianceFormat};
+    desc.additiveBlend = true;
+    splat_.pipeline_ = createRasterPipeline(ctx, desc);
+    splat_.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  }
+  program(s.method);  // the frame's own, created up front
+}
+
+IndirectPass::~IndirectPass() = default;
+
+IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
+  Target t;
+  if (withPhotons)
+    t.photons = Buffer(ctx_, slots() * sizeof(gpu::Photon), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                       false, MemClass::Other);
+  t.irradiance = Image(ctx_, width_, height_, kIrradianceFormat,
+                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                           VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                       VK_IMAGE_ASPECT_COLOR_BIT);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, t.irradiance, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+    VkClearColorValue zero{};
+    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+  }, "clearing the indirect light's target");
+  auto sets = std::make_unique<DescriptorSets>(ctx_, bindings_, 1, uint32_t(textures_->images().size()));
+  DescriptorSets& d = *sets;
+  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  d.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  d.writeBuffer(0, 1, sb, in_.lights->handle());
+  d.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(), VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+               in_.sampler);
+  d.writeAccelerationStructure(0, 5, in_.tlas);
+  d.writeBuffer(0, 6, sb, gpuScene_.vertices().handle());
+  d.writeBuffer(0, 7, sb, gpuScene_.indices().handle());
+  d.writeBuffer(0, 8, sb, textures_->materials().handle());
+  d.writeBuffer(0, 9, sb, draws_.handle());
+  d.writeBuffer(0, 10, sb, triangleDraw_.handle());
+  // Without hits bindings 11-13 are never read; any buffer of the right type will do.
+  d.writeBuffer(0, 11, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
+  d.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
+  d.writeBuffer(0, 13, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
+  d.writeBuffer(0, 14, sb, directions_.handle());
+  d.writeBuffer(0, 15, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
+  d.writeBuffer(0, 16, sb, idBase_.handle());
+  d.writeBuffer(0, 17, sb, (withPhotons ? t.photons : placeholder_).handle());
+  d.writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+  d.writeBuffer(0, 19, sb, faces_.handle());
+  d.writeImage(0, 20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(), VK_IMAGE_LAYOUT_GENERAL);
+  for (uint32_t i = 0; i < textures_->images().size(); ++i)
+    d.writeImage(0, 21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
+                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler(), i);
+  t.sets = std::move(sets);
+  return t;
+}
+
+const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
+  auto it = programs_.find(method);
+  if (it != programs_.end()) return *it->second;
+  HB_ASSERT(method != IndirectMethod::Ldm || ldm_);
+  auto p = std::make_unique<Program>(ctx_);
+  const uint32_t m = method == IndirectMethod::Ldm         ? gpu::kIndirectLdm
+                     : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
+                                                           : gpu::kIndirectReference;
+  const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m}};
+  if (settings_.rayQuery) {
+    p->compute.createLayout({frame_.sets->layout()}, 0);
+    p->compute.createCompute("indirect.comp", spec);
+  } else {
+    p->rt = std::make_unique<RaygenMissPipeline>(ctx_, frame_.sets->layout(), "indirect.rgen", "indirect.rmiss", spec,
+                                                 "indirect.rchit");
+  }
+  return *programs_.emplace(method, std::move(p)).first->second;
+}
+
+void IndirectPass::recordBuild(VkCommandBuffer cmd) const {
+  if (ldm_) ldm_->record(cmd);
+}
+
+// count threads: photons (a 2D grid of 64-thread groups, or launch rows of 65536) or the pixels.
+void IndirectPass::recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count,
+                                  bool pixels) const {
+  VkDescriptorSet set = t.sets->set();
+  const Pipeline& pl = p.pipeline();
+  vkCmdBindPipeline(cmd, pl.bindPoint(), pl.handle());
+  vkCmdBindDescriptorSets(cmd, pl.bindPoint(), pl.layout(), 0, 1, &set, 0, nullptr);
+  if (p.rt) {
+    if (pixels) {
+      p.rt->traceRays(cmd, width_, height_);
+    } else {
+      const uint32_t w = std::min<uint32_t>(count, 65536u);
+      p.rt->traceRays(cmd, w, (count + w - 1) / w);
+    }
+  } else {
+    const uint32_t groups = (count + 63) / 64, gx = std::min<uint32_t>(groups, 65535u);
+    vkCmdDispatch(cmd, gx, (groups + gx - 1) / gx, 1);
+  }
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void IndirectPass::recordTraceInto(VkCommandBuffer cmd, const Program& p, const Target& t) const {
+  recordDispatch(cmd, p, t, primaries_, false);
+}
+
+void IndirectPass::recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT);
+  recordDispatch(cmd, p, t, width_ * height_, true);
+}
+
+void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t) const {
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  VkRenderingAttachmentInfo ca{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  ca.imageView = t.irradiance.view();
+  ca.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+  ca.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  ca.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  ri.renderArea = {{0, 0}, {width_, height_}};
+  ri.layerCount = 1;
+  ri.colorAttachmentCount = 1;
+  ri.pColorAttachments = &ca;
+  vkCmdBeginRendering(cmd, &ri);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, splat_.handle());
+  VkDescriptorSet set = t.sets->set();
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, splat_.layout(), 0, 1, &set, 0, nullptr);
+  VkViewport vp{0, 0, float(width_), float(height_), 0, 1};
+  VkRect2D sc{{0, 0}, {width_, height_}};
+  vkCmdSetViewport(cmd, 0, 1, &vp);
+  vkCmdSetScissor(cmd, 0, 1, &sc);
+  // One draw over every slot in slot order (6 vertices each): deterministic blending.
+  const uint64_t vertices = slots() * 6;
+  HB_ASSERT(vertices <= 0xFFFFFFFFull);
+  vkCmdDraw(cmd, uint32_t(vertices), 1, 0, 0);
+  vkCmdEndRendering(cmd);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                    VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+void IndirectPass::recordTrace(VkCommandBuffer cmd) const {
+  recordTraceInto(cmd, *programs_.at(method()), frame_);
+}
+void IndirectPass::recordSplat(VkCommandBuffer cmd) const { recordSplatInto(cmd, frame_); }
+void IndirectPass::recordGather(VkCommandBuffer cmd) const {
+  recordGatherInto(cmd, *programs_.at(IndirectMethod::Reference), frame_);
+}
+
+static std::vector<float> readRgba(const VulkanContext& ctx, const Image& img) {
+  const std::vector<uint8_t> bytes = readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, 16);
+  std::vector<float> out(bytes.size() / sizeof(float));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(float));
+  return out;
+}
+
+static std::vector<gpu::Photon> readSlots(const VulkanContext& ctx, const Buffer& b) {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx, b);
+  std::vector<gpu::Photon> out(bytes.size() / sizeof(gpu::Photon));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(gpu::Photon));
+  return out;
+}
+
+std::vector<float> IndirectPass::readIrradiance() const { return readRgba(ctx_, frame_.irradiance); }
+
+std::vector<gpu::Photon> IndirectPass::readPhotons() const {
+  HB_ASSERT(method() != IndirectMethod::Reference);
+  return readSlots(ctx_, frame_.photons);
+}
+
+std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::Photon>* photons) {
+  if (m == method()) {
+    if (photons && m != IndirectMethod::Reference) *photons = readPhotons();
+    return readIrradiance();
+  }
+  HB_ASSERT(m != IndirectMethod::Ldm);
+  if (!scratch_.sets) scratch_ = makeTarget(true);
+  const Program& p = program(m);
+  if (m == IndirectMethod::Reference) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordGatherInto(cmd, p, scratch_); }, "the gathered indirect light");
+  } else {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      recordTraceInto(cmd, p, scratch_);
+      recordSplatInto(cmd, scratch_);
+    }, "the ray-traced photons");
+    if (photons) *photons = readSlots(ctx_, scratch_.photons);
+  }
+  return readRgba(ctx_, scratch_.irradiance);
+}
+
+IndirectMemory IndirectPass::memory() const {
+  IndirectMemory m;
+  if (ldm_) m.ldmBytes = ldm_->memoryBytes();
+  m.photonBytes = frame_.photons.size();
+  m.faceBytes = faces_.size();
+  m.directionBytes = directions_.size();
+  m.targetBytes = uint64_t(width_) * height_ * 16;
+  for (const Image& img : textures_->images()) m.textureBytes += uint64_t(img.width()) * img.height() * 4;
+  return m;
+}
+
+}  // namespace hb

@@ -1,0 +1,128 @@
+// Single-bounce indirect light (effects/indirect.h; Aalund et al. 2015 Sect. 3.4, 4.2): per frame
+//   ldm        the LDMs along the N directions ("indirect_ldm_build"), the photons traced
+//              ("photon_trace": shaders/indirect_common.glsl.inc) and splatted ("photon_splat":
+//              photon_splat.{vert,frag}.glsl, additive blending into an RGBA32F target);
+//   raytraced  the same photons traced by the ray tracer, splatted the same way;
+//   reference  the gathered single bounce per pixel ("indirect_gather").
+// irradiance() then holds E_indirect (rgb, W/m²) per pixel, which the shading pass reflects as
+// albedo·(1 − metallic)/π·E. Every photon has a fixed slot (primary · N + direction), written
+// every frame, and the splat is one draw over the slots: the result is deterministic. An analysis
+// frame can compute the other methods on the same surface (computeWith).
+#pragma once
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "config/config.h"
+#include "effects/indirect/indirect_effect.h"
+#include "frame/passes/ldm_build.h"
+#include "gpu/gpu_textures.h"
+#include "gpu/rt_pipeline.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu/vk_resources.h"
+#include "scene/scene.h"
+
+namespace hb {
+
+struct IndirectInputs {
+  const Buffer* frameConstants = nullptr;
+  const Buffer* lights = nullptr;
+  const Image* depth = nullptr;  // DEPTH_READ_ONLY_OPTIMAL
+  VkSampler sampler = VK_NULL_HANDLE;
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;  // required: every method meets surfaces by ray
+  // As AoInputs: 3D rasterization's visibility buffer, rays and world triangles, or null.
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
+};
+
+struct IndirectPassSettings {
+  IndirectSettings indirect;
+  NormalCulling normals = NormalCulling::Improved;  // as AoPassSettings
+  WorldPosMethod worldPos = WorldPosMethod::Alg41;
+  bool rayQuery = true;  // trace through ray queries (false: the ray-tracing pipeline); the frame's backend
+};
+
+struct IndirectMemory {
+  uint64_t ldmBytes = 0, photonBytes = 0, faceBytes = 0, directionBytes = 0, targetBytes = 0, textureBytes = 0;
+  uint64_t total() const { return ldmBytes + photonBytes + faceBytes + directionBytes + targetBytes + textureBytes; }
+};
+
+// What became of the split photons of one trace (a readback of every slot) and their flux (W,
+// the sum of the three channels).
+struct PhotonTally {
+  uint64_t slots = 0, stored = 0, hidden = 0, escaped = 0, grazing = 0, empty = 0;
+  double fluxStored = 0, fluxHidden = 0, fluxEscaped = 0, fluxGrazing = 0;
+  double fluxReflected() const { return fluxStored + fluxHidden + fluxEscaped + fluxGrazing; }
+};
+PhotonTally tallyPhotons(const std::vector<gpu::Photon>& photons);
+
+class IndirectPass {
+ public:
+  // Throws InputError when the settings cannot run here (directions; a photon buffer over the
+  // device's storage-buffer range; no ray tracer), DeviceError when the device cannot blend RGBA32F.
+  IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
+               const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs);
+  ~IndirectPass();
+
+  bool buildsLdms() const { return bool(ldm_); }
+  void recordBuild(VkCommandBuffer cmd) const;   // "indirect_ldm_build"
+  void recordTrace(VkCommandBuffer cmd) const;   // "photon_trace" (ldm, raytraced)
+  void recordSplat(VkCommandBuffer cmd) const;   // "photon_splat"
+  void recordGather(VkCommandBuffer cmd) const;  // "indirect_gather" (reference)
+
+  const IndirectPassSettings& settings() const { return settings_; }
+  IndirectMethod method() const { return settings_.indirect.method; }
+  const Image& irradiance() const { return frame_.irradiance; }  // RGBA32F, GENERAL layout
+  const Buffer& photonSlots() const { return frame_.photons; }   // gpu::Photon per slot (not for reference)
+  std::vector<float> readIrradiance() const;                      // rgba per pixel
+  std::vector<gpu::Photon> readPhotons() const;                   // every slot (not for reference)
+  // Analysis frames: the irradiance (rgba per pixel) of `method` on the surface of the last frame,
+  // computed into a second target (its own submissions); photons, when given, receive its slots.
+  std::vector<float> computeWith(IndirectMethod method, std::vector<gpu::Photon>* photons = nullptr);
+
+  // Light leaving the emitters through their faces (W, the three channels summed): Σ I·Ω·spot
+  // over every texel, in double (reference/photon_ref.h), before any range window.
+  double emittedFlux() const { return emittedFlux_; }
+  uint32_t primaries() const { return primaries_; }
+  uint64_t slots() const { return uint64_t(primaries_) * settings_.indirect.directions; }
+  uint32_t emitters() const { return emitters_; }
+  // The landing test's LDM term, (√2/2)·s_ldm + 2·kShadowTMin (indirect_common.glsl.inc
+  // landsVisible): how far off the surface an LDM-traced photon may land.
+  double landingTolerance() const { return 0.70710678 * ldmPixel_ + 2.0 * gpu::kShadowTMin; }
+  const LdmBuild* ldm() const { return ldm_.get(); }
+  IndirectMemory memory() const;
+
+ private:
+  struct Target {
+    Buffer photons;
+    Image irradiance;
+    std::unique_ptr<DescriptorSets> sets;
+  };
+  struct Program;
+  Target makeTarget(bool withPhotons);
+  const Program& program(IndirectMethod method);
+  void recordTraceInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
+  void recordSplatInto(VkCommandBuffer cmd, const Target& t) const;
+  void recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
+  void recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count, bool pixels) const;
+
+  const VulkanContext& ctx_;
+  const GpuScene& gpuScene_;
+  IndirectPassSettings settings_;
+  IndirectInputs in_;
+  uint32_t width_, height_;
+  uint32_t primaries_ = 0, emitters_ = 0;
+  double emittedFlux_ = 0, ldmPixel_ = 0;
+  std::unique_ptr<GpuTextures> textures_;
+  std::unique_ptr<LdmBuild> ldm_;
+  Buffer directions_, params_, faces_, draws_, triangleDraw_, idBase_, placeholder_;
+  std::vector<Binding> bindings_;
+  Target frame_, scratch_;
+  Pipeline splat_;
+  std::map<IndirectMethod, std::unique_ptr<Program>> programs_;
+};
+
+}  // namespace hb

@@ -1,0 +1,63 @@
+#include "effects/shadows/raybench_pass.h"
+
+namespace hb {
+
+RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
+                           const ShadowInputs& in, const ShadowPass& shadows)
+    : ctx_(ctx),
+      backend_(backend),
+      width_(width),
+      height_(height),
+      result_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      sets_(ctx,
+            [&] {
+              const VkShaderStageFlags st = backend == ShadowBackend::RayQuery
+                                                ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                                                : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
+              return std::vector<Binding>{{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
+                                          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {6, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
+                                          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
+            }()),
+      compute_(ctx) {
+  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
+  sets_.writeAccelerationStructure(0, 6, in.tlas);
+  sets_.writeImage(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
+  const SpecConstants spec{{shadows.settings().listMode}};
+  if (backend == ShadowBackend::RayQuery) {
+    compute_.createLayout({sets_.layout()}, 0);
+    compute_.createCompute("raybench_rayquery.comp", spec);
+  } else {
+    rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
+  }
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    imageBarrier(cmd, result_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
+  });
+}
+
+RayBenchPass::~RayBenchPass() = default;
+
+void RayBenchPass::record(VkCommandBuffer cmd) const {
+  const Pipeline& p = rt_ ? rt_->pipeline() : compute_;
+  VkDescriptorSet set = sets_.set();
+  vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
+  vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
+  if (rt_)
+    rt_->traceRays(cmd, width_, height_);
+  else
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+}
+
+}  // namespace hb

@@ -1,0 +1,29 @@
+// The ray throughput benchmark: re-traces exactly the shadow rays that the last analysis frame
+// traced (shaders/raybench_common.glsl.inc) as a pure ray workload on the same TLAS, so that the
+// shadow pass's ray rate can be held against the device's own rate on the same rays.
+#pragma once
+#include <memory>
+
+#include "effects/shadows/shadow_pass.h"
+#include "gpu/rt_pipeline.h"
+
+namespace hb {
+
+class RayBenchPass {
+ public:
+  RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
+               const ShadowInputs& inputs, const ShadowPass& shadows);
+  ~RayBenchPass();
+  void record(VkCommandBuffer cmd) const;
+
+ private:
+  const VulkanContext& ctx_;
+  ShadowBackend backend_;
+  uint32_t width_, height_;
+  Image result_;
+  DescriptorSets sets_;
+  Pipeline compute_;
+  std::unique_ptr<RaygenMissPipeline> rt_;
+};
+
+}  // namespace hb

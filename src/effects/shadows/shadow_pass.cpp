@@ -1,0 +1,141 @@
+#include "effects/shadows/shadow_pass.h"
+
+#include <cstring>
+
+#include "base/errors.h"
+#include "gpu/rt_pipeline.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+const char* toString(ShadowBackend b) { return b == ShadowBackend::RayQuery ? "rayquery" : "pipeline"; }
+
+namespace {
+
+// Visibility (or traced-ray) words: settings.visibilityWords per pixel, plus the z-bin range plane.
+// One storage binding, so the device's maxStorageBufferRange bounds it; refused with what to lower.
+VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, uint32_t width, uint32_t height,
+                             const char* what) {
+  const VkDeviceSize words = VkDeviceSize(s.visibilityWords) + (s.listMode == gpu::kListZbin ? 1 : 0);
+  const VkDeviceSize bytes = words * width * height * sizeof(uint32_t);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(ctx.physical(), &props);
+  if (bytes > props.limits.maxStorageBufferRange)
+    throw InputError("the shadow pass's " + std::string(what) + " words (" + std::to_string(words) + " a pixel at " +
+                     std::to_string(width) + "x" + std::to_string(height) + ", " + std::to_string(bytes >> 20) +
+                     " MiB) exceed device \"" + ctx.info().name + "\"'s storage buffer range of " +
+                     std::to_string(props.limits.maxStorageBufferRange >> 20) +
+                     " MiB; lower the resolution or light_count");
+  return bytes;
+}
+
+
+std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
+  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+          {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
+}
+
+VkShaderStageFlags stagesFor(ShadowBackend b) {
+  return b == ShadowBackend::RayQuery ? VK_SHADER_STAGE_COMPUTE_BIT
+                                      : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
+}
+
+}  // namespace
+
+struct ShadowPass::Variant {
+  Pipeline compute;                              // rayquery backend
+  std::unique_ptr<RaygenMissPipeline> rtProgram;  // pipeline backend
+
+  Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
+    SpecConstants spec{{s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
+    if (s.backend == ShadowBackend::RayQuery) {
+      compute.createLayout({layout}, 0);
+      compute.createCompute("shadows_rayquery.comp", spec);
+    } else {
+      rtProgram = std::make_unique<RaygenMissPipeline>(c, layout, "shadows.rgen", "shadows.rmiss", spec);
+    }
+  }
+  const Pipeline& pipeline() const { return rtProgram ? rtProgram->pipeline() : compute; }
+};
+
+ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings, uint32_t width, uint32_t height,
+                       const ShadowInputs& in)
+    : ctx_(ctx),
+      settings_(settings),
+      width_(width),
+      height_(height),
+      visibility_(ctx, visibilityBytes(ctx, settings, width, height, "visibility"),
+                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Images),
+      traced_(ctx, visibilityBytes(ctx, settings, width, height, "traced-ray"),
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Images),
+      accounting_(ctx, width, height, VK_FORMAT_R32G32B32A32_UINT,
+                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      normals_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
+               VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
+                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      sets_(ctx, shadowBindings(stagesFor(settings.backend))) {
+  if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
+    throw InputError("backend=rayquery: device \"" + ctx.info().name +
+                     "\" has no VK_KHR_ray_query; use backend=pipeline or backend=auto");
+  if (settings.backend == ShadowBackend::Pipeline && !ctx.info().rayTracingPipeline)
+    throw InputError("backend=pipeline: device \"" + ctx.info().name +
+                     "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
+  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+                   VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+  sets_.writeAccelerationStructure(0, 5, in.tlas);
+  const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
+  if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
+    throw InputError("world_pos=hit and normal_culling=geometric need the triangle ids of a computed primary "
+                     "visibility: set primary=3dr, 3dr-binned, 2dr or raycast");
+  // Without them bindings 11-13 are never read; any buffer of the right type will do.
+  sets_.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? in.hitIds : in.lights)->handle());
+  sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
+  sets_.writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.hitTriangles ? in.hitTriangles : in.lights)->handle());
+  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
+  sets_.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
+  const Image* images[3] = {&accounting_, &normals_, &positions_};
+  for (uint32_t i = 0; i < 3; ++i)
+    sets_.writeImage(0, 7 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
+  timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
+  analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    for (const Image* img : images)
+      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  });
+}
+
+ShadowPass::~ShadowPass() = default;
+
+void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
+  const Variant& v = analysis ? *analysis_ : *timed_;
+  VkDescriptorSet set = sets_.set();
+  vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
+  vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
+  if (settings_.backend == ShadowBackend::RayQuery) {
+    const uint32_t t = settings_.tileSize;
+    vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
+  } else {
+    v.rtProgram->traceRays(cmd, width_, height_);
+  }
+}
+
+}  // namespace hb

@@ -1,0 +1,75 @@
+// Pass 4 (thesis 4.3): ray-traced hard shadows with two backends of one meaning —
+// `rayquery` (compute shader, tile depth in group shared memory, VK_KHR_ray_query) and `pipeline`
+// (ray generation + miss shader, VK_KHR_ray_tracing_pipeline). Writes the visibility words
+// (shadows_common.glsl.inc: bit k = the k-th light of the pixel's list walk is visible; as many
+// words per pixel as the lists need, so any number of lights). Analysis frames use a second pipeline that
+// also writes the per-pixel ray accounting, the reconstructed normals and the world positions;
+// timed frames carry none of it (specialization constants, not branches).
+#pragma once
+#include <memory>
+
+#include "config/config.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu/vk_resources.h"
+
+namespace hb {
+
+enum class ShadowBackend { RayQuery, Pipeline };
+const char* toString(ShadowBackend);
+
+struct ShadowSettings {
+  ShadowBackend backend = ShadowBackend::RayQuery;
+  uint32_t tileSize = 16;
+  NormalCulling normals = NormalCulling::Off;      // geometric needs hit ids
+  WorldPosMethod worldPos = WorldPosMethod::Alg41;  // hit needs hit ids
+  bool rangeTest = false;
+  uint32_t listMode = 0;       // gpu::kList*
+  uint32_t visibilityWords = 1;  // per pixel: 1 for tile lists, ceil(lights/32) for the masks
+};
+
+// Inputs shared with the other passes.
+struct ShadowInputs {
+  const Buffer* frameConstants;
+  const Buffer* lights;
+  const Buffer* grid;
+  const Buffer* indices;
+  const Image* depth;  // DEPTH_READ_ONLY_OPTIMAL
+  VkSampler sampler;
+  VkAccelerationStructureKHR tlas;
+  // 3D rasterization's visibility buffer, ray constants and world triangles (nullptr after the
+  // hardware prepass): what world_pos=hit and normal_culling=geometric read.
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
+};
+
+class ShadowPass {
+ public:
+  // Precondition: the device supports the chosen backend.
+  ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings, uint32_t width, uint32_t height,
+             const ShadowInputs& inputs);
+  ~ShadowPass();
+
+  // Images are in GENERAL layout after construction.
+  void record(VkCommandBuffer cmd, bool analysis) const;
+
+  // Word-major: word j of pixel i at j·pixels + i; zbin: then a plane of pixel bin ranges.
+  const Buffer& visibility() const { return visibility_; }
+  const Image& accounting() const { return accounting_; }  // rgba32ui (gpu_types.h kAccount*)
+  const Image& normals() const { return normals_; }
+  const Image& positions() const { return positions_; }
+  const Buffer& traced() const { return traced_; }  // analysis: as visibility, bit k = the ray was traced
+  const ShadowSettings& settings() const { return settings_; }
+
+ private:
+  struct Variant;  // one pipeline (timed or analysis) of the chosen backend
+  const VulkanContext& ctx_;
+  ShadowSettings settings_;
+  uint32_t width_, height_;
+  Buffer visibility_, traced_;
+  Image accounting_, normals_, positions_;
+  DescriptorSets sets_;
+  std::unique_ptr<Variant> timed_, analysis_;
+};
+
+}  // namespace hb

@@ -1,0 +1,106 @@
+#include "effects/shadows/shadows_part.h"
+
+#include <cstring>
+#include <string>
+
+#include "base/errors.h"
+#include "effects/shadows/shadows_effect.h"
+#include "frame/base_parts.h"
+
+namespace hb {
+
+ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width), height_(f.settings.height) {
+  const RenderSettings& s = f.settings;
+  const FrameResources& r = f.resources;
+  // Depth turns back into positions through a planar matrix (perspective or orthographic).
+  const bool curved = f.camera.projection != CameraProjection::Perspective &&
+                      f.camera.projection != CameraProjection::Orthographic;
+  if (curved && s.worldPos != WorldPosMethod::Hit)
+    throw InputError(std::string("projection=") + toString(f.camera.projection) +
+                     " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
+                     "matrix otherwise)");
+  ShadowSettings ss;
+  if (s.backend == RtBackend::Auto)
+    ss.backend = f.ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
+  else
+    ss.backend = s.backend == RtBackend::RayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
+  ss.tileSize = s.tileSize;
+  ss.normals = s.normals;
+  ss.worldPos = s.worldPos;
+  ss.rangeTest = s.rangeTest;
+  ss.listMode = f.constants.lists.x;
+  ss.visibilityWords = f.constants.lists.z;
+  inputs_ = {&r.requireBuffer(res::kFrameConstants), &r.requireBuffer(res::kListLights),
+             &r.requireBuffer(res::kListGrid),       &r.requireBuffer(res::kListIndices),
+             &r.requireImage(res::kDepth),           r.sampler(res::kPointSampler),
+             r.tlas(res::kTlas)};
+  inputs_.hitIds = r.buffer(res::kVisibility);
+  inputs_.hitRays = r.buffer(res::kVisibilityRays);
+  inputs_.hitTriangles = r.buffer(res::kVisibilityTriangles);
+  shadows_ = std::make_unique<ShadowPass>(f.ctx, ss, s.width, s.height, inputs_);
+  f.resources.publish(res::kShadowVisibility, shadows_->visibility(),
+                      "u32 x " + std::to_string(ss.visibilityWords) + " per pixel: bit k = the k-th light of the list",
+                      std::to_string(s.width) + " x " + std::to_string(s.height));
+
+  FramePass pass;
+  pass.name = kShadowsPass;
+  pass.reads = {res::kFrameConstants, res::kListLights, res::kListGrid, res::kListIndices, res::kDepth, res::kTlas};
+  if (inputs_.hitIds) pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  pass.writes = {res::kShadowVisibility};
+  pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { shadows_->record(cmd, frame.analysis); };
+  pass.after = [](VkCommandBuffer cmd) {
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                  VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  };
+  passes_.push_back(std::move(pass));
+}
+
+template <typename T>
+static std::vector<T> bytesAs(const std::vector<uint8_t>& bytes) {
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+
+ShadowReadback ShadowsPart::readShadows() const {
+  ShadowReadback r;
+  const size_t pixels = size_t(width_) * height_;
+  r.words = shadows_->settings().visibilityWords;
+  r.visibility = bytesAs<uint32_t>(readbackBuffer(ctx_, shadows_->visibility()));
+  HB_ASSERT(r.visibility.size() >= r.words * pixels);
+  if (shadows_->settings().listMode == gpu::kListZbin)
+    r.ranges.assign(r.visibility.begin() + r.words * pixels, r.visibility.begin() + (r.words + 1) * pixels);
+  r.visibility.resize(r.words * pixels);
+  r.accounting = bytesAs<uint32_t>(readbackImage(ctx_, shadows_->accounting(), VK_IMAGE_LAYOUT_GENERAL, 16));
+  r.normals = bytesAs<float>(readbackImage(ctx_, shadows_->normals(), VK_IMAGE_LAYOUT_GENERAL, 16));
+  r.positions = bytesAs<float>(readbackImage(ctx_, shadows_->positions(), VK_IMAGE_LAYOUT_GENERAL, 16));
+  return r;
+}
+
+std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions) {
+  if (!rayBench_)
+    rayBench_ = std::make_unique<RayBenchPass>(ctx_, shadows_->settings().backend, width_, height_, inputs_, *shadows_);
+  std::vector<double> ms;
+  for (uint32_t rep = 0; rep < repetitions; ++rep) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      timer.frameBegin(cmd);
+      timer.begin(cmd, "raybench");
+      rayBench_->record(cmd);
+      timer.end(cmd);
+      timer.frameEnd(cmd);
+    });
+    auto t = timer.read(nullptr);
+    ms.push_back(t.empty() ? 0.0 : t[0].second);
+  }
+  return ms;
+}
+
+ShadowsPart* shadowsOf(const Renderer& renderer) { return renderer.part<ShadowsPart>(shadowsEffect().name); }
+
+std::unique_ptr<FramePart> buildShadows(FrameBuilder& frame) { return std::make_unique<ShadowsPart>(frame); }
+
+}  // namespace hb

@@ -1,0 +1,160 @@
+#include "frame/base_parts.h"
+
+#include <algorithm>
+#include <string>
+
+#include "base/errors.h"
+
+namespace hb {
+
+// --- primary visibility -------------------------------------------------------------------------
+
+PrimaryPart::PrimaryPart(FrameBuilder& f) {
+  const Image& depth = f.resources.requireImage(res::kDepth);
+  FramePass pass;
+  pass.name = primaryPassOf(f.settings.primary);
+  pass.writes = {res::kDepth};
+  if (f.settings.primary == PrimaryMethod::Hardware) {
+    prepass_ = std::make_unique<DepthPrepass>(f.ctx);
+    pass.reads = {res::kSceneVertices, res::kSceneIndices};
+    pass.before = [&depth](VkCommandBuffer cmd) {
+      imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
+                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                   VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
+    };
+    const glm::mat4 viewProj = f.proj * f.view;
+    pass.record = [this, &gpuScene = f.gpuScene, viewProj, &depth](VkCommandBuffer cmd, const PassFrame&) {
+      prepass_->record(cmd, gpuScene, viewProj, depth);
+    };
+    pass.after = [&depth](VkCommandBuffer cmd) {
+      imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                       VK_ACCESS_2_TRANSFER_READ_BIT);
+    };
+  } else {
+    RayCastInputs cast;
+    if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
+    raster3d_ = std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
+                                               f.settings.primary, f.settings.raster3dThreadBox,
+                                               f.settings.fp64Fallback, cast);
+    if (f.settings.primary == PrimaryMethod::RayCast)
+      pass.reads = {res::kTlas};
+    else
+      pass.reads = {res::kSceneVertices, res::kSceneIndices};
+    pass.writes.push_back(res::kVisibility);
+    pass.subPasses = raster3d_->subPasses();
+    // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
+    pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {
+      raster3d_->record(cmd, depth, frame.analysis, frame.timer);
+    };
+    f.resources.publish(res::kVisibility, raster3d_->visibility(), "u64: t bits << 32 | triangle id",
+                        std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+    f.resources.publish(res::kVisibilityRays, raster3d_->constants(), "gpu::Raster3dConstants", "1");
+    f.resources.publish(res::kVisibilityTriangles, raster3d_->triangles(), "3 x vec4 per triangle (world)",
+                        std::to_string(raster3d_->triangleCount()) + " triangles");
+  }
+  passes_.push_back(std::move(pass));
+}
+
+// --- light lists --------------------------------------------------------------------------------
+
+LightListsPart::LightListsPart(FrameBuilder& f) {
+  const RenderSettings& s = f.settings;
+  const uint32_t lightCount = uint32_t(f.scene.lights.size());
+  CullingSettings cs;
+  cs.tileSize = s.tileSize;
+  cs.lightCulling = s.lightCulling;
+  cs.aabb = s.aabb;
+  cs.depthSlices = s.depthSlices;
+  cs.lists = s.lightLists;
+  cs.lightCount = lightCount;
+  if (s.lightLists == LightLists::Zbin) {
+    // The bins span the near plane to the farthest corner of the scene's bounds in view depth.
+    glm::vec3 lo, hi;
+    f.scene.bounds(lo, hi);
+    float far = 0.0f;
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+      far = std::max(far, -(f.view * glm::vec4(corner, 1.0f)).z);
+    }
+    cs.zbinNear = f.camera.znear;
+    cs.zbinFar = std::max(far, 2.0f * f.camera.znear);
+  }
+  culling_ = std::make_unique<LightCulling>(f.ctx, cs, s.width, s.height, f.resources.requireBuffer(res::kFrameConstants),
+                                            f.resources.requireBuffer(res::kLights),
+                                            f.resources.requireImage(res::kDepth),
+                                            f.resources.sampler(res::kPointSampler));
+  f.constants.lists = culling_->listConstants();
+  f.constants.zbins = culling_->zbinConstants();
+  const CullingOutputs o = culling_->outputs();
+  const std::string tiles = std::to_string(o.tilesX) + " x " + std::to_string(o.tilesY) + " tiles";
+  f.resources.publish(res::kListLights, *o.lights, "gpu::GpuLight", std::to_string(lightCount) + " lights");
+  f.resources.publish(res::kListGrid, *o.grid, "u32 x 4 per tile (offset, count, total, -)", tiles);
+  f.resources.publish(res::kListIndices, *o.indices,
+                      s.lightLists == LightLists::Tile ? "u32 light index per slot" : "u32 mask words per tile", tiles);
+
+  FramePass pass;
+  pass.name = kLightCullingPass;
+  pass.reads = {res::kFrameConstants, res::kLights, res::kDepth};
+  pass.writes = {res::kListLights, res::kListGrid, res::kListIndices};
+  pass.record = [this, lightCount](VkCommandBuffer cmd, const PassFrame&) { culling_->recordCulling(cmd, lightCount); };
+  pass.after = [](VkCommandBuffer cmd) {
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  };
+  passes_.push_back(std::move(pass));
+}
+
+void LightListsPart::recordOnce(VkCommandBuffer cmd) const { culling_->recordFrustums(cmd); }
+
+// --- shading ------------------------------------------------------------------------------------
+
+ShadingPart::ShadingPart(FrameBuilder& f) {
+  const FrameResources& r = f.resources;
+  const RenderSettings& s = f.settings;
+  const bool lists = r.has(res::kListGrid);
+  ShadingInputs in{&r.requireBuffer(res::kFrameConstants),
+                   lists ? &r.requireBuffer(res::kListLights) : &r.requireBuffer(res::kLights),
+                   r.buffer(res::kListGrid),
+                   r.buffer(res::kListIndices),
+                   r.buffer(res::kShadowVisibility),
+                   &r.requireImage(res::kDepth),
+                   s.tileSize,
+                   lists ? f.constants.lists.x : gpu::kListTile,
+                   r.buffer(res::kVisibility),
+                   s.raster3dShadingDepthTest,
+                   s.shading == ShadingMethod::Visbuffer,
+                   r.buffer(res::kVisibilityRays),
+                   r.buffer(res::kAmbientOcclusion),
+                   r.image(res::kIndirectIrradiance)};
+  shading_ = std::make_unique<ShadingPass>(f.ctx, f.gpuScene, s.width, s.height, in);
+  f.resources.publish(res::kColor, shading_->color(), "");
+  f.resources.publish(res::kRefNormals, shading_->refNormals(), "");
+
+  FramePass pass;
+  pass.name = kShadingPass;
+  pass.reads = {res::kFrameConstants, res::kDepth, res::kSceneVertices, res::kSceneIndices};
+  for (const char* optional : {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility,
+                               res::kVisibility, res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance})
+    if (r.has(optional)) pass.reads.push_back(optional);
+  if (!lists) pass.reads.push_back(res::kLights);
+  pass.writes = {res::kColor, res::kRefNormals};
+  const glm::mat4 viewProj = f.proj * f.view;
+  pass.record = [this, viewProj](VkCommandBuffer cmd, const PassFrame& frame) {
+    shading_->record(cmd, viewProj, frame.analysis);
+  };
+  pass.after = [](VkCommandBuffer cmd) {
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  };
+  passes_.push_back(std::move(pass));
+}
+
+}  // namespace hb

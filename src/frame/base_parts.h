@@ -1,0 +1,57 @@
+// The base frame's parts, which every frame has whatever effects run (docs/frame.md "The frame"):
+//   primary visibility  the hardware depth prepass, or raster3d / raycast in compute
+//                       (frame/passes/raster3d.h), writing "depth" (and "visibility");
+//   light lists         tile frustums once, then light culling every frame, when some light can
+//                       be culled into tiles;
+//   shading             direct light through the lists, composed with what the effects before it
+//                       published (shadow visibility, ambient occlusion, indirect irradiance).
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "frame/frame_builder.h"
+#include "frame/frame_pass.h"
+#include "frame/passes/depth_prepass.h"
+#include "frame/passes/light_culling.h"
+#include "frame/passes/raster3d.h"
+#include "frame/passes/shading.h"
+
+namespace hb {
+
+// What effects publish for shading to compose (each optional).
+namespace res {
+inline constexpr const char* kShadowVisibility = "shadows.visibility";  // words per pixel: lights visible
+inline constexpr const char* kAmbientOcclusion = "ambient_occlusion";   // float per pixel
+inline constexpr const char* kIndirectIrradiance = "indirect.irradiance";  // RGBA32F, W/m²
+}  // namespace res
+
+class PrimaryPart : public FramePart {
+ public:
+  explicit PrimaryPart(FrameBuilder& frame);
+  const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr, 3dr-binned, 2dr, raycast
+
+ private:
+  std::unique_ptr<DepthPrepass> prepass_;
+  std::unique_ptr<Raster3dPass> raster3d_;
+};
+
+class LightListsPart : public FramePart {
+ public:
+  explicit LightListsPart(FrameBuilder& frame);
+  void recordOnce(VkCommandBuffer cmd) const override;  // the tile frustums
+  const LightCulling& culling() const { return *culling_; }
+
+ private:
+  std::unique_ptr<LightCulling> culling_;
+};
+
+class ShadingPart : public FramePart {
+ public:
+  explicit ShadingPart(FrameBuilder& frame);
+  const ShadingPass& shading() const { return *shading_; }
+
+ private:
+  std::unique_ptr<ShadingPass> shading_;
+};
+
+}  // namespace hb

@@ -1,0 +1,77 @@
+// What a part of the frame is built from (effects/effect.h EffectDef::build): the device, the
+// scene, the settings and plan, the view, and the frame's resources so far. Parts are built in
+// frame order, so a part finds what earlier parts published (resources.buffer("light_lists.grid"))
+// and publishes what it writes for the parts after it.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <glm/glm.hpp>
+
+#include "effects/effects.h"
+#include "frame/frame_pass.h"
+#include "frame/render_settings.h"
+#include "gpu/gpu_scene.h"
+#include "gpu/vk_context.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+// The names of the resources the base frame publishes (the parts publish their own).
+namespace res {
+inline constexpr const char* kSceneVertices = "scene.vertices";    // gpu_scene.h
+inline constexpr const char* kSceneIndices = "scene.indices";
+inline constexpr const char* kFrameConstants = "frame_constants";  // gpu::FrameConstants (UBO)
+inline constexpr const char* kLights = "lights";                   // gpu::GpuLight per scene light
+inline constexpr const char* kDepth = "depth";                     // reverse-Z depth, D32_SFLOAT
+inline constexpr const char* kPointSampler = "point_sampler";
+inline constexpr const char* kTlas = "tlas";                       // the ray tracer's scene
+// Primary visibility by compute (raster3d / raycast): a visibility buffer and what decodes it.
+inline constexpr const char* kVisibility = "visibility";                  // u64 per pixel: depth | triangle id
+inline constexpr const char* kVisibilityRays = "visibility.rays";         // gpu::Raster3dConstants (UBO)
+inline constexpr const char* kVisibilityTriangles = "visibility.triangles";  // 3 vec4 per triangle, world
+// Light lists (light culling).
+inline constexpr const char* kListLights = "light_lists.lights";    // the lights as the lists index them
+inline constexpr const char* kListGrid = "light_lists.grid";        // u32 x 4 per tile
+inline constexpr const char* kListIndices = "light_lists.indices";  // indices or bit masks (+ z-bins)
+// Shading.
+inline constexpr const char* kColor = "color";                      // linear HDR, RGBA16F
+inline constexpr const char* kRefNormals = "reference_normals";     // analysis: true face normals
+}  // namespace res
+
+struct FrameBuilder {
+  const VulkanContext& ctx;
+  const Scene& scene;
+  const RenderSettings& settings;
+  const FramePlan& plan;
+  const Camera& camera;
+  glm::mat4 view, proj;
+  const GpuScene& gpuScene;
+  FrameResources& resources;
+  // The frame's constants, uploaded once every part is built: a part may set its fields
+  // (light culling its list layout, ambient occlusion the ambient term).
+  gpu::FrameConstants& constants;
+  // The value of the effect being built, after precedence (null for a base part).
+  nlohmann::json value;
+};
+
+}  // namespace hb
+
+namespace hb {
+
+// The surface a per-pixel effect starts from, as the shadow pass takes it (shaders/surface.glsl.inc):
+// 3D rasterization's visibility buffer, rays and world triangles (null after the hardware
+// prepass), and which positions and normals to use.
+struct SurfaceInputs {
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
+  WorldPosMethod worldPos = WorldPosMethod::Alg41;
+  // An effect without an "off" for normals (ambient occlusion, indirect light): the triangle's
+  // own where the primary gives ids, else the improved reconstruction.
+  NormalCulling normals = NormalCulling::Improved;
+};
+// Throws InputError when world_pos=hit asks for ids this frame's primary visibility does not give.
+SurfaceInputs surfaceInputs(const FrameBuilder& frame);
+
+}  // namespace hb

@@ -1,0 +1,96 @@
+// A pass declares what it reads and writes (named frame resources, with their formats and sizes),
+// the timer entries it records, and how it records its commands; the Renderer builds, checks,
+// orders and times the frame from these declarations alone (docs/frame.md "Passes declare").
+//
+// A FramePart is what one effect, or one part of the base frame (primary visibility, light lists,
+// shading), builds: the GPU state it owns and its passes. It publishes what it writes into the
+// frame's FrameResources under the declared names; a later part finds its inputs there by name.
+#pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include <nlohmann/json.hpp>
+
+namespace hb {
+
+class Buffer;
+class Image;
+class GpuTimer;
+
+// What a recording pass may need from the frame.
+struct PassFrame {
+  bool analysis = false;      // an analysis frame (counters, readback images); never timed in a sweep
+  GpuTimer* timer = nullptr;  // for sub-passes (FramePass::subPasses); open: the pass's own interval
+};
+
+struct FramePass {
+  std::string name;                    // the plan's name of the pass and its timer entry
+  std::vector<std::string> reads;      // frame resources it reads (FrameResources names)
+  std::vector<std::string> writes;     // frame resources it writes
+  std::vector<std::string> subPasses;  // timer entries it records inside its own ("raster3d.tiles")
+  // Outside the timed interval: before it (layout transitions) and after it (the barrier that
+  // makes its writes visible to the passes after it). Either may be empty.
+  std::function<void(VkCommandBuffer)> before;
+  std::function<void(VkCommandBuffer, const PassFrame&)> record;
+  std::function<void(VkCommandBuffer)> after;
+};
+
+// A named resource of the frame: who owns it (a part, or the Renderer), its format and size in
+// words a reader can check, and the object itself.
+struct NamedResource {
+  std::string name;
+  std::string format;  // "D32_SFLOAT", "RGBA32F", "u32 x 4 per tile", ...
+  std::string size;    // "1920 x 1080", "8160 tiles", ...
+  uint64_t bytes = 0;
+  const Buffer* buffer = nullptr;
+  const Image* image = nullptr;
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+};
+
+class FrameResources {
+ public:
+  // Publishes a resource under `name` (a name is published once: HB_ASSERT).
+  void publish(const std::string& name, const Buffer& buffer, std::string format, std::string size);
+  void publish(const std::string& name, const Image& image, std::string format);
+  void publishTlas(const std::string& name, VkAccelerationStructureKHR tlas, uint64_t bytes);
+  void publishSampler(const std::string& name, VkSampler sampler);
+
+  bool has(std::string_view name) const { return find(name) != nullptr; }
+  // The resource, or null when no part of this frame publishes it (an optional input).
+  const Buffer* buffer(std::string_view name) const;
+  const Image* image(std::string_view name) const;
+  VkAccelerationStructureKHR tlas(std::string_view name) const;
+  VkSampler sampler(std::string_view name) const;
+  // The resource; HB_ASSERT that it is published (a required input).
+  const Buffer& requireBuffer(std::string_view name) const;
+  const Image& requireImage(std::string_view name) const;
+
+  // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400}, ...}
+  nlohmann::json toJson() const;
+
+ private:
+  const NamedResource* find(std::string_view name) const;
+  std::vector<NamedResource> resources_;
+};
+
+// What an effect or a base part builds. Derived classes own the GPU state and fill passes_ in
+// frame order with the passes of this frame (those the plan runs).
+class FramePart {
+ public:
+  virtual ~FramePart() = default;
+  const std::vector<FramePass>& passes() const { return passes_; }
+  // Work recorded once, before the first frame's timed passes (the tile frustums, say).
+  virtual void recordOnce(VkCommandBuffer /*cmd*/) const {}
+
+ protected:
+  std::vector<FramePass> passes_;
+};
+
+}  // namespace hb

@@ -1,0 +1,86 @@
+#include <vulkan/vulkan.hpp>                // vk::to_string: a format's name
+#include <vulkan/vulkan_format_traits.hpp>  // vk::blockSize: its texel size
+
+#include "base/errors.h"
+#include "frame/frame_pass.h"
+#include "gpu/vk_resources.h"
+
+namespace hb {
+
+const NamedResource* FrameResources::find(std::string_view name) const {
+  for (const NamedResource& r : resources_)
+    if (r.name == name) return &r;
+  return nullptr;
+}
+
+static void addOnce(std::vector<NamedResource>& resources, NamedResource r) {
+  for (const NamedResource& other : resources) HB_ASSERT(other.name != r.name);  // published twice
+  resources.push_back(std::move(r));
+}
+
+void FrameResources::publish(const std::string& name, const Buffer& buffer, std::string format, std::string size) {
+  addOnce(resources_, {name, std::move(format), std::move(size), uint64_t(buffer.size()), &buffer});
+}
+
+void FrameResources::publish(const std::string& name, const Image& image, std::string format) {
+  const vk::Format f = static_cast<vk::Format>(image.format());
+  if (format.empty()) format = vk::to_string(f);
+  const uint64_t bytes = uint64_t(image.width()) * image.height() * vk::blockSize(f);
+  addOnce(resources_, {name, std::move(format), std::to_string(image.width()) + " x " + std::to_string(image.height()),
+                       bytes, nullptr, &image});
+}
+
+void FrameResources::publishTlas(const std::string& name, VkAccelerationStructureKHR tlas, uint64_t bytes) {
+  NamedResource r{name, "acceleration structure", "the scene's meshes", bytes};
+  r.tlas = tlas;
+  addOnce(resources_, std::move(r));
+}
+
+void FrameResources::publishSampler(const std::string& name, VkSampler sampler) {
+  NamedResource r{name, "sampler", "", 0};
+  r.sampler = sampler;
+  addOnce(resources_, std::move(r));
+}
+
+const Buffer* FrameResources::buffer(std::string_view name) const {
+  const NamedResource* r = find(name);
+  return r ? r->buffer : nullptr;
+}
+
+const Image* FrameResources::image(std::string_view name) const {
+  const NamedResource* r = find(name);
+  return r ? r->image : nullptr;
+}
+
+VkAccelerationStructureKHR FrameResources::tlas(std::string_view name) const {
+  const NamedResource* r = find(name);
+  return r ? r->tlas : VK_NULL_HANDLE;
+}
+
+VkSampler FrameResources::sampler(std::string_view name) const {
+  const NamedResource* r = find(name);
+  return r ? r->sampler : VK_NULL_HANDLE;
+}
+
+const Buffer& FrameResources::requireBuffer(std::string_view name) const {
+  const Buffer* b = buffer(name);
+  HB_ASSERT(b != nullptr);  // a pass reads a resource no earlier part published
+  return *b;
+}
+
+const Image& FrameResources::requireImage(std::string_view name) const {
+  const Image* i = image(name);
+  HB_ASSERT(i != nullptr);
+  return *i;
+}
+
+nlohmann::json FrameResources::toJson() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const NamedResource& r : resources_) {
+    if (r.sampler != VK_NULL_HANDLE) continue;  // not memory
+    j[r.name] = {{"format", r.format}, {"size", r.size}, {"bytes", r.bytes}};
+  }
+  return j;
+}
+
+}  // namespace hb

@@ -1,0 +1,331 @@
+#include "frame/passes/raster3d.h"
+
+#include <cmath>
+#include <cstring>
+#include <algorithm>
+#include <tuple>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "base/errors.h"
+#include "frame/render_settings.h"
+#include "gpu/gpu_scene.h"
+
+namespace hb {
+
+gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height,
+                                         uint32_t triangleCount, uint32_t smallArea) {
+  const glm::dmat4 viewInv = glm::inverse(glm::dmat4(camera.view));
+  const glm::dvec3 right(viewInv[0]), up(viewInv[1]), back(viewInv[2]), eye(viewInv[3]);
+  const glm::dvec3 forward = -back;
+  const double w = width, h = height, a = w / h, tanHalf = std::tan(double(camera.yfov) * 0.5);
+  // Pixel (x, y) centre in NDC: (2(x + 0.5)/W − 1, 2(y + 0.5)/H − 1), Vulkan y down; view-space
+  // direction (ndc.x·a·tan, −ndc.y·tan, −1), as reverseZProjection maps it (camera.h).
+  const glm::dvec3 d0 = forward + right * ((-1.0 + 1.0 / w) * a * tanHalf) + up * ((1.0 - 1.0 / h) * tanHalf);
+  const glm::dvec3 dx = right * (2.0 * a * tanHalf / w);
+  const glm::dvec3 dy = -up * (2.0 * tanHalf / h);
+  const double zn = camera.znear, zf = camera.zfar;
+  gpu::Raster3dConstants c{};
+  c.rayD0 = glm::vec4(glm::vec3(d0), 0.0f);
+  c.rayDx = glm::vec4(glm::vec3(dx), 0.0f);
+  c.rayDy = glm::vec4(glm::vec3(dy), 0.0f);
+  c.eye = glm::vec4(glm::vec3(eye), 1.0f);
+  c.forward = glm::vec4(glm::vec3(forward), 0.0f);
+  c.right = glm::vec4(glm::vec3(right), 0.0f);
+  c.up = glm::vec4(glm::vec3(up), 0.0f);
+  // C and D as camera.cpp computes them in float for the hardware path's projection.
+  const float fzn = camera.znear, fzf = camera.zfar;
+  c.depth = glm::vec4(float(zn), float(zf), fzn / (fzf - fzn), fzf * fzn / (fzf - fzn));
+  c.project = glm::vec4(float(w / (2.0 * a * tanHalf)), float(h / (2.0 * tanHalf)), float(w / 2.0 - 0.5),
+                        float(h / 2.0 - 0.5));
+  c.width = width;
+  c.height = height;
+  c.triangleCount = triangleCount;
+  c.smallArea = smallArea;
+  // Work items of big boxes: 64 per 8x8 tile of the screen (boxes overlap: the atrium at 1080p
+  // needs about 40 with 8,118,546 covered pairs in 44.6 M box pixels, H100 run at 9c6b312). A
+  // full list is handled, not dropped (raster3d.comp.glsl), and counted (tile_list_overflows).
+  c.itemCapacity = 64u * ((width + 7) / 8) * ((height + 7) / 8);
+  c.tileWorkgroups = 4096;
+  c.projection = uint32_t(camera.projection);
+  static_assert(uint32_t(CameraProjection::Latlong) == gpu::kProjectionLatlong);
+  switch (camera.projection) {
+    case CameraProjection::Perspective: break;
+    case CameraProjection::Orthographic: {
+      // Parallel rays along forward from the view plane through the eye: pixel (x, y)'s centre at
+      // NDC (2(x + 0.5)/W − 1, 2(y + 0.5)/H − 1) starts at eye + ndc.x·xmag·right − ndc.y·ymag·up.
+      const double xm = camera.xmag, ym = camera.ymag;
+      c.rayD0 = glm::vec4(glm::vec3(forward), 0.0f);
+      c.rayDx = c.rayDy = glm::vec4(0.0f);
+      c.origin0 = glm::vec4(glm::vec3(right * ((-1.0 + 1.0 / w) * xm) + up * ((1.0 - 1.0 / h) * ym)), 0.0f);
+      c.originX = glm::vec4(glm::vec3(right * (2.0 * xm / w)), 0.0f);
+      c.originY = glm::vec4(glm::vec3(-up * (2.0 * ym / h)), 0.0f);
+      c.project = glm::vec4(float(w / (2.0 * xm)), float(h / (2.0 * ym)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
+      // The orthographic matrix's C and D, as camera.cpp computes them in float: depth = D − C·t.
+      c.depth.z = 1.0f / (fzf - fzn);
+      c.depth.w = fzf / (fzf - fzn);
+      break;
+    }
+    case CameraProjection::Paraboloid: {
+      // The hemisphere around forward in the largest centred disk (camera_ray.glsl.inc).
+      const double radius = 0.5 * double(std::min(width, height));
+      c.view = glm::vec4(float(w / 2.0 - 0.5), float(h / 2.0 - 0.5), float(1.0 / radius), float(radius));
+      break;
+    }
+    case CameraProjection::Latlong: {
+      const double pi = 3.14159265358979323846;
+      c.view = glm::vec4(float(2.0 * pi / w), float(pi / h), 0.0f, 0.0f);
+      break;
+    }
+  }
+  return c;
+}
+
+
+namespace {
+std::vector<Binding> storageBindings(uint32_t count, VkShaderStageFlags stages) {
+  std::vector<Binding> b{{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  for (uint32_t i = 1; i < count; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  return b;
+}
+std::vector<Binding> castBindings(VkShaderStageFlags stages) {
+  std::vector<Binding> b = storageBindings(6, stages);
+  b[3] = {3, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  return b;
+}
+std::vector<glm::vec4> packTriangles(const Scene& scene) {
+  std::vector<glm::vec4> out;
+  for (const glm::vec3& v : scene.worldTriangles()) out.emplace_back(v, 1.0f);
+  return out;
+}
+const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
+}  // namespace
+
+Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
+                           uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
+                           const RayCastInputs& rayCast)
+    : ctx_(ctx),
+      mode_(mode),
+      width_(width),
+      height_(height),
+      triangleCount_(uint32_t(scene.triangleCount())),
+      rasterSets_(ctx, storageBindings(9, VK_SHADER_STAGE_COMPUTE_BIT)),
+      resolveSets_(ctx, storageBindings(3, VK_SHADER_STAGE_COMPUTE_BIT)),
+      resolve_(ctx) {
+  if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
+    throw DeviceError("device \"" + ctx.info().name +
+                      "\" lacks 64-bit buffer atomics or shaderFloat64, which primary=" +
+                      std::string(mode == PrimaryMethod::RayCast ? "raycast" : "3dr") + " needs; use primary=hardware");
+  const size_t pixels = size_t(width) * height;
+  const gpu::Raster3dConstants c = raster3dConstants(camera, width, height, triangleCount_, smallArea);
+  constants_ = Buffer(ctx, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
+  std::memcpy(constants_.mapped(), &c, sizeof c);
+  const std::vector<glm::vec4> tris = packTriangles(scene);
+  triangles_ = uploadBuffer(ctx, tris.data(), std::max<size_t>(1, tris.size()) * sizeof(glm::vec4),
+                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  const VkBufferUsageFlags rw =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  vis_ = Buffer(ctx, pixels * sizeof(uint64_t), rw, false, MemClass::Images);
+  counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
+  coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
+  tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
+  depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
+  resolveSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+  resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+  resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
+  resolve_.createLayout({resolveSets_.layout()}, 0);
+  resolve_.createCompute("raster3d_resolve.comp");
+
+  if (mode == PrimaryMethod::RayCast) {
+    HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE);
+    const std::vector<uint32_t> idBase = triangleIdBase(scene);
+    idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                           MemClass::Other);
+    const VkShaderStageFlags stages = rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                                                       : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
+                                                                            VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
+    castSets_->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+    castSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+    castSets_->writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
+    castSets_->writeAccelerationStructure(0, 3, rayCast.tlas);
+    castSets_->writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+    castSets_->writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
+    if (rayCast.rayQuery) {
+      castTimed_ = std::make_unique<Pipeline>(ctx);
+      castAnalysis_ = std::make_unique<Pipeline>(ctx);
+      for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
+        p->createLayout({castSets_->layout()}, 0);
+        p->createCompute("primary_raycast.comp", {{analysis}});
+      }
+    } else {
+      castRtTimed_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                                          "primary_raycast.rmiss", SpecConstants{{0u}},
+                                                          "primary_raycast.rchit");
+      castRtAnalysis_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                                             "primary_raycast.rmiss", SpecConstants{{1u}},
+                                                             "primary_raycast.rchit");
+    }
+    return;
+  }
+
+  tileWorkgroups_ = c.tileWorkgroups;
+  screenTiles_ = ((width + 7) / 8) * ((height + 7) / 8);
+  big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  const bool binned = mode == PrimaryMethod::Raster3dBinned;
+  bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
+  binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
+  const Buffer* bufs[] = {&constants_, &triangles_, &vis_, &big_, &counters_, &coverage_, &tested_, &bins_, &binList_};
+  for (uint32_t b = 0; b < 9; ++b)
+    rasterSets_.writeBuffer(0, b, b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                            bufs[b]->handle());
+  // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
+  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
+  const std::vector<std::pair<const char*, uint32_t>> stages =
+      binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 3},
+                                                             {"raster3d_scan.comp", 2}, {"raster3d.comp", 4},
+                                                             {"raster3d_tiles.comp", 1}}
+             : std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 1}};
+  for (const auto& [shader, pass] : stages)
+    for (uint32_t analysis = 0; analysis < 2; ++analysis) {
+      auto p = std::make_unique<Pipeline>(ctx);
+      p->createLayout({rasterSets_.layout()}, 0);
+      p->createCompute(shader, {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
+                                 mode == PrimaryMethod::Raster2d ? 1u : 0u, c.projection}});
+      (analysis ? analysis_ : timed_).push_back(std::move(p));
+    }
+}
+
+Raster3dPass::~Raster3dPass() = default;
+
+std::vector<std::string> Raster3dPass::subPasses() const {
+  const std::string pass = subPassName(mode_);
+  std::vector<std::string> names;
+  if (mode_ == PrimaryMethod::Raster3dBinned)
+    for (const char* s : {"triangles", "count", "scan", "fill", "tiles"}) names.push_back(pass + "." + s);
+  else if (mode_ != PrimaryMethod::RayCast)
+    for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
+  names.push_back(pass + ".resolve");
+  return names;
+}
+
+void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const {
+  VkDescriptorSet set = rasterSets_.set();
+  const bool binned = mode_ == PrimaryMethod::Raster3dBinned;
+  auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
+    if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + "." + name);
+    const Pipeline& p = *(analysis ? analysis_ : timed_)[pass];
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, groups, 1, 1);
+    if (timer) timer->end(cmd);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  };
+  const uint32_t triangleGroups = (triangleCount_ + 63) / 64;
+  dispatch(0, triangleGroups, "triangles");
+  if (binned) {
+    dispatch(1, tileWorkgroups_, "count");
+    dispatch(2, 1, "scan");
+    dispatch(3, tileWorkgroups_, "fill");
+    dispatch(4, screenTiles_, "tiles");
+  } else {
+    dispatch(1, tileWorkgroups_, "tiles");
+  }
+}
+
+void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
+  VkDescriptorSet set = castSets_->set();
+  if (castTimed_) {
+    const Pipeline& p = analysis ? *castAnalysis_ : *castTimed_;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  } else {
+    const RaygenMissPipeline& p = analysis ? *castRtAnalysis_ : *castRtTimed_;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0,
+                            nullptr);
+    p.traceRays(cmd, width_, height_);
+  }
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
+}
+
+void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer) const {
+  const bool cast = mode_ == PrimaryMethod::RayCast;
+  if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
+  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);  // the item count
+  if (mode_ == PrimaryMethod::Raster3dBinned) vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
+  if (analysis) {
+    vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, tested_.handle(), 0, VK_WHOLE_SIZE, 0);
+  }
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  if (cast)
+    recordRayCast(cmd, analysis);
+  else
+    recordRaster(cmd, analysis, timer);
+  if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
+  VkDescriptorSet rset = resolveSets_.set();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
+  vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+               VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+  region.imageExtent = {width_, height_, 1};
+  vkCmdCopyBufferToImage(cmd, depthStaging_.handle(), depth.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  if (timer) timer->end(cmd);
+  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+               VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
+                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
+                   VK_PIPELINE_STAGE_2_COPY_BIT,
+               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+                   VK_ACCESS_2_TRANSFER_READ_BIT);
+  // The visibility buffer is read by the shading pass (fragment shader) and by readbacks.
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                VK_ACCESS_2_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
+                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
+template <typename T>
+static std::vector<T> readAs(const VulkanContext& ctx, const Buffer& b) {
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx, b);
+  std::vector<T> out(bytes.size() / sizeof(T));
+  std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+  return out;
+}
+
+std::vector<uint64_t> Raster3dPass::readVisibility() const { return readAs<uint64_t>(ctx_, vis_); }
+std::vector<uint32_t> Raster3dPass::readCoverage() const { return readAs<uint32_t>(ctx_, coverage_); }
+std::vector<uint32_t> Raster3dPass::readPixelTests() const { return readAs<uint32_t>(ctx_, tested_); }
+
+Raster3dCounters Raster3dPass::readCounters() const {
+  const std::vector<uint64_t> c = readAs<uint64_t>(ctx_, counters_);
+  Raster3dCounters r;
+  r.setups = c[gpu::kR3dCounterSetups];
+  r.edgeEvaluations = c[gpu::kR3dCounterEdgeEvals];
+  r.fallbacks = c[gpu::kR3dCounterFallbacks];
+  r.pixelsTested = c[gpu::kR3dCounterPixelsTested];
+  r.covered = c[gpu::kR3dCounterCovered];
+  r.atomics = c[gpu::kR3dCounterAtomics];
+  r.bigTriangles = c[gpu::kR3dCounterBig];
+  r.listOverflows = c[gpu::kR3dCounterOverflow];
+  r.listEntries = c[gpu::kR3dCounterListEntries];
+  r.binsRefined = c[gpu::kR3dCounterBinsRefined];
+  r.binsEmpty = c[gpu::kR3dCounterBinsEmpty];
+  return r;
+}
+
+}  // namespace hb

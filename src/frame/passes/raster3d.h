@@ -1,0 +1,100 @@
+// Primary visibility in compute, the methods of the paper's continuum (Davidovic et al. 2012) other
+// than the hardware prepass: per pixel the nearest triangle (id) and its view depth t, in a 64-bit
+// visibility buffer (t bits << 32 | id), then its reverse-Z depth copied into the frame's depth
+// image, so every later pass reads depth as after the hardware prepass.
+//  - "3dr" (raster3d.comp.glsl, raster3d.glsl.inc): brute force over each triangle's screen box:
+//    boxes of at most smallArea pixels are rasterized by one thread, larger ones cut into 8x8 tiles
+//    that a second dispatch rasterizes a pixel per thread (atomicMin per covered pixel).
+//  - "3dr-binned": big boxes binned into the screen's 8x8 tiles (count, scan, fill, a thread per
+//    (triangle, tile) item: only tiles the triangle can touch), then one workgroup per screen tile;
+//    the result equals "3dr" bit for bit.
+//  - "2dr": the paper's baseline, 2D homogeneous edge functions, otherwise as "3dr".
+//  - "raycast" (primary_raycast.*): a ray per pixel along the same camera rays, nearest hit on the
+//    frame's TLAS, through ray query where the device has it, else the ray-tracing pipeline.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "config/config.h"
+#include "gpu/gpu_timer.h"
+#include "gpu/rt_pipeline.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu/vk_resources.h"
+#include "scene/scene.h"
+#include "shared/gpu_types.h"
+
+namespace hb {
+
+// The rays of the camera through pixel centres, as the 3DR shader and its CPU reference use them
+// (computed in double, rounded once). Perspective: d(x, y) = d0 + x·dx + y·dy, forward component
+// 1; the other projections: camera_ray.glsl.inc.
+gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height,
+                                         uint32_t triangleCount, uint32_t smallArea);
+
+struct Raster3dCounters {
+  uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0,
+           bigTriangles = 0, listOverflows = 0, listEntries = 0,
+           binsRefined = 0, binsEmpty = 0;  // binned: (triangle, tile) entries tested, of those covering nothing
+};
+
+
+// What ray casting needs: the TLAS and the device's way to trace.
+struct RayCastInputs {
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  bool rayQuery = true;  // false: the ray-tracing pipeline
+};
+
+class Raster3dPass {
+ public:
+  static constexpr uint32_t kDefaultSmallArea = 64;
+
+  // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError);
+  // RayCast: rayCast.tlas is set. fp64Fallback false only measures what the fallback prevents
+  // (holes, double covers).
+  Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
+               PrimaryMethod mode = PrimaryMethod::Raster3d, uint32_t smallArea = kDefaultSmallArea,
+               bool fp64Fallback = true, const RayCastInputs& rayCast = {});
+  ~Raster3dPass();
+
+  // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
+  // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
+  // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".count", ".scan", ".fill",
+  // ".tiles", ".resolve").
+  void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
+  PrimaryMethod mode() const { return mode_; }
+  // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
+  std::vector<std::string> subPasses() const;
+
+  const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
+  const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
+  const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
+  uint32_t triangleCount() const { return triangleCount_; }
+
+  // Readbacks (after an analysis frame).
+  std::vector<uint64_t> readVisibility() const;
+  std::vector<uint32_t> readCoverage() const;  // (triangle, pixel) pairs covered, per pixel
+  std::vector<uint32_t> readPixelTests() const;  // triangles tested at each pixel (3 edge evaluations each)
+  Raster3dCounters readCounters() const;
+
+ private:
+  void recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const;
+  void recordRayCast(VkCommandBuffer cmd, bool analysis) const;
+
+  const VulkanContext& ctx_;
+  PrimaryMethod mode_;
+  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0;
+  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_;
+  DescriptorSets rasterSets_, resolveSets_;
+  // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
+  // and an analysis pipeline.
+  std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
+  Pipeline resolve_;
+  std::unique_ptr<DescriptorSets> castSets_;
+  std::unique_ptr<Pipeline> castTimed_, castAnalysis_;  // ray query
+  std::unique_ptr<RaygenMissPipeline> castRtTimed_, castRtAnalysis_;  // ray-tracing pipeline
+};
+
+}  // namespace hb

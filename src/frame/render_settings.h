@@ -1,0 +1,45 @@
+// What a frame is rendered with: the variant's settings as the frame takes them (the config's own
+// enums, app/scene_setup.h renderSettingsFor) plus the effects asked for above the scene.
+#pragma once
+#include <cstdint>
+#include <optional>
+
+#include "config/config.h"
+#include "effects/effects.h"
+#include "scene/scene.h"
+
+namespace hb {
+
+struct RenderSettings {
+  uint32_t width = 1920;
+  uint32_t height = 1080;
+  uint32_t cameraIndex = 0;
+  // The view's projection instead of the camera's own (config "projection"); empty: the camera's.
+  std::optional<CameraProjection> projection;
+  uint32_t tileSize = 16;
+  bool lightCulling = true;
+  bool aabb = false;
+  // The effects asked for above the scene's own (config, --set); the frame is planned from them
+  // and the scene (effects/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
+  EffectsRequest effects;
+  RtBackend backend = RtBackend::Auto;
+  NormalCulling normals = NormalCulling::Off;
+  WorldPosMethod worldPos = WorldPosMethod::Alg41;
+  bool rangeTest = false;
+  uint32_t depthSlices = 0;                  // 0 off, 2..32: 2.5D slab test in light culling
+  LightLists lightLists = LightLists::Tile;  // tile (capped at 32, the thesis) | bitmask | zbin
+  ShadowTMin tMin = ShadowTMin::Constant;    // scaled: max(kShadowTMin, kShadowTMinPerMetre·dist)
+  PrimaryMethod primary = PrimaryMethod::Hardware;
+  bool fp64Fallback = true;                  // raster3d: false only to measure what the fallback prevents
+  uint32_t raster3dThreadBox = 64;           // raster3d: the largest box one thread rasterizes
+  ShadingMethod shading = ShadingMethod::Forward;  // visbuffer: in compute from the visibility buffer
+  bool raster3dShadingDepthTest = true;      // raster3d: early depth test before the id test (false: check only)
+};
+
+// The pass that computes primary visibility for a method (effects.h kDepthPrepassPass, ...).
+inline const char* primaryPassOf(PrimaryMethod method) {
+  if (method == PrimaryMethod::Hardware) return kDepthPrepassPass;
+  return method == PrimaryMethod::RayCast ? kRayCastPass : kRaster3dPass;
+}
+
+}  // namespace hb

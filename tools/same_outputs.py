@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Compares two sweep output folders of the same config (A before a change, B after it) on what a
+refactor must keep: every results.json field that is not a time (counts, accuracy, settings,
+passes run and skipped), and every image's pixels (PNG image data, ignoring the text chunks that
+name the build). Prints a Markdown report; exit 1 when anything differs.
+
+usage: tools/same_outputs.py A_DIR B_DIR"""
+import json
+import os
+import struct
+import sys
+import zlib
+
+# Keys that are times or describe the machine's timing, not what was computed.
+TIMING = {"frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms",
+          "warmup_frames"}
+
+
+def diff(a, b, path, out, added):
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b)):
+            if k in TIMING:
+                continue
+            if k not in a:
+                added.add(path.split("/", 1)[-1] + "/" + k if "/" in path else k)
+            elif k not in b:
+                out.append(f"{path}/{k}: removed")
+            else:
+                diff(a[k], b[k], f"{path}/{k}", out, added)
+    elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b)):
+            diff(x, y, f"{path}[{i}]", out, added)
+    elif a != b:
+        out.append(f"{path}: {json.dumps(a)[:80]} -> {json.dumps(b)[:80]}")
+
+
+def png_pixels(path):
+    data = open(path, "rb").read()
+    pos, idat, header = 8, b"", b""
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = body
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    return header + zlib.decompress(idat)
+
+
+def main():
+    if len(sys.argv) != 3:
+        print(__doc__.splitlines()[-1], file=sys.stderr)
+        return 2
+    a_dir, b_dir = sys.argv[1:]
+    a = json.load(open(os.path.join(a_dir, "results.json")))
+    b = json.load(open(os.path.join(b_dir, "results.json")))
+    problems, added = [], set()
+    if len(a["runs"]) != len(b["runs"]):
+        problems.append(f"runs: {len(a['runs'])} -> {len(b['runs'])}")
+    print(f"# Same outputs: {a_dir} against {b_dir}\n")
+    print(f"A: git {a['context'].get('git', {}).get('revision', a['context'].get('git_revision', '?'))}, "
+          f"B: git {b['context'].get('git', {}).get('revision', b['context'].get('git_revision', '?'))}; "
+          f"device {b['context'].get('device', {}).get('name', '?')}\n")
+    print("Every field but times (" + ", ".join(sorted(TIMING)) + "), run by run:\n")
+    print("| run | differing fields |")
+    print("|---|---:|")
+    for ra, rb in zip(a["runs"], b["runs"]):
+        out = []
+        diff(ra, rb, ra["name"], out, added)
+        problems += out
+        print(f"| {ra['name']} | {len(out)} |")
+    total_images, bad_images = 0, []
+    for sub in sorted(os.listdir(a_dir)):
+        pa, pb = os.path.join(a_dir, sub), os.path.join(b_dir, sub)
+        if not os.path.isdir(pa):
+            continue
+        for name in sorted(os.listdir(pa)):
+            if not name.endswith(".png"):
+                continue
+            total_images += 1
+            fb = os.path.join(pb, name)
+            if not os.path.exists(fb) or png_pixels(os.path.join(pa, name)) != png_pixels(fb):
+                bad_images.append(f"{sub}/{name}")
+    print(f"\nImages: {total_images} compared pixel for pixel, {len(bad_images)} differ.")
+    for name in bad_images:
+        print(f"- differs: {name}")
+    if added:
+        print("\nFields B has that A has not (new keys; not a change of what A computed): " +
+              ", ".join(sorted(added)))
+    for p in problems:
+        print(f"- {p}")
+    print("\nVerdict: " + ("SAME" if not problems and not bad_images else "DIFFERENT"))
+    return 0 if not problems and not bad_images else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
