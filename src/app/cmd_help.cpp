@@ -206,6 +206,17 @@ std::string text(const Table& t) {
   return s;
 }
 
+// Each effect's row, then what each of its settings accepts, under it.
+std::string effectsText() {
+  const Table t = effectsTable();
+  std::string s;
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    s += text(Table{t.header, {t.rows[i]}});
+    for (const auto& [name, accepts] : effectSettings(*allEffects()[i])) s += "      " + name + ": " + accepts + "\n";
+  }
+  return s;
+}
+
 nlohmann::ordered_json paramsJson() {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   const nlohmann::json defaults = toJson(VariantParams{});
@@ -256,7 +267,7 @@ std::string helpText(const std::string& topic, const std::string& format) {
   if (topic == "effects") {
     if (format == "json") return effectsJson().dump(2) + "\n";
     if (format == "md") return markdown(effectsTable()) + "\n" + markdown(effectSettingsTable());
-    return text(effectsTable()) + "\nSettings\n" + text(effectSettingsTable());
+    return effectsText();
   }
   throw InputError(topic.empty() ? "help: name a topic: hybridbench help params or hybridbench help effects"
                                  : "help: unknown topic \"" + topic + "\"; use params or effects");
