@@ -116,7 +116,9 @@ for doc in "${docs[@]}"; do
       broken=1
       continue
     fi
-    sed -n "$((start + 1)),$((end - 1))p" "$doc" >"$tmp/current"
+    : >"$tmp/current"
+    # (sed -n "4,3p" would print line 4: an empty section has no range)
+    if [ $((end - start)) -gt 1 ]; then sed -n "$((start + 1)),$((end - 1))p" "$doc" >"$tmp/current"; fi
     # Output without a final newline still ends its last line in the file.
     if [ -s "$tmp/section.$n" ] && [ -n "$(tail -c 1 "$tmp/section.$n")" ]; then echo >>"$tmp/section.$n"; fi
     if ! cmp -s "$tmp/current" "$tmp/section.$n"; then
