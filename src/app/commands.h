@@ -40,6 +40,12 @@ int cmdSceneInfo(const std::string& path, bool json);
 // directory.
 int cmdSceneList(const std::string& dir, bool json);
 
+// `help params|effects`: the config parameters or the effects as a table printed from the schema
+// the parser uses. format: md (GitHub Markdown tables, for generated docs), text or json. Throws
+// InputError for an unknown topic or format. helpText is what cmdHelp prints.
+std::string helpText(const std::string& topic, const std::string& format);
+int cmdHelp(const std::string& topic, const std::string& format);
+
 // A built-in scene name (see builtinSceneNames) or a path to a .gltf/.glb file.
 Scene loadSceneArg(const std::string& nameOrPath);
 

@@ -85,6 +85,11 @@ int main(int argc, char** argv) {
   listCmd->add_option("--dir", listDir, "folder to list (default: ./scenes, else the executable's repository's scenes/)");
   listCmd->add_flag("--json", listJson, "machine-readable output");
 
+  std::string helpTopic, helpFormat = "text";
+  auto* helpCmd = app.add_subcommand("help", "print the config parameters or the effects as a table (from the code's schema)");
+  helpCmd->add_option("topic", helpTopic, "params or effects");
+  helpCmd->add_option("--format", helpFormat, "text (default), md (GitHub Markdown tables) or json");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -114,6 +119,7 @@ int main(int argc, char** argv) {
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
     if (*listCmd) return cmdSceneList(listDir, listJson);
+    if (*helpCmd) return cmdHelp(helpTopic, helpFormat);
     // No subcommand: the main job, the embedded default sweep (configs/thesis.json) on device 0.
     return cmdSweep(SweepOptions{});
   } catch (const InputError& e) {

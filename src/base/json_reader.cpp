@@ -100,6 +100,10 @@ int64_t readInt(const Json& value, const Where& where, int64_t lo, int64_t hi) {
 }
 
 int64_t readIntChoice(const Json& value, const Where& where, std::initializer_list<int64_t> choices) {
+  return readIntChoice(value, where, std::span<const int64_t>(choices.begin(), choices.size()));
+}
+
+int64_t readIntChoice(const Json& value, const Where& where, std::span<const int64_t> choices) {
   std::string list;
   for (int64_t c : choices) list += (list.empty() ? "" : ", ") + std::to_string(c);
   if (!value.is_number_integer()) where.fail("expected one of " + list + ", got " + describe(value));
@@ -147,15 +151,17 @@ std::vector<float> readFloats(const Json& value, const Where& where, size_t n, c
 }
 
 size_t readChoice(const Json& value, const Where& where, std::initializer_list<const char*> choices) {
+  const std::vector<std::string_view> views(choices.begin(), choices.end());
+  return readChoice(value, where, std::span<const std::string_view>(views));
+}
+
+size_t readChoice(const Json& value, const Where& where, std::span<const std::string_view> choices) {
   std::string list;
-  for (const char* c : choices) list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
+  for (std::string_view c : choices) list += (list.empty() ? "\"" : ", \"") + std::string(c) + "\"";
   if (!value.is_string()) where.fail("expected one of " + list + ", got " + describe(value));
   const std::string& s = value.get_ref<const std::string&>();
-  size_t i = 0;
-  for (const char* c : choices) {
-    if (s == c) return i;
-    ++i;
-  }
+  for (size_t i = 0; i < choices.size(); ++i)
+    if (s == choices[i]) return i;
   where.fail(describe(value) + " is not one of " + list);
 }
 

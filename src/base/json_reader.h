@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,10 +45,13 @@ std::string readString(const Json& value, const Where& where);
 int64_t readInt(const Json& value, const Where& where, int64_t lo, int64_t hi);
 // An integer that is one of `choices`.
 int64_t readIntChoice(const Json& value, const Where& where, std::initializer_list<int64_t> choices);
+int64_t readIntChoice(const Json& value, const Where& where, std::span<const int64_t> choices);
 // A finite number in (lo, hi] when loExclusive, else [lo, hi]; hi may be infinity.
 double readNumber(const Json& value, const Where& where, double lo, double hi, bool loExclusive);
 // A string that is one of `choices`; returns its index.
 size_t readChoice(const Json& value, const Where& where, std::initializer_list<const char*> choices);
+// The same from a table (config_params.cpp's parameter schema keeps its choices as data).
+size_t readChoice(const Json& value, const Where& where, std::span<const std::string_view> choices);
 // An array of exactly n finite numbers.
 std::vector<double> readNumbers(const Json& value, const Where& where, size_t n, const char* shape);
 // readNumber and readNumbers for values kept as float: a number beyond a float's range (3.4e38)

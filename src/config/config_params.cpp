@@ -71,68 +71,125 @@ const char* toString(ShadowTMin v) {
 
 namespace config_reader {
 
+// A choice's index is its enum value: the choices below are listed in the enums' order.
+static_assert(NormalCulling(1) == NormalCulling::Naive && NormalCulling(3) == NormalCulling::Geometric);
+static_assert(WorldPosMethod(1) == WorldPosMethod::Matrix && WorldPosMethod(2) == WorldPosMethod::Hit);
+static_assert(LightLists(1) == LightLists::Bitmask && LightLists(2) == LightLists::Zbin);
+
+// The parameter schema: one row per key, in schema order. applyParam reads every value through
+// its row, and `hybridbench help params` prints the rows, so the allowed values the help shows are
+// the ones the parser enforces.
+const std::vector<ParamSpec>& paramSpecs() {
+  using K = ParamKind;
+  static const std::vector<ParamSpec> specs = {
+      {"tile_size", K::IntChoice, {}, {8, 16, 32}, 0, 0, "", "px", "",
+       "side of the square screen tiles that lights are culled into",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.tileSize = v.get<uint32_t>(); }},
+      {"light_culling", K::Bool, {}, {}, 0, 0, "", "", "",
+       "cull lights into per-tile lists; off: every pixel considers every light",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.lightCulling = v.get<bool>(); }},
+      {"aabb", K::Bool, {}, {}, 0, 0, "", "", "",
+       "test lights against each tile's depth AABB as well as its frustum (acts with light culling on)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.aabb = v.get<bool>(); }},
+      {"normal_culling", K::Choice, {"off", "naive", "improved", "geometric"}, {}, 0, 0, "", "", "",
+       "skip shadow rays to lights behind the surface (geometric: the triangle's own normal; any primary but "
+       "hardware)",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.normalCulling = NormalCulling(i); }},
+      {"backend", K::Choice, {"auto", "rayquery", "pipeline"}, {}, 0, 0, "", "", "",
+       "how shadow rays are traced: ray queries in compute, a ray-tracing pipeline, or whichever the device has",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.backend = RtBackend(i); }},
+      {"resolution", K::Resolution, {}, {}, 1, double(kMaxResolution), "", "px", "",
+       "render size [width, height] (--set also takes WIDTHxHEIGHT)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) {
+         p.resolution = {v[0].get<uint32_t>(), v[1].get<uint32_t>()};
+       }},
+      {"world_pos", K::Choice, {"alg41", "matrix", "hit"}, {}, 0, 0, "", "", "",
+       "how a pixel's world position is rebuilt: thesis Alg. 4.1, the inverse view-projection, or the primary "
+       "method's hit (any primary but hardware)",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.worldPos = WorldPosMethod(i); }},
+      {"range_test", K::Bool, {}, {}, 0, 0, "", "", "",
+       "per-pixel light range test before tracing (beyond the thesis)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.rangeTest = v.get<bool>(); }},
+      {"depth_slices", K::Int, {}, {}, 0, 32, "not 1 (0 = off)", "", "",
+       "2.5D depth-sliced light culling: slices per tile (beyond the thesis)",
+       [](VariantParams& p, const Json& v, size_t, const Where& where) {
+         if (v.get<int64_t>() == 1) where.fail("1 is not allowed: use 0 (off) or 2..32 slices");
+         p.depthSlices = v.get<uint32_t>();
+       }},
+      {"t_min", K::Choice, {"constant", "scaled"}, {}, 0, 0, "", "", "",
+       "shadow rays' t_min: the thesis's 0.001 m, or max(0.001 m, 400u x distance to the eye)",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.tMin = ShadowTMin(i); }},
+      {"primary", K::Choice, {"hardware", "3dr", "3dr-binned", "2dr", "raycast"}, {}, 0, 0, "", "", "",
+       "primary visibility: the hardware depth prepass, compute 3D rasterization (brute force or binned into "
+       "8x8 tiles), the 2D homogeneous baseline, or a ray per pixel",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.primary = PrimaryMethod(i); }},
+      {"projection", K::Choice, {"perspective", "orthographic", "paraboloid", "latlong"}, {}, 0, 0, "", "",
+       "the camera's", "the view's projection, replacing the camera's",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.projection = CameraProjection(i); }},
+      {"r3d_thread_box", K::Int, {}, {}, 1, 65536, "", "px", "",
+       "3dr: a triangle whose screen box has at most this many pixels is rasterized by its own thread",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dThreadBox = v.get<uint32_t>(); }},
+      {"shading", K::Choice, {"forward", "visbuffer"}, {}, 0, 0, "", "", "",
+       "the forward pass, or shading in compute from the visibility buffer (any primary but hardware)",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.shading = ShadingMethod(i); }},
+      {"max_lights_per_tile", K::Int, {}, {}, 32, 1024, "a multiple of 32", "lights", "",
+       "capacity of a tile's light list (one 32-bit visibility word per 32 lights)",
+       [](VariantParams& p, const Json& v, size_t, const Where& where) {
+         const int64_t n = v.get<int64_t>();
+         // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
+         if (n % 32 != 0) where.fail(std::to_string(n) + " is not a multiple of 32");
+         p.maxLightsPerTile = uint32_t(n);
+       }},
+      {"light_lists", K::Choice, {"tile", "bitmask", "zbin"}, {}, 0, 0, "", "", "",
+       "light list layout: the thesis's capped tile lists, or uncapped bitmasks or z-bins",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.lightLists = LightLists(i); }},
+      {"light_count", K::Int, {}, {}, 0, double(kMaxLightCount), "", "lights", "scene_params.lights",
+       "procedural point lights (built-in atrium with its own lights only)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.lightCount = v.get<uint32_t>(); }},
+      {"triangle_scale", K::Number, {}, {}, kMinTriangleScale, kMaxTriangleScale, "", "",
+       "scene_params.triangle_scale", "multiplies the atrium's triangle count (built-in atrium only)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.triangleScale = v.get<double>(); }},
+      {"effects", K::Effects, {}, {}, 0, 0, "", "", "none",
+       "this variant's effects object, over the config's \"effects\" (see hybridbench help effects)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.effects = nlohmann::json(v); }},
+  };
+  return specs;
+}
+
+const ParamSpec* findParam(std::string_view key) {
+  for (const ParamSpec& s : paramSpecs())
+    if (s.key == key) return &s;
+  return nullptr;
+}
+
 const std::vector<std::string_view>& paramKeys() {
-  static const std::vector<std::string_view> keys = {
-      "tile_size", "light_culling", "aabb",         "normal_culling",      "backend",     "resolution",
-      "world_pos", "range_test",    "depth_slices", "t_min",  "primary", "projection", "r3d_thread_box", "shading", "max_lights_per_tile", "light_lists", "light_count", "triangle_scale", "effects"};
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> k;
+    for (const ParamSpec& s : paramSpecs()) k.push_back(s.key);
+    return k;
+  }();
   return keys;
 }
 
 void applyParam(VariantParams& p, std::string_view key, const Json& v, const Where& where,
                 const Where& container) {
-  if (key == "tile_size") {
-    p.tileSize = uint32_t(readIntChoice(v, where, {8, 16, 32}));
-  } else if (key == "light_culling") {
-    p.lightCulling = readBool(v, where);
-  } else if (key == "aabb") {
-    p.aabb = readBool(v, where);
-  } else if (key == "normal_culling") {
-    static constexpr NormalCulling kNormals[] = {NormalCulling::Off, NormalCulling::Naive, NormalCulling::Improved,
-                                                 NormalCulling::Geometric};
-    p.normalCulling = kNormals[readChoice(v, where, {"off", "naive", "improved", "geometric"})];
-  } else if (key == "backend") {
-    p.backend = RtBackend(readChoice(v, where, {"auto", "rayquery", "pipeline"}));
-  } else if (key == "resolution") {
-    if (!v.is_array() || v.size() != 2) where.fail("expected [width, height], got " + describe(v));
-    p.resolution = {uint32_t(readInt(v[0], where.index(0), 1, kMaxResolution)),
-                    uint32_t(readInt(v[1], where.index(1), 1, kMaxResolution))};
-  } else if (key == "world_pos") {
-    static constexpr WorldPosMethod kWorldPos[] = {WorldPosMethod::Alg41, WorldPosMethod::Matrix, WorldPosMethod::Hit};
-    p.worldPos = kWorldPos[readChoice(v, where, {"alg41", "matrix", "hit"})];
-  } else if (key == "range_test") {
-    p.rangeTest = readBool(v, where);
-  } else if (key == "depth_slices") {
-    int64_t n = readInt(v, where, 0, 32);
-    if (n == 1) where.fail("1 is not allowed: use 0 (off) or 2..32 slices");
-    p.depthSlices = uint32_t(n);
-  } else if (key == "t_min") {
-    p.tMin = ShadowTMin(readChoice(v, where, {"constant", "scaled"}));
-  } else if (key == "primary") {
-    p.primary = PrimaryMethod(readChoice(v, where, {"hardware", "3dr", "3dr-binned", "2dr", "raycast"}));
-  } else if (key == "projection") {
-    p.projection = CameraProjection(readChoice(v, where, {"perspective", "orthographic", "paraboloid", "latlong"}));
-  } else if (key == "shading") {
-    p.shading = ShadingMethod(readChoice(v, where, {"forward", "visbuffer"}));
-  } else if (key == "r3d_thread_box") {
-    p.r3dThreadBox = uint32_t(readInt(v, where, 1, 65536));
-  } else if (key == "max_lights_per_tile") {
-    int64_t n = readInt(v, where, 32, 1024);
-    // The visibility bitmask holds one 32-bit word per 32 lights of a tile.
-    if (n % 32 != 0) where.fail(std::to_string(n) + " is not a multiple of 32");
-    p.maxLightsPerTile = uint32_t(n);
-  } else if (key == "light_lists") {
-    static constexpr LightLists kLists[] = {LightLists::Tile, LightLists::Bitmask, LightLists::Zbin};
-    p.lightLists = kLists[readChoice(v, where, {"tile", "bitmask", "zbin"})];
-  } else if (key == "light_count") {
-    p.lightCount = uint32_t(readInt(v, where, 0, kMaxLightCount));
-  } else if (key == "triangle_scale") {
-    p.triangleScale = readNumber(v, where, kMinTriangleScale, kMaxTriangleScale, /*loExclusive=*/false);
-  } else if (key == "effects") {
-    validateEffects(v, where);  // the schema of effects/effects.h
-    p.effects = nlohmann::json(v);
-  } else {
-    failUnknownKey(key, container, paramKeys());
+  const ParamSpec* spec = findParam(key);
+  if (!spec) failUnknownKey(key, container, paramKeys());
+  size_t choice = 0;
+  switch (spec->kind) {
+    case ParamKind::Bool: readBool(v, where); break;
+    case ParamKind::Int: readInt(v, where, int64_t(spec->lo), int64_t(spec->hi)); break;
+    case ParamKind::IntChoice: readIntChoice(v, where, spec->intChoices); break;
+    case ParamKind::Choice: choice = readChoice(v, where, spec->choices); break;
+    case ParamKind::Number: readNumber(v, where, spec->lo, spec->hi, /*loExclusive=*/false); break;
+    case ParamKind::Resolution:
+      if (!v.is_array() || v.size() != 2) where.fail("expected [width, height], got " + describe(v));
+      readInt(v[0], where.index(0), int64_t(spec->lo), int64_t(spec->hi));
+      readInt(v[1], where.index(1), int64_t(spec->lo), int64_t(spec->hi));
+      break;
+    case ParamKind::Effects: validateEffects(v, where); break;  // the schema of effects/effects.h
   }
+  spec->store(p, v, choice, where);
 }
 
 void applyParams(VariantParams& p, const Json& object, const Where& where) {
@@ -177,11 +234,11 @@ nlohmann::json toJson(const VariantParams& p) {
 void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) {
   Where where{"--set " + keyEqualsValue, ""};
   size_t eq = keyEqualsValue.find('=');
-  if (eq == std::string::npos || eq == 0)
-    where.fail(
-        "expected key=value, e.g. --set tile_size=16 (keys: tile_size, light_culling, aabb, "
-        "normal_culling, backend, resolution, world_pos, range_test, depth_slices, t_min, primary, projection, "
-        "r3d_thread_box, shading, max_lights_per_tile, light_lists, light_count, triangle_scale, effects)");
+  if (eq == std::string::npos || eq == 0) {
+    std::string keys;
+    for (std::string_view k : config_reader::paramKeys()) keys += (keys.empty() ? "" : ", ") + std::string(k);
+    where.fail("expected key=value, e.g. --set tile_size=16 (keys: " + keys + ")");
+  }
   std::string key = keyEqualsValue.substr(0, eq);
   std::string text = keyEqualsValue.substr(eq + 1);
 

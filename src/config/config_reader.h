@@ -26,6 +26,26 @@ constexpr int64_t kMaxLightCount = 4096;
 constexpr double kMinTriangleScale = 0.25;
 constexpr double kMaxTriangleScale = 64.0;
 
+enum class ParamKind { Bool, Int, IntChoice, Choice, Number, Resolution, Effects };
+
+// One variant parameter: how its value is checked, what it means, and how it is stored.
+struct ParamSpec {
+  std::string_view key;
+  ParamKind kind;
+  std::vector<std::string_view> choices;  // Choice: the strings, in the order of the enum stored
+  std::vector<int64_t> intChoices;        // IntChoice
+  double lo = 0, hi = 0;                  // Int, Number, Resolution (each side): inclusive range
+  std::string_view rule;                  // a rule beyond the range (store checks it), "" if none
+  std::string_view unit;                  // "" if none
+  std::string_view absentDefault;         // what applies when VariantParams leaves it empty
+  std::string_view description;           // one line, for `hybridbench help params`
+  // Stores a value that passed the kind's check; `choice` is its index in `choices` (Choice).
+  void (*store)(VariantParams& params, const Json& value, size_t choice, const Where& where);
+};
+
+// Every parameter, in schema order (config_params.cpp).
+const std::vector<ParamSpec>& paramSpecs();
+const ParamSpec* findParam(std::string_view key);  // nullptr if no parameter is called that
 // The keys a params object may hold, in schema order.
 const std::vector<std::string_view>& paramKeys();
 // Sets one parameter; `where` is the value's own path (e.g. "defaults.tile_size"), `container` the
