@@ -4,7 +4,9 @@
 #include <memory>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "frame/renderer.h"
 #include "gpu/vk_context.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -33,6 +35,16 @@ inline Camera lookFrom(glm::vec3 eye, glm::vec3 target) {
   c.znear = 0.05f;
   c.zfar = 100.0f;
   return c;
+}
+
+// Settings of a width × height frame whose effects are `effects`, as a config's "effects" object
+// names them ({"shadows": false, "indirect": {...}}); everything else at its default.
+inline RenderSettings settingsWithEffects(uint32_t width, uint32_t height, const nlohmann::json& effects) {
+  RenderSettings rs;
+  rs.width = width;
+  rs.height = height;
+  rs.effects.add(EffectSource::Config, "test", effects);
+  return rs;
 }
 
 }  // namespace hb::testing
