@@ -2,13 +2,7 @@
 // primary=raycast through the ray-tracing pipeline (devices without ray query: the H100);
 // primary_raycast.glsl.inc. The closest-hit shader returns (t, id); the miss shader leaves ~0.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_EXT_ray_tracing : require
-#extension GL_EXT_shader_atomic_int64 : require
-#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint ANALYSIS = 0;
-#include "primary_raycast.glsl.inc"
+#include "primary_raycast_pipeline.glsl.inc"
 layout(location = 0) rayPayloadEXT uvec2 hitTId;  // (t bits, id); id ~0 = missed
 
 void main() {

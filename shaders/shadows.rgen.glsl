@@ -4,14 +4,7 @@
 // pixel; a miss shader marks the light visible; closest-hit shaders are skipped.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_tracing : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint TILE = 16;
-layout(constant_id = 1) const uint NORMALS = 0;
-layout(constant_id = 2) const uint WORLD_POS = 0;
-layout(constant_id = 3) const uint RANGE_TEST = 0;
-layout(constant_id = 4) const uint ANALYSIS = 0;
-layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*
+#include "shadows_constants.glsl.inc"
 
 #include "shadows_common.glsl.inc"
 

@@ -5,14 +5,7 @@
 // fetches per thread for every tile size (8: 128 = 2*64).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_query : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint TILE = 16;
-layout(constant_id = 1) const uint NORMALS = 0;
-layout(constant_id = 2) const uint WORLD_POS = 0;
-layout(constant_id = 3) const uint RANGE_TEST = 0;
-layout(constant_id = 4) const uint ANALYSIS = 0;
-layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*
+#include "shadows_constants.glsl.inc"
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
 #include "shadows_common.glsl.inc"

@@ -27,11 +27,7 @@ namespace hb {
 namespace {
 
 RenderSettings aoSettings(uint32_t w, uint32_t h, const nlohmann::json& ao, bool shadows = true) {
-  RenderSettings rs;
-  rs.width = w;
-  rs.height = h;
-  rs.effects.add(EffectSource::Config, "test", {{"shadows", shadows}, {"ambient_occlusion", ao}});
-  return rs;
+  return testing::settingsWithEffects(w, h, {{"shadows", shadows}, {"ambient_occlusion", ao}});
 }
 
 using testing::lookFrom;

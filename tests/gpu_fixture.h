@@ -6,8 +6,10 @@
 #include <string_view>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "config/config.h"
+#include "frame/renderer.h"
 #include "gpu/vk_context.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -56,6 +58,16 @@ inline PrimaryMethod primaryNamed(std::string_view name) {
 inline RtBackend backendNamed(std::string_view name) {
   static constexpr RtBackend kAll[] = {RtBackend::Auto, RtBackend::RayQuery, RtBackend::Pipeline};
   return settingNamed(name, kAll);
+}
+
+// Settings of a width × height frame whose effects are `effects`, as a config's "effects" object
+// names them ({"shadows": false, "indirect": {...}}); everything else at its default.
+inline RenderSettings settingsWithEffects(uint32_t width, uint32_t height, const nlohmann::json& effects) {
+  RenderSettings rs;
+  rs.width = width;
+  rs.height = height;
+  rs.effects.add(EffectSource::Config, "test", effects);
+  return rs;
 }
 
 }  // namespace hb::testing

@@ -33,11 +33,7 @@ namespace {
 constexpr double kU = 5.9604644775390625e-8;  // 2^-24, float's unit roundoff
 
 RenderSettings indirectSettings(uint32_t w, uint32_t h, const nlohmann::json& indirect) {
-  RenderSettings rs;
-  rs.width = w;
-  rs.height = h;
-  rs.effects.add(EffectSource::Config, "test", {{"shadows", false}, {"indirect", indirect}});
-  return rs;
+  return testing::settingsWithEffects(w, h, {{"shadows", false}, {"indirect", indirect}});
 }
 
 using testing::lookFrom;

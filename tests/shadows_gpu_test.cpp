@@ -309,6 +309,24 @@ TEST_F(ShadowNormals, ImprovedMeanAngularErrorIsAtMost028OfNaiveOnTheAtriumAt108
 
 class ShadowPositions : public testing::GpuTest {};
 
+// One non-sky pixel's world position: cpu = Alg. 4.1 in double from its depth, gpu = the shadow
+// pass's own.
+struct PositionSample {
+  uint32_t x, y;
+  glm::dvec3 cpu, gpu;
+};
+std::vector<PositionSample> positionSamples(const Frame& f) {
+  std::vector<PositionSample> samples;
+  for (uint32_t y = 0; y < kHeight; ++y)
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      const size_t i = size_t(y) * kWidth + x;
+      if (!(f.depth[i] > 0.0f)) continue;
+      const float* p = &f.shadows.positions[4 * i];
+      samples.push_back({x, y, worldFromDepth<double>(f.cam, x, y, double(f.depth[i])), glm::dvec3(p[0], p[1], p[2])});
+    }
+  return samples;
+}
+
 // The issue's bound: Alg. 4.1 in float within 4 · 2^-23 · distance of the double reconstruction
 // from the same depth value. It assumes the eye near the world origin: the view-space point has
 // relative error a few u (ndc, /A, (depth + C)/D, /w), and the final viewInv · v adds rounding
@@ -337,21 +355,16 @@ TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance
     size_t pixels = 0;
     double maxRel = 0, sumRel = 0;
   } planes[3];
-  for (uint32_t y = 0; y < kHeight; ++y)
-    for (uint32_t x = 0; x < kWidth; ++x) {
-      const size_t i = size_t(y) * kWidth + x;
-      if (!(f.depth[i] > 0.0f)) continue;
-      const glm::dvec3 cpu = worldFromDepth<double>(f.cam, x, y, double(f.depth[i]));
-      const glm::dvec3 gpu(f.shadows.positions[4 * i], f.shadows.positions[4 * i + 1], f.shadows.positions[4 * i + 2]);
-      const double dist = -cpu.z;  // view = world here, the planes face +z
-      int k = 0;
-      while (k < 2 && std::abs(dist - kFarPlaneDepths[k]) > 0.01 * kFarPlaneDepths[k]) ++k;
-      ASSERT_LT(std::abs(dist - kFarPlaneDepths[k]), 0.01 * kFarPlaneDepths[k]) << "pixel " << x << "," << y;
-      const double rel = glm::length(gpu - cpu) / glm::length(cpu);
-      planes[k].pixels++;
-      planes[k].maxRel = std::max(planes[k].maxRel, rel);
-      planes[k].sumRel += rel;
-    }
+  for (const PositionSample& s : positionSamples(f)) {
+    const double dist = -s.cpu.z;  // view = world here, the planes face +z
+    int k = 0;
+    while (k < 2 && std::abs(dist - kFarPlaneDepths[k]) > 0.01 * kFarPlaneDepths[k]) ++k;
+    ASSERT_LT(std::abs(dist - kFarPlaneDepths[k]), 0.01 * kFarPlaneDepths[k]) << "pixel " << s.x << "," << s.y;
+    const double rel = glm::length(s.gpu - s.cpu) / glm::length(s.cpu);
+    planes[k].pixels++;
+    planes[k].maxRel = std::max(planes[k].maxRel, rel);
+    planes[k].sumRel += rel;
+  }
   for (int k = 0; k < 3; ++k) {
     // Each plane fills about a third of the image (320x180 / 3 = 19,200 px, overhang included).
     EXPECT_GT(planes[k].pixels, kWidth * kHeight / 4) << kFarPlaneDepths[k] << " m";
@@ -380,23 +393,18 @@ TEST_F(ShadowPositions, FarFromTheOriginTheErrorFollowsTheEyeDistanceBound) {
   const glm::dvec3 t(md[3]);
   size_t beyond = 0, compared = 0, beyondIssue = 0;
   double maxRatio = 0, maxRel = 0;
-  for (uint32_t y = 0; y < kHeight; ++y)
-    for (uint32_t x = 0; x < kWidth; ++x) {
-      const size_t i = size_t(y) * kWidth + x;
-      if (!(f.depth[i] > 0.0f)) continue;
-      const glm::dvec3 cpu = worldFromDepth<double>(f.cam, x, y, double(f.depth[i]));
-      const glm::dvec3 gpu(f.shadows.positions[4 * i], f.shadows.positions[4 * i + 1], f.shadows.positions[4 * i + 2]);
-      const glm::dvec4 v = glm::dmat4(f.view) * glm::dvec4(cpu, 1.0);
-      const double d = glm::length(glm::dvec3(v));
-      const double bound = 8.0 * kU * d + glm::length(glm::dvec3((mf - md) * v)) +
-                           3.0 * kU * (std::sqrt(3.0) * d + glm::length(t)) * std::sqrt(3.0);
-      const double err = glm::length(gpu - cpu);
-      beyond += err > bound;
-      beyondIssue += err > 8.0 * kU * d;
-      maxRatio = std::max(maxRatio, err / bound);
-      maxRel = std::max(maxRel, err / d);
-      compared++;
-    }
+  for (const PositionSample& s : positionSamples(f)) {
+    const glm::dvec4 v = glm::dmat4(f.view) * glm::dvec4(s.cpu, 1.0);
+    const double d = glm::length(glm::dvec3(v));
+    const double bound = 8.0 * kU * d + glm::length(glm::dvec3((mf - md) * v)) +
+                         3.0 * kU * (std::sqrt(3.0) * d + glm::length(t)) * std::sqrt(3.0);
+    const double err = glm::length(s.gpu - s.cpu);
+    beyond += err > bound;
+    beyondIssue += err > 8.0 * kU * d;
+    maxRatio = std::max(maxRatio, err / bound);
+    maxRel = std::max(maxRel, err / d);
+    compared++;
+  }
   ASSERT_GT(compared, 1000u);
   EXPECT_EQ(beyond, 0u);
   std::printf("[ positions ] far-origin: max relative %.3g (%.0f x 4*2^-23; %zu of %zu pixels beyond it); "

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/sweep_results.h"  // resultsCsv, writeFileAtomic
 #include "config/config.h"
 
 namespace hb {
@@ -23,11 +24,5 @@ struct SweepOptions {
 };
 
 int cmdSweep(const SweepOptions& options);
-
-// results.csv: one row per run and pass (and "frame"), flattened parameters.
-std::string resultsCsv(const nlohmann::json& results);
-
-// Writes text to path atomically (temporary beside it, then rename).
-void writeFileAtomic(const std::string& path, const std::string& text);
 
 }  // namespace hb

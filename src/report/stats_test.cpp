@@ -56,6 +56,13 @@ TEST(Summarize, JsonHasTheResultsFileFields) {
   EXPECT_DOUBLE_EQ(j["median"].get<double>(), 2.5);
 }
 
+// first, first + 1, ..., last: the samples of the hand-computed examples.
+std::vector<double> integers(int first, int last) {
+  std::vector<double> v;
+  for (int i = first; i <= last; ++i) v.push_back(i);
+  return v;
+}
+
 TEST(MannWhitney, ExactPValueForSeparatedSmallSamples) {
   // a = {1,2,3}, b = {4,5,6}: U_a = 0. Of the C(6,3) = 20 equally likely splits, U = 0 and U = 9
   // are the only ones as extreme -> p = 2/20 = 0.1.
@@ -92,11 +99,7 @@ TEST(MannWhitney, NormalApproximationAboveTheExactLimit) {
   // a = 1..10, b = 11..20: U_a = 0, mu = 50, var = 10*10*21/12 = 175,
   // z = -(50 - 0.5)/sqrt(175) = -3.741848282791, p = erfc(3.741848282791/sqrt 2)
   // = 1.826717911096e-4 (scipy.stats.mannwhitneyu(..., method="asymptotic") gives the same).
-  std::vector<double> a, b;
-  for (int i = 1; i <= 10; ++i) {
-    a.push_back(i);
-    b.push_back(i + 10);
-  }
+  const std::vector<double> a = integers(1, 10), b = integers(11, 20);
   const MannWhitney r = mannWhitneyU(a, b);
   EXPECT_FALSE(r.exact);
   EXPECT_DOUBLE_EQ(r.u, 0.0);
@@ -110,11 +113,7 @@ TEST(MannWhitney, NormalApproximationCorrectsVarianceForTies) {
   // R_a = 10 + 47.5 = 57.5, U_a = 57.5 - 45 = 12.5 (pair count: .5+1.5+2.5+3.5+4.5 = 12.5).
   // mu = 40.5; var = 81/12 (19 - 30/(18*17)) = 127.5882352941; z = -(28 - 0.5)/sqrt(var)
   // = -2.434598659251; p = erfc(|z|/sqrt 2) = 0.01490831505187.
-  std::vector<double> a, b;
-  for (int i = 1; i <= 9; ++i) {
-    a.push_back(i);
-    b.push_back(i + 4);
-  }
+  const std::vector<double> a = integers(1, 9), b = integers(5, 13);
   const MannWhitney r = mannWhitneyU(a, b);
   EXPECT_DOUBLE_EQ(r.u, 12.5);
   EXPECT_NEAR(r.z, -2.434598659251, 5e-13);
