@@ -1,4 +1,4 @@
-// Ambient occlusion on the real device (frame/passes/ambient_occlusion.h, effects/ambient_occlusion.h):
+// Ambient occlusion on the real device (effects/ambient_occlusion/ao_pass.h, effects/ambient_occlusion/ao_effect.h):
 // the LDM lists against the exact CPU LDM (reference/ldm_ref.h), the ray-traced AO against the
 // CPU's double ray tracing from the GPU's own positions and normals, open sky and a closed box,
 // the LDM approximation's error on the atrium within the bounds, determinism under a

@@ -1,5 +1,5 @@
-// Single-bounce indirect light on the real device (frame/passes/indirect.h, effects/indirect.h,
-// shaders/indirect_common.glsl.inc): flux conservation in a closed diffuse box for both photon
+// Single-bounce indirect light on the real device (effects/indirect/indirect_pass.h, effects/indirect/indirect_effect.h,
+// shaders/indirect/indirect_common.glsl.inc): flux conservation in a closed diffuse box for both photon
 // traces (and the LDM trace's escapes against the exact LDM through the same pixel lines), the
 // LDM-traced photons against the ray-traced ones, determinism, the GPU's splat against the CPU's
 // double sum of the GPU's own photons (reference/photon_ref.h), nothing built when the effect

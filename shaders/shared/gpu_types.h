@@ -268,7 +268,7 @@ HB_CONST uint kLdmPhaseInsert = 0u;  // max64, cas: one pass
 HB_CONST uint kLdmPhaseCount = 1u;   // sbuffer: count
 HB_CONST uint kLdmPhaseFill = 2u;    // sbuffer: fill (after the scan)
 
-// Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion.h).
+// Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion/ao_effect.h).
 HB_CONST uint kAoLdm = 0u;        // trace the LDMs along the N directions
 HB_CONST uint kAoRayTraced = 1u;  // ray trace the same N directions
 HB_CONST uint kAoReference = 2u;  // cosine-weighted Monte Carlo, `samples` stratified rays
@@ -292,7 +292,7 @@ struct AoConstants {
   uint pad0, pad1;
 };
 
-// Single-bounce indirect light (indirect_common.glsl.inc; effects/indirect.h).
+// Single-bounce indirect light (indirect_common.glsl.inc; effects/indirect/indirect_effect.h).
 HB_CONST uint kIndirectLdm = 0u;        // split photons traced through the LDMs
 HB_CONST uint kIndirectRayTraced = 1u;  // the same photons traced by the ray tracer
 HB_CONST uint kIndirectReference = 2u;  // gathered: cosine-weighted rays to lit surfaces

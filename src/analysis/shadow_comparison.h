@@ -12,7 +12,7 @@
 namespace hb {
 
 // The GPU shadow pass repeated in double with `bvh`, from the GPU's own positions and normals
-// (shaders/shadows_common.glsl.inc): per pixel, per light i of its tile list, the same at-light,
+// (shaders/shadows/shadows_common.glsl.inc): per pixel, per light i of its tile list, the same at-light,
 // range/cone (rangeTest), N·L and castShadows decisions, then Bvh::occluded(P, L, tMin, tMax)
 // with tMin = gpu::shadowTMin(cameraPos, P) (cameraPos as in FrameConstants: w = 0 gives the
 // thesis's constant kShadowTMin, w = kShadowTMinPerMetre the scaled one); then compared with the

@@ -45,7 +45,7 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
       pass.reads = {res::kTlas};
     else
       pass.reads = {res::kSceneVertices, res::kSceneIndices};
-    pass.writes.push_back(res::kVisibility);
+    pass.writes.insert(pass.writes.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
     pass.subPasses = raster3d_->subPasses();
     // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
     pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {

@@ -13,15 +13,28 @@ struct EmbeddedShader {
 };
 extern const EmbeddedShader kEmbeddedShaders[];
 
+static std::vector<EmbeddedShader>& registeredShaders() {
+  static std::vector<EmbeddedShader> shaders;
+  return shaders;
+}
+
+void registerSpirv(std::string_view name, const uint32_t* words, size_t bytes) {
+  for (const std::string& other : embeddedShaderNames()) HB_ASSERT(other != name);  // one shader per name
+  registeredShaders().push_back({name, words, bytes});
+}
+
 std::vector<uint32_t> embeddedSpirv(const std::string& name) {
   for (const EmbeddedShader* s = kEmbeddedShaders; s->words; ++s)
     if (s->name == name) return std::vector<uint32_t>(s->words, s->words + s->bytes / 4);
-  throw std::logic_error("shader \"" + name + "\" is not embedded (is shaders/" + name + ".glsl there?)");
+  for (const EmbeddedShader& s : registeredShaders())
+    if (s.name == name) return std::vector<uint32_t>(s.words, s.words + s.bytes / 4);
+  throw std::logic_error("shader \"" + name + "\" is not embedded (is shaders/**/" + name + ".glsl there?)");
 }
 
 std::vector<std::string> embeddedShaderNames() {
   std::vector<std::string> names;
   for (const EmbeddedShader* s = kEmbeddedShaders; s->words; ++s) names.emplace_back(s->name);
+  for (const EmbeddedShader& s : registeredShaders()) names.emplace_back(s.name);
   return names;
 }
 

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "gpu/vk_context.h"
@@ -12,6 +13,9 @@ namespace hb {
 // SPIR-V words of shaders/<name>.glsl (name like "depth.vert"); throws if it was not embedded.
 std::vector<uint32_t> embeddedSpirv(const std::string& name);
 std::vector<std::string> embeddedShaderNames();
+// Adds SPIR-V compiled elsewhere (a test's own pass: tests/shaders/) under `name`; `words`
+// (bytes long) and `name` outlive every use. Precondition: no shader has that name yet.
+void registerSpirv(std::string_view name, const uint32_t* words, size_t bytes);
 
 class ShaderModule {
  public:

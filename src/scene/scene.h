@@ -76,7 +76,7 @@ struct Light {
 // Light from everywhere (the sky's, say) at radiance color·intensity, which reaches a point as its
 // ambient occlusion lets it: a Lambertian surface of albedo a sends a·color·intensity·AO. A scene's
 // extras.ambient or a config's "ambient": {"color": [r, g, b], "intensity": x}. It lights the frame
-// only through the ambient_occlusion effect (effects/ambient_occlusion.h): without the effect the
+// only through the ambient_occlusion effect (effects/ambient_occlusion/ao_effect.h): without the effect the
 // frame is the thesis's, direct light alone.
 struct Ambient {
   glm::vec3 color{1.0f};

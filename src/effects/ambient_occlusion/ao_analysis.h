@@ -1,4 +1,4 @@
-// What an analysis frame measures of ambient occlusion (effects/ambient_occlusion.h): the frame's
+// What an analysis frame measures of ambient occlusion (effects/ambient_occlusion/ao_effect.h): the frame's
 // AO against the same directions ray traced (what the LDM approximation costs) and against the
 // converged Monte Carlo reference (what the direction count costs), pixel by pixel on the same
 // surface, with images of the AO and of its error.

@@ -1,6 +1,6 @@
-// Ambient occlusion (effects/ambient_occlusion.h; Aalund et al. 2015 Sect. 3.3): per pixel, from
+// Ambient occlusion (effects/ambient_occlusion/ao_effect.h; Aalund et al. 2015 Sect. 3.3): per pixel, from
 // the same position and normal the shadow pass uses (shaders/surface.glsl.inc), the share of the
-// ambient light that arrives, by one of three methods of one meaning (shaders/ao_common.glsl.inc):
+// ambient light that arrives, by one of three methods of one meaning (shaders/ambient_occlusion/ao_common.glsl.inc):
 //   ldm        layered depth maps along the N directions (LdmBuild, then a compute trace);
 //   raytraced  the same N directions through the ray tracer (ray query, or the ray-tracing
 //              pipeline on devices without it);

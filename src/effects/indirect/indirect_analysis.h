@@ -1,4 +1,4 @@
-// What an analysis frame measures of the indirect light (effects/indirect.h): the frame's
+// What an analysis frame measures of the indirect light (effects/indirect/indirect_effect.h): the frame's
 // irradiance against the same photons ray traced (what the LDM approximation costs) and against
 // the gathered reference (what photons, splats and directions cost), pixel by pixel on the same
 // surface, with images; and where the split photons went.

@@ -1,6 +1,6 @@
-// Single-bounce indirect light (effects/indirect.h; Aalund et al. 2015 Sect. 3.4, 4.2): per frame
+// Single-bounce indirect light (effects/indirect/indirect_effect.h; Aalund et al. 2015 Sect. 3.4, 4.2): per frame
 //   ldm        the LDMs along the N directions ("indirect_ldm_build"), the photons traced
-//              ("photon_trace": shaders/indirect_common.glsl.inc) and splatted ("photon_splat":
+//              ("photon_trace": shaders/indirect/indirect_common.glsl.inc) and splatted ("photon_splat":
 //              photon_splat.{vert,frag}.glsl, additive blending into an RGBA32F target);
 //   raytraced  the same photons traced by the ray tracer, splatted the same way;
 //   reference  the gathered single bounce per pixel ("indirect_gather").

@@ -1,5 +1,5 @@
 // The ray throughput benchmark: re-traces exactly the shadow rays that the last analysis frame
-// traced (shaders/raybench_common.glsl.inc) as a pure ray workload on the same TLAS, so that the
+// traced (shaders/shadows/raybench_common.glsl.inc) as a pure ray workload on the same TLAS, so that the
 // shadow pass's ray rate can be held against the device's own rate on the same rays.
 #pragma once
 #include <memory>

@@ -74,7 +74,7 @@ TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
   EXPECT_EQ(stateOf(plan, "shadows").origin, "--set shadows=false");
 }
 
-// Ambient occlusion (effects/ambient_occlusion.h): it needs an ambient term; the method decides
+// Ambient occlusion (effects/ambient_occlusion/ao_effect.h): it needs an ambient term; the method decides
 // what the frame builds: LDMs for "ldm" (no acceleration structures if nothing else needs them),
 // the ray tracer for "raytraced" and "reference" (no maps; ldm_build listed as unused).
 TEST(Effects, AmbientOcclusionNeedsAnAmbientTermAndBuildsOnlyWhatItsMethodUses) {
