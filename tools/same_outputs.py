@@ -4,15 +4,17 @@ refactor must keep: every results.json field that is not a time (counts, accurac
 passes run and skipped), and every image's pixels (PNG image data, ignoring the text chunks that
 name the build). Prints a Markdown report; exit 1 when anything differs.
 
-usage: tools/same_outputs.py A_DIR B_DIR"""
+A or B may name a results.json file instead of its folder: then no images are compared.
+
+usage: tools/same_outputs.py A B"""
 import json
 import os
 import struct
 import sys
 import zlib
 
-# Keys that are times or describe the machine's timing, not what was computed.
-TIMING = {"frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms",
+# Keys that are times, or where the config file lay (origin), not what was computed.
+TIMING = {"origin", "frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms",
           "warmup_frames"}
 
 
@@ -53,14 +55,16 @@ def main():
         print(__doc__.splitlines()[-1], file=sys.stderr)
         return 2
     a_dir, b_dir = sys.argv[1:]
-    a = json.load(open(os.path.join(a_dir, "results.json")))
-    b = json.load(open(os.path.join(b_dir, "results.json")))
+    def results_of(path):
+        return json.load(open(path if path.endswith(".json") else os.path.join(path, "results.json")))
+    a, b = results_of(a_dir), results_of(b_dir)
+    with_images = os.path.isdir(a_dir) and os.path.isdir(b_dir)
     problems, added = [], set()
     if len(a["runs"]) != len(b["runs"]):
         problems.append(f"runs: {len(a['runs'])} -> {len(b['runs'])}")
     print(f"# Same outputs: {a_dir} against {b_dir}\n")
-    print(f"A: git {a['context'].get('git', {}).get('revision', a['context'].get('git_revision', '?'))}, "
-          f"B: git {b['context'].get('git', {}).get('revision', b['context'].get('git_revision', '?'))}; "
+    print(f"A: git {a['context'].get('tool', {}).get('git', '?')}, "
+          f"B: git {b['context'].get('tool', {}).get('git', '?')}; "
           f"device {b['context'].get('device', {}).get('name', '?')}\n")
     print("Every field but times (" + ", ".join(sorted(TIMING)) + "), run by run:\n")
     print("| run | differing fields |")
@@ -71,7 +75,7 @@ def main():
         problems += out
         print(f"| {ra['name']} | {len(out)} |")
     total_images, bad_images = 0, []
-    for sub in sorted(os.listdir(a_dir)):
+    for sub in sorted(os.listdir(a_dir)) if with_images else []:
         pa, pb = os.path.join(a_dir, sub), os.path.join(b_dir, sub)
         if not os.path.isdir(pa):
             continue
@@ -82,7 +86,10 @@ def main():
             fb = os.path.join(pb, name)
             if not os.path.exists(fb) or png_pixels(os.path.join(pa, name)) != png_pixels(fb):
                 bad_images.append(f"{sub}/{name}")
-    print(f"\nImages: {total_images} compared pixel for pixel, {len(bad_images)} differ.")
+    if with_images:
+        print(f"\nImages: {total_images} compared pixel for pixel, {len(bad_images)} differ.")
+    else:
+        print("\nImages: not compared (a results file was named, or a sweep ran with --no-images).")
     for name in bad_images:
         print(f"- differs: {name}")
     if added:
