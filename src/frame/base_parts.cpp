@@ -134,8 +134,8 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
                    r.buffer(res::kAmbientOcclusion),
                    r.image(res::kIndirectIrradiance)};
   shading_ = std::make_unique<ShadingPass>(f.ctx, f.gpuScene, s.width, s.height, in);
-  f.resources.publish(res::kColor, shading_->color(), "");
-  f.resources.publish(res::kRefNormals, shading_->refNormals(), "");
+  f.resources.publish(res::kColor, shading_->color(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+  f.resources.publish(res::kRefNormals, shading_->refNormals(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
 
   FramePass pass;
   pass.name = kShadingPass;

@@ -52,13 +52,19 @@ struct NamedResource {
   const Image* image = nullptr;
   VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
   VkSampler sampler = VK_NULL_HANDLE;
+  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;  // an image's layout between frames
 };
 
 class FrameResources {
  public:
   // Publishes a resource under `name` (a name is published once: HB_ASSERT).
   void publish(const std::string& name, const Buffer& buffer, std::string format, std::string size);
-  void publish(const std::string& name, const Image& image, std::string format);
+  void publish(const std::string& name, const Image& image, std::string format,
+               VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL);
+  // A pass that rewrites a published image into its own (an effect on the shaded colour, say)
+  // makes its image the one later passes and readbacks see under `name`. Precondition: `name`
+  // is a published image.
+  void replace(const std::string& name, const Image& image, VkImageLayout layout);
   void publishTlas(const std::string& name, VkAccelerationStructureKHR tlas, uint64_t bytes);
   void publishSampler(const std::string& name, VkSampler sampler);
 
@@ -71,6 +77,7 @@ class FrameResources {
   // The resource; HB_ASSERT that it is published (a required input).
   const Buffer& requireBuffer(std::string_view name) const;
   const Image& requireImage(std::string_view name) const;
+  VkImageLayout imageLayout(std::string_view name) const;  // precondition: a published image
 
   // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400}, ...}
   nlohmann::json toJson() const;

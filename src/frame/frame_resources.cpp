@@ -22,12 +22,35 @@ void FrameResources::publish(const std::string& name, const Buffer& buffer, std:
   addOnce(resources_, {name, std::move(format), std::move(size), uint64_t(buffer.size()), &buffer});
 }
 
-void FrameResources::publish(const std::string& name, const Image& image, std::string format) {
+static NamedResource imageResource(const std::string& name, const Image& image, std::string format,
+                                   VkImageLayout layout) {
   const vk::Format f = static_cast<vk::Format>(image.format());
   if (format.empty()) format = vk::to_string(f);
   const uint64_t bytes = uint64_t(image.width()) * image.height() * vk::blockSize(f);
-  addOnce(resources_, {name, std::move(format), std::to_string(image.width()) + " x " + std::to_string(image.height()),
-                       bytes, nullptr, &image});
+  NamedResource r{name, std::move(format), std::to_string(image.width()) + " x " + std::to_string(image.height()),
+                  bytes, nullptr, &image};
+  r.layout = layout;
+  return r;
+}
+
+void FrameResources::publish(const std::string& name, const Image& image, std::string format, VkImageLayout layout) {
+  addOnce(resources_, imageResource(name, image, std::move(format), layout));
+}
+
+void FrameResources::replace(const std::string& name, const Image& image, VkImageLayout layout) {
+  for (NamedResource& r : resources_)
+    if (r.name == name) {
+      HB_ASSERT(r.image != nullptr);
+      r = imageResource(name, image, "", layout);
+      return;
+    }
+  HB_ASSERT(false);  // nothing to replace
+}
+
+VkImageLayout FrameResources::imageLayout(std::string_view name) const {
+  const NamedResource* r = find(name);
+  HB_ASSERT(r != nullptr && r->image != nullptr);
+  return r->layout;
 }
 
 void FrameResources::publishTlas(const std::string& name, VkAccelerationStructureKHR tlas, uint64_t bytes) {

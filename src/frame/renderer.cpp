@@ -306,7 +306,7 @@ static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, ui
 }
 
 std::vector<float> Renderer::readColor() const {
-  std::vector<uint8_t> bytes = readbackImage(ctx_, resources_.requireImage(res::kColor), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 8);
+  std::vector<uint8_t> bytes = readbackImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor), 8);
   std::vector<float> out(bytes.size() / 2);
   for (size_t i = 0; i < out.size(); ++i) {
     uint16_t h;
@@ -318,7 +318,7 @@ std::vector<float> Renderer::readColor() const {
 
 std::vector<float> Renderer::readRefNormals() const {
   std::vector<uint8_t> bytes =
-      readbackImage(ctx_, resources_.requireImage(res::kRefNormals), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 16);
+      readbackImage(ctx_, resources_.requireImage(res::kRefNormals), resources_.imageLayout(res::kRefNormals), 16);
   std::vector<float> out(bytes.size() / 4);
   std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;

@@ -1,0 +1,276 @@
+// A test-only effect, defined entirely in this file and its shader (tests/shaders/tint.comp.glsl):
+// "tint" adds red to the shaded image in proportion to each pixel's tile light-list length, after
+// shading. Registered from the test (registerEffect, registerSpirv), it runs in the frame of the
+// real `render`, `sweep` and `tables` commands and appears under its own key in render.json and
+// results.json and as its own table — with no edit to any file under src/ beyond what every
+// effect shares (docs/contributing.md "Adding an effect or a pass" lists them). That is the proof
+// that a new effect needs one folder, not thirty files.
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/packing.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "analysis/effect_report.h"
+#include "app/commands.h"
+#include "app/sweep.h"
+#include "effects/effects.h"
+#include "frame/frame_builder.h"
+#include "frame/renderer.h"
+#include "gpu/vk_pipeline.h"
+#include "gpu_fixture.h"
+#include "report/results_json.h"
+#include "scene/atrium.h"
+#include "tint_comp.h"  // generated from tests/shaders/tint.comp.glsl (CMakeLists.txt)
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr const char* kTintPass = "tint";
+constexpr const char* kTintColor = "tint.color";
+// Red added per light of the pixel's list: small enough that the atrium's ten lights keep the
+// image in range, large enough that one light is many RGBA16F steps above 1 (step 2^-10 there).
+constexpr float kRedPerLight = 0.0625f;
+
+struct TintPush {
+  uint32_t width, height, tileSize, tilesX;
+  float redPerLight;
+};
+
+// The effect's GPU state and its one pass: copy the shaded colour into its own image, add the red
+// there, and make that image the frame's colour.
+class TintPart : public FramePart {
+ public:
+  explicit TintPart(FrameBuilder& f)
+      : ctx_(f.ctx),
+        source_(f.resources.requireImage(res::kColor)),
+        grid_(f.resources.requireBuffer(res::kListGrid)),
+        tinted_(f.ctx, f.settings.width, f.settings.height, source_.format(),
+                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                VK_IMAGE_ASPECT_COLOR_BIT),
+        sets_(f.ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
+                      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}}),
+        pipeline_(f.ctx) {
+    const uint32_t tileSize = f.settings.tileSize;
+    push_ = {f.settings.width, f.settings.height, tileSize, (f.settings.width + tileSize - 1) / tileSize, kRedPerLight};
+    sets_.writeImage(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, tinted_.view(), VK_IMAGE_LAYOUT_GENERAL);
+    sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_.handle());
+    pipeline_.createLayout({sets_.layout()}, sizeof(TintPush));
+    pipeline_.createCompute("tint.comp");
+    f.resources.publish(kTintColor, tinted_, "", VK_IMAGE_LAYOUT_GENERAL);
+    f.resources.replace(res::kColor, tinted_, VK_IMAGE_LAYOUT_GENERAL);
+
+    FramePass pass;
+    pass.name = kTintPass;
+    pass.reads = {res::kColor, res::kListGrid};
+    pass.writes = {res::kColor};
+    pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { record(cmd); };
+    passes_.push_back(std::move(pass));
+  }
+  const Image& shaded() const { return source_; }  // the colour before the tint
+  const Image& tinted() const { return tinted_; }
+
+ private:
+  void record(VkCommandBuffer cmd) const {
+    imageBarrier(cmd, source_, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(cmd, tinted_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    VkImageCopy region{};
+    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.extent = {push_.width, push_.height, 1};
+    vkCmdCopyImage(cmd, source_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tinted_.handle(),
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+    imageBarrier(cmd, source_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                 VK_ACCESS_2_TRANSFER_READ_BIT);
+    imageBarrier(cmd, tinted_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    VkDescriptorSet set = sets_.set();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push_, &push_);
+    vkCmdDispatch(cmd, (push_.width + 7) / 8, (push_.height + 7) / 8, 1);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  }
+
+  const VulkanContext& ctx_;
+  const Image& source_;
+  const Buffer& grid_;
+  Image tinted_;
+  DescriptorSets sets_;
+  Pipeline pipeline_;
+  TintPush push_{};
+};
+
+// render.json / results.json "tint": the red per light, the longest list and the pixels tinted.
+void reportTint(EffectReport& r) {
+  const CullingReadback& c = r.culling;
+  const RenderSettings& s = r.renderer.settings();
+  uint64_t tinted = 0;
+  uint32_t longest = 0;
+  for (uint32_t y = 0; y < s.height && !c.count.empty(); ++y)
+    for (uint32_t x = 0; x < s.width; ++x) {
+      const uint32_t n = c.count[(y / s.tileSize) * c.tilesX + x / s.tileSize];
+      tinted += n > 0;
+      longest = std::max(longest, n);
+    }
+  r.run[kTintPass] = {{"red_per_light", kRedPerLight}, {"longest_list", longest}, {"pixels_tinted", tinted}};
+  r.summary.push_back("tint: " + std::to_string(tinted) + " pixels tinted, longest list " + std::to_string(longest));
+}
+
+std::string tintTable(const json& results) {
+  std::string rows;
+  for (const json& run : results["runs"])
+    if (run.contains(kTintPass))
+      rows += "| " + run.value("name", std::string("?")) + " | " + run[kTintPass]["longest_list"].dump() + " | " +
+              run[kTintPass]["pixels_tinted"].dump() + " |\n";
+  if (rows.empty()) return "";
+  return "## Tint (a test-only effect)\n\n| Run | Longest list | Pixels tinted |\n|---|---:|---:|\n" + rows;
+}
+
+const EffectDef& tintEffect() {
+  static const EffectDef def{
+      .name = kTintPass,
+      .summary = "test only: red added to the shaded image in proportion to each pixel's light-list length",
+      .defaultValue = false,
+      .validate = [](const nlohmann::ordered_json& value, const json_reader::Where& where) {
+        json_reader::readBool(value, where);
+      },
+      .needs = {FrameResource::Depth, FrameResource::LightLists},
+      .passes = {kTintPass},
+      .cannotAct = [](const Scene& scene, const json&) -> std::string {
+        return scene.lights.empty() ? "the scene has no lights" : "";
+      },
+      .phase = FramePhase::AfterShading,
+      .build = [](FrameBuilder& f) -> std::unique_ptr<FramePart> { return std::make_unique<TintPart>(f); },
+      .report = reportTint,
+      .table = tintTable,
+  };
+  return def;
+}
+
+class TintEffectTest : public testing::GpuTest {
+ protected:
+  void SetUp() override {
+    testing::GpuTest::SetUp();
+    static const bool spirv = (registerSpirv("tint.comp", kSpirv_tint_comp, sizeof kSpirv_tint_comp), true);
+    (void)spirv;
+    registerEffect(tintEffect());
+    dir = fs::temp_directory_path() / ("hb-tint-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override {
+    unregisterEffect(tintEffect());
+    fs::remove_all(dir);
+    testing::GpuTest::TearDown();
+  }
+  fs::path dir;
+};
+
+std::vector<float> halfImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout) {
+  const std::vector<uint8_t> bytes = readbackImage(ctx, image, layout, 8);
+  std::vector<float> out(bytes.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) {
+    uint16_t h;
+    std::memcpy(&h, bytes.data() + 2 * i, 2);
+    out[i] = glm::unpackHalf1x16(h);
+  }
+  return out;
+}
+
+TEST_F(TintEffectTest, RunsAfterShadingAndAddsRedInProportionToTheListLength) {
+  const Scene scene = makeAtrium({});
+  RenderSettings rs = testing::settingsWithEffects(96, 54, {{"shadows", false}, {"tint", true}});
+  rs.tileSize = 8;
+  Renderer r(*ctx, scene, rs);
+  ASSERT_EQ(r.passesRun().size(), 0u);
+  r.renderFrame(true);
+  ASSERT_FALSE(r.passesRun().empty());
+  EXPECT_EQ(r.passesRun().back(), kTintPass) << "an after-shading effect runs after shading";
+  EXPECT_EQ(r.passesRun()[r.passesRun().size() - 2], kShadingPass);
+  const auto* part = r.part<TintPart>(kTintPass);
+  ASSERT_NE(part, nullptr);
+
+  const std::vector<float> shaded = halfImage(*ctx, part->shaded(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+  const std::vector<float> tinted = r.readColor();  // the frame's colour is now the tint's
+  const CullingReadback lists = r.readCulling();
+  ASSERT_EQ(shaded.size(), tinted.size());
+  uint64_t checked = 0, reddened = 0;
+  for (uint32_t y = 0; y < rs.height; ++y)
+    for (uint32_t x = 0; x < rs.width; ++x) {
+      const size_t i = size_t(y) * rs.width + x;
+      const uint32_t n = lists.count[(y / rs.tileSize) * lists.tilesX + x / rs.tileSize];
+      // The shader adds in fp32 (exact to 2^-24 relative, far below what follows) and stores
+      // RGBA16F, rounded to nearest or towards zero (Vulkan allows either on a float-to-half
+      // store): the stored value is within one half-float step of the exact sum. For a sum in
+      // [2^e, 2^(e+1)) that step is 2^(e−10) (10 mantissa bits); below 2^-14 it is 2^-24.
+      const float expected = shaded[4 * i] + kRedPerLight * float(n);
+      const float ulp = std::ldexp(1.0f, std::ilogb(std::max(std::abs(expected), std::ldexp(1.0f, -14))) - 10);
+      EXPECT_NEAR(tinted[4 * i], expected, ulp) << "pixel " << x << "," << y << " list " << n;
+      for (int c = 1; c < 4; ++c) EXPECT_EQ(tinted[4 * i + c], shaded[4 * i + c]) << "only red changes";
+      reddened += n > 0;
+      ++checked;
+    }
+  EXPECT_GT(reddened, checked / 2) << "most of the atrium's tiles hold a light";
+}
+
+TEST_F(TintEffectTest, RenderSweepAndTablesCarryItWithNoEditToTheTool) {
+  // render: the effect by --set, its key in render.json, its pass run.
+  RenderOptions ro;
+  ro.size = "96x54";
+  ro.sets = {"tint=true", "shadows=false", "tile_size=8"};
+  ro.out = (dir / "render").string();
+  ASSERT_EQ(cmdRender(ro), 0);
+  std::ifstream rf(dir / "render" / "render.json");
+  const json render = json::parse(rf);
+  ASSERT_TRUE(render.contains("tint")) << render.dump(1).substr(0, 2000);
+  EXPECT_GT(render["tint"]["pixels_tinted"].get<uint64_t>(), 0u);
+  EXPECT_EQ(render["passes_run"].back(), kTintPass);
+  EXPECT_TRUE(render["effects"]["tint"]["runs"].get<bool>());
+
+  // sweep: the config calls for it; each run carries its key and its pass time.
+  const fs::path config = dir / "tint.json";
+  std::ofstream(config) << json{{"name", "tint"},
+                                {"scene", "atrium"},
+                                {"resolution", {96, 54}},
+                                {"effects", {{"shadows", false}, {"tint", true}}},
+                                {"frames", {{"warmup", 1}, {"measured", 2}}},
+                                {"variants", {{{"name", "tinted"}, {"params", {{"tile_size", 8}}}}}}}
+                                   .dump();
+  SweepOptions so;
+  so.config = config.string();
+  so.out = (dir / "sweep").string();
+  so.images = false;
+  ASSERT_EQ(cmdSweep(so), 0);
+  std::ifstream sf(dir / "sweep" / "results.json");
+  const json results = json::parse(sf);
+  ASSERT_EQ(results["runs"].size(), 1u);
+  EXPECT_TRUE(results["runs"][0].contains("tint"));
+  EXPECT_TRUE(results["runs"][0]["passes"].contains(kTintPass));
+
+  // tables: its table hook prints.
+  ::testing::internal::CaptureStdout();
+  const int rc = cmdTables({(dir / "sweep" / "results.json").string()}, "md");
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_EQ(rc, 0);
+  EXPECT_NE(out.find("## Tint (a test-only effect)"), std::string::npos) << out.substr(0, 3000);
+  EXPECT_NE(out.find("| tinted | "), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hb
