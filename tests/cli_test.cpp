@@ -1,5 +1,5 @@
 // End-to-end tests of the command line: they run the built hybridbench (HYBRIDBENCH_BINARY) as a
-// child process and check its exit code, stdout and stderr. They hold the CLI to design.md's
+// child process and check its exit code, stdout and stderr. They hold the CLI to docs/usage.md's
 // contract: exit codes 0 ok / 2 bad input / 3 device failure; bad input is ONE stderr line that
 // names the thing that is wrong; a failed run loses nothing already in its output directory.
 // Each test is fast: scene export/info, devices, and render only at 64x36 on the "plane" scene.

@@ -1,6 +1,6 @@
 // End-to-end tests of `hybridbench sweep`, `tables` and `compare`: they run the built tool
 // (HYBRIDBENCH_BINARY) as a child process on the tiny config tests/fixtures/sweep-tiny.json and
-// hold its output files to design.md "Results file": every finished variant is written at once,
+// hold its output files to docs/results-format.md: every finished variant is written at once,
 // an interrupted sweep (SIGINT/SIGTERM, exit 130) keeps exactly its finished runs and --resume
 // completes it without re-running them, a variant the renderer refuses is recorded as an error
 // and the sweep goes on, and compare calls a file the same as itself and flags a slowdown.
@@ -123,7 +123,7 @@ class Sweep : public hb::testing::ToolTest {
 
 };
 
-// The summary of a timing block: every key of design.md, samples of the stated length, and
+// The summary of a timing block: every key of docs/results-format.md, samples of the stated length, and
 // aggregates consistent with the samples.
 void expectTimingBlock(const json& t, size_t frames, const std::string& what) {
   SCOPED_TRACE(what);
@@ -180,7 +180,7 @@ void expectCompleteRun(const json& run, const json& variant, size_t frames) {
   }
 }
 
-// Ray accounting, culling, accuracy and ray throughput of a finished run (design.md).
+// Ray accounting, culling, accuracy and ray throughput of a finished run (docs/results-format.md).
 void expectAnalysis(const json& run) {
   SCOPED_TRACE("run \"" + run.value("name", std::string()) + "\"");
   const json& p = run["params"];

@@ -1,4 +1,4 @@
-// GPU data structures and constants shared by GLSL and C++ (conventions.md habit 2). Plain scalar
+// GPU data structures and constants shared by GLSL and C++. Plain scalar
 // and 16-byte-vector members only, laid out for std430/std140 alike; C++ static_asserts the sizes.
 #ifndef HB_GPU_TYPES_H
 #define HB_GPU_TYPES_H

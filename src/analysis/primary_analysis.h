@@ -1,4 +1,4 @@
-// Primary visibility against its exact counterpart (design.md "References"): a double-precision
+// Primary visibility against its exact counterpart (docs/frame.md "References"): a double-precision
 // ray cast per pixel (reference/bvh: watertight, both faces) along the same pixel-centre rays the
 // 3D rasterizer uses, t in [znear, zfar]. Per pixel the rasterizer's triangle id and view depth t
 // are compared with the ray cast's.

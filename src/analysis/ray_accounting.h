@@ -1,4 +1,4 @@
-// Where every candidate (pixel, light) pair of a shadow frame went (design.md "Accuracy"), and its
+// Where every candidate (pixel, light) pair of a shadow frame went (docs/methods/thesis.md "Accuracy"), and its
 // heatmaps. Images are row-major, width × height, top row first; depth 0 = sky.
 #pragma once
 #include <cstdint>

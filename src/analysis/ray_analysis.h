@@ -1,4 +1,4 @@
-// Analysis of a shadow frame on the CPU (design.md "Accuracy", "The oracle"): where every candidate
+// Analysis of a shadow frame on the CPU (docs/methods/thesis.md "Accuracy", "The oracle"): where every candidate
 // (pixel, light) pair went, the fewest rays any culler could trace, how accurate the reconstructed
 // normals and world positions are, and a CPU shadow reference that repeats the GPU's decisions.
 // Images are row-major, width × height, top row first; depth 0 = sky.

@@ -1,4 +1,4 @@
-// The oracle (design.md "The oracle"): the fewest shadow rays any correct culler could trace.
+// The oracle (docs/methods/thesis.md "The oracle"): the fewest shadow rays any correct culler could trace.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -8,7 +8,7 @@
 
 namespace hb {
 
-// design.md "The oracle": per non-sky pixel the lights that cast shadows, whose range contains the
+// docs/methods/thesis.md "The oracle": per non-sky pixel the lights that cast shadows, whose range contains the
 // point (point, spot), whose outer cone contains it (spot) and that the true geometric normal
 // faces (N·L > 0). No culler that is correct can trace fewer rays. Unmatched pixels have no true
 // normal: the N·L test is skipped there (their count is an upper bound) and they are counted.

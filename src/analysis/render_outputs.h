@@ -19,7 +19,7 @@ struct RenderOutputs {
   std::vector<std::string> summary;  // lines for the console
 };
 
-// The reference a variant's accuracy is measured against (design.md "Accuracy"): the same scene,
+// The reference a variant's accuracy is measured against (docs/methods/thesis.md "Accuracy"): the same scene,
 // camera, resolution and backend with no culling of any kind (every light of every pixel traced).
 struct ReferenceFrame {
   uint32_t width = 0, height = 0;

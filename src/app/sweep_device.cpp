@@ -72,7 +72,7 @@ std::string joinNames(const std::vector<std::string>& names) {
   return s;
 }
 
-// The no-culling reference of each (scene, resolution, backend), rendered once (design.md
+// The no-culling reference of each (scene, resolution, backend), rendered once (docs/methods/thesis.md
 // "Accuracy"). None for scenes with more lights than one tile list holds: with culling off such a
 // reference would itself drop lights.
 class ReferenceCache {

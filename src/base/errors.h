@@ -1,4 +1,4 @@
-// Error kinds and the exit codes they map to (design.md: 0 ok, 1 regression, 2 bad input,
+// Error kinds and the exit codes they map to (docs/usage.md "Exit codes": 0 ok, 1 regression, 2 bad input,
 // 3 device or runtime failure).
 #pragma once
 #include <stdexcept>
@@ -22,7 +22,7 @@ struct DeviceError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Internal invariant; stays on in release builds (conventions.md habit 5).
+// Internal invariant; stays on in release builds.
 #define HB_ASSERT(cond)                                                                    \
   do {                                                                                     \
     if (!(cond))                                                                           \

@@ -1,6 +1,6 @@
 // The accuracy-vs-time report of one sweep: each variant's frame time against its errors, with
 // the Pareto front marked, as a Markdown table and an SVG scatter plot. Input is a results file
-// (design.md "Results file"); a figure the file lacks prints as "—", never invented.
+// (docs/results-format.md); a figure the file lacks prints as "—", never invented.
 //
 // The accuracy measure of the front (the y axis of the plot) is chosen once per sweep, as the
 // first of these that EVERY ok run with a frame time carries, so all points are on one scale:

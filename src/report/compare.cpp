@@ -20,7 +20,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Passes in frame order (design.md "The frame"); others follow alphabetically.
+// Passes in frame order (docs/frame.md "The frame"); others follow alphabetically.
 const std::vector<std::string> kPassOrder = {"depth_prepass", "tile_frustums", "light_culling",
                                              "shadows", "shading", "analysis"};
 

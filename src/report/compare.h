@@ -47,7 +47,7 @@ struct CompareReport {
   bool regression = false;       // any frame-level row is "slower"
 };
 
-// Compares results file b against a (design.md "Results file", schema_version 1).
+// Compares results file b against a (docs/results-format.md, schema_version 1).
 // Throws InputError when either is not a schema-1 results file, or (unless options.force) when
 // context.scene.sha256, the config's scene, the resolution or the config's variants differ; the
 // message names the field and both values. Runs whose status is not "ok", variants or passes

@@ -1,4 +1,4 @@
-// Reading results files (design.md "Results file") for the report writers: tolerant lookups that
+// Reading results files (docs/results-format.md) for the report writers: tolerant lookups that
 // turn a missing or mistyped field into null/NaN ("—" in a report, never an invented number).
 #pragma once
 #include <string>

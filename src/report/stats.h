@@ -23,7 +23,7 @@ double quantileSorted(std::span<const double> sorted, double q);
 // sample); mean 0 gives cv NaN. NaN is written to JSON as null.
 Summary summarize(std::span<const double> samples);
 
-// The results-file form (design.md "Results file"): {median, mean, stddev, cv, min, max, p95,
+// The results-file form (docs/results-format.md): {median, mean, stddev, cv, min, max, p95,
 // samples: [...]}.
 nlohmann::json toJson(const Summary& s, std::span<const double> samples);
 

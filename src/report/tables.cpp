@@ -30,7 +30,7 @@ struct ThesisConfig {
   double thesisMs, thesisDiffPct;
 };
 
-// reference-figures.md, Tables 5.1 and 5.2 (RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights).
+// the thesis, Tables 5.1 and 5.2 (RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights).
 // "shadow ray culling" is the naive normal reconstruction, "improved" the five-sample one.
 const ThesisConfig kThesis[] = {
     {"5.1", "no optimisations", 8, false, false, "off", 16, 0.00},

@@ -1,5 +1,5 @@
-// The thesis's frame-time tables regenerated from a results file (design.md "Results file"),
-// with the thesis's own figures (reference-figures.md) beside ours:
+// The thesis's frame-time tables regenerated from a results file (docs/results-format.md),
+// with the thesis's own figures (the thesis, Tables 5.1 and 5.2) beside ours:
 //   Table 5.1: the six optimisation configurations at 8x8 tiles, diff (%) to "no optimisations";
 //   Table 5.2: tile sizes 8/16/32 with light culling, AABB and improved normal culling on.
 // Runs are matched by their params, never by their names. A configuration that no run matches is
@@ -19,7 +19,7 @@ struct ThesisRow {
   int tileSize = 8;
   bool lightCulling = false, aabb = false;
   std::string normalCulling;  // "off" | "naive" | "improved"
-  double thesisMs = 0;        // reference-figures.md
+  double thesisMs = 0;        // the thesis, Table 5.1 / 5.2
   double thesisDiffPct = 0;   // NaN where the thesis gives none (Table 5.2)
 
   std::string status;   // "ok", "missing" (no run matches) or "error" (the run failed)

@@ -46,7 +46,7 @@ TEST(ThesisTables, MarkdownRowsFollowTheThesisOrderWithDiffsToNoOptimisations) {
   const std::string md = thesisTablesMarkdown(fixture());
   // Diff = 100 (t - 4.000) / 4.000, by hand:
   //   2.880 -> -28.00; 2.732 -> -31.70; 2.400 -> -40.00; 2.420 -> -39.50; 3.380 -> -15.50.
-  // Thesis columns are reference-figures.md verbatim.
+  // Thesis columns are the thesis's Tables 5.1 and 5.2 verbatim.
   const std::vector<std::string> expected = {
       "| no optimisations | 4.000 | 0.00 | 16 | 0.00 |",
       "| light culling | 2.880 | -28.00 | 11.52 | -28.00 |",

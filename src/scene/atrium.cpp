@@ -18,7 +18,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 
-// ---- Layout (metres). Sponza after its node scale: 29.8 x 12.4 x 18.3 (reference-figures.md).
+// ---- Layout (metres). Sponza after its node scale: 29.8 x 12.4 x 18.3 (the Crytek Sponza glTF's bounds).
 constexpr double kHalfX = 14.9, kHalfZ = 9.15, kFloorY = -0.2, kTopY = 12.2;
 constexpr double kWall = 0.4;                                   // outer wall thickness
 constexpr double kInnerX = kHalfX - kWall, kInnerZ = kHalfZ - kWall;

@@ -1,5 +1,5 @@
 // The procedural atrium: the embedded default scene, shaped like Crytek Sponza (the thesis's
-// scene, reference-figures.md) so that the thesis experiments run anywhere with no download.
+// scene) so that the thesis experiments run anywhere with no download.
 //
 // At triangleScale 1: about 262k triangles (Sponza: 262,267), 29.8 m (x) x 12.4 m (y, up) x
 // 18.3 m (z), 25 materials. A floor, outer walls, an open courtyard along x framed by two storeys

@@ -47,7 +47,7 @@ TEST(Atrium, HasAboutAsManyTrianglesAsSponza) {
 TEST(Atrium, BoundsMatchSponzaWithinTenPercent) {
   glm::vec3 lo, hi;
   atrium().bounds(lo, hi);
-  const glm::dvec3 size = glm::dvec3(hi - lo), sponza(29.8, 12.4, 18.3);  // reference-figures.md
+  const glm::dvec3 size = glm::dvec3(hi - lo), sponza(29.8, 12.4, 18.3);  // the Crytek Sponza glTF's bounds
   for (int a = 0; a < 3; ++a) {
     EXPECT_GE(size[a], 0.9 * sponza[a]) << "axis " << a;
     EXPECT_LE(size[a], 1.1 * sponza[a]) << "axis " << a;
