@@ -17,7 +17,8 @@ fi
 PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libtinygltf-dev
   nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev vulkan-validationlayers vulkan-tools
   libssl-dev libglvnd0 libglx0 libegl1 libgl1 libopengl0
-  clang libclang-rt-14-dev llvm)  # the fuzzers: clang, libFuzzer's runtime, llvm-symbolizer
+  clang libclang-rt-14-dev llvm  # the fuzzers: clang, libFuzzer's runtime, llvm-symbolizer
+  clang-format)                  # scripts/format.sh --check (CI)
 # node and npm run the glTF validator test; a node that brings its own npm (NodeSource's) is kept,
 # since Debian's npm package conflicts with it.
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Set-up if needed, build (Release, warnings as errors), run every test on the Vulkan device that
+# Set-up if needed, check the formatting, build (Release, warnings as errors), run every test on the Vulkan device that
 # is present (lavapipe on a machine without a GPU) with validation layers on. Arguments go to ctest;
 # without any (the full run CI makes) the unit tests also run under AddressSanitizer and UBSan
 # (scripts/sanitize.sh) and each fuzzer runs for 60 s (scripts/fuzz.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 HYBRIDBENCH_SKIP_BUILD=1 bash scripts/setup.sh
+bash scripts/format.sh --check  # the tree follows .clang-format
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DHYBRIDBENCH_WERROR=ON >/dev/null
 cmake --build build -j"$(nproc)"
 export HYBRIDBENCH_VALIDATION=1

@@ -13,9 +13,9 @@
 #include <gtest/gtest.h>
 
 #include "effects/ambient_occlusion/ao_analysis.h"
-#include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
 #include "effects/ambient_occlusion/ao_part.h"
+#include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
 #include "gpu_fixture.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
@@ -53,15 +53,21 @@ Scene aoScene(const char* name, const std::function<void(MeshBuilder&)>& build, 
 // A ground quad of side 40 m at y = 0, seen from 3 m above: every visible point sees open sky.
 Scene openSky() {
   return aoScene(
-      "open-sky", [](MeshBuilder& mb) { addQuad(mb, 0, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, {0, 1, 0}); },
+      "open-sky",
+      [](MeshBuilder& mb) {
+        addQuad(mb, 0, {-20, 0, -20}, {20, 0, -20}, {20, 0, 20}, {-20, 0, 20}, {0, 1, 0});
+      },
       {0, 5, 0}, lookFrom({0, 3, 4}, {0, 0, -2}));
 }
 
 // A closed box 4 x 3 x 5 m with the camera (and the light) inside: nothing inside sees the sky.
 Scene closedBox() {
   return aoScene(
-      "closed-box", [](MeshBuilder& mb) { addBox(mb, 0, {-2, 0, -2.5}, {2, 3, 2.5}); }, {0, 2.5, 0},
-      lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
+      "closed-box",
+      [](MeshBuilder& mb) {
+        addBox(mb, 0, {-2, 0, -2.5}, {2, 3, 2.5});
+      },
+      {0, 2.5, 0}, lookFrom({0.3f, 1.5f, 2.0f}, {-0.5f, 1.0f, -2.5f}));
 }
 
 std::vector<float> aoOf(const VulkanContext& ctx, const Scene& scene, const RenderSettings& rs) {
@@ -80,45 +86,47 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
   const Scene scene = makeAtrium(AtriumParams{});
   const Bvh bvh = buildBvh(scene);
   for (const char* build : {"hardware", "3dr"})
-  for (const char* list : {"max64", "cas", "sbuffer"}) {
-  SCOPED_TRACE(std::string(build) + ", " + list);
-  Renderer r(*ctx, scene,
-             aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}, {"ldm_list", list}}));
-  r.renderFrame(true);
-  const LdmBuild& ldm = *aoPassOf(r)->ldm();
-  const std::vector<std::vector<float>> lists = ldm.readLists();
-  const LdmCounters counters = ldm.readCounters();
-  EXPECT_EQ(counters.overflow, 0u);
-  EXPECT_EQ(counters.unfinished, 0u);
-  const uint32_t R = ldm.resolution();
-  size_t pixels = 0, equal = 0, nodes = 0;
-  double worst = 0;
-  for (uint32_t m = 0; m < ldm.mapCount(); ++m) {
-    const gpu::LdmMap& g = ldm.maps()[m];
-    const LdmView view{glm::dvec3(g.dir), glm::dvec3(g.right), glm::dvec3(g.up), glm::dvec3(g.centreRadius),
-                       double(g.centreRadius.w), R};
-    const ExactLdm exact = exactLdm(bvh, view);
-    for (uint32_t j = 0; j < R; ++j)
-      for (uint32_t i = 0; i < R; ++i) {
-        const std::span<const double> want = exact.pixel(i, j);
-        const std::vector<float>& got = lists[(size_t(m) * R + j) * R + i];
-        ++pixels;
-        nodes += got.size();
-        bool same = want.size() == got.size();
-        for (size_t k = 0; same && k < got.size(); ++k) {
-          const double d = std::abs(double(got[k]) - want[k]);
-          same = d <= 1e-4;
-          worst = std::max(worst, d);
-        }
-        equal += same;
+    for (const char* list : {"max64", "cas", "sbuffer"}) {
+      SCOPED_TRACE(std::string(build) + ", " + list);
+      Renderer r(
+          *ctx, scene,
+          aoSettings(64, 36, {{"directions", 8}, {"ldm_resolution", 128}, {"ldm_build", build}, {"ldm_list", list}}));
+      r.renderFrame(true);
+      const LdmBuild& ldm = *aoPassOf(r)->ldm();
+      const std::vector<std::vector<float>> lists = ldm.readLists();
+      const LdmCounters counters = ldm.readCounters();
+      EXPECT_EQ(counters.overflow, 0u);
+      EXPECT_EQ(counters.unfinished, 0u);
+      const uint32_t R = ldm.resolution();
+      size_t pixels = 0, equal = 0, nodes = 0;
+      double worst = 0;
+      for (uint32_t m = 0; m < ldm.mapCount(); ++m) {
+        const gpu::LdmMap& g = ldm.maps()[m];
+        const LdmView view{glm::dvec3(g.dir),          glm::dvec3(g.right),      glm::dvec3(g.up),
+                           glm::dvec3(g.centreRadius), double(g.centreRadius.w), R};
+        const ExactLdm exact = exactLdm(bvh, view);
+        for (uint32_t j = 0; j < R; ++j)
+          for (uint32_t i = 0; i < R; ++i) {
+            const std::span<const double> want = exact.pixel(i, j);
+            const std::vector<float>& got = lists[(size_t(m) * R + j) * R + i];
+            ++pixels;
+            nodes += got.size();
+            bool same = want.size() == got.size();
+            for (size_t k = 0; same && k < got.size(); ++k) {
+              const double d = std::abs(double(got[k]) - want[k]);
+              same = d <= 1e-4;
+              worst = std::max(worst, d);
+            }
+            equal += same;
+          }
       }
-  }
-  std::printf("atrium LDMs (%s, %s), 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu "
-              "nodes, largest depth difference of equal-length lists %.3g m\n",
-              build, list, equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
-  EXPECT_EQ(nodes, counters.allocated);
-  EXPECT_GE(double(equal), 0.995 * double(pixels));
-  }
+      std::printf(
+          "atrium LDMs (%s, %s), 8 maps of 128x128: %zu of %zu pixel lists equal the exact ones (%.4f %%), %zu "
+          "nodes, largest depth difference of equal-length lists %.3g m\n",
+          build, list, equal, pixels, 100.0 * double(equal) / double(pixels), nodes, worst);
+      EXPECT_EQ(nodes, counters.allocated);
+      EXPECT_GE(double(equal), 0.995 * double(pixels));
+    }
 }
 
 // Open sky: nothing but the ground, so every direction of n's hemisphere is free and AO is the
@@ -252,9 +260,10 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
     const std::vector<float> ldm = aoPassOf(r)->readAo();
     const std::vector<float> rt = aoPassOf(r)->computeWith(AoMethod::RayTraced);
     const AoErrors e = aoErrors(ldm, rt, 128, 72);
-    std::printf("atrium 128x72, ldm N=%u %ux%u vs raytraced: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f over %llu "
-                "pixels\n",
-                c.n, c.res, c.res, e.mae, e.rmse, e.bias, e.p95, e.flip, (unsigned long long)e.pixels);
+    std::printf(
+        "atrium 128x72, ldm N=%u %ux%u vs raytraced: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f over %llu "
+        "pixels\n",
+        c.n, c.res, c.res, e.mae, e.rmse, e.bias, e.p95, e.flip, (unsigned long long)e.pixels);
     EXPECT_GT(e.pixels, 8000u);
     EXPECT_LE(e.mae, c.mae);
     EXPECT_LE(e.rmse, c.rmse);
@@ -267,17 +276,17 @@ TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
 // for bit the same when the scene is drawn in another order, for both builds and every list.
 TEST_F(AoGpuTest, LdmAoIsBitForBitTheSameWhenTheDrawOrderIsShuffled) {
   for (const char* build : {"hardware", "3dr"})
-  for (const char* list : {"max64", "cas", "sbuffer"}) {
-    SCOPED_TRACE(std::string(build) + ", " + list);
-    Scene scene = makeAtrium(AtriumParams{});
-    const RenderSettings rs = aoSettings(
-        64, 36, {{"directions", 16}, {"ldm_resolution", 64}, {"ldm_build", build}, {"ldm_list", list}}, false);
-    const std::vector<float> a = aoOf(*ctx, scene, rs);
-    std::reverse(scene.instances.begin(), scene.instances.end());
-    for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());
-    const std::vector<float> b = aoOf(*ctx, scene, rs);
-    EXPECT_EQ(a, b);
-  }
+    for (const char* list : {"max64", "cas", "sbuffer"}) {
+      SCOPED_TRACE(std::string(build) + ", " + list);
+      Scene scene = makeAtrium(AtriumParams{});
+      const RenderSettings rs = aoSettings(
+          64, 36, {{"directions", 16}, {"ldm_resolution", 64}, {"ldm_build", build}, {"ldm_list", list}}, false);
+      const std::vector<float> a = aoOf(*ctx, scene, rs);
+      std::reverse(scene.instances.begin(), scene.instances.end());
+      for (Mesh& m : scene.meshes) std::reverse(m.primitives.begin(), m.primitives.end());
+      const std::vector<float> b = aoOf(*ctx, scene, rs);
+      EXPECT_EQ(a, b);
+    }
 }
 
 // Screen-space HBAO needs neither maps nor a ray tracer: with shadows off the frame builds no

@@ -145,8 +145,8 @@ TEST_F(AutoScene, AGltfWithAnOrthographicCameraRenders) {
 
 TEST_F(AutoScene, LightCountAndCameraAutoWorkOnAnyScene) {
   RunResult r;
-  const json j = renderJson({"--scene", own.string(), "--set", "light_count=3", "--set", "camera=auto"},
-                            dir / "asked-out", r);
+  const json j =
+      renderJson({"--scene", own.string(), "--set", "light_count=3", "--set", "camera=auto"}, dir / "asked-out", r);
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_EQ(j["camera"]["source"], "auto");
   EXPECT_EQ(j["camera"]["name"], "auto");
@@ -158,7 +158,8 @@ TEST_F(AutoScene, LightCountAndCameraAutoWorkOnAnyScene) {
   EXPECT_EQ(hc["lights"]["count"], 40);
   EXPECT_EQ(hc["rays"].value("dropped_by_overflow", uint64_t(1)), 0u);
 
-  const RunResult bad = run({"render", "--scene", own.string(), "--set", "camera=front", "--out", (dir / "x").string()});
+  const RunResult bad =
+      run({"render", "--scene", own.string(), "--set", "camera=front", "--out", (dir / "x").string()});
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_NE(bad.err.find("camera=auto"), std::string::npos) << bad.err;
   const RunResult scale =

@@ -3,9 +3,9 @@
 // contract: exit codes 0 ok / 2 bad input / 3 device failure; bad input is ONE stderr line that
 // names the thing that is wrong; a failed run loses nothing already in its output directory.
 // Each test is fast: scene export/info, devices, and render only at 64x36 on the "plane" scene.
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,11 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "tool_process.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-
-
+#include "tool_process.h"
 
 namespace {
 
@@ -44,9 +42,9 @@ class Cli : public hb::testing::ToolTest {
     ASSERT_FALSE(r.err.empty());
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line: " << r.err;
     EXPECT_EQ(r.err.back(), '\n') << r.err;
-    for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
+    for (const auto& n : names)
+      EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
   }
-
 };
 
 // Standard base64 (RFC 4648), for a glTF buffer in a data URI.
@@ -88,9 +86,15 @@ std::string triangleGltf(uint16_t thirdIndex) {
       {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
       {"buffers", {{{"byteLength", bytes.size()}, {"uri", "data:application/octet-stream;base64," + base64(bytes)}}}},
       {"bufferViews",
-       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+        {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
       {"accessors",
-       {{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}, {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", 3},
+         {"type", "VEC3"},
+         {"min", {0, 0, 0}},
+         {"max", {1, 1, 0}}},
         {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}}};
   return doc.dump(1);
 }
@@ -120,8 +124,7 @@ TEST_F(Cli, DevicesJsonListsADeviceWithBothRayTracingBackends) {
   ASSERT_TRUE(j.contains("devices") && j["devices"].is_array()) << r.out;
   // lavapipe (CI) exposes both ray queries and the ray-tracing pipeline; so do desktop RT GPUs.
   bool found = false;
-  for (const auto& d : j["devices"])
-    found |= d.value("ray_query", false) && d.value("ray_tracing_pipeline", false);
+  for (const auto& d : j["devices"]) found |= d.value("ray_query", false) && d.value("ray_tracing_pipeline", false);
   EXPECT_TRUE(found) << "no device with ray_query and ray_tracing_pipeline: " << r.out;
 }
 
@@ -224,8 +227,8 @@ TEST_F(Cli, RenderWithoutOutIsOneLineNamingTheFlag) {
 TEST_F(Cli, SetTakesOneValueSoAConfigMayFollowIt) {
   const fs::path config = dir / "tiny.json";
   writeFile(config, R"({"name": "tiny", "scene": "atrium", "resolution": [64, 36]})");
-  const RunResult r = run({"render", "--scene", "plane", "--set", "tile_size=16", config.string(), "--out",
-                           (dir / "out").string()});
+  const RunResult r =
+      run({"render", "--scene", "plane", "--set", "tile_size=16", config.string(), "--out", (dir / "out").string()});
   EXPECT_EQ(r.exitCode, 0) << r.err;
 }
 

@@ -3,9 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/camera.h"
-#include "gpu_fixture.h"
 #include "frame/renderer.h"
+#include "gpu_fixture.h"
+#include "scene/camera.h"
 
 namespace hb {
 namespace {
@@ -64,7 +64,8 @@ TEST_F(DepthPrepassTest, MatchesCpuDepthsOfATiltedPlane) {
   const double tol = 16.0 * std::ldexp(1.0, -24);
   for (uint32_t py : {0u, 7u, 30u, 60u})
     for (uint32_t px : {0u, 13u, 48u, 96u}) {
-      double want = expectedDepth(px, py, 97, 61, scene.cameras[0], glm::dvec3(center), glm::normalize(glm::dvec3(normal)));
+      double want =
+          expectedDepth(px, py, 97, 61, scene.cameras[0], glm::dvec3(center), glm::normalize(glm::dvec3(normal)));
       EXPECT_NEAR(depth[py * 97 + px], want, tol) << "pixel " << px << "," << py;
     }
 }

@@ -11,10 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
 #include "gpu_fixture.h"
 #include "scene/hard_cases.h"
-#include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -66,11 +66,12 @@ class ShadowGrazing : public testing::GpuTest {
       a.minHeight = std::min(a.minHeight, height);
       a.maxHeight = std::max(a.maxHeight, height);
     }
-    std::printf("%s, %s t_min: %llu/%llu acne pixels within %.1f m of the eye, %llu/%llu beyond (to %.0f m); "
-                "%llu/%llu where N.L >= 0.01; heights %.3g..%.3g m\n",
-                sceneName.c_str(), scaledTMin ? "scaled" : "constant", (unsigned long long)a.nearAcne, (unsigned long long)a.nearPixels,
-                safeDistance, (unsigned long long)a.farAcne, (unsigned long long)a.farPixels, a.maxDistance,
-                (unsigned long long)a.steepAcne, (unsigned long long)a.steepPixels, a.minHeight, a.maxHeight);
+    std::printf(
+        "%s, %s t_min: %llu/%llu acne pixels within %.1f m of the eye, %llu/%llu beyond (to %.0f m); "
+        "%llu/%llu where N.L >= 0.01; heights %.3g..%.3g m\n",
+        sceneName.c_str(), scaledTMin ? "scaled" : "constant", (unsigned long long)a.nearAcne,
+        (unsigned long long)a.nearPixels, safeDistance, (unsigned long long)a.farAcne, (unsigned long long)a.farPixels,
+        a.maxDistance, (unsigned long long)a.steepAcne, (unsigned long long)a.steepPixels, a.minHeight, a.maxHeight);
     return a;
   }
 

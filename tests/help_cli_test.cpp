@@ -73,7 +73,8 @@ class HelpCli : public hb::testing::ToolTest {
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_TRUE(r.out.empty()) << r.out;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line: " << r.err;
-    for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
+    for (const auto& n : names)
+      EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
   }
   nlohmann::json runJson(const std::string& topic) {
     const RunResult r = run({"help", topic, "--format", "json"});

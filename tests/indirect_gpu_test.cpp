@@ -1,6 +1,6 @@
-// Single-bounce indirect light on the real device (effects/indirect/indirect_pass.h, effects/indirect/indirect_effect.h,
-// shaders/indirect/indirect_common.glsl.inc): flux conservation in a closed diffuse box for both photon
-// traces (and the LDM trace's escapes against the exact LDM through the same pixel lines), the
+// Single-bounce indirect light on the real device (effects/indirect/indirect_pass.h,
+// effects/indirect/indirect_effect.h, shaders/indirect/indirect_common.glsl.inc): flux conservation in a closed diffuse
+// box for both photon traces (and the LDM trace's escapes against the exact LDM through the same pixel lines), the
 // LDM-traced photons against the ray-traced ones, determinism, the GPU's splat against the CPU's
 // double sum of the GPU's own photons (reference/photon_ref.h), nothing built when the effect
 // does not run, and the settings' input errors.
@@ -14,11 +14,11 @@
 
 #include <gtest/gtest.h>
 
-#include "effects/indirect/indirect_analysis.h"
 #include "base/input_error_of.h"
-#include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
+#include "effects/indirect/indirect_analysis.h"
 #include "effects/indirect/indirect_part.h"
+#include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
 #include "gpu_fixture.h"
 #include "reference/bvh.h"
 #include "reference/eq_partition.h"
@@ -80,9 +80,7 @@ uint32_t statusOf(const gpu::Photon& p) {
   return s;
 }
 
-double fluxOf(const gpu::Photon& p) {
-  return double(p.positionFluxR.w) + double(p.duFluxG.w) + double(p.dvFluxB.w);
-}
+double fluxOf(const gpu::Photon& p) { return double(p.positionFluxR.w) + double(p.duFluxG.w) + double(p.dvFluxB.w); }
 
 bool ranPass(const Renderer& r, const std::string& name) {
   return std::find(r.passesRun().begin(), r.passesRun().end(), name) != r.passesRun().end();
@@ -163,8 +161,9 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
 
   for (const char* method : {"raytraced", "ldm"}) {
     SCOPED_TRACE(method);
-    Renderer r(*ctx, scene,
-               indirectSettings(48, 32, {{"method", method}, {"directions", N}, {"photons", kSide}, {"ldm_resolution", R}}));
+    Renderer r(
+        *ctx, scene,
+        indirectSettings(48, 32, {{"method", method}, {"directions", N}, {"photons", kSide}, {"ldm_resolution", R}}));
     r.renderFrame(true);
     ASSERT_NE(indirectPassOf(r), nullptr);
     const IndirectPass& pass = *indirectPassOf(r);
@@ -175,11 +174,12 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
     ASSERT_EQ(photons.size(), pass.slots());
     const PhotonTally t = tallyPhotons(photons);
     const double ratio = t.fluxReflected() / (0.5 * pass.emittedFlux());
-    std::printf("closed box, %s, N=%u, %u primaries: stored %llu, hidden %llu, escaped %llu, grazing %llu, empty %llu; "
-                "reflected/(0.5*emitted) = %.6f (Σ Ω·q/Σ Ω predicts %.6f), escaped flux share %.5f\n",
-                method, N, pass.primaries(), (unsigned long long)t.stored, (unsigned long long)t.hidden,
-                (unsigned long long)t.escaped, (unsigned long long)t.grazing, (unsigned long long)t.empty, ratio,
-                predictedRatio, t.fluxEscaped / t.fluxReflected());
+    std::printf(
+        "closed box, %s, N=%u, %u primaries: stored %llu, hidden %llu, escaped %llu, grazing %llu, empty %llu; "
+        "reflected/(0.5*emitted) = %.6f (Σ Ω·q/Σ Ω predicts %.6f), escaped flux share %.5f\n",
+        method, N, pass.primaries(), (unsigned long long)t.stored, (unsigned long long)t.hidden,
+        (unsigned long long)t.escaped, (unsigned long long)t.grazing, (unsigned long long)t.empty, ratio,
+        predictedRatio, t.fluxEscaped / t.fluxReflected());
     EXPECT_NEAR(ratio, 1.0, 0.01);
     // Tighter: against Σ Ω·q(n1)/Σ Ω itself. Each split photon's flux I·Ω·ρ·2|c|/N is a few float
     // roundings (u each) but Ω, four float atan terms of size <= π/4 differenced: a few ulp of π/4
@@ -209,12 +209,12 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
         const uint32_t status = statusOf(ph);
         if (status == gpu::kPhotonEmpty) continue;  // n·v = 0: no flux
         const gpu::LdmMap& g = maps[i];
-        const LdmView view{glm::dvec3(g.dir), glm::dvec3(g.right), glm::dvec3(g.up), glm::dvec3(g.centreRadius),
-                           double(g.centreRadius.w), R};
+        const LdmView view{glm::dvec3(g.dir),          glm::dvec3(g.right),      glm::dvec3(g.up),
+                           glm::dvec3(g.centreRadius), double(g.centreRadius.w), R};
         const double c = glm::dot(prims[k].n1, glm::dvec3(g.dir));
         const double cc = std::max(std::abs(c), 1e-3), radius = view.radius;
-        const double bias = 0.70710678 * (2.0 * radius / R) * std::sqrt(std::max(1.0 - cc * cc, 0.0)) / cc +
-                            16.0 * kU * 2.0 * radius;
+        const double bias =
+            0.70710678 * (2.0 * radius / R) * std::sqrt(std::max(1.0 - cc * cc, 0.0)) / cc + 16.0 * kU * 2.0 * radius;
         uint32_t pi = 0, pj = 0;
         bool hit = false;
         if (ldmProject(view, prims[k].x1, pi, pj)) {
@@ -231,11 +231,11 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
         }
       }
     const double share = t.fluxEscaped / t.fluxReflected();
-    std::printf("closed box, ldm R=%u: %llu of %llu slots escape as the exact LDM predicts them to (%llu predicted, %llu "
-                "measured, %llu differ); predicted escaped flux share %.5f, measured %.5f\n",
-                R, (unsigned long long)(compared - differ), (unsigned long long)compared,
-                (unsigned long long)predictedEscapes, (unsigned long long)t.escaped, (unsigned long long)differ,
-                predictedEscapedFlux / t.fluxReflected(), share);
+    std::printf(
+        "closed box, ldm R=%u: %llu of %llu slots escape as the exact LDM predicts them to (%llu predicted, %llu "
+        "measured, %llu differ); predicted escaped flux share %.5f, measured %.5f\n",
+        R, (unsigned long long)(compared - differ), (unsigned long long)compared, (unsigned long long)predictedEscapes,
+        (unsigned long long)t.escaped, (unsigned long long)differ, predictedEscapedFlux / t.fluxReflected(), share);
     EXPECT_EQ(compared + t.empty, pass.slots());
     EXPECT_LE(double(differ), 1e-3 * double(compared));
     EXPECT_NEAR(share, predictedEscapedFlux / t.fluxReflected(), differFlux / t.fluxReflected() + 1e-6);
@@ -268,8 +268,9 @@ TEST_F(IndirectGpuTest, InAClosedDiffuseBoxTheReflectedFluxIsHalfTheEmittedFlux)
 // tolerance is asserted at the 1 %. (A floating block inside the box is the occluder.)
 TEST_F(IndirectGpuTest, LdmPhotonsLandOnTheSurfacesTheRayTracedPhotonsLandOn) {
   const Scene scene = diffuseBox("box-and-block", true);
-  Renderer r(*ctx, scene,
-             indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 128}, {"photons", 8}, {"ldm_resolution", 64}}));
+  Renderer r(
+      *ctx, scene,
+      indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 128}, {"photons", 8}, {"ldm_resolution", 64}}));
   r.renderFrame(true);
   ASSERT_NE(indirectPassOf(r), nullptr);
   IndirectPass& pass = *indirectPassOf(r);
@@ -281,14 +282,15 @@ TEST_F(IndirectGpuTest, LdmPhotonsLandOnTheSurfacesTheRayTracedPhotonsLandOn) {
   const PhotonAgreement a = comparePhotons(ldm, rt, pass.landingTolerance());
   const PhotonTally tl = tallyPhotons(ldm), tr = tallyPhotons(rt);
   const IndirectErrors e = indirectErrors(ldmE, rtE, 48, 32);
-  std::printf("box and block, ldm vs raytraced, %llu slots: same status %.4f; both stored %llu, off the other's plane "
-              "(> %.4f m) %llu = %.5f; distance p50 %.4g m, p99 %.4g m, max %.4g m; stored %llu vs %llu, escaped %llu vs "
-              "%llu; irradiance relMSE %.4f, total ratio %.4f\n",
-              (unsigned long long)a.slots, double(a.sameStatus) / double(a.slots), (unsigned long long)a.bothStored,
-              pass.landingTolerance(), (unsigned long long)a.offSurface,
-              a.bothStored ? double(a.offSurface) / double(a.bothStored) : 0.0, a.p50Distance, a.p99Distance,
-              a.maxDistance, (unsigned long long)tl.stored, (unsigned long long)tr.stored,
-              (unsigned long long)tl.escaped, (unsigned long long)tr.escaped, e.relMse, e.totalRatio);
+  std::printf(
+      "box and block, ldm vs raytraced, %llu slots: same status %.4f; both stored %llu, off the other's plane "
+      "(> %.4f m) %llu = %.5f; distance p50 %.4g m, p99 %.4g m, max %.4g m; stored %llu vs %llu, escaped %llu vs "
+      "%llu; irradiance relMSE %.4f, total ratio %.4f\n",
+      (unsigned long long)a.slots, double(a.sameStatus) / double(a.slots), (unsigned long long)a.bothStored,
+      pass.landingTolerance(), (unsigned long long)a.offSurface,
+      a.bothStored ? double(a.offSurface) / double(a.bothStored) : 0.0, a.p50Distance, a.p99Distance, a.maxDistance,
+      (unsigned long long)tl.stored, (unsigned long long)tr.stored, (unsigned long long)tl.escaped,
+      (unsigned long long)tr.escaped, e.relMse, e.totalRatio);
   EXPECT_EQ(tr.escaped, 0u);  // closed box: the ray tracer loses nothing
   EXPECT_GT(a.bothStored, 1000u);
   EXPECT_LE(double(a.offSurface), 0.01 * double(a.bothStored));
@@ -377,7 +379,8 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
     for (uint32_t i = 0; i < W; ++i) {
       const size_t k = size_t(j) * W + i;
       ASSERT_GT(depth[k], 0.0f) << "pixel " << i << ", " << j << " sees no floor";
-      const glm::dvec4 w = inv * glm::dvec4(2.0 * (i + 0.5) / W - 1.0, 2.0 * (j + 0.5) / H - 1.0, double(depth[k]), 1.0);
+      const glm::dvec4 w =
+          inv * glm::dvec4(2.0 * (i + 0.5) / W - 1.0, 2.0 * (j + 0.5) / H - 1.0, double(depth[k]), 1.0);
       ys[k] = glm::dvec3(sh.positions[4 * k], sh.positions[4 * k + 1], sh.positions[4 * k + 2]);
       reconstruction = std::max(reconstruction, glm::length(ys[k] - glm::dvec3(w) / w.w));
     }
@@ -405,25 +408,29 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
     const double den = glm::dot(du, dvn), area = glm::length(glm::cross(du, dv));
     if (!(area > 0.0) || !(den != 0.0)) continue;  // the fragment stage discards it
     ++onFloor;
-    const double kappa = glm::length(du) * glm::length(dv) / std::abs(den), big = std::max(glm::length(du), glm::length(dv));
+    const double kappa = glm::length(du) * glm::length(dv) / std::abs(den),
+                 big = std::max(glm::length(du), glm::length(dv));
     worstKappa = std::max(worstKappa, kappa);
     const double ep = 1.0 / (0.25 * 3.14159265358979 * area);  // E_p per watt
     // The support lies inside x ± du/2 ± dv/2.
-    const double hx = 0.5 * (std::abs(du.x) + std::abs(dv.x)) + 1e-3, hz = 0.5 * (std::abs(du.z) + std::abs(dv.z)) + 1e-3;
+    const double hx = 0.5 * (std::abs(du.x) + std::abs(dv.x)) + 1e-3,
+                 hz = 0.5 * (std::abs(du.z) + std::abs(dv.z)) + 1e-3;
     const glm::dvec3 phi(p.positionFluxR.w, p.duFluxG.w, p.dvFluxB.w);
     for (size_t k = 0; k < ys.size(); ++k) {
       const glm::dvec3& y = ys[k];
       if (std::abs(y.x - x.x) > hx || std::abs(y.z - x.z) > hz) continue;
       const glm::dvec3 rr = y - x;
-      const glm::dvec3 m = (2.0 / den) * glm::dvec3(glm::dot(dvn, rr), glm::dot(ndu, rr), std::sqrt(std::abs(den)) * glm::dot(n, rr));
+      const glm::dvec3 m =
+          (2.0 / den) * glm::dvec3(glm::dot(dvn, rr), glm::dot(ndu, rr), std::sqrt(std::abs(den)) * glm::dot(n, rr));
       const double l2 = glm::dot(m, m), lm = std::sqrt(l2);
       const double dm = 8.0 * kU * (kappa * lm + 2.0 * big * glm::length(rr) / std::abs(den));
       const double delta = 2.0 * lm * dm + dm * dm;
       if (!(l2 - delta < 1.0)) continue;
       const double term = splatIrradiance(x, du, dv, n, 1.0, y);
       cpuE[k] += term * phi;
-      conditioning[k] += (3.0 * ep * (2.0 * std::max(1.0 - l2, 0.0) * delta + delta * delta) + term * 2.0 * kU * kappa) *
-                         std::max({phi.x, phi.y, phi.z});
+      conditioning[k] +=
+          (3.0 * ep * (2.0 * std::max(1.0 - l2, 0.0) * delta + delta * delta) + term * 2.0 * kU * kappa) *
+          std::max({phi.x, phi.y, phi.z});
     }
   }
   // Per pixel and channel: |E_gpu − E_cpu| <= 1e-3·E_cpu + 1e-4·max E + the conditioning bound.
@@ -448,12 +455,13 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
       }
     }
   }
-  std::printf("floor under an orthographic camera, %ux%u: %llu stored photons (%llu on the floor, largest κ = "
-              "|du||dv|/|den| %.3g), %zu pixels lit, max E %.5g W/m^2; GPU positions within %.2g m of the double "
-              "reconstruction; GPU vs CPU double: largest relative difference %.3g (conditioning bound up to %.3g of E), "
-              "%zu channel values beyond 1e-3·E + 1e-4·max E, %zu beyond that plus the conditioning bound\n",
-              W, H, (unsigned long long)stored, (unsigned long long)onFloor, worstKappa, lit, maxE, reconstruction, worst,
-              worstConditioning, outsideBase, bad);
+  std::printf(
+      "floor under an orthographic camera, %ux%u: %llu stored photons (%llu on the floor, largest κ = "
+      "|du||dv|/|den| %.3g), %zu pixels lit, max E %.5g W/m^2; GPU positions within %.2g m of the double "
+      "reconstruction; GPU vs CPU double: largest relative difference %.3g (conditioning bound up to %.3g of E), "
+      "%zu channel values beyond 1e-3·E + 1e-4·max E, %zu beyond that plus the conditioning bound\n",
+      W, H, (unsigned long long)stored, (unsigned long long)onFloor, worstKappa, lit, maxE, reconstruction, worst,
+      worstConditioning, outsideBase, bad);
   EXPECT_GT(onFloor, 100u);
   EXPECT_GT(lit, size_t(W * H / 2));
   EXPECT_GT(maxE, 0.0);

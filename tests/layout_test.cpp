@@ -23,8 +23,8 @@ namespace {
 // extras.effects against the effects schema. "effects/*" is every effect's own folder
 // (effects/<name>/: its passes, analysis, report and table), above everything it uses and below
 // the commands.
-const std::vector<std::string> kOrder = {"base",     "scene",  "effects",   "scene/gltf", "config", "reference", "gpu",
-                                         "frame",    "analysis", "report",  "effects/*",  "app"};
+const std::vector<std::string> kOrder = {"base", "scene", "effects",  "scene/gltf", "config",    "reference",
+                                         "gpu",  "frame", "analysis", "report",     "effects/*", "app"};
 
 int rankOf(const std::string& relPath) {  // "gpu/accel.h" -> rank of "gpu"; -1 if not in a folder
   int best = -1;

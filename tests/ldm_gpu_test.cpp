@@ -44,67 +44,76 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   const Scene scene = boxScene(lo, hi);
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
-  for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
-  SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-               (list == LdmList::Max64 ? ", max64" : list == LdmList::Cas ? ", cas" : ", sbuffer"));
-  const double radius = 2.0;
-  const uint32_t R = 64;
-  // dir, right, up (right × up = −dir: a right-handed view looking along dir).
-  const glm::dvec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
-  const std::vector<std::array<glm::dvec3, 3>> frames = {{-Z, X, Y}, {Z, -X, Y}, {-X, -Z, Y}, {X, Z, Y}, {-Y, X, -Z}, {Y, X, Z}};
-  std::vector<gpu::LdmMap> maps;
-  for (const auto& f : frames) maps.push_back(mapOf(f[0], f[1], f[2], glm::dvec3(0), radius));
-  LdmBuild build(*ctx, gpuScene, scene, maps, R, 8 * R * R, method, list);
-  ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
-  const std::vector<std::vector<float>> lists = build.readLists();
-  const LdmCounters counters = build.readCounters();
-  EXPECT_EQ(counters.overflow, 0u);
-  EXPECT_EQ(counters.unfinished, 0u);
-  const double u = 5.9604644775390625e-8, depthBound = 8.0 * u * 2.0 * radius;
-  size_t inside = 0, wrong = 0, worstEntries = 0;
-  uint64_t entries = 0;
-  for (size_t m = 0; m < frames.size(); ++m) {
-    const auto& [dir, right, up] = frames[m];
-    for (uint32_t j = 0; j < R; ++j)
-      for (uint32_t i = 0; i < R; ++i) {
-        const std::vector<float>& depths = lists[(m * R + j) * R + i];
-        entries += depths.size();
-        const glm::dvec3 p = (2.0 * (i + 0.5) / R - 1.0) * radius * right + (1.0 - 2.0 * (j + 0.5) / R) * radius * up;
-        // The pixel line's distance inside the box's cross-section (negative outside).
-        double margin = 1e9;
-        for (int a = 0; a < 3; ++a) {
-          if (std::abs(dir[a]) > 0.5) continue;
-          margin = std::min({margin, p[a] - lo[a], hi[a] - p[a]});
-        }
-        const double pixel = 2.0 * radius / R;
-        if (std::abs(margin) < 1e-3 * pixel) continue;  // on the outline: either way
-        if (margin < 0) {
-          wrong += !depths.empty();
-          continue;
-        }
-        ++inside;
-        int axis = 0;
-        for (int a = 0; a < 3; ++a)
-          if (std::abs(dir[a]) > 0.5) axis = a;
-        const double s = dir[axis];
-        // z = (q − c)·dir + r for the two faces q[axis] = lo, hi.
-        double z0 = s * lo[axis] + radius, z1 = s * hi[axis] + radius;
-        if (z0 > z1) std::swap(z0, z1);
-        const bool ok = depths.size() == 2 && std::abs(depths[0] - z0) <= depthBound && std::abs(depths[1] - z1) <= depthBound;
-        wrong += !ok;
-        worstEntries = std::max(worstEntries, depths.size());
+    for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
+      SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
+                   (list == LdmList::Max64 ? ", max64"
+                    : list == LdmList::Cas ? ", cas"
+                                           : ", sbuffer"));
+      const double radius = 2.0;
+      const uint32_t R = 64;
+      // dir, right, up (right × up = −dir: a right-handed view looking along dir).
+      const glm::dvec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
+      const std::vector<std::array<glm::dvec3, 3>> frames = {{-Z, X, Y}, {Z, -X, Y},  {-X, -Z, Y},
+                                                             {X, Z, Y},  {-Y, X, -Z}, {Y, X, Z}};
+      std::vector<gpu::LdmMap> maps;
+      for (const auto& f : frames) maps.push_back(mapOf(f[0], f[1], f[2], glm::dvec3(0), radius));
+      LdmBuild build(*ctx, gpuScene, scene, maps, R, 8 * R * R, method, list);
+      ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
+      const std::vector<std::vector<float>> lists = build.readLists();
+      const LdmCounters counters = build.readCounters();
+      EXPECT_EQ(counters.overflow, 0u);
+      EXPECT_EQ(counters.unfinished, 0u);
+      const double u = 5.9604644775390625e-8, depthBound = 8.0 * u * 2.0 * radius;
+      size_t inside = 0, wrong = 0, worstEntries = 0;
+      uint64_t entries = 0;
+      for (size_t m = 0; m < frames.size(); ++m) {
+        const auto& [dir, right, up] = frames[m];
+        for (uint32_t j = 0; j < R; ++j)
+          for (uint32_t i = 0; i < R; ++i) {
+            const std::vector<float>& depths = lists[(m * R + j) * R + i];
+            entries += depths.size();
+            const glm::dvec3 p =
+                (2.0 * (i + 0.5) / R - 1.0) * radius * right + (1.0 - 2.0 * (j + 0.5) / R) * radius * up;
+            // The pixel line's distance inside the box's cross-section (negative outside).
+            double margin = 1e9;
+            for (int a = 0; a < 3; ++a) {
+              if (std::abs(dir[a]) > 0.5) continue;
+              margin = std::min({margin, p[a] - lo[a], hi[a] - p[a]});
+            }
+            const double pixel = 2.0 * radius / R;
+            if (std::abs(margin) < 1e-3 * pixel) continue;  // on the outline: either way
+            if (margin < 0) {
+              wrong += !depths.empty();
+              continue;
+            }
+            ++inside;
+            int axis = 0;
+            for (int a = 0; a < 3; ++a)
+              if (std::abs(dir[a]) > 0.5) axis = a;
+            const double s = dir[axis];
+            // z = (q − c)·dir + r for the two faces q[axis] = lo, hi.
+            double z0 = s * lo[axis] + radius, z1 = s * hi[axis] + radius;
+            if (z0 > z1) std::swap(z0, z1);
+            const bool ok =
+                depths.size() == 2 && std::abs(depths[0] - z0) <= depthBound && std::abs(depths[1] - z1) <= depthBound;
+            wrong += !ok;
+            worstEntries = std::max(worstEntries, depths.size());
+          }
       }
-  }
-  std::printf("box LDMs (%s, %s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes "
-              "allocated\n",
-              method == LdmBuildMethod::Hardware ? "hardware" : "3dr", list == LdmList::Max64 ? "max64" : list == LdmList::Cas ? "cas" : "sbuffer", R, R,
-              inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
-  // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
-  // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
-  EXPECT_EQ(inside, 2u * (512u + 256u + 512u));
-  EXPECT_EQ(wrong, 0u);
-  EXPECT_EQ(entries, counters.allocated);  // every fragment is in exactly one list
-  }
+      std::printf(
+          "box LDMs (%s, %s), 6 axis maps of %ux%u: %zu pixels inside, %zu wrong, %llu entries, %llu nodes "
+          "allocated\n",
+          method == LdmBuildMethod::Hardware ? "hardware" : "3dr",
+          list == LdmList::Max64 ? "max64"
+          : list == LdmList::Cas ? "cas"
+                                 : "sbuffer",
+          R, R, inside, wrong, (unsigned long long)entries, (unsigned long long)counters.allocated);
+      // Pixels are 1/16 m and the box's faces lie on pixel edges: the cross-sections (2 x 1, 1 x 1 and
+      // 2 x 1 m² of the 4 x 4 m² map) hold exactly 512, 256 and 512 pixel centres, each seen both ways.
+      EXPECT_EQ(inside, 2u * (512u + 256u + 512u));
+      EXPECT_EQ(wrong, 0u);
+      EXPECT_EQ(entries, counters.allocated);  // every fragment is in exactly one list
+    }
 }
 
 // The fill rule at shared vertices (as 3DR's fill-rule tests): a grid of 24 x 24 quads, alternate
@@ -128,8 +137,8 @@ TEST_F(LdmGpuTest, AGridWithVerticesOnPixelCentresIsCoveredExactlyOncePerPixel) 
   };
   for (int j = 0; j < int(n); ++j)
     for (int i = 0; i < int(n); ++i) {
-      const glm::dvec3 a = at(first + i, first + j), b = at(first + i + 1, first + j), c = at(first + i + 1, first + j + 1),
-                       d = at(first + i, first + j + 1);
+      const glm::dvec3 a = at(first + i, first + j), b = at(first + i + 1, first + j),
+                       c = at(first + i + 1, first + j + 1), d = at(first + i, first + j + 1);
       auto v = [&](glm::dvec3 p) { return mb.vertex(0, Vertex{glm::vec3(p), glm::vec3(0, 0, 1), glm::vec2(0)}); };
       if ((i + j) % 2 == 0) {
         mb.triangle(0, v(a), v(b), v(c));
@@ -158,9 +167,10 @@ TEST_F(LdmGpuTest, AGridWithVerticesOnPixelCentresIsCoveredExactlyOncePerPixel) 
         doubles += in && count > 1;
         outside += out && count != 0;
       }
-    std::printf("grid on pixel centres (%s): %zu pixels inside, %zu holes, %zu double covers, %zu outside, fp64 edges %llu\n",
-                method == LdmBuildMethod::Hardware ? "hardware" : "3dr", inside, holes, doubles, outside,
-                (unsigned long long)build.readCounters().fp64Edges);
+    std::printf(
+        "grid on pixel centres (%s): %zu pixels inside, %zu holes, %zu double covers, %zu outside, fp64 edges %llu\n",
+        method == LdmBuildMethod::Hardware ? "hardware" : "3dr", inside, holes, doubles, outside,
+        (unsigned long long)build.readCounters().fp64Edges);
     EXPECT_EQ(inside, size_t((n - 1) * (n - 1)));
     EXPECT_EQ(holes, 0u);
     EXPECT_EQ(doubles, 0u);
@@ -174,26 +184,28 @@ TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   const Scene scene = boxScene(glm::dvec3(-1), glm::dvec3(1));
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
-  for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
-  SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-               (list == LdmList::Max64 ? ", max64" : list == LdmList::Cas ? ", cas" : ", sbuffer"));
-  const uint32_t R = 32, capacity = 500;
-  std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
-                                   mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};
-  LdmBuild build(*ctx, gpuScene, scene, maps, R, capacity, method, list);
-  ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
-  const std::vector<std::vector<float>> lists = build.readLists();
-  const LdmCounters counters = build.readCounters();
-  uint64_t entries = 0;
-  for (const auto& l : lists) {
-    entries += l.size();
-    EXPECT_TRUE(std::is_sorted(l.begin(), l.end()));
-  }
-  EXPECT_GT(counters.allocated, uint64_t(capacity));
-  EXPECT_EQ(counters.overflow, counters.allocated - capacity);
-  EXPECT_EQ(entries, uint64_t(capacity));
-  EXPECT_EQ(counters.unfinished, 0u);
-  }
+    for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
+      SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
+                   (list == LdmList::Max64 ? ", max64"
+                    : list == LdmList::Cas ? ", cas"
+                                           : ", sbuffer"));
+      const uint32_t R = 32, capacity = 500;
+      std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
+                                       mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};
+      LdmBuild build(*ctx, gpuScene, scene, maps, R, capacity, method, list);
+      ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
+      const std::vector<std::vector<float>> lists = build.readLists();
+      const LdmCounters counters = build.readCounters();
+      uint64_t entries = 0;
+      for (const auto& l : lists) {
+        entries += l.size();
+        EXPECT_TRUE(std::is_sorted(l.begin(), l.end()));
+      }
+      EXPECT_GT(counters.allocated, uint64_t(capacity));
+      EXPECT_EQ(counters.overflow, counters.allocated - capacity);
+      EXPECT_EQ(entries, uint64_t(capacity));
+      EXPECT_EQ(counters.unfinished, 0u);
+    }
 }
 
 }  // namespace

@@ -8,12 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/culling_analysis.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/camera.h"
-#include "analysis/culling_analysis.h"
-#include "gpu_fixture.h"
 #include "scene/mesh_builder.h"
-#include "frame/renderer.h"
 
 namespace hb {
 namespace {
@@ -71,8 +71,9 @@ void expectMatchesReference(const CullRun& r) {
   EXPECT_EQ(c.totalMismatchTiles, 0u) << label(r.in);
   for (const auto& m : c.mismatches)
     if (!m.borderline)
-      ADD_FAILURE() << label(r.in) << ": tile " << m.tile << " light " << m.light << (m.gpuKept ? " only on GPU" : " only on CPU")
-                    << ", margin " << m.margin << " > bound " << m.bound;
+      ADD_FAILURE() << label(r.in) << ": tile " << m.tile << " light " << m.light
+                    << (m.gpuKept ? " only on GPU" : " only on CPU") << ", margin " << m.margin << " > bound "
+                    << m.bound;
   EXPECT_EQ(r.analysis.stats.falseNegatives, 0u) << label(r.in);
   EXPECT_EQ(r.analysis.stats.missedNeeded, 0u) << label(r.in) << ": a light that reaches a pixel was dropped";
   if (r.in.depthSlices == 0) {
@@ -138,7 +139,9 @@ Scene randomScene(uint32_t seed) {
       case 1: s.lights.push_back(pointLight(p, range)); break;
       case 2: s.lights.push_back(spotLight(p, randomDir, range, 0.1f + 1.3f * u(rng))); break;
       case 3: s.lights.push_back(spotLight(p, randomDir, range, float(kPi / 2))); break;  // 90 degrees
-      case 4: s.lights.push_back(spotLight(p, i % 12 == 4 ? glm::vec3(0, -1, 0) : glm::vec3(0, 0, -1), range, 0.6f)); break;
+      case 4:
+        s.lights.push_back(spotLight(p, i % 12 == 4 ? glm::vec3(0, -1, 0) : glm::vec3(0, 0, -1), range, 0.6f));
+        break;
       default: s.lights.push_back(spotLight(p, forward, range, 0.4f + 0.8f * u(rng))); break;
     }
   }
@@ -161,11 +164,12 @@ void checkAtrium(const VulkanContext& ctx, uint32_t tileSize) {
     const auto r = cull(ctx, atrium, 320, 180, tileSize, true, aabb);
     expectMatchesReference(*r);
     fp[aabb] = r->analysis.stats.falsePositives;
-    std::printf("atrium 320x180 tile %u aabb %d: FP rate %.4f (%llu of %llu), mean %.2f max %u lights/tile, "
-                "borderline %llu\n",
-                tileSize, int(aabb), r->analysis.stats.falsePositiveRate, (unsigned long long)fp[aabb],
-                (unsigned long long)r->analysis.stats.storedPairs, r->analysis.stats.meanLightsPerTile,
-                r->analysis.stats.maxLightsPerTile, (unsigned long long)r->analysis.comparison.borderlineMismatches);
+    std::printf(
+        "atrium 320x180 tile %u aabb %d: FP rate %.4f (%llu of %llu), mean %.2f max %u lights/tile, "
+        "borderline %llu\n",
+        tileSize, int(aabb), r->analysis.stats.falsePositiveRate, (unsigned long long)fp[aabb],
+        (unsigned long long)r->analysis.stats.storedPairs, r->analysis.stats.meanLightsPerTile,
+        r->analysis.stats.maxLightsPerTile, (unsigned long long)r->analysis.comparison.borderlineMismatches);
   }
   EXPECT_LE(fp[1], fp[0]) << "tile " << tileSize << ": the AABB test only ever removes lights";
   // Culling off: every tile lists every light (the first 32 stored), sky tiles included.
@@ -292,7 +296,7 @@ TEST_F(LightCullingGpuTest, CameraInsideALightsSphereLightsEveryTile) {
   MeshBuilder mb("wall");
   addQuad(mb, 0, {-20, -20, -4}, {20, -20, -4}, {20, 20, -4}, {-20, 20, -4}, {0, 0, 1});
   mb.appendTo(scene);
-  scene.lights.push_back(pointLight({1.2f, 0.9f, 1.1f}, 8.0f));  // the eye is inside; reaches the wall
+  scene.lights.push_back(pointLight({1.2f, 0.9f, 1.1f}, 8.0f));             // the eye is inside; reaches the wall
   scene.lights.push_back(spotLight({1, 1, 1.5f}, {0, 0, -1}, 8.0f, 1.2f));  // behind the eye, aimed forward
   for (bool aabb : {false, true}) {
     const auto r = cull(*ctx, scene, 96, 64, 16, true, aabb);
@@ -347,7 +351,7 @@ TEST_F(LightCullingGpuTest, DepthSlicesDropALightInTheGapBetweenTwoSurfacesAndKe
     const auto range = tileDepthRange(r->depth, 128, 64, tileRect(3, 1, 16, 128, 64));
     ASSERT_FALSE(range.empty());
     const std::vector<uint32_t>& exact = r->analysis.reference.exact[t];
-    EXPECT_EQ(exact, (std::vector<uint32_t>{0, 1}));  // both meet the 2..20 m frustum
+    EXPECT_EQ(exact, (std::vector<uint32_t>{0, 1}));                         // both meet the 2..20 m frustum
     EXPECT_EQ(r->analysis.reference.needed[t], (std::vector<uint32_t>{1}));  // only one reaches a pixel
     EXPECT_EQ(r->gpu.total[t], slices ? 1u : 2u) << "slices " << slices;
     if (slices) {
@@ -382,10 +386,11 @@ TEST_F(LightCullingGpuTest, DepthSlicesMatchTheCpuReferenceAndOnlyRemoveLights) 
           for (size_t t = 0; t < plain->gpu.total.size(); ++t)
             EXPECT_LE(sliced->gpu.total[t], plain->gpu.total[t]) << "tile " << t;
           if (tileSize == 16 && !aabb)
-            std::printf("%s tile 16, %u slices: lights/tile %.3f -> %.3f, reaching no pixel %.1f %% -> %.1f %%, "
-                        "borderline %llu\n",
-                        scene.name.c_str(), slices, a.meanLightsPerTile, b.meanLightsPerTile, 100 * a.uselessRate,
-                        100 * b.uselessRate, (unsigned long long)sliced->analysis.comparison.borderlineMismatches);
+            std::printf(
+                "%s tile 16, %u slices: lights/tile %.3f -> %.3f, reaching no pixel %.1f %% -> %.1f %%, "
+                "borderline %llu\n",
+                scene.name.c_str(), slices, a.meanLightsPerTile, b.meanLightsPerTile, 100 * a.uselessRate,
+                100 * b.uselessRate, (unsigned long long)sliced->analysis.comparison.borderlineMismatches);
         }
       }
 }

@@ -16,8 +16,8 @@
 #include "analysis/ray_analysis.h"
 #include "base/errors.h"
 #include "base/parallel.h"
-#include "frame/renderer.h"
 #include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
 #include "gpu/gpu_lights.h"
 #include "gpu_fixture.h"
 #include "reference/bvh.h"
@@ -84,7 +84,8 @@ std::vector<uint32_t> litLights(const ManyLightsFrame& f, size_t pixel) {
       f.culling.pixelSlice(tile, f.culling.lists == LightLists::Zbin ? f.shadows.ranges[pixel] : 0u);
   std::vector<uint32_t> lit;
   for (uint32_t k = 0; k < last - first; ++k)
-    if ((f.shadows.visibility[size_t(k / 32) * pixels + pixel] >> (k % 32)) & 1u) lit.push_back(f.culling.indices[first + k]);
+    if ((f.shadows.visibility[size_t(k / 32) * pixels + pixel] >> (k % 32)) & 1u)
+      lit.push_back(f.culling.indices[first + k]);
   std::sort(lit.begin(), lit.end());
   return lit;
 }
@@ -107,7 +108,8 @@ TEST_P(ManyLightsGpuTest, UncappedListsDropNothingAndMatchTheCpuShadowRays) {
     EXPECT_EQ(acc.walkMismatches, 0u);
     if (lists == LightLists::Tile) {
       // The thesis's lists overflow past 32: the dropped pairs are counted, not hidden.
-      const bool overflow = std::any_of(f.culling.total.begin(), f.culling.total.end(), [](uint32_t t) { return t > 32; });
+      const bool overflow =
+          std::any_of(f.culling.total.begin(), f.culling.total.end(), [](uint32_t t) { return t > 32; });
       EXPECT_EQ(acc.droppedByOverflow > 0, overflow);
       if (lightCount >= 100) {
         EXPECT_TRUE(overflow);
@@ -140,7 +142,8 @@ TEST_P(ManyLightsGpuTest, UncappedListsDropNothingAndMatchTheCpuShadowRays) {
     // With the range test and exact normals nothing can cull wrongly, so no variant traces fewer
     // rays than the oracle needs: the triangle's own normal (3D rasterization's ids) decides N·L as
     // the oracle does, up to float ties; without normal culling every ray in range is traced.
-    for (const auto& [normals, primary] : {std::pair{NormalCulling::Geometric, "3dr"}, std::pair{NormalCulling::Off, "hardware"}}) {
+    for (const auto& [normals, primary] :
+         {std::pair{NormalCulling::Geometric, "3dr"}, std::pair{NormalCulling::Off, "hardware"}}) {
       SCOPED_TRACE(primary);
       const ManyLightsFrame e = render(*ctx, scene, lists, normals, primary);
       const RayAccounting ea = accountRays(e.shadows, e.culling, e.depth, kWidth, kHeight, 16, lightCount);

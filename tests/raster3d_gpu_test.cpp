@@ -9,17 +9,17 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "analysis/primary_analysis.h"
 #include "base/errors.h"
 #include "base/image_io.h"
+#include "effects/shadows/shadows_part.h"
 #include "frame/passes/raster3d.h"
 #include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
-#include "reference/flip.h"
 #include "gpu_fixture.h"
+#include "reference/flip.h"
 #include "scene/atrium.h"
 #include "scene/hard_cases.h"
 #include "scene/mesh_builder.h"
@@ -80,8 +80,8 @@ struct Coverage {
   Raster3dCounters counters;
 };
 
-Coverage rasterize(const VulkanContext& ctx, const Scene& scene, bool fp64Fallback = true,
-                   const char* primary = "3dr", uint32_t width = kSize, uint32_t height = kSize) {
+Coverage rasterize(const VulkanContext& ctx, const Scene& scene, bool fp64Fallback = true, const char* primary = "3dr",
+                   uint32_t width = kSize, uint32_t height = kSize) {
   RenderSettings rs;
   rs.width = width;
   rs.height = height;
@@ -385,11 +385,12 @@ TEST_F(Raster3dTest, AtriumIdsAndDepthsMatchADoublePrecisionRayCast) {
   r.renderFrame(true);
   const PrimaryComparison c =
       comparePrimary(buildBvh(scene), r.raster3d()->readVisibility(), raster3dConstants(r.camera(), 160, 90, 0, 0));
-  std::printf("atrium 160x90 vs ray cast: %llu both hit, %llu ids equal, %llu mismatches, %llu holes, %llu spurious, "
-              "%llu not ties, depth p99.9 %.3g, max %.3g\n",
-              (unsigned long long)c.bothHit, (unsigned long long)c.idsEqual, (unsigned long long)c.idMismatches,
-              (unsigned long long)c.holes, (unsigned long long)c.spurious, (unsigned long long)c.notTies,
-              c.depthRelP999, c.depthRelMax);
+  std::printf(
+      "atrium 160x90 vs ray cast: %llu both hit, %llu ids equal, %llu mismatches, %llu holes, %llu spurious, "
+      "%llu not ties, depth p99.9 %.3g, max %.3g\n",
+      (unsigned long long)c.bothHit, (unsigned long long)c.idsEqual, (unsigned long long)c.idMismatches,
+      (unsigned long long)c.holes, (unsigned long long)c.spurious, (unsigned long long)c.notTies, c.depthRelP999,
+      c.depthRelMax);
   EXPECT_GT(c.bothHit, 10000u);
   EXPECT_EQ(c.notTies, 0u);
   // The per-pixel test counts (edge_evaluations.png) add up to the frame's counter.
@@ -418,11 +419,11 @@ TEST_F(Raster3dTest, FarFromTheOriginTheCameraRelativeSetupMatchesTheDoubleRayCa
     r.renderFrame(true);
     const PrimaryComparison c = comparePrimary(buildBvh(scene), r.raster3d()->readVisibility(),
                                                raster3dConstants(r.camera(), rs.width, rs.height, 0, 0));
-    std::printf("%s 320x180 vs ray cast: %llu both hit, %llu ids equal, %llu holes, %llu spurious, %llu not ties, "
-                "depth p99.9 %.3g, max %.3g\n",
-                scene.name.c_str(), (unsigned long long)c.bothHit, (unsigned long long)c.idsEqual,
-                (unsigned long long)c.holes, (unsigned long long)c.spurious, (unsigned long long)c.notTies,
-                c.depthRelP999, c.depthRelMax);
+    std::printf(
+        "%s 320x180 vs ray cast: %llu both hit, %llu ids equal, %llu holes, %llu spurious, %llu not ties, "
+        "depth p99.9 %.3g, max %.3g\n",
+        scene.name.c_str(), (unsigned long long)c.bothHit, (unsigned long long)c.idsEqual, (unsigned long long)c.holes,
+        (unsigned long long)c.spurious, (unsigned long long)c.notTies, c.depthRelP999, c.depthRelMax);
     EXPECT_GT(c.bothHit, 20000u);
     EXPECT_EQ(c.notTies, 0u);
     EXPECT_GE(double(c.idsEqual), 0.99999 * double(c.bothHit));
@@ -498,9 +499,10 @@ TEST_F(Raster3dTest, VisbufferShadingMatchesTheForwardPass) {
     normalsOff += glm::length(a - b) > 1e-5;
   }
   const FlipResult flip = ldrFlip(forward, visbuffer);
-  std::printf("visbuffer vs forward shading (atrium 160x90): FLIP mean %.5f, p95 %.5f; %zu of %zu normals differ; "
-              "%zu pixels the forward pass left unshaded\n",
-              flip.mean, flip.p95, normalsOff, valid, forwardMissed);
+  std::printf(
+      "visbuffer vs forward shading (atrium 160x90): FLIP mean %.5f, p95 %.5f; %zu of %zu normals differ; "
+      "%zu pixels the forward pass left unshaded\n",
+      flip.mean, flip.p95, normalsOff, valid, forwardMissed);
   EXPECT_GT(valid, 10000u);
   EXPECT_EQ(normalsOff, 0u);
   EXPECT_LE(forwardMissed, valid / 100);
@@ -638,15 +640,15 @@ TEST_F(Raster3dTest, TwoDHomogeneousRasterizationAgreesWith3drUpToItsRounding) {
   EXPECT_GT(hit, 10000u);
   EXPECT_GE(double(same), 0.95 * double(hit));
   EXPECT_EQ(two.counters.fallbacks, 0u);  // the baseline has no fp64 re-evaluation
-  const CoverageComparison c3 =
-      compareCoverage(scene, raster3dConstants(scene.cameras[0], 160, 90, 0, 0), three.count);
+  const CoverageComparison c3 = compareCoverage(scene, raster3dConstants(scene.cameras[0], 160, 90, 0, 0), three.count);
   const CoverageComparison c2 = compareCoverage(scene, raster3dConstants(scene.cameras[0], 160, 90, 0, 0), two.count);
   EXPECT_EQ(c3.doubleCovers, 0u);  // 3dr against the exact CPU rasterization: nothing claimed twice
   EXPECT_EQ(c3.holes, 0u);
-  std::printf("atrium 160x90: 2dr names 3dr's triangle at %zu of %zu pixels; coverage vs exact: 2dr %llu double "
-              "covers, %llu holes; 3dr %llu, %llu\n",
-              same, hit, (unsigned long long)c2.doubleCovers, (unsigned long long)c2.holes,
-              (unsigned long long)c3.doubleCovers, (unsigned long long)c3.holes);
+  std::printf(
+      "atrium 160x90: 2dr names 3dr's triangle at %zu of %zu pixels; coverage vs exact: 2dr %llu double "
+      "covers, %llu holes; 3dr %llu, %llu\n",
+      same, hit, (unsigned long long)c2.doubleCovers, (unsigned long long)c2.holes, (unsigned long long)c3.doubleCovers,
+      (unsigned long long)c3.holes);
 }
 
 TEST_F(Raster3dTest, EachDispatchIsTimedInsideItsPass) {

@@ -11,14 +11,14 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "analysis/primary_analysis.h"
 #include "base/errors.h"
+#include "effects/shadows/shadows_part.h"
 #include "frame/passes/raster3d.h"
 #include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/mesh_builder.h"
@@ -137,7 +137,8 @@ TEST_F(Raster3dViewsTest, ClosedLatticeCubesAroundTheEyeAreCoveredExactlyOncePer
   for (const ViewCase& v : kViews) {
     uint64_t fallbacks = 0, evaluations = 0, refined = 0, empty = 0;
     for (int k = 0; k < 5; ++k) {
-      const glm::dmat4 pose = glm::rotate(glm::dmat4(1.0), 0.3 + 0.77 * k, glm::normalize(glm::dvec3(1.0, 2.0 + k, 0.5)));
+      const glm::dmat4 pose =
+          glm::rotate(glm::dmat4(1.0), 0.3 + 0.77 * k, glm::normalize(glm::dvec3(1.0, 2.0 + k, 0.5)));
       const Scene s = cubeScene(viewCamera(v.projection), 6 + k, pose);
       SCOPED_TRACE(std::string(toString(v.projection)) + ", orientation " + std::to_string(k));
       const Frame brute = render(*ctx, s, viewSettings(v, "3dr"));
@@ -201,19 +202,22 @@ TEST_F(Raster3dViewsTest, TheAtriumThroughEveryViewAgreesWithRayCastingAlongTheS
         ++same;
         continue;
       }
-      const double ta = std::bit_cast<float>(uint32_t(r3.vis[i] >> 32)), tb = std::bit_cast<float>(uint32_t(rc.vis[i] >> 32));
+      const double ta = std::bit_cast<float>(uint32_t(r3.vis[i] >> 32)),
+                   tb = std::bit_cast<float>(uint32_t(rc.vis[i] >> 32));
       const uint32_t x = uint32_t(i % 160), y = uint32_t(i / 160);
       const glm::dvec3 offset = glm::dvec3(r3.rays.origin0) + double(x) * glm::dvec3(r3.rays.originX) +
                                 double(y) * glm::dvec3(r3.rays.originY);
-      const bool tie = std::abs(ta - tb) <= kTieDepth * tieScale(ta, p == CameraProjection::Orthographic ? glm::length(offset) : 0.0);
+      const bool tie = std::abs(ta - tb) <=
+                       kTieDepth * tieScale(ta, p == CameraProjection::Orthographic ? glm::length(offset) : 0.0);
       ties += tie;
       same += tie;
     }
     const PrimaryComparison c = comparePrimary(bvh, r3.vis, r3.rays);
-    std::printf("atrium %s 160x90: 3dr and raycast agree on %zu of %zu pixels (%zu of them depth ties); vs double ray "
-                "cast %llu ids equal of %llu, %llu not ties, depth p99.9 %.3g\n",
-                toString(p), same, either, ties, (unsigned long long)c.idsEqual, (unsigned long long)c.bothHit,
-                (unsigned long long)c.notTies, c.depthRelP999);
+    std::printf(
+        "atrium %s 160x90: 3dr and raycast agree on %zu of %zu pixels (%zu of them depth ties); vs double ray "
+        "cast %llu ids equal of %llu, %llu not ties, depth p99.9 %.3g\n",
+        toString(p), same, either, ties, (unsigned long long)c.idsEqual, (unsigned long long)c.bothHit,
+        (unsigned long long)c.notTies, c.depthRelP999);
     EXPECT_GT(either, 5000u);
     EXPECT_GE(double(same), 0.9999 * double(either));
   }
@@ -271,9 +275,10 @@ TEST_F(Raster3dViewsTest, TheHardwarePathDrawsOrthographicViewsWithTheDepthAndPo
       positionClose += dp <= bound;
       if (dp <= bound) worstClose = std::max(worstClose, dp / bound);
     }
-    std::printf("atrium orthographic 160x90, hardware vs 3dr: %zu pixels both hit, depth within the bound on %zu, "
-                "positions on %zu (largest of those %.2f of the bound %.3g m), %zu sky mismatches\n",
-                both, depthClose, positionClose, worstClose, bound, skyMismatch);
+    std::printf(
+        "atrium orthographic 160x90, hardware vs 3dr: %zu pixels both hit, depth within the bound on %zu, "
+        "positions on %zu (largest of those %.2f of the bound %.3g m), %zu sky mismatches\n",
+        both, depthClose, positionClose, worstClose, bound, skyMismatch);
     EXPECT_GT(both, 10000u);
     EXPECT_GE(double(depthClose), 0.99 * double(both));
     EXPECT_GE(double(positionClose), 0.99 * double(both));

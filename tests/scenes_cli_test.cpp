@@ -67,8 +67,8 @@ TEST_F(Scenes, ListNamesEveryBuiltinAndEveryFileInScenes) {
     for (const std::string& name : hb::allSceneNames())
       EXPECT_NE(r.out.find("\n  " + name + " "), std::string::npos) << "no row for built-in " << name << ":\n" << r.out;
     for (const fs::path& file : committedSceneFiles())
-      EXPECT_NE(r.out.find("/" + file.filename().string() + " "), std::string::npos)
-          << "no row for " << file << ":\n" << r.out;
+      EXPECT_NE(r.out.find("/" + file.filename().string() + " "), std::string::npos) << "no row for " << file << ":\n"
+                                                                                     << r.out;
     EXPECT_EQ(r.out.find("does not load"), std::string::npos) << r.out;
   }
 }

@@ -12,13 +12,13 @@
 
 #include <gtest/gtest.h>
 
+#include "base/image_io.h"
+#include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/camera.h"
-#include "gpu_fixture.h"
-#include "base/image_io.h"
 #include "scene/mesh_builder.h"
-#include "frame/renderer.h"
-#include "effects/shadows/shadows_part.h"
 
 namespace hb {
 namespace {
@@ -27,9 +27,9 @@ using glm::dvec3;
 
 constexpr double kU = 1.0 / 16777216.0;  // 2^-24, float unit roundoff
 constexpr double kPi = 3.14159265358979323846;
-constexpr uint32_t kSize = 128;          // square test images
-constexpr double kHalf = 2.0;            // the ground: x, z in [-2, 2] at y = 0, facing +y
-constexpr double kOccHalf = 0.5;         // the occluder: x, z in [-0.5, 0.5] at y = kOccY, facing +y
+constexpr uint32_t kSize = 128;   // square test images
+constexpr double kHalf = 2.0;     // the ground: x, z in [-2, 2] at y = 0, facing +y
+constexpr double kOccHalf = 0.5;  // the occluder: x, z in [-0.5, 0.5] at y = kOccY, facing +y
 constexpr double kOccY = 1.0;
 const glm::vec3 kEye(0.0f, 2.5f, 3.0f);  // camera looking at the origin
 
@@ -254,9 +254,10 @@ struct Stats {
   double maxAbsErr = 0, maxRelErr = 0, maxErrOverTol = 0, maxTol = 0;
   int maxToneDiff = 0;  // 8-bit ACES sRGB, over the checked pixels
   void print(const char* what) const {
-    std::printf("[%s] %zu px checked, max |err| %.3g (rel %.3g), max err/tol %.3f, max tol %.3g, 8-bit diff %d, "
-                "GPU above/below model in %zu/%zu channels\n",
-                what, checked, maxAbsErr, maxRelErr, maxErrOverTol, maxTol, maxToneDiff, above, below);
+    std::printf(
+        "[%s] %zu px checked, max |err| %.3g (rel %.3g), max err/tol %.3f, max tol %.3g, 8-bit diff %d, "
+        "GPU above/below model in %zu/%zu channels\n",
+        what, checked, maxAbsErr, maxRelErr, maxErrOverTol, maxTol, maxToneDiff, above, below);
   }
 };
 
@@ -302,15 +303,16 @@ Stats compareGround(const std::vector<float>& rgba, const Scene& scene, const To
       if (!ok && st.bad++ < 5)
         ADD_FAILURE() << "pixel " << px << "," << py << " at (" << g.hit.x << ", " << g.hit.z << "): GPU ("
                       << rgba[4 * i] << ", " << rgba[4 * i + 1] << ", " << rgba[4 * i + 2] << ", " << rgba[4 * i + 3]
-                      << "), model (" << want.x << ", " << want.y << ", " << want.z << "), tol (" << t.x << ", "
-                      << t.y << ", " << t.z << ")";
+                      << "), model (" << want.x << ", " << want.y << ", " << want.z << "), tol (" << t.x << ", " << t.y
+                      << ", " << t.z << ")";
       ++st.checked;
       checked.push_back(i);
     }
   const ImageRGBA8 a = toneMapToSrgb(gpu, 0.0f, ToneMapOperator::AcesFitted).image;
   const ImageRGBA8 b = toneMapToSrgb(cpu, 0.0f, ToneMapOperator::AcesFitted).image;
   for (size_t i : checked)
-    for (int k = 0; k < 3; ++k) st.maxToneDiff = std::max(st.maxToneDiff, std::abs(int(a.px[4 * i + k]) - int(b.px[4 * i + k])));
+    for (int k = 0; k < 3; ++k)
+      st.maxToneDiff = std::max(st.maxToneDiff, std::abs(int(a.px[4 * i + k]) - int(b.px[4 * i + k])));
   return st;
 }
 
@@ -349,10 +351,11 @@ TEST_F(ShadingTest, ShadowedGroundIsBlackAndTheRestIsLit) {
   const CpuMaterial mat{{0.8, 0.7, 0.6}, 0.0, 0.5};
   const Scene scene = groundScene(gpuMaterial(mat), kLightForShadow, true);
   const std::vector<float> rgba = renderColor(*ctx, scene);
-  const Stats shadow = compareGround(rgba, scene, Tol(*ctx), true, [](const PixelGeom& g) { return g.shadowed; },
-                                     [](const dvec3&) { return dvec3(0.0); });
-  const Stats lit = compareGround(rgba, scene, Tol(*ctx), true, [](const PixelGeom& g) { return g.lit; },
-                                  modelFor(scene, mat));
+  const Stats shadow = compareGround(
+      rgba, scene, Tol(*ctx), true, [](const PixelGeom& g) { return g.shadowed; },
+      [](const dvec3&) { return dvec3(0.0); });
+  const Stats lit = compareGround(
+      rgba, scene, Tol(*ctx), true, [](const PixelGeom& g) { return g.lit; }, modelFor(scene, mat));
   shadow.print("in shadow");
   lit.print("outside shadow");
   EXPECT_GT(shadow.checked, 100u);
@@ -435,9 +438,8 @@ TEST_F(ShadingTest, CheckerTextureShowsAlternatingSquares) {
   Material m = gpuMaterial({dvec3(1.0), 0.0, 1.0});
   m.baseColorTexture = 0;
   Scene scene = groundScene(m, glm::vec3(0.0f, 3.0f, 0.0f), false);
-  scene.textures.push_back(greyTexture("checker", 8, 8, true, [](uint32_t i, uint32_t j) {
-    return uint8_t((i + j) % 2 == 0 ? 255 : 0);
-  }));
+  scene.textures.push_back(
+      greyTexture("checker", 8, 8, true, [](uint32_t i, uint32_t j) { return uint8_t((i + j) % 2 == 0 ? 255 : 0); }));
   const std::vector<float> rgba = renderColor(*ctx, scene);
   // 8 texels over 4 m and a ground pixel of <= ~5 cm: <= 0.1 texel per pixel, so the sampler
   // magnifies (level 0, bilinear). Within 0.25 texel of a texel centre (per axis) bilinear
@@ -547,14 +549,14 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
     const std::vector<float> rgba = r.readColor();
     const Tol tol(*ctx);
     // Behind the occluder: lit as the model says, where the shadowed render is black.
-    const Stats behind = compareGround(rgba, *c.scene, tol, true, [](const PixelGeom& g) { return g.shadowed; },
-                                       modelFor(*c.scene, mat));
-    const Stats blackBefore = compareGround(reference, shadowed, tol, true,
-                                            [](const PixelGeom& g) { return g.shadowed; },
-                                            [](const dvec3&) { return dvec3(0.0); });
+    const Stats behind = compareGround(
+        rgba, *c.scene, tol, true, [](const PixelGeom& g) { return g.shadowed; }, modelFor(*c.scene, mat));
+    const Stats blackBefore = compareGround(
+        reference, shadowed, tol, true, [](const PixelGeom& g) { return g.shadowed; },
+        [](const dvec3&) { return dvec3(0.0); });
     // Elsewhere on the ground: the same as with shadows, within the tolerance of each.
-    const Stats outside = compareGround(rgba, *c.scene, tol, true, [](const PixelGeom& g) { return g.lit; },
-                                        modelFor(*c.scene, mat));
+    const Stats outside = compareGround(
+        rgba, *c.scene, tol, true, [](const PixelGeom& g) { return g.lit; }, modelFor(*c.scene, mat));
     size_t identical = 0, litPixels = 0;
     for (uint32_t py = 0; py < kSize; ++py)
       for (uint32_t px = 0; px < kSize; ++px) {

@@ -7,12 +7,12 @@
 
 #include <gtest/gtest.h>
 
-#include "gpu_fixture.h"
-#include "gpu/gpu_lights.h"
-#include "scene/hard_cases.h"
 #include "analysis/ray_analysis.h"
-#include "frame/renderer.h"
 #include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
+#include "gpu/gpu_lights.h"
+#include "gpu_fixture.h"
+#include "scene/hard_cases.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -34,7 +34,11 @@ struct Frame {
 
 Frame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals, const std::string& backend,
              uint32_t tileSize = 16, bool scaledTMin = false) {
-  RenderSettings s{.width = kWidth, .height = kHeight, .tileSize = tileSize, .backend = hb::testing::backendNamed(backend), .normals = normals};
+  RenderSettings s{.width = kWidth,
+                   .height = kHeight,
+                   .tileSize = tileSize,
+                   .backend = hb::testing::backendNamed(backend),
+                   .normals = normals};
   s.tMin = scaledTMin ? ShadowTMin::Scaled : ShadowTMin::Constant;
   Renderer r(ctx, scene, s);
   EXPECT_EQ(toString(shadowsOf(r)->shadowPass().settings().backend), backend);
@@ -75,8 +79,8 @@ void expectCleanImages(const Frame& f, const std::string& what) {
     bool ok = true;
     for (int k = 0; k < 4; ++k) ok = ok && std::isfinite(n[k]) && std::isfinite(p[k]);
     if (!(f.depth[i] > 0.0f))
-      ok = ok && f.shadows.visibility[i] == 0u && f.shadows.accounting[4 * i] == 0u && f.shadows.accounting[4 * i + 1] == 0u &&
-           f.shadows.accounting[4 * i + 2] == 0u && p[3] == 0.0f &&
+      ok = ok && f.shadows.visibility[i] == 0u && f.shadows.accounting[4 * i] == 0u &&
+           f.shadows.accounting[4 * i + 1] == 0u && f.shadows.accounting[4 * i + 2] == 0u && p[3] == 0.0f &&
            n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f;
     else
       ok = ok && p[3] == 1.0f;
@@ -142,11 +146,12 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     if (GetParam() != "grazing-far") {
       EXPECT_LE(cmp.mismatches, cmp.rays / 1000) << what;
     }
-    std::printf("[ shadows ] %-14s normals=%s traced %llu of %llu candidates, CPU mismatches %llu "
-                "(tie %llu, endpoint %llu, grazing %llu)\n",
-                GetParam().c_str(), toString(normals), (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
-                (unsigned long long)cmp.mismatches, (unsigned long long)cmp.nearTie,
-                (unsigned long long)cmp.endpoint, (unsigned long long)cmp.grazing);
+    std::printf(
+        "[ shadows ] %-14s normals=%s traced %llu of %llu candidates, CPU mismatches %llu "
+        "(tie %llu, endpoint %llu, grazing %llu)\n",
+        GetParam().c_str(), toString(normals), (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
+        (unsigned long long)cmp.mismatches, (unsigned long long)cmp.nearTie, (unsigned long long)cmp.endpoint,
+        (unsigned long long)cmp.grazing);
   }
 }
 
@@ -266,11 +271,12 @@ TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
   EXPECT_EQ(a.compared, b.compared);
   // Reference surface found for all but a few silhouette pixels.
   EXPECT_LT(ref.unmatched, ref.matched / 1000);
-  std::printf("[ normals ] atrium %ux%u: naive mean %.3f p95 %.3f max %.1f deg, image diff %.5f | improved mean "
-              "%.3f p95 %.3f max %.1f deg, image diff %.5f | unmatched %llu of %llu\n",
-              kWidth, kHeight, a.meanAngleDeg, a.p95AngleDeg, a.maxAngleDeg, a.meanImageDifference, b.meanAngleDeg,
-              b.p95AngleDeg, b.maxAngleDeg, b.meanImageDifference, (unsigned long long)ref.unmatched,
-              (unsigned long long)(ref.matched + ref.unmatched));
+  std::printf(
+      "[ normals ] atrium %ux%u: naive mean %.3f p95 %.3f max %.1f deg, image diff %.5f | improved mean "
+      "%.3f p95 %.3f max %.1f deg, image diff %.5f | unmatched %llu of %llu\n",
+      kWidth, kHeight, a.meanAngleDeg, a.p95AngleDeg, a.maxAngleDeg, a.meanImageDifference, b.meanAngleDeg,
+      b.p95AngleDeg, b.maxAngleDeg, b.meanImageDifference, (unsigned long long)ref.unmatched,
+      (unsigned long long)(ref.matched + ref.unmatched));
 }
 
 // The issue's target, at the thesis's resolution: the improved method's mean normal error at most
@@ -292,15 +298,17 @@ TEST_F(ShadowNormals, ImprovedMeanAngularErrorIsAtMost028OfNaiveOnTheAtriumAt108
     Renderer r(*ctx, scene, s);
     r.renderFrame(true);
     if (k == 0)
-      ref = referenceSurface(bvh, r.readDepth(),
-                             reconstructionCamera<double>(glm::dmat4(r.view()), glm::dmat4(r.proj()), s.width, s.height));
+      ref =
+          referenceSurface(bvh, r.readDepth(),
+                           reconstructionCamera<double>(glm::dmat4(r.view()), glm::dmat4(r.proj()), s.width, s.height));
     acc[k] = normalAccuracy(shadowsOf(r)->readShadows().normals, ref);
   }
   const double ratio = acc[1].meanAngleDeg / acc[0].meanAngleDeg;
-  std::printf("[ normals ] atrium 1920x1080: naive mean %.3f deg, image diff %.5f | improved mean %.3f deg, image diff "
-              "%.5f | ratio %.3f (image %.3f)\n",
-              acc[0].meanAngleDeg, acc[0].meanImageDifference, acc[1].meanAngleDeg, acc[1].meanImageDifference, ratio,
-              acc[1].meanImageDifference / acc[0].meanImageDifference);
+  std::printf(
+      "[ normals ] atrium 1920x1080: naive mean %.3f deg, image diff %.5f | improved mean %.3f deg, image diff "
+      "%.5f | ratio %.3f (image %.3f)\n",
+      acc[0].meanAngleDeg, acc[0].meanImageDifference, acc[1].meanAngleDeg, acc[1].meanImageDifference, ratio,
+      acc[1].meanImageDifference / acc[0].meanImageDifference);
   EXPECT_EQ(acc[0].compared, acc[1].compared);
   EXPECT_LE(ratio, 0.28);
 }
@@ -407,9 +415,10 @@ TEST_F(ShadowPositions, FarFromTheOriginTheErrorFollowsTheEyeDistanceBound) {
   }
   ASSERT_GT(compared, 1000u);
   EXPECT_EQ(beyond, 0u);
-  std::printf("[ positions ] far-origin: max relative %.3g (%.0f x 4*2^-23; %zu of %zu pixels beyond it); "
-              "max error / derived bound %.2f; float-inverse translation error %.3g m\n",
-              maxRel, maxRel / (8.0 * kU), beyondIssue, compared, maxRatio, glm::length(glm::dvec3(mf[3] - md[3])));
+  std::printf(
+      "[ positions ] far-origin: max relative %.3g (%.0f x 4*2^-23; %zu of %zu pixels beyond it); "
+      "max error / derived bound %.2f; float-inverse translation error %.3g m\n",
+      maxRel, maxRel / (8.0 * kU), beyondIssue, compared, maxRatio, glm::length(glm::dvec3(mf[3] - md[3])));
 }
 
 // ---- hard cases -----------------------------------------------------------------------------------

@@ -17,24 +17,23 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <regex>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "tool_process.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include "tool_process.h"
 
 #ifndef HYBRIDBENCH_SOURCE_DIR
 #error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
 #endif
-
 
 namespace {
 
@@ -117,10 +116,10 @@ class Sweep : public hb::testing::ToolTest {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    ADD_FAILURE() << "no " << runs << " run(s) in " << out / "results.json" << " before the deadline";
+    ADD_FAILURE() << "no " << runs << " run(s) in " << out / "results.json"
+                  << " before the deadline";
     return false;
   }
-
 };
 
 // The summary of a timing block: every key of docs/results-format.md, samples of the stated length, and
@@ -217,8 +216,8 @@ void expectAnalysis(const json& run) {
   EXPECT_EQ(c.value("false_negatives", -1), 0);  // the culling is conservative
   const uint32_t ts = p["tile_size"];
   EXPECT_EQ(c.value("tiles", 0u), ((96 + ts - 1) / ts) * ((54 + ts - 1) / ts));
-  for (const char* key : {"lights_per_tile_mean", "lights_per_tile_max", "overflow_tiles", "false_positive_rate",
-                          "memory_bytes"})
+  for (const char* key :
+       {"lights_per_tile_mean", "lights_per_tile_max", "overflow_tiles", "false_positive_rate", "memory_bytes"})
     EXPECT_TRUE(c.contains(key) && c[key].is_number()) << key;
 
   ASSERT_TRUE(run.contains("accuracy"));
@@ -394,9 +393,10 @@ TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) 
   // beyond that, and the "faster" baseline below is 100x faster, far beyond the threshold: the
   // test checks the recipe's plumbing and verdicts, not lavapipe's timing.
   auto recipe = [&](const fs::path& baseline, const fs::path& out) {
-    const std::string cmd = "SWEEP_ARGS='--frames 8' COMPARE_ARGS='--threshold 900' HYBRIDBENCH_VALIDATION=1 HYBRIDBENCH='" + std::string(HYBRIDBENCH_BINARY) + "' bash '" + script +
-                            "' '" + baseline.string() + "' '' '" + out.string() + "' > '" + (out.string() + ".log") +
-                            "' 2>&1";
+    const std::string cmd =
+        "SWEEP_ARGS='--frames 8' COMPARE_ARGS='--threshold 900' HYBRIDBENCH_VALIDATION=1 HYBRIDBENCH='" +
+        std::string(HYBRIDBENCH_BINARY) + "' bash '" + script + "' '" + baseline.string() + "' '' '" + out.string() +
+        "' > '" + (out.string() + ".log") + "' 2>&1";
     fs::create_directories(out.parent_path());
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -439,15 +439,14 @@ TEST_F(Sweep, InterruptedSweepKeepsFinishedRunsAndResumeCompletesIt) {
   const fs::path config = configWith("sweep-kill", variants);
   const fs::path out = dir / "out";
   // 30 measured frames: ~2 s per variant on lavapipe, so a signal lands well before the end.
-  const std::vector<std::string> args{"sweep", config.string(), "--out", out.string(), "--no-images",
-                                      "--frames", "30"};
+  const std::vector<std::string> args{"sweep", config.string(), "--out", out.string(), "--no-images", "--frames", "30"};
   std::vector<std::string> resumeArgs = args;
   resumeArgs.push_back("--resume");
 
   auto expectConsistent = [&](const json& results) {
     for (const json& run : results["runs"]) {
-      const auto it = std::find_if(variants.begin(), variants.end(),
-                                   [&](const json& v) { return v["name"] == run["name"]; });
+      const auto it =
+          std::find_if(variants.begin(), variants.end(), [&](const json& v) { return v["name"] == run["name"]; });
       ASSERT_NE(it, variants.end()) << run["name"];
       ASSERT_EQ(run.value("status", ""), "ok") << run.dump();
       expectTimingBlock(run["frame_ms"], 30, run["name"].get<std::string>());
@@ -474,8 +473,8 @@ TEST_F(Sweep, InterruptedSweepKeepsFinishedRunsAndResumeCompletesIt) {
   kill(second, SIGTERM);
   const RunResult r2 = wait(second);
   EXPECT_EQ(r2.exitCode, 130) << r2.out << r2.err;
-  EXPECT_NE(r2.out.find("resume: " + std::to_string(k1) + " of " + std::to_string(variants.size())),
-            std::string::npos) << r2.out;
+  EXPECT_NE(r2.out.find("resume: " + std::to_string(k1) + " of " + std::to_string(variants.size())), std::string::npos)
+      << r2.out;
   const json afterTerm = readJson(out / "results.json");
   ASSERT_FALSE(afterTerm.is_discarded());
   const size_t k2 = afterTerm["runs"].size();
@@ -536,8 +535,7 @@ TEST_F(Sweep, CompareCallsAFileTheSameAsItselfFlagsASlowdownAndRefusesAnotherSce
     for (const json& r : results["runs"])
       if (r["name"] == row["variant"]) run = &r;
     ASSERT_NE(run, nullptr) << row.dump();
-    const json& t =
-        row["pass"] == "frame" ? run->at("frame_ms") : run->at("passes").at(row["pass"].get<std::string>());
+    const json& t = row["pass"] == "frame" ? run->at("frame_ms") : run->at("passes").at(row["pass"].get<std::string>());
     const bool quiet = t["samples"].size() >= 5 && t["cv"].get<double>() <= 0.10;
     EXPECT_EQ(row.value("verdict", ""), quiet ? "same" : "too noisy") << row.dump();
     anySame |= quiet;
@@ -668,9 +666,8 @@ TEST_F(Sweep, ResumeRefusesResultsItCannotContinueAndKeepsThem) {
   const fs::path out = dir / "out";
   fs::create_directories(out);
   const fs::path results = out / "results.json";
-  const std::string foreign = json{{"schema_version", 1},
-                                   {"context", {{"config", {{"name", "another"}}}}},
-                                   {"runs", json::array()}}.dump(1);
+  const std::string foreign =
+      json{{"schema_version", 1}, {"context", {{"config", {{"name", "another"}}}}}, {"runs", json::array()}}.dump(1);
   for (const std::string& text : {foreign, std::string("{\"schema_version\": 1, \"runs\": [")}) {
     writeFile(results, text);
     const RunResult r = run({"sweep", kFixture.string(), "--out", out.string(), "--no-images", "--resume"});

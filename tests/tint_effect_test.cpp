@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include <glm/gtc/packing.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
 #include "analysis/effect_report.h"
@@ -147,9 +147,8 @@ const EffectDef& tintEffect() {
       .name = kTintPass,
       .summary = "test only: red added to the shaded image in proportion to each pixel's light-list length",
       .defaultValue = false,
-      .validate = [](const nlohmann::ordered_json& value, const json_reader::Where& where) {
-        json_reader::readBool(value, where);
-      },
+      .validate = [](const nlohmann::ordered_json& value,
+                     const json_reader::Where& where) { json_reader::readBool(value, where); },
       .needs = {FrameResource::Depth, FrameResource::LightLists},
       .passes = {kTintPass},
       .cannotAct = [](const Scene& scene, const json&) -> std::string {
@@ -251,7 +250,7 @@ TEST_F(TintEffectTest, RenderSweepAndTablesCarryItWithNoEditToTheTool) {
                                 {"effects", {{"shadows", false}, {"tint", true}}},
                                 {"frames", {{"warmup", 1}, {"measured", 2}}},
                                 {"variants", {{{"name", "tinted"}, {"params", {{"tile_size", 8}}}}}}}
-                                   .dump();
+                               .dump();
   SweepOptions so;
   so.config = config.string();
   so.out = (dir / "sweep").string();

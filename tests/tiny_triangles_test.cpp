@@ -4,18 +4,18 @@
 // measured and printed, not hidden.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
-#include <cstdio>
 
 #include <gtest/gtest.h>
 
-#include "gpu_fixture.h"
-#include "scene/hard_cases.h"
 #include "analysis/ray_analysis.h"
-#include "reference/reconstruct_ref.h"
-#include "frame/renderer.h"
 #include "effects/shadows/shadows_part.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
+#include "reference/reconstruct_ref.h"
+#include "scene/hard_cases.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -50,12 +50,15 @@ TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
       const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
       // A normalised float vector has |n| within a few u of 1: 1e-5 is ~170 u, generous on purpose
       // (the test is about NaN and garbage, not about the last bits).
-      if (std::isfinite(len) && std::abs(len - 1.0) < 1e-5) ++unit;
-      else if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) ++flagged;
-      else ++bad;
+      if (std::isfinite(len) && std::abs(len - 1.0) < 1e-5)
+        ++unit;
+      else if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f)
+        ++flagged;
+      else
+        ++bad;
     }
-    const auto cam = reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), s.width,
-                                                  s.height);
+    const auto cam =
+        reconstructionCamera<double>(glm::dmat4(renderer.view()), glm::dmat4(renderer.proj()), s.width, s.height);
     const NormalAccuracy acc = normalAccuracy(sh.normals, referenceSurface(bvh, depth, cam));
     uint64_t over10 = 0;
     for (float a : acc.angleDeg) over10 += a > 10.0f;
@@ -63,11 +66,11 @@ TEST_F(ShadowTinyTriangles, NormalsAreUnitOrFlaggedAndTheirErrorIsMeasured) {
                 method == NormalCulling::Naive ? "naive" : "improved", (unsigned long long)acc.compared,
                 (unsigned long long)acc.withoutReference);
     // Flagged pixels (no neighbour on the same surface) get no normal test: their rays are traced.
-    std::printf("%s: %llu unit, %llu flagged, mean error %.2f deg, p95 %.2f deg, %.1f %% of "
-                "compared pixels off by more than 10 deg\n",
-                method == NormalCulling::Naive ? "naive" : "improved", (unsigned long long)unit,
-                (unsigned long long)flagged, acc.meanAngleDeg, acc.p95AngleDeg,
-                acc.compared ? 100.0 * double(over10) / double(acc.compared) : 0.0);
+    std::printf(
+        "%s: %llu unit, %llu flagged, mean error %.2f deg, p95 %.2f deg, %.1f %% of "
+        "compared pixels off by more than 10 deg\n",
+        method == NormalCulling::Naive ? "naive" : "improved", (unsigned long long)unit, (unsigned long long)flagged,
+        acc.meanAngleDeg, acc.p95AngleDeg, acc.compared ? 100.0 * double(over10) / double(acc.compared) : 0.0);
     EXPECT_EQ(bad, 0u);
     EXPECT_GT(unit, 0u);
   }
@@ -92,15 +95,16 @@ TEST_F(ShadowTinyTriangles, SkyPixelsAtOddAndEvenWidthsGetNoPositionNoRayNoNaN) 
       for (size_t i = 0; i < depth.size(); ++i) {
         const float* p = &sh.positions[4 * i];
         const float* n = &sh.normals[4 * i];
-        for (int c = 0; c < 4; ++c) nonFinite += !std::isfinite(p[c]) + !std::isfinite(n[c]) + !std::isfinite(color[4 * i + c]);
+        for (int c = 0; c < 4; ++c)
+          nonFinite += !std::isfinite(p[c]) + !std::isfinite(n[c]) + !std::isfinite(color[4 * i + c]);
         if (depth[i] > 0.0f) {
           ++surface;
           continue;
         }
         ++sky;
         skyWithSomething += sh.visibility[i] != 0u || sh.accounting[4 * i] != 0u || sh.accounting[4 * i + 1] != 0u ||
-                            sh.accounting[4 * i + 2] != 0u || p[0] != 0.0f || p[1] != 0.0f ||
-                            p[2] != 0.0f || p[3] != 0.0f || n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f;
+                            sh.accounting[4 * i + 2] != 0u || p[0] != 0.0f || p[1] != 0.0f || p[2] != 0.0f ||
+                            p[3] != 0.0f || n[0] != 0.0f || n[1] != 0.0f || n[2] != 0.0f;
       }
       uint64_t emptyTiles = 0, emptyTilesWithLights = 0;
       for (uint32_t ty = 0; ty < cull.tilesY; ++ty)

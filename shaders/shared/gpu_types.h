@@ -30,9 +30,9 @@ HB_CONST uint kNormalsOff = 0u;
 HB_CONST uint kNormalsNaive = 1u;
 HB_CONST uint kNormalsImproved = 2u;
 HB_CONST uint kNormalsGeometric = 3u;  // the visible triangle's own normal (needs 3D rasterization's ids)
-HB_CONST uint kWorldPosAlg41 = 0u;   // thesis Algorithm 4.1
-HB_CONST uint kWorldPosMatrix = 1u;  // full inverse view-projection matrix
-HB_CONST uint kWorldPosHit = 2u;     // eye + t·d from 3D rasterization's hit (no reconstruction)
+HB_CONST uint kWorldPosAlg41 = 0u;     // thesis Algorithm 4.1
+HB_CONST uint kWorldPosMatrix = 1u;    // full inverse view-projection matrix
+HB_CONST uint kWorldPosHit = 2u;       // eye + t·d from 3D rasterization's hit (no reconstruction)
 
 // Light lists (config light_lists; frame/passes/light_culling.h). tile: the thesis's per-tile index
 // list, capped at kMaxLightsPerTile (one 32-bit visibility word per pixel). bitmask: one bit per
@@ -71,8 +71,8 @@ struct FrameConstants {
   mat4 proj;
   mat4 viewProj;
   mat4 viewProjInv;
-  vec4 cameraPos;     // xyz world, w = shadow t_min per metre of distance to the eye (0: constant)
-  vec4 extent;        // x = width, y = height, z = 1/width, w = 1/height
+  vec4 cameraPos;  // xyz world, w = shadow t_min per metre of distance to the eye (0: constant)
+  vec4 extent;     // x = width, y = height, z = 1/width, w = 1/height
   uint tileCountX;
   uint tileCountY;
   uint tileSize;
@@ -118,7 +118,7 @@ struct GpuLight {
   uint type;
   float cosInner;
   uint castShadows;
-  float tanOuter;          // tan(outer cone angle), for the cone-vs-plane test
+  float tanOuter;  // tan(outer cone angle), for the cone-vs-plane test
 };
 
 // A light in view space, computed once per frame for light culling (light_view.comp.glsl; the
@@ -180,23 +180,23 @@ struct GpuDraw {
 // pixel centres: d(x, y) = rayD0 + x·rayDx + y·rayDy for pixel indices x, y, with d's component
 // along the camera's forward axis 1, so a hit's ray parameter t is its view depth.
 struct Raster3dConstants {
-  vec4 rayD0;     // xyz: world direction through the centre of pixel (0, 0)
-  vec4 rayDx;     // xyz: its step per pixel in x
-  vec4 rayDy;     // xyz: its step per pixel in y (down)
-  vec4 eye;       // xyz: world eye; vertices are made eye-relative in float before setup
-  vec4 forward;   // xyz: unit view direction (view -z) in world space
-  vec4 right;     // xyz: unit view +x in world space
-  vec4 up;        // xyz: unit view +y in world space
-  vec4 depth;     // x znear, y zfar, z C, w D: reverse-Z depth = D / t - C (orthographic: D - C·t; camera.h)
-  vec4 project;   // x W/(2·a·tan(fov/2)), y H/(2·tan(fov/2)), z W/2 - 0.5, w H/2 - 0.5
+  vec4 rayD0;    // xyz: world direction through the centre of pixel (0, 0)
+  vec4 rayDx;    // xyz: its step per pixel in x
+  vec4 rayDy;    // xyz: its step per pixel in y (down)
+  vec4 eye;      // xyz: world eye; vertices are made eye-relative in float before setup
+  vec4 forward;  // xyz: unit view direction (view -z) in world space
+  vec4 right;    // xyz: unit view +x in world space
+  vec4 up;       // xyz: unit view +y in world space
+  vec4 depth;    // x znear, y zfar, z C, w D: reverse-Z depth = D / t - C (orthographic: D - C·t; camera.h)
+  vec4 project;  // x W/(2·a·tan(fov/2)), y H/(2·tan(fov/2)), z W/2 - 0.5, w H/2 - 0.5
   uint width;
   uint height;
   uint triangleCount;
-  uint smallArea;  // screen boxes of at most this many pixels are rasterized by their own thread
+  uint smallArea;       // screen boxes of at most this many pixels are rasterized by their own thread
   uint itemCapacity;    // brute force: (triangle, 8x8 tile of its box) work items the list holds;
                         // binned: (triangle, screen tile) entries
   uint tileWorkgroups;  // workgroups of the tile dispatch (each strides over the items)
-  uint projection;  // kProjection*: the camera's projection (camera_ray.glsl.inc)
+  uint projection;      // kProjection*: the camera's projection (camera_ray.glsl.inc)
   uint pad1;
   // Orthographic: ray origins eye + origin0 + x·originX + y·originY (xyz), direction forward.
   vec4 origin0;
@@ -221,9 +221,9 @@ HB_CONST uint kR3dCounterCovered = 4u;       // (triangle, pixel) pairs covered,
 HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs within [znear, zfar])
 HB_CONST uint kR3dCounterBig = 6u;           // triangles whose box went to the tile pass
 HB_CONST uint kR3dCounterOverflow = 7u;      // of those, rasterized by their own thread (list full)
-HB_CONST uint kR3dCounterListEntries = 8u;  // binned: (triangle, screen tile) entries the frame needs
-HB_CONST uint kR3dCounterBinsRefined = 9u;  // binned: (triangle, screen tile) entries the tile pass tested
-HB_CONST uint kR3dCounterBinsEmpty = 10u;   // of those, entries that covered no pixel of the tile
+HB_CONST uint kR3dCounterListEntries = 8u;   // binned: (triangle, screen tile) entries the frame needs
+HB_CONST uint kR3dCounterBinsRefined = 9u;   // binned: (triangle, screen tile) entries the tile pass tested
+HB_CONST uint kR3dCounterBinsEmpty = 10u;    // of those, entries that covered no pixel of the tile
 HB_CONST uint kR3dCounterCount = 11u;
 
 // One layered depth map (Aalund et al. 2015; reference/ldm_ref.h defines the view): an
@@ -245,11 +245,11 @@ struct LdmMap {
 // fragment outgrow lavapipe's 128 MiB storage binding at N = 128, R = 256 already).
 HB_CONST uint kLdmKeyTop = 0xFFFFFFFFu;
 HB_CONST uint kLdmMaxInsertSteps = 4096u;  // a bounded insertion; longer ones are counted, not hung
-HB_CONST uint kLdmCounterAllocated = 0u;    // nodes asked for (over capacity ones included)
-HB_CONST uint kLdmCounterOverflow = 1u;     // fragments dropped: the node pool was full
-HB_CONST uint kLdmCounterUnfinished = 2u;   // insertions cut at kLdmMaxInsertSteps
-HB_CONST uint kLdmCounterCasRetries = 3u;   // cas: compare-and-swaps that lost to another insertion
-HB_CONST uint kLdmCounterFp64 = 4u;         // 3dr build: edge values decided in double
+HB_CONST uint kLdmCounterAllocated = 0u;   // nodes asked for (over capacity ones included)
+HB_CONST uint kLdmCounterOverflow = 1u;    // fragments dropped: the node pool was full
+HB_CONST uint kLdmCounterUnfinished = 2u;  // insertions cut at kLdmMaxInsertSteps
+HB_CONST uint kLdmCounterCasRetries = 3u;  // cas: compare-and-swaps that lost to another insertion
+HB_CONST uint kLdmCounterFp64 = 4u;        // 3dr build: edge values decided in double
 HB_CONST uint kLdmCounterCount = 5u;
 // The list layouts (ldm_insert.glsl.inc), in the links buffer at its device address:
 //   max64: uint64 links[maps·R² heads + capacity next links] as above.
@@ -269,26 +269,26 @@ HB_CONST uint kLdmPhaseCount = 1u;   // sbuffer: count
 HB_CONST uint kLdmPhaseFill = 2u;    // sbuffer: fill (after the scan)
 
 // Ambient occlusion (ao_common.glsl.inc; effects/ambient_occlusion/ao_effect.h).
-HB_CONST uint kAoLdm = 0u;        // trace the LDMs along the N directions
-HB_CONST uint kAoRayTraced = 1u;  // ray trace the same N directions
-HB_CONST uint kAoReference = 2u;  // cosine-weighted Monte Carlo, `samples` stratified rays
-HB_CONST uint kAoHbao = 3u;       // screen space: horizon-based AO from the depth buffer
-HB_CONST float kAoSky = -1.0;     // an AO value: the pixel sees the sky (no surface)
+HB_CONST uint kAoLdm = 0u;          // trace the LDMs along the N directions
+HB_CONST uint kAoRayTraced = 1u;    // ray trace the same N directions
+HB_CONST uint kAoReference = 2u;    // cosine-weighted Monte Carlo, `samples` stratified rays
+HB_CONST uint kAoHbao = 3u;         // screen space: horizon-based AO from the depth buffer
+HB_CONST float kAoSky = -1.0;       // an AO value: the pixel sees the sky (no surface)
 HB_CONST float kAoNoNormal = -2.0;  // an AO value: no normal could be reconstructed (not shaded by AO)
 struct AoConstants {
-  uint directions;   // N
-  uint resolution;   // R: each LDM is R×R
-  uint mapPixels;    // N·R²: where the next links begin in the LDM links buffer
-  uint samples;      // reference rays per pixel (a square)
-  float dMax;        // obscurance distance; 0: none (occlusion)
-  float biasScale;   // scale of the derived LDM bias (ao_common.glsl.inc)
-  uint maxListSteps; // a bounded walk of a pixel's list (the node pool)
-  uint samplesSide;  // √samples
-  uvec2 ldmLinks;    // the LDM links buffer's device address (lo, hi): it outgrows a binding
-  uint ldmList;      // kLdmList*
-  uint ldmCapacity;  // the node pool (cas: where the depths begin after the next links)
-  uint hbaoSteps;    // hbao: samples per screen direction
-  float hbaoRadius;  // hbao: the world radius of its kernel (d_max, or the scene's bounding radius)
+  uint directions;    // N
+  uint resolution;    // R: each LDM is R×R
+  uint mapPixels;     // N·R²: where the next links begin in the LDM links buffer
+  uint samples;       // reference rays per pixel (a square)
+  float dMax;         // obscurance distance; 0: none (occlusion)
+  float biasScale;    // scale of the derived LDM bias (ao_common.glsl.inc)
+  uint maxListSteps;  // a bounded walk of a pixel's list (the node pool)
+  uint samplesSide;   // √samples
+  uvec2 ldmLinks;     // the LDM links buffer's device address (lo, hi): it outgrows a binding
+  uint ldmList;       // kLdmList*
+  uint ldmCapacity;   // the node pool (cas: where the depths begin after the next links)
+  uint hbaoSteps;     // hbao: samples per screen direction
+  float hbaoRadius;   // hbao: the world radius of its kernel (d_max, or the scene's bounding radius)
   uint pad0, pad1;
 };
 

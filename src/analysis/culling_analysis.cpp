@@ -63,7 +63,8 @@ bool lightReachesPoint(const ViewLight<double>& l, const glm::dvec3& p) {
 }
 
 // The view-space points of the tile's non-sky pixels, at pixel centres, in double.
-std::vector<glm::dvec3> tilePoints(const CullingInputs& in, const ProjectionParams<double>& proj, const TileRect& rect) {
+std::vector<glm::dvec3> tilePoints(const CullingInputs& in, const ProjectionParams<double>& proj,
+                                   const TileRect& rect) {
   std::vector<glm::dvec3> pts;
   for (uint32_t y = rect.y0; y < rect.y1; ++y)
     for (uint32_t x = rect.x0; x < rect.x1; ++x) {
@@ -94,33 +95,33 @@ CullingReference cullingReference(const CullingInputs& in) {
   ref.needed.resize(size_t(tx) * ty);
   // Every tile on every core; each writes only its own entries.
   parallelFor(size_t(tx) * ty, [&](size_t t) {
-      const uint32_t x = uint32_t(t % tx), y = uint32_t(t / tx);
-      const TileRect rect = tileRect(x, y, in.tileSize, in.width, in.height);
-      const TileDepthRange range = tileDepthRange(*in.depth, in.width, in.height, rect);
-      std::vector<uint32_t>& all = ref.sameAll[t];
-      if (in.lightCulling) {
-        auto volF = tileVolume(projF, rect, in.width, in.height, range.minDepth, range.maxDepth);
-        applyDepthSlices(volF, in.depthSlices, projF, *in.depth, in.width, in.height, rect);
-        all = cullTile(volF, lightsF, in.aabb, std::numeric_limits<uint32_t>::max()).indices;
-      } else {
-        for (uint32_t i = 0; i < n; ++i) all.push_back(i);  // every tile, sky included, as the GPU
-      }
-      TileLightList& stored = ref.same[t];
-      stored.total = uint32_t(all.size());
-      stored.indices.assign(all.begin(), all.begin() + std::min<size_t>(all.size(), in.capacity));
+    const uint32_t x = uint32_t(t % tx), y = uint32_t(t / tx);
+    const TileRect rect = tileRect(x, y, in.tileSize, in.width, in.height);
+    const TileDepthRange range = tileDepthRange(*in.depth, in.width, in.height, rect);
+    std::vector<uint32_t>& all = ref.sameAll[t];
+    if (in.lightCulling) {
+      auto volF = tileVolume(projF, rect, in.width, in.height, range.minDepth, range.maxDepth);
+      applyDepthSlices(volF, in.depthSlices, projF, *in.depth, in.width, in.height, rect);
+      all = cullTile(volF, lightsF, in.aabb, std::numeric_limits<uint32_t>::max()).indices;
+    } else {
+      for (uint32_t i = 0; i < n; ++i) all.push_back(i);  // every tile, sky included, as the GPU
+    }
+    TileLightList& stored = ref.same[t];
+    stored.total = uint32_t(all.size());
+    stored.indices.assign(all.begin(), all.begin() + std::min<size_t>(all.size(), in.capacity));
 
-      const auto volD = tileVolume(dbl.proj, rect, in.width, in.height, double(range.minDepth), double(range.maxDepth));
-      if (volD.empty) return;
-      for (uint32_t i = 0; i < n; ++i) {
-        const auto& l = dbl.lights[i];
-        if (l.type != LightType::Directional && sphereClearlyOutside(volD, l)) continue;
-        if (exactLightMeetsTile(volD, l)) ref.exact[t].push_back(i);
-      }
-      if (ref.exact[t].empty()) return;
-      const std::vector<glm::dvec3> pts = tilePoints(in, dbl.proj, rect);
-      for (uint32_t i : ref.exact[t])
-        if (std::any_of(pts.begin(), pts.end(), [&](const glm::dvec3& p) { return lightReachesPoint(dbl.lights[i], p); }))
-          ref.needed[t].push_back(i);
+    const auto volD = tileVolume(dbl.proj, rect, in.width, in.height, double(range.minDepth), double(range.maxDepth));
+    if (volD.empty) return;
+    for (uint32_t i = 0; i < n; ++i) {
+      const auto& l = dbl.lights[i];
+      if (l.type != LightType::Directional && sphereClearlyOutside(volD, l)) continue;
+      if (exactLightMeetsTile(volD, l)) ref.exact[t].push_back(i);
+    }
+    if (ref.exact[t].empty()) return;
+    const std::vector<glm::dvec3> pts = tilePoints(in, dbl.proj, rect);
+    for (uint32_t i : ref.exact[t])
+      if (std::any_of(pts.begin(), pts.end(), [&](const glm::dvec3& p) { return lightReachesPoint(dbl.lights[i], p); }))
+        ref.needed[t].push_back(i);
   });
   return ref;
 }
@@ -299,8 +300,8 @@ CullingComparison compareGpuToReference(const CullingInputs& in, const CullingRe
       const size_t t = size_t(y) * tx + x;
       const uint32_t count = gpu.count[t], total = gpu.total[t];
       const bool stride = gpu.lists == LightLists::Tile;  // the masks' lists are packed one after another
-      if (count > in.capacity || count != std::min(total, in.capacity) || (stride && gpu.offset[t] != t * in.capacity) ||
-          uint64_t(gpu.offset[t]) + count > gpu.indices.size()) {
+      if (count > in.capacity || count != std::min(total, in.capacity) ||
+          (stride && gpu.offset[t] != t * in.capacity) || uint64_t(gpu.offset[t]) + count > gpu.indices.size()) {
         ++cmp.malformedTiles;
         continue;
       }

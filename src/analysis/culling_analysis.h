@@ -14,8 +14,8 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "reference/cull_ref.h"
 #include "base/image_io.h"
+#include "reference/cull_ref.h"
 #include "scene/scene.h"
 
 namespace hb {
@@ -40,10 +40,10 @@ struct CullingInputs {
 
 // Per tile (row-major, tileCount(width) × tileCount(height)), ascending light indices.
 struct CullingReference {
-  std::vector<TileLightList> same;               // the GPU's method in float, first `capacity` stored
-  std::vector<std::vector<uint32_t>> sameAll;    // the same method's full kept set (no capacity)
-  std::vector<std::vector<uint32_t>> exact;      // exact (double) light set; empty for sky tiles
-  std::vector<std::vector<uint32_t>> needed;     // exact lights reaching one of the tile's pixels
+  std::vector<TileLightList> same;             // the GPU's method in float, first `capacity` stored
+  std::vector<std::vector<uint32_t>> sameAll;  // the same method's full kept set (no capacity)
+  std::vector<std::vector<uint32_t>> exact;    // exact (double) light set; empty for sky tiles
+  std::vector<std::vector<uint32_t>> needed;   // exact lights reaching one of the tile's pixels
 };
 
 // The CPU reference for `in`. Light culling off: every tile keeps every light (as the GPU does,
@@ -61,8 +61,7 @@ std::vector<TileLightList> gpuTileLists(const CullingInputs& in, const CullingRe
 
 // Statistics of the GPU result against the exact and needed sets (cull_ref.h cullStatistics and
 // addGeometryStatistics, sliced when in.depthSlices > 0).
-CullStatistics gpuCullStatistics(const CullingInputs& in, const CullingReadback& gpu,
-                                 const CullingReference& ref);
+CullStatistics gpuCullStatistics(const CullingInputs& in, const CullingReadback& gpu, const CullingReference& ref);
 
 // Full-resolution lights-per-tile image: every pixel coloured by its tile's `total` through
 // heatmapThesis with maxValue = number of lights.
@@ -84,10 +83,10 @@ struct CullingMismatch {
 };
 
 struct CullingComparison {
-  uint64_t hardMismatches = 0;        // must be 0: disagreements rounding cannot explain
-  uint64_t borderlineMismatches = 0;  // disagreements within the rounding bound
-  uint64_t malformedTiles = 0;        // grid entry inconsistent (offset, count != min(total, cap))
-  uint64_t totalMismatchTiles = 0;    // |total - reference total| > borderline lights of the tile
+  uint64_t hardMismatches = 0;              // must be 0: disagreements rounding cannot explain
+  uint64_t borderlineMismatches = 0;        // disagreements within the rounding bound
+  uint64_t malformedTiles = 0;              // grid entry inconsistent (offset, count != min(total, cap))
+  uint64_t totalMismatchTiles = 0;          // |total - reference total| > borderline lights of the tile
   std::vector<CullingMismatch> mismatches;  // every disagreement, hard and borderline
   bool ok() const { return hardMismatches == 0 && malformedTiles == 0 && totalMismatchTiles == 0; }
 };
@@ -137,7 +136,6 @@ double sliceRoundingBound(const TileVolume<double>& tile, const ViewLight<double
 // culling_analysis.cpp). rays: the tile's corner rays in double; worldPosition: the light's
 // world-space position; viewTranslation: |view[3].xyz|.
 double cullingRoundingBound(const std::array<glm::dvec3, 4>& rays, const TileVolume<double>& tile,
-                            const ViewLight<double>& light, double worldPositionLength,
-                            double viewTranslationLength);
+                            const ViewLight<double>& light, double worldPositionLength, double viewTranslationLength);
 
 }  // namespace hb

@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/camera.h"
 #include "frame/renderer.h"
+#include "scene/camera.h"
 
 namespace hb {
 namespace {
@@ -32,7 +32,9 @@ struct SyntheticView {
       }
   }
   // A world-space point from a view-space one.
-  glm::vec3 world(glm::dvec3 viewPos) const { return glm::vec3(glm::inverse(glm::dmat4(view)) * glm::dvec4(viewPos, 1.0)); }
+  glm::vec3 world(glm::dvec3 viewPos) const {
+    return glm::vec3(glm::inverse(glm::dmat4(view)) * glm::dvec4(viewPos, 1.0));
+  }
   CullingInputs inputs(uint32_t capacity = kDefaultTileCapacity, bool aabb = false, bool culling = true) const {
     CullingInputs in;
     in.depth = &depth;
@@ -157,9 +159,9 @@ TEST(CullingAnalysis, ATangentLightFlippedByRoundingIsBorderline) {
   s.lights[0].range = float(outside);
   vl = toViewLight(s.lights[0], glm::dmat4(s.view));
   const double margin = cullingDecisionMargin(vol, vl, false);
-  const double bound = cullingRoundingBound(tileCornerRays(proj, rect, s.width, s.height), vol, vl,
-                                            glm::length(glm::dvec3(s.lights[0].position)),
-                                            glm::length(glm::dvec3(s.view[3])));
+  const double bound =
+      cullingRoundingBound(tileCornerRays(proj, rect, s.width, s.height), vol, vl,
+                           glm::length(glm::dvec3(s.lights[0].position)), glm::length(glm::dvec3(s.view[3])));
   ASSERT_LE(margin, bound);
   const CullingReference ref = cullingReference(in0);
   // Flip the decision in the "GPU" list of tile (1, 1) = tile 5.
@@ -267,10 +269,10 @@ TEST(CullingAnalysis, JsonHasEveryStatistic) {
   addRandomLights(s, 20, 12);
   const CullingInputs in = s.inputs(kDefaultTileCapacity, true);
   const CullingAnalysis a = analyzeCulling(in, fakeReadback(in, cullingReference(in)));
-  for (const char* key : {"tiles", "lights_per_tile_mean", "lights_per_tile_max", "overflow_tiles",
-                          "false_positive_rate", "false_positives", "false_negatives", "dropped_by_overflow",
-                          "memory_bytes", "tile_size", "aabb", "light_culling", "hard_mismatches",
-                          "borderline_mismatches"})
+  for (const char* key :
+       {"tiles", "lights_per_tile_mean", "lights_per_tile_max", "overflow_tiles", "false_positive_rate",
+        "false_positives", "false_negatives", "dropped_by_overflow", "memory_bytes", "tile_size", "aabb",
+        "light_culling", "hard_mismatches", "borderline_mismatches"})
     EXPECT_TRUE(a.json.contains(key)) << key;
   EXPECT_EQ(a.json["tiles"], 12u);
   EXPECT_EQ(a.json["memory_bytes"], cullingMemoryBytes(64, 48, 16, 32));

@@ -22,9 +22,10 @@ nlohmann::json ldmJson(const LdmBuild& ldm, uint64_t linkBytes) {
           {"unfinished_insertions", c.unfinished},
           {"cas_retries", c.casRetries},
           {"fp64_edges", c.fp64Edges},
-          {"nodes_per_pixel", {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
-                               {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
-                               {"max", lengths.empty() ? 0u : lengths.back()}}},
+          {"nodes_per_pixel",
+           {{"mean", heads ? double(c.allocated) / double(heads) : 0.0},
+            {"p99", lengths.empty() ? 0u : lengths[size_t(0.99 * double(lengths.size() - 1))]},
+            {"max", lengths.empty() ? 0u : lengths.back()}}},
           {"exact_bytes", exactBytes},
           {"allocated_over_exact", exactBytes ? double(linkBytes) / double(exactBytes) : 0.0}};
 }

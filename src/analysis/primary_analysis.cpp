@@ -45,9 +45,7 @@ bool cameraRay(const gpu::Raster3dConstants& c, uint32_t xi, uint32_t yi, glm::d
       dir = std::cos(theta) * std::sin(phi) * right + std::sin(theta) * up + std::cos(theta) * std::cos(phi) * forward;
       return true;
     }
-    default:
-      dir = glm::dvec3(c.rayD0) + x * glm::dvec3(c.rayDx) + y * glm::dvec3(c.rayDy);
-      return true;
+    default: dir = glm::dvec3(c.rayD0) + x * glm::dvec3(c.rayDx) + y * glm::dvec3(c.rayDy); return true;
   }
 }
 
@@ -78,15 +76,18 @@ PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vi
           rel.push_back(std::abs(tGpu - tCpu) / tCpu);
         } else {
           ++r.idMismatches;
-          const bool tie = std::abs(tGpu - tCpu) <= kTieDepth * tieScale(tCpu, offset) || nearEdge(idCpu) || nearEdge(idGpu);
+          const bool tie =
+              std::abs(tGpu - tCpu) <= kTieDepth * tieScale(tCpu, offset) || nearEdge(idCpu) || nearEdge(idGpu);
           r.notTies += !tie;
         }
       } else if (cpuHit) {
         ++r.holes;
-        r.notTies += !(nearEdge(idCpu) || std::abs(tCpu - zn) <= kTieDepth * tieScale(zn, offset) || std::abs(tCpu - zf) <= kTieDepth * zf);
+        r.notTies += !(nearEdge(idCpu) || std::abs(tCpu - zn) <= kTieDepth * tieScale(zn, offset) ||
+                       std::abs(tCpu - zf) <= kTieDepth * zf);
       } else if (gpuHit) {
         ++r.spurious;
-        r.notTies += !(nearEdge(idGpu) || std::abs(tGpu - zn) <= kTieDepth * tieScale(zn, offset) || std::abs(tGpu - zf) <= kTieDepth * zf);
+        r.notTies += !(nearEdge(idGpu) || std::abs(tGpu - zn) <= kTieDepth * tieScale(zn, offset) ||
+                       std::abs(tGpu - zf) <= kTieDepth * zf);
       }
     }
   if (!rel.empty()) {
@@ -123,8 +124,9 @@ CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConsta
 }
 
 nlohmann::json toJson(const CoverageComparison& c) {
-  return {{"reference", "exact 3D rasterization on the CPU (reference/raster3d_ref: same float rays and vertices, "
-                        "exact signs, same tie rule), coverage counted additively per pixel at every depth"},
+  return {{"reference",
+           "exact 3D rasterization on the CPU (reference/raster3d_ref: same float rays and vertices, "
+           "exact signs, same tie rule), coverage counted additively per pixel at every depth"},
           {"pixels", c.pixels},
           {"covered_pixels", c.coveredPixels},
           {"double_covers", c.doubleCovers},

@@ -10,8 +10,8 @@
 namespace hb {
 
 PixelAccount unpackAccount(const uint32_t* t) {
-  return {t[0] & gpu::kAccountMask, t[0] >> 16,         t[1] & gpu::kAccountMask,
-          t[1] >> 16,             t[2] & gpu::kAccountMask, t[2] >> 16};
+  return {t[0] & gpu::kAccountMask, t[0] >> 16, t[1] & gpu::kAccountMask, t[1] >> 16,
+          t[2] & gpu::kAccountMask, t[2] >> 16};
 }
 
 void RayAccounting::addCounts(const RayAccounting& o) {
@@ -37,7 +37,8 @@ RayAccounting accountRays(const ShadowReadback& shadows, const CullingReadback& 
   const size_t pixels = size_t(width) * height;
   HB_ASSERT(depth.size() == pixels && shadows.accounting.size() == 4 * pixels);
   HB_ASSERT(tileSize > 0 && culling.tilesX * tileSize >= width && culling.tilesY * tileSize >= height);
-  HB_ASSERT(culling.total.size() == size_t(culling.tilesX) * culling.tilesY && culling.count.size() == culling.total.size());
+  HB_ASSERT(culling.total.size() == size_t(culling.tilesX) * culling.tilesY &&
+            culling.count.size() == culling.total.size());
   const bool zbin = culling.lists == LightLists::Zbin;
   HB_ASSERT(!zbin || shadows.ranges.size() == pixels);
   RayAccounting r;
@@ -78,11 +79,16 @@ RayAccounting accountRays(const ShadowReadback& shadows, const CullingReadback& 
 }
 
 nlohmann::json toJson(const RayAccounting& r) {
-  return {{"candidates", r.candidates},       {"culled_by_tile", r.culledByTile},
-          {"dropped_by_overflow", r.droppedByOverflow}, {"culled_by_zbin", r.culledByZbin},
-          {"culled_by_range", r.culledByRange}, {"culled_by_normal", r.culledByNormal},
-          {"at_light", r.atLight},             {"no_shadow", r.noShadow},
-          {"traced", r.traced},                {"walk_mismatches", r.walkMismatches},
+  return {{"candidates", r.candidates},
+          {"culled_by_tile", r.culledByTile},
+          {"dropped_by_overflow", r.droppedByOverflow},
+          {"culled_by_zbin", r.culledByZbin},
+          {"culled_by_range", r.culledByRange},
+          {"culled_by_normal", r.culledByNormal},
+          {"at_light", r.atLight},
+          {"no_shadow", r.noShadow},
+          {"traced", r.traced},
+          {"walk_mismatches", r.walkMismatches},
           {"per_pixel_histogram", r.histogram}};
 }
 

@@ -71,9 +71,9 @@ TEST(RayAccounting, EveryCandidateLandsInExactlyOneBucket) {
   EXPECT_EQ(r.perPixel[0], 3u);
   EXPECT_EQ(r.perPixel[7], 0u);
   const nlohmann::json j = toJson(r);
-  for (const char* key : {"candidates", "culled_by_tile", "dropped_by_overflow", "culled_by_zbin", "culled_by_range",
-                          "culled_by_normal", "at_light", "no_shadow", "traced", "walk_mismatches",
-                          "per_pixel_histogram"})
+  for (const char* key :
+       {"candidates", "culled_by_tile", "dropped_by_overflow", "culled_by_zbin", "culled_by_range", "culled_by_normal",
+        "at_light", "no_shadow", "traced", "walk_mismatches", "per_pixel_histogram"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["per_pixel_histogram"].size(), 4u);
   EXPECT_EQ(j["traced"].get<uint64_t>(), 9u);
@@ -115,7 +115,6 @@ TEST(RayEfficiency, IsOracleOverTracedAndOneWhenNothingIsTraced) {
   EXPECT_DOUBLE_EQ(rayEfficiency(30, 40), 0.75);
   EXPECT_DOUBLE_EQ(rayEfficiency(0, 0), 1.0);
 }
-
 
 // ---- reference surface, oracle, accuracy on an analytic plane ----------------------------------
 
@@ -167,14 +166,14 @@ TEST(Oracle, CountsLightsInRangeInsideTheConeAndInFrontOfTheSurface) {
     l.range = range;
     return l;
   };
-  f.scene.lights.push_back(point({0, 0, 1}, 100));    // in front, in range of everything: counts
-  f.scene.lights.push_back(point({0, 0, -1}, 100));   // behind the plane: N.L < 0
-  f.scene.lights.push_back(point({0, 0, 1}, 0.5f));   // in front, range reaches no pixel (>= 1 m away)
+  f.scene.lights.push_back(point({0, 0, 1}, 100));   // in front, in range of everything: counts
+  f.scene.lights.push_back(point({0, 0, -1}, 100));  // behind the plane: N.L < 0
+  f.scene.lights.push_back(point({0, 0, 1}, 0.5f));  // in front, range reaches no pixel (>= 1 m away)
   Light noShadow = point({0, 0, 1}, 100);
-  noShadow.castShadows = false;                      // visible without a ray
+  noShadow.castShadows = false;  // visible without a ray
   f.scene.lights.push_back(noShadow);
-  Light spot = point({0, 0, 1}, 100);                // straight down at the plane, 45 degree cone:
-  spot.type = LightType::Spot;                       // reaches |x|,|y| < 1 only
+  Light spot = point({0, 0, 1}, 100);  // straight down at the plane, 45 degree cone:
+  spot.type = LightType::Spot;         // reaches |x|,|y| < 1 only
   spot.direction = {0, 0, -1};
   spot.outerConeAngle = 0.785398163f;
   f.scene.lights.push_back(spot);
@@ -188,7 +187,7 @@ TEST(Oracle, CountsLightsInRangeInsideTheConeAndInFrontOfTheSurface) {
   for (size_t i = 1; i < s.state.size(); ++i) {
     const glm::dvec3 p = s.position[i];
     const bool inCone = std::hypot(p.x, p.y) < 1.0;  // tan 45 * 1 m
-    const uint32_t want = 2 + (inCone ? 1 : 0);       // the first point light, the sun, maybe the spot
+    const uint32_t want = 2 + (inCone ? 1 : 0);      // the first point light, the sun, maybe the spot
     ASSERT_EQ(o.perPixel[i], want) << "pixel " << i;
     expected += want;
   }
@@ -256,7 +255,8 @@ TEST(CompareShadows, AgreesWithAConsistentReadbackAndFlagsAWrongBit) {
   f.scene.lights = {front, back};
   // An occluder square above the centre of the plane, between it and the front light.
   const uint32_t base = uint32_t(f.scene.vertices.size());
-  for (glm::vec3 p : {glm::vec3(-0.5f, -0.5f, 1), glm::vec3(0.5f, -0.5f, 1), glm::vec3(0.5f, 0.5f, 1), glm::vec3(-0.5f, 0.5f, 1)})
+  for (glm::vec3 p :
+       {glm::vec3(-0.5f, -0.5f, 1), glm::vec3(0.5f, -0.5f, 1), glm::vec3(0.5f, 0.5f, 1), glm::vec3(-0.5f, 0.5f, 1)})
     f.scene.vertices.push_back({p, {0, 0, 1}, {0, 0}});
   for (uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) f.scene.indices.push_back(k);  // relative to vertexOffset
   f.scene.meshes[0].primitives.push_back({6, 6, base, 4, 0});

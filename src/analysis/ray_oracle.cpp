@@ -20,32 +20,32 @@ OracleRays oracleRays(const Scene& scene, const ReferenceSurface& surface) {
   }
   const size_t width = std::max<size_t>(1, surface.width), rowsCount = (surface.state.size() + width - 1) / width;
   parallelFor(rowsCount, [&](size_t row) {
-  for (size_t i = row * width; i < std::min(surface.state.size(), (row + 1) * width); ++i) {
-    if (surface.state[i] == SurfaceState::Sky) continue;
-    const bool hasNormal = surface.state[i] == SurfaceState::Matched;
-    const glm::dvec3 p = surface.position[i], n = surface.normal[i];
-    uint32_t count = 0;
-    for (size_t l = 0; l < scene.lights.size(); ++l) {
-      const Light& light = scene.lights[l];
-      if (!light.castShadows) continue;  // visible without a ray
-      glm::dvec3 toLight;
-      if (light.type == LightType::Directional) {
-        toLight = -axes[l];
-      } else {
-        const glm::dvec3 v = positions[l] - p;
-        const double range = double(light.range);
-        const double dist2 = glm::dot(v, v);
-        if (!(dist2 > 0.0) || dist2 > 4.0 * range * range) continue;  // surely out of range: skip the root
-        const double dist = glm::length(v);
-        if (dist > range) continue;
-        toLight = v / dist;
-        if (light.type == LightType::Spot && glm::dot(-toLight, axes[l]) < cosOuter[l]) continue;
+    for (size_t i = row * width; i < std::min(surface.state.size(), (row + 1) * width); ++i) {
+      if (surface.state[i] == SurfaceState::Sky) continue;
+      const bool hasNormal = surface.state[i] == SurfaceState::Matched;
+      const glm::dvec3 p = surface.position[i], n = surface.normal[i];
+      uint32_t count = 0;
+      for (size_t l = 0; l < scene.lights.size(); ++l) {
+        const Light& light = scene.lights[l];
+        if (!light.castShadows) continue;  // visible without a ray
+        glm::dvec3 toLight;
+        if (light.type == LightType::Directional) {
+          toLight = -axes[l];
+        } else {
+          const glm::dvec3 v = positions[l] - p;
+          const double range = double(light.range);
+          const double dist2 = glm::dot(v, v);
+          if (!(dist2 > 0.0) || dist2 > 4.0 * range * range) continue;  // surely out of range: skip the root
+          const double dist = glm::length(v);
+          if (dist > range) continue;
+          toLight = v / dist;
+          if (light.type == LightType::Spot && glm::dot(-toLight, axes[l]) < cosOuter[l]) continue;
+        }
+        if (hasNormal && !(glm::dot(n, toLight) > 0.0)) continue;
+        count++;
       }
-      if (hasNormal && !(glm::dot(n, toLight) > 0.0)) continue;
-      count++;
+      o.perPixel[i] = count;
     }
-    o.perPixel[i] = count;
-  }
   });
   for (size_t i = 0; i < surface.state.size(); ++i) {
     if (surface.state[i] == SurfaceState::Sky) continue;

@@ -9,18 +9,17 @@
 #include "analysis/culling_analysis.h"
 #include "analysis/effect_report.h"
 #include "analysis/primary_analysis.h"
-#include "frame/passes/raster3d.h"
-#include "base/errors.h"
-#include "base/parallel.h"
-#include "reference/flip.h"
-#include "base/image_io.h"
 #include "analysis/ray_analysis.h"
+#include "base/errors.h"
+#include "base/image_io.h"
+#include "base/parallel.h"
+#include "base/version.h"
+#include "frame/passes/raster3d.h"
+#include "reference/flip.h"
 #include "reference/reconstruct_ref.h"
 #include "shared/gpu_types.h"
-#include "base/version.h"
 
 namespace hb {
-
 
 VariantParams referenceParams(const VariantParams& params) {
   VariantParams r = params;
@@ -70,8 +69,9 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
   nlohmann::json coverage = "not counted: a ray cast reports one hit per pixel";
   const CameraProjection projection = renderer.camera().projection;
   if (r3->mode() != PrimaryMethod::RayCast && projection != CameraProjection::Perspective)
-    coverage = "not counted: the exact CPU rasterization covers perspective views (the GPU fill-rule tests check "
-               "other views on closed meshes around the eye)";
+    coverage =
+        "not counted: the exact CPU rasterization covers perspective views (the GPU fill-rule tests check "
+        "other views on closed meshes around the eye)";
   else if (r3->mode() != PrimaryMethod::RayCast)
     coverage = toJson(compareCoverage(scene, rays, r3->readCoverage()));
   return {{"method", toString(renderer.settings().primary)},
@@ -152,7 +152,9 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                " (the 99th percentile; above it yellow)"}});
   }
   if (const AccelerationStructures* as = renderer.accel())
-    j["acceleration_structures"] = {{"blas", as->blasCount()}, {"bytes", as->bytes()}, {"build_ms", as->buildMs()},
+    j["acceleration_structures"] = {{"blas", as->blasCount()},
+                                    {"bytes", as->bytes()},
+                                    {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};
 
   const std::vector<float> depth = renderer.readDepth();
@@ -172,8 +174,9 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     // at the default viewing setup (flip.h kDefaultPpd).
     FlipResult flip = ldrFlip(reference->color, tm.image);
     accuracy["image_error"] = flip.mean;
-    accuracy["image_error_flip"] = {{"mean", flip.mean}, {"p50", flip.p50}, {"p95", flip.p95}, {"max", flip.max},
-                                    {"ppd", kDefaultPpd}, {"reference", "same scene/camera/resolution/backend, no culling"}};
+    accuracy["image_error_flip"] = {
+        {"mean", flip.mean}, {"p50", flip.p50},    {"p95", flip.p95},
+        {"max", flip.max},   {"ppd", kDefaultPpd}, {"reference", "same scene/camera/resolution/backend, no culling"}};
     std::vector<float> e(flip.errorMap.px.begin(), flip.errorMap.px.end());
     write("flip_error.png", errorMapToImage(e, w, h, 1.0f),
           {{"Description", "LDR-FLIP error against the no-culling reference render, viridis 0..1"}});
@@ -183,8 +186,9 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   // views are held only to the ray cast (primary.against_ray_cast) and the reference image.
   const bool perspective = renderer.camera().projection == CameraProjection::Perspective;
   if (!perspective && renderer.hasCulling())
-    j["analysis_not_run"] = std::string("culling, ray accounting and shadow accuracy: their CPU references "
-                                        "reconstruct a perspective view, and this one is ") +
+    j["analysis_not_run"] = std::string(
+                                "culling, ray accounting and shadow accuracy: their CPU references "
+                                "reconstruct a perspective view, and this one is ") +
                             toString(renderer.camera().projection);
   // Everything the GPU culling pass saw (culling_analysis.h).
   CullingInputs ci;
@@ -227,8 +231,8 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     out.summary.push_back(line);
   }
   // The effects' own reports, in effect order (effects/effect.h EffectDef::report).
-  EffectReport report{ctx,       renderer, scene,   params, reference, writeImages, j, accuracy, out.summary,
-                      write,     lap,      depth,   cr,     ci,        perspective};
+  EffectReport report{ctx,         renderer, scene, params, reference, writeImages, j,          accuracy,
+                      out.summary, write,    lap,   depth,  cr,        ci,          perspective};
   for (const EffectDef* def : allEffects())
     if (def->report && renderer.plan().runs(def->name)) def->report(report);
   {

@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "config/config.h"
 #include "base/image_io.h"
+#include "config/config.h"
 #include "frame/renderer.h"
 
 namespace hb {
@@ -23,9 +23,9 @@ struct RenderOutputs {
 // camera, resolution and backend with no culling of any kind (every light of every pixel traced).
 struct ReferenceFrame {
   uint32_t width = 0, height = 0;
-  uint32_t lightCount = 0;            // visibility is kept for scenes of at most 64 lights
-  std::vector<uint64_t> visible;      // per pixel: bit l = scene light l reaches it unoccluded
-  ImageRGBA8 color;                   // tone-mapped as color.png
+  uint32_t lightCount = 0;        // visibility is kept for scenes of at most 64 lights
+  std::vector<uint64_t> visible;  // per pixel: bit l = scene light l reaches it unoccluded
+  ImageRGBA8 color;               // tone-mapped as color.png
 };
 // Captures the reference from a renderer whose last frame was an analysis frame of the
 // reference parameters (light culling off, normal culling off, no range test).

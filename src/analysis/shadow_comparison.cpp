@@ -78,8 +78,8 @@ void ShadowComparison::addCounts(const ShadowComparison& o) {
 }
 
 ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const ShadowReadback& shadows,
-                                const CullingReadback& culling, uint32_t width, uint32_t height,
-                                uint32_t tileSize, bool rangeTest, const glm::vec4& cameraPos) {
+                                const CullingReadback& culling, uint32_t width, uint32_t height, uint32_t tileSize,
+                                bool rangeTest, const glm::vec4& cameraPos) {
   const size_t pixels = size_t(width) * height;
   const uint32_t words = shadows.words;
   HB_ASSERT(shadows.visibility.size() == words * pixels && shadows.positions.size() == 4 * pixels &&
@@ -112,7 +112,8 @@ ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const Shadow
       const uint32_t count = last - first;
       HB_ASSERT((count + 31) / 32 <= std::max(words, 1u));
       // Bits past the walk's end in its last word must be 0 (words past it are never written).
-      if (count % 32 != 0) row.mismatches += uint64_t(std::popcount(gpuWord(count / 32) & ~((1u << (count % 32)) - 1u)));
+      if (count % 32 != 0)
+        row.mismatches += uint64_t(std::popcount(gpuWord(count / 32) & ~((1u << (count % 32)) - 1u)));
       if (count == 0) row.mismatches += uint64_t(std::popcount(gpuWord(0)));
       for (uint32_t k = 0; k < count; ++k) {
         const uint32_t li = culling.indices[first + k];

@@ -16,7 +16,8 @@ namespace hb {
 // range/cone (rangeTest), N·L and castShadows decisions, then Bvh::occluded(P, L, tMin, tMax)
 // with tMin = gpu::shadowTMin(cameraPos, P) (cameraPos as in FrameConstants: w = 0 gives the
 // thesis's constant kShadowTMin, w = kShadowTMinPerMetre the scaled one); then compared with the
-// GPU's mask. A mismatching pair is EXPLAINED when float rounding may decide it either way, with δ = kFloatRayShift · (|P| + min(tMax, scene diagonal)):
+// GPU's mask. A mismatching pair is EXPLAINED when float rounding may decide it either way, with δ = kFloatRayShift ·
+// (|P| + min(tMax, scene diagonal)):
 //  - nearTie: |N·L| or the range/cone margin is within 16 float ulps of its operands (the GPU
 //    takes these decisions in float);
 //  - endpoint: the CPU answer for [tMin − δ, tMax + δ] differs from [tMin + δ, tMax − δ] (a hit
@@ -41,7 +42,7 @@ struct ShadowComparison {
 };
 // Preconditions as accountRays; shadows from an analysis frame.
 ShadowComparison compareShadows(const Scene& scene, const Bvh& bvh, const ShadowReadback& shadows,
-                                const CullingReadback& culling, uint32_t width, uint32_t height,
-                                uint32_t tileSize, bool rangeTest, const glm::vec4& cameraPos = glm::vec4(0.0f));
+                                const CullingReadback& culling, uint32_t width, uint32_t height, uint32_t tileSize,
+                                bool rangeTest, const glm::vec4& cameraPos = glm::vec4(0.0f));
 
 }  // namespace hb

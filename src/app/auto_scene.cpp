@@ -16,9 +16,9 @@ namespace {
 constexpr double kPi = 3.141592653589793;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kCameraYfovDeg = 60.0, kCameraAzimuthDeg = 30.0, kCameraElevationDeg = 20.0;
-constexpr double kShellRadius = 1.25, kShellRange = 2.3;  // × r
+constexpr double kShellRadius = 1.25, kShellRange = 2.3;             // × r
 constexpr double kInteriorRangeMin = 0.15, kInteriorRangeMax = 0.6;  // × r
-constexpr double kClearance = 0.02;  // × r
+constexpr double kClearance = 0.02;                                  // × r
 constexpr int kInteriorDraws = 64;
 constexpr double kIntensityPerRange2 = 0.5;  // interior lights: cd per m² of range (the atrium's)
 // Shell lights: 0.6 cd per m² of the shell's radius, so that each gives the centre an illuminance
@@ -63,10 +63,9 @@ glm::vec3 paleColour(SplitMix64& rng) {  // the atrium's: each channel in [0.55,
 // at most half of them hit a back face (triangles wind counter-clockwise around outward normals).
 bool freeSpace(const Bvh& bvh, const glm::dvec3& p, double clearance) {
   static const std::array<glm::dvec3, 14> kDirs = {
-      glm::dvec3(1, 0, 0),  glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0),   glm::dvec3(0, -1, 0),
-      glm::dvec3(0, 0, 1),  glm::dvec3(0, 0, -1), glm::dvec3(1, 1, 1),   glm::dvec3(1, 1, -1),
-      glm::dvec3(1, -1, 1), glm::dvec3(1, -1, -1), glm::dvec3(-1, 1, 1), glm::dvec3(-1, 1, -1),
-      glm::dvec3(-1, -1, 1), glm::dvec3(-1, -1, -1)};
+      glm::dvec3(1, 0, 0),  glm::dvec3(-1, 0, 0),  glm::dvec3(0, 1, 0),   glm::dvec3(0, -1, 0),  glm::dvec3(0, 0, 1),
+      glm::dvec3(0, 0, -1), glm::dvec3(1, 1, 1),   glm::dvec3(1, 1, -1),  glm::dvec3(1, -1, 1),  glm::dvec3(1, -1, -1),
+      glm::dvec3(-1, 1, 1), glm::dvec3(-1, 1, -1), glm::dvec3(-1, -1, 1), glm::dvec3(-1, -1, -1)};
   int backFaces = 0;
   for (const glm::dvec3& d : kDirs) {
     const glm::dvec3 dir = glm::normalize(d);
@@ -155,7 +154,8 @@ AutoLights autoLights(const Scene& scene, uint32_t count, uint32_t seed) {
     const glm::dvec3 dir(std::cos(elevation) * std::sin(azimuth), std::sin(elevation),
                          std::cos(elevation) * std::cos(azimuth));
     const double shell = kShellRadius * r;
-    out.lights.push_back(pointLight(i, s.centre + shell * dir, kShellRange * r, kShellIntensityPerRadius2 * shell * shell, rng));
+    out.lights.push_back(
+        pointLight(i, s.centre + shell * dir, kShellRange * r, kShellIntensityPerRadius2 * shell * shell, rng));
     ++out.shell;
   }
   return out;
@@ -169,8 +169,9 @@ std::vector<std::string> completeScene(Scene& scene, const AutoRequest& request)
     scene.cameras.insert(scene.cameras.begin(), autoCamera(scene));
     scene.cameraSource = "auto";
     const glm::mat4 world = glm::inverse(scene.cameras[0].view);
-    lines.push_back(name + " " + why + ": automatic camera at " + vecText(glm::vec3(world[3])) +
-                    " framing its bounds (yfov 60°, from azimuth 30° and elevation 20°; README \"Bring your own glTF\")");
+    lines.push_back(
+        name + " " + why + ": automatic camera at " + vecText(glm::vec3(world[3])) +
+        " framing its bounds (yfov 60°, from azimuth 30° and elevation 20°; README \"Bring your own glTF\")");
   }
   const bool noLights = scene.lights.empty() && scene.lightsSource == "scene";
   if (request.lightCount || noLights) {
@@ -178,7 +179,8 @@ std::vector<std::string> completeScene(Scene& scene, const AutoRequest& request)
     AutoLights made = autoLights(scene, count);
     scene.lights = std::move(made.lights);
     scene.lightsSource = "auto";
-    lines.push_back(name + (request.lightCount ? " light_count=" + std::to_string(count) : std::string(" has no lights")) +
+    lines.push_back(name +
+                    (request.lightCount ? " light_count=" + std::to_string(count) : std::string(" has no lights")) +
                     ": " + std::to_string(count) + " automatic point light(s), " + std::to_string(made.interior) +
                     " in free space inside its bounds and " + std::to_string(made.shell) +
                     " on a sphere round them (README \"Bring your own glTF\")");

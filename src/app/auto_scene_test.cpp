@@ -30,8 +30,7 @@ Scene boxScene(glm::dvec3 lo, glm::dvec3 hi, bool room) {
 void corners(const Scene& s, std::vector<glm::dvec3>& out) {
   glm::vec3 lo, hi;
   s.bounds(lo, hi);
-  for (int k = 0; k < 8; ++k)
-    out.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+  for (int k = 0; k < 8; ++k) out.push_back({k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
 }
 
 // The automatic camera sees every corner of the bounds: each lies within the 30° half-angle cone

@@ -43,9 +43,11 @@ int cmdDevices(bool json) {
     std::printf("%u: %s\n", d.index, d.name.c_str());
     std::printf("   type %s, vendor %s (0x%04x), driver %s %s (%s), Vulkan %s\n", d.type.c_str(), d.vendor.c_str(),
                 d.vendorId, d.driverName.c_str(), d.driverVersion.c_str(), d.driverInfo.c_str(), d.apiVersion.c_str());
-    std::printf("   acceleration structures: %s, ray query: %s, ray-tracing pipeline: %s, timestamps: %s (%u bits, %.3g ns/tick)\n",
-                d.accelerationStructure ? "yes" : "no", d.rayQuery ? "yes" : "no", d.rayTracingPipeline ? "yes" : "no",
-                d.timestamps ? "yes" : "no", d.timestampValidBits, d.timestampPeriodNs);
+    std::printf(
+        "   acceleration structures: %s, ray query: %s, ray-tracing pipeline: %s, timestamps: %s (%u bits, %.3g "
+        "ns/tick)\n",
+        d.accelerationStructure ? "yes" : "no", d.rayQuery ? "yes" : "no", d.rayTracingPipeline ? "yes" : "no",
+        d.timestamps ? "yes" : "no", d.timestampValidBits, d.timestampPeriodNs);
     if (!d.rayQuery && !d.rayTracingPipeline)
       std::printf("   this device cannot trace rays: usable for raster-only work (shadows off)\n");
   }

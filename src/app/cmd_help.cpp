@@ -139,8 +139,8 @@ std::vector<std::pair<std::string, std::string>> effectSettings(const EffectDef&
     if (accepts == "an integer" || accepts == "a number") {
       const bool integer = accepts == "an integer";
       for (double sign : {1.0, -1.0}) {
-        const std::string says = validatorSays(e, name, integer ? nlohmann::ordered_json(int64_t(sign) << 62)
-                                                                : nlohmann::ordered_json(sign * 1e300));
+        const std::string says = validatorSays(
+            e, name, integer ? nlohmann::ordered_json(int64_t(sign) << 62) : nlohmann::ordered_json(sign * 1e300));
         const std::string marker = "is out of range";
         const size_t r = says.find(marker);
         if (r == std::string::npos) continue;

@@ -4,17 +4,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/auto_scene.h"
-#include "scene/atrium.h"
-#include "app/commands.h"
-#include "config/config.h"
-#include "base/errors.h"
-#include "scene/gltf/gltf_io.h"
-#include "base/image_io.h"
 #include "analysis/render_outputs.h"
-#include "frame/renderer.h"
+#include "app/auto_scene.h"
+#include "app/commands.h"
 #include "app/scene_setup.h"
+#include "base/errors.h"
+#include "base/image_io.h"
+#include "config/config.h"
+#include "frame/renderer.h"
 #include "gpu/vk_context.h"
+#include "scene/atrium.h"
+#include "scene/gltf/gltf_io.h"
 
 namespace hb {
 
@@ -40,7 +40,8 @@ int cmdRender(const RenderOptions& options) {
     }
     if (set.rfind("camera=", 0) == 0) {
       if (set != "camera=auto")
-        throw InputError("--set " + set + ": the only camera setting is camera=auto (a camera framing the scene's "
+        throw InputError("--set " + set +
+                         ": the only camera setting is camera=auto (a camera framing the scene's "
                          "bounds); pick another of the scene's cameras with a config's \"camera\": {\"index\": N}");
       cameraAuto = true;
       continue;
@@ -83,8 +84,10 @@ int cmdRender(const RenderOptions& options) {
   if (!haveConfig && !setsCulling && params.lightCulling && !scene.cameras.empty() &&
       scene.cameras[0].projection == CameraProjection::Orthographic && !params.projection) {
     params.lightCulling = false;
-    std::fprintf(stderr, "scene \"%s\": its camera is orthographic: light_culling=false (tile culling is built for "
-                 "perspective views)\n", scene.name.c_str());
+    std::fprintf(stderr,
+                 "scene \"%s\": its camera is orthographic: light_culling=false (tile culling is built for "
+                 "perspective views)\n",
+                 scene.name.c_str());
   }
   RenderSettings settings = renderSettingsFor(params, effects);
 
@@ -97,9 +100,9 @@ int cmdRender(const RenderOptions& options) {
               (unsigned long long)scene.triangleCount(), scene.lights.size(), settings.width, settings.height);
   std::fflush(stdout);
   Renderer renderer(ctx, scene, settings);
-  renderer.renderFrame(false);                        // warm: pipelines and caches
+  renderer.renderFrame(false);                       // warm: pipelines and caches
   FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation
-  renderer.renderFrame(true);                         // the analysis frame (not timed)
+  renderer.renderFrame(true);                        // the analysis frame (not timed)
 
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, params, options.out);
   nlohmann::json report = outputs.json;
@@ -119,7 +122,10 @@ int cmdRender(const RenderOptions& options) {
   for (const auto& [pass, ms] : timing.passMs) std::printf("%-20s %9.3f ms\n", pass.c_str(), ms);
   std::printf("%-16s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
   for (const EffectState& e : renderer.plan().effects)
-    std::printf("effect %s: %s (%s%s%s)\n", e.name.c_str(), e.runs ? "runs" : e.calledFor ? "called for, skipped" : "off",
+    std::printf("effect %s: %s (%s%s%s)\n", e.name.c_str(),
+                e.runs        ? "runs"
+                : e.calledFor ? "called for, skipped"
+                              : "off",
                 toString(e.source), e.origin.empty() ? "" : ": ", e.origin.c_str());
   for (const auto& [pass, why] : renderer.passesSkipped()) std::printf("skipped %s: %s\n", pass.c_str(), why.c_str());
   for (const std::string& line : outputs.summary) std::printf("%s\n", line.c_str());

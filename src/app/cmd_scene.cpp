@@ -5,10 +5,10 @@
 #include <iostream>
 #include <optional>
 
-#include "scene/atrium.h"
 #include "app/commands.h"
 #include "base/errors.h"
 #include "effects/effects.h"
+#include "scene/atrium.h"
 #include "scene/gltf/gltf_io.h"
 #include "scene/hard_cases.h"
 
@@ -54,10 +54,10 @@ struct ListedScene {
   std::string description;  // built-ins; "" if none
   uint64_t triangles = 0;
   size_t lights = 0;
-  nlohmann::json effects;   // the scene's extras.effects (null when it calls for nothing)
-  bool ambient = false;     // it has an ambient term (extras.ambient)
-  uintmax_t bytes = 0;      // files
-  std::string error;        // files that do not load: the loader's one line
+  nlohmann::json effects;  // the scene's extras.effects (null when it calls for nothing)
+  bool ambient = false;    // it has an ambient term (extras.ambient)
+  uintmax_t bytes = 0;     // files
+  std::string error;       // files that do not load: the loader's one line
 };
 
 ListedScene describe(const Scene& scene, ListedScene row) {
@@ -98,8 +98,7 @@ std::optional<fs::path> findScenesDir(const std::string& given) {
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (ec) return std::nullopt;
   for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-    if (fs::is_directory(dir / "scenes", ec) && fs::is_regular_file(dir / "CMakeLists.txt", ec))
-      return dir / "scenes";
+    if (fs::is_directory(dir / "scenes", ec) && fs::is_regular_file(dir / "CMakeLists.txt", ec)) return dir / "scenes";
     if (dir == dir.root_path()) break;
   }
   return std::nullopt;
@@ -176,8 +175,9 @@ int cmdSceneList(const std::string& dir, bool json) {
     std::printf("  %-*s %10llu %7zu  %s\n", w, row.name.c_str(), (unsigned long long)row.triangles, row.lights,
                 row.description.c_str());
   if (!scenesDir) {
-    std::printf("\nno scenes folder: none in the current directory nor in the repository of this executable; "
-                "name one with --dir DIR\n");
+    std::printf(
+        "\nno scenes folder: none in the current directory nor in the repository of this executable; "
+        "name one with --dir DIR\n");
     return kExitOk;
   }
   std::printf("\nfiles in %s/ (render --scene PATH):\n", scenesDir->string().c_str());

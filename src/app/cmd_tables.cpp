@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "report/accuracy_report.h"
 #include "app/commands.h"
-#include "report/compare.h"
 #include "base/errors.h"
+#include "report/accuracy_report.h"
 #include "report/all_tables.h"
+#include "report/compare.h"
 #include "report/results_json.h"
 #include "report/tables.h"
 
@@ -20,7 +20,8 @@ static nlohmann::json readResults(const std::string& path) {
   try {
     return nlohmann::json::parse(f);
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); pass a results.json written by 'hybridbench sweep'");
+    throw InputError(path + ": not valid JSON (" + std::string(e.what()) +
+                     "); pass a results.json written by 'hybridbench sweep'");
   }
 }
 
@@ -35,7 +36,8 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     };
     if (deviceName(more) != deviceName(results))
       throw InputError(resultsPaths[i] + ": measured on \"" + deviceName(more) + "\", " + resultsPaths[0] + " on \"" +
-                       deviceName(results) + "\"; tables read several files only from one kind of device (use "
+                       deviceName(results) +
+                       "\"; tables read several files only from one kind of device (use "
                        "'hybridbench compare' across devices)");
     results::requireResultsFile(more);
     for (const nlohmann::json& run : more["runs"]) results["runs"].push_back(run);

@@ -12,13 +12,13 @@ namespace hb {
 int cmdDevices(bool json);
 
 struct RenderOptions {
-  std::string config;              // optional config file; its defaults apply
-  std::string scene = "atrium";    // built-in name or glTF path
-  bool sceneGiven = false;         // --scene was on the command line (it wins over a config's scene)
-  std::string size;                // "WxH" (empty: config's or 1920x1080)
-  std::string device;              // index or name substring
-  std::vector<std::string> sets;   // key=value overrides
-  std::string out;                 // output directory (required)
+  std::string config;             // optional config file; its defaults apply
+  std::string scene = "atrium";   // built-in name or glTF path
+  bool sceneGiven = false;        // --scene was on the command line (it wins over a config's scene)
+  std::string size;               // "WxH" (empty: config's or 1920x1080)
+  std::string device;             // index or name substring
+  std::vector<std::string> sets;  // key=value overrides
+  std::string out;                // output directory (required)
 };
 int cmdRender(const RenderOptions& options);
 

@@ -32,9 +32,12 @@ int main(int argc, char** argv) {
 
   SweepOptions sweep;
   bool noImages = false;
-  auto* sweepCmd = app.add_subcommand("sweep", "run a benchmark sweep from a config (default: the embedded thesis.json)");
+  auto* sweepCmd =
+      app.add_subcommand("sweep", "run a benchmark sweep from a config (default: the embedded thesis.json)");
   sweepCmd->add_option("config", sweep.config, "config file (JSON)");
-  sweepCmd->add_option("--device", sweep.device, "device index, name substring, a comma-separated list of them (0,1), or all; several sweep concurrently, one folder each");
+  sweepCmd->add_option("--device", sweep.device,
+                       "device index, name substring, a comma-separated list of them (0,1), or all; several sweep "
+                       "concurrently, one folder each");
   sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
   sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
   sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)")
@@ -46,10 +49,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> tablesPaths;
   std::string tablesFormat = "md";
   auto* tablesCmd = app.add_subcommand("tables", "regenerate the thesis tables from a results file");
-  tablesCmd->add_option("results", tablesPaths,
-                        "results.json; several files of one study on one kind of device are read as one (their runs "
-                        "in order)")->required();
-  tablesCmd->add_option("--format", tablesFormat, "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
+  tablesCmd
+      ->add_option("results", tablesPaths,
+                   "results.json; several files of one study on one kind of device are read as one (their runs "
+                   "in order)")
+      ->required();
+  tablesCmd
+      ->add_option("--format", tablesFormat,
+                   "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
       ->check(CLI::IsMember({"md", "csv", "svg"}));
 
   std::string compareA, compareB;
@@ -59,11 +66,15 @@ int main(int argc, char** argv) {
   auto* compareCmd = app.add_subcommand("compare", "compare two results files (B against A); exit 1 on a regression");
   compareCmd->add_option("a", compareA, "baseline results.json")->required();
   compareCmd->add_option("b", compareB, "candidate results.json")->required();
-  compareCmd->add_option("--threshold", compareOpts.thresholdPct, "slower beyond this many percent is a regression (default 5)");
+  compareCmd->add_option("--threshold", compareOpts.thresholdPct,
+                         "slower beyond this many percent is a regression (default 5)");
   compareCmd->add_option("--alpha", compareOpts.alpha, "significance level of the Mann-Whitney U test (default 0.05)");
   compareCmd->add_flag("--force", compareOpts.force, "compare even when scenes or configs differ");
   compareCmd->add_flag("--json", compareJson, "machine-readable report (the same as --format json)");
-  compareCmd->add_option("--format", compareFormat, "md (default: a Markdown table, also for a CI job summary), json, junit (JUnit XML: a test case per variant and pass, failed when slower)")
+  compareCmd
+      ->add_option("--format", compareFormat,
+                   "md (default: a Markdown table, also for a CI job summary), json, junit (JUnit XML: a test case per "
+                   "variant and pass, failed when slower)")
       ->check(CLI::IsMember({"md", "json", "junit"}));
 
   auto* sceneCmd = app.add_subcommand("scene", "export, inspect or list scenes");
@@ -82,11 +93,13 @@ int main(int argc, char** argv) {
   std::string listDir;
   bool listJson = false;
   auto* listCmd = sceneCmd->add_subcommand("list", "list the built-in scenes and the .gltf/.glb files in scenes/");
-  listCmd->add_option("--dir", listDir, "folder to list (default: ./scenes, else the executable's repository's scenes/)");
+  listCmd->add_option("--dir", listDir,
+                      "folder to list (default: ./scenes, else the executable's repository's scenes/)");
   listCmd->add_flag("--json", listJson, "machine-readable output");
 
   std::string helpTopic, helpFormat = "text";
-  auto* helpCmd = app.add_subcommand("help", "print the config parameters or the effects as a table (from the code's schema)");
+  auto* helpCmd =
+      app.add_subcommand("help", "print the config parameters or the effects as a table (from the code's schema)");
   helpCmd->add_option("topic", helpTopic, "params or effects");
   helpCmd->add_option("--format", helpFormat, "text (default), md (GitHub Markdown tables) or json");
 

@@ -4,8 +4,8 @@
 #include <filesystem>
 
 #include "app/auto_scene.h"
-#include "scene/atrium.h"
 #include "base/errors.h"
+#include "scene/atrium.h"
 #include "scene/gltf/gltf_io.h"
 #include "scene/hard_cases.h"
 #include "shared/gpu_types.h"
@@ -41,9 +41,10 @@ Scene sceneForVariant(const Config& config, const VariantParams& params) {
     scene = makeBuiltinScene(config.scene);
   } else {
     if (!std::filesystem::exists(config.scene)) {
-      std::string hint = config.scene.find("ponza") != std::string::npos
-                             ? "; fetch it with scripts/fetch-sponza.sh (needs internet) or point \"scene\" at your copy"
-                             : "; check the path (relative paths resolve against the config's directory)";
+      std::string hint =
+          config.scene.find("ponza") != std::string::npos
+              ? "; fetch it with scripts/fetch-sponza.sh (needs internet) or point \"scene\" at your copy"
+              : "; check the path (relative paths resolve against the config's directory)";
       throw InputError(config.sourceName + ": scene: \"" + config.scene + "\" does not exist" + hint);
     }
     scene = loadGltf(config.scene);
@@ -92,8 +93,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
 const Scene& SceneCache::get(const Config& config, const VariantParams& params) {
   auto key = std::make_tuple(params.lightCount.value_or(0), params.triangleScale.value_or(0.0));
   auto it = scenes_.find(key);
-  if (it == scenes_.end())
-    it = scenes_.emplace(key, std::make_unique<Scene>(sceneForVariant(config, params))).first;
+  if (it == scenes_.end()) it = scenes_.emplace(key, std::make_unique<Scene>(sceneForVariant(config, params))).first;
   return *it->second;
 }
 

@@ -79,7 +79,8 @@ int cmdSweep(const SweepOptions& options) {
                    chosen[k].index, chosen[k].name.c_str());
   }
   std::printf("sweep on %zu devices concurrently (one thread and queue per device): ", chosen.size());
-  for (size_t k = 0; k < chosen.size(); ++k) std::printf("%s%s -> %s", k ? "; " : "", names[k].c_str(), dirs[k].c_str());
+  for (size_t k = 0; k < chosen.size(); ++k)
+    std::printf("%s%s -> %s", k ? "; " : "", names[k].c_str(), dirs[k].c_str());
   std::printf("\n");
   std::fflush(stdout);
   const auto start = std::chrono::steady_clock::now();
@@ -93,7 +94,8 @@ int cmdSweep(const SweepOptions& options) {
       for (size_t o = 0; o < chosen.size(); ++o)
         if (o != k) others.push_back(names[o]);
       try {
-        rcs[k] = sweepOneDevice(options, config, chosen[k], dirs[k], Console("[" + names[k] + "] "), others, sharing[k]);
+        rcs[k] =
+            sweepOneDevice(options, config, chosen[k], dirs[k], Console("[" + names[k] + "] "), others, sharing[k]);
       } catch (...) {
         errors[k] = std::current_exception();
       }

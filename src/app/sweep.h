@@ -14,13 +14,13 @@
 namespace hb {
 
 struct SweepOptions {
-  std::string config;      // empty: the embedded default (configs/thesis.json)
-  std::string device;      // index, name substring, or "all"
-  std::string out;         // empty: out/<config>-<device>-<time>-<git>
+  std::string config;  // empty: the embedded default (configs/thesis.json)
+  std::string device;  // index, name substring, or "all"
+  std::string out;     // empty: out/<config>-<device>-<time>-<git>
   bool resume = false;
-  int frames = -1;         // override measured frames (-1: config's)
-  int warmup = -1;         // override warm-up frames
-  bool images = true;      // write per-variant images
+  int frames = -1;     // override measured frames (-1: config's)
+  int warmup = -1;     // override warm-up frames
+  bool images = true;  // write per-variant images
 };
 
 int cmdSweep(const SweepOptions& options);

@@ -31,7 +31,9 @@ std::mutex& Console::mutex() {
 }
 
 Progress::Progress(size_t total, const Console& console)
-    : total_(total), tty_(isatty(fileno(stdout)) && !console.shared()), console_(console),
+    : total_(total),
+      tty_(isatty(fileno(stdout)) && !console.shared()),
+      console_(console),
       start_(std::chrono::steady_clock::now()) {}
 
 void Progress::update(size_t done, const std::string& what) {

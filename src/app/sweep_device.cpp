@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <sys/utsname.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,7 +12,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sys/utsname.h>
 
 #include "analysis/render_outputs.h"
 #include "app/scene_setup.h"
@@ -56,10 +56,16 @@ json hostJson() {
 }
 
 json deviceJson(const DeviceInfo& d, const std::string& backend) {
-  return {{"name", d.name},         {"vendor", d.vendor},          {"vendor_id", d.vendorId},
-          {"device_id", d.deviceId}, {"uuid", d.uuid},              {"type", d.type},
+  return {{"name", d.name},
+          {"vendor", d.vendor},
+          {"vendor_id", d.vendorId},
+          {"device_id", d.deviceId},
+          {"uuid", d.uuid},
+          {"type", d.type},
           {"driver", d.driverName + " " + d.driverVersion + " (" + d.driverInfo + ")"},
-          {"api_version", d.apiVersion}, {"rt_backend", backend},   {"timestamp_period_ns", d.timestampPeriodNs},
+          {"api_version", d.apiVersion},
+          {"rt_backend", backend},
+          {"timestamp_period_ns", d.timestampPeriodNs},
           {"timestamp_valid_bits", d.timestampValidBits}};
 }
 
@@ -114,7 +120,9 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   constexpr uint32_t kMaxWarmupFrames = 100000;  // the config's own limit on "warmup"
   const bool gpu = ctx.info().type != "cpu";
   const auto warmStart = std::chrono::steady_clock::now();
-  auto warmSeconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - warmStart).count(); };
+  auto warmSeconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - warmStart).count();
+  };
   uint32_t warmed = 0;
   while (warmup > 0 && !gInterrupted && warmed < kMaxWarmupFrames &&
          (warmed < warmup || (gpu && warmSeconds() < kMinWarmupSeconds))) {
@@ -144,9 +152,8 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     const bool cpu = ctx.info().type == "cpu";
     const std::vector<double> first = shadows->rayBench(renderer.timer(), 1);
     constexpr double kRayBenchBudgetMs = 2000.0;
-    const uint32_t reps = cpu ? 2u
-                              : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3),
-                                                    3.0, 30.0));
+    const uint32_t reps =
+        cpu ? 2u : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3), 3.0, 30.0));
     shadows->rayBench(renderer.timer(), cpu ? 0 : reps - 1);
     rb = shadows->rayBench(renderer.timer(), reps);
   }
@@ -183,8 +190,10 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
                        {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
                        {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
   }
-  run["scene"] = {{"triangles", scene.triangleCount()}, {"lights", scene.lights.size()},
-                  {"camera_source", scene.cameraSource}, {"lights_source", scene.lightsSource}};
+  run["scene"] = {{"triangles", scene.triangleCount()},
+                  {"lights", scene.lights.size()},
+                  {"camera_source", scene.cameraSource},
+                  {"lights_source", scene.lightsSource}};
   if (!images) run.erase("images");
   run["status"] = "ok";
   return run;
@@ -231,7 +240,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     context["timing_caveat_shared_device"] =
         "this device also ran the sweep(s) of " + joinNames(sharing) +
         " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
-  context["timing_source"] = "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
+  context["timing_source"] =
+      "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
   if (ctx.info().type == "cpu")
     context["timing_caveat"] =
         "CPU implementation (lavapipe): its timestamps do not bracket compute and ray-tracing work (those passes read "
@@ -247,12 +257,15 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     try {
       old = json::parse(f);
     } catch (const std::exception& e) {
-      throw InputError(resultsPath + ": cannot resume, not valid JSON (" + e.what() + "); remove it or use another --out");
+      throw InputError(resultsPath + ": cannot resume, not valid JSON (" + e.what() +
+                       "); remove it or use another --out");
     }
     const json& oc = old.value("context", json::object());
     if (oc.value("config", json()) != context["config"] ||
         oc.value("device", json::object()).value("uuid", "") != ctx.info().uuid)
-      throw InputError(resultsPath + ": --resume needs the same config (frame counts included) and device as the interrupted sweep; use another --out");
+      throw InputError(resultsPath +
+                       ": --resume needs the same config (frame counts included) and device as the interrupted sweep; "
+                       "use another --out");
     for (const json& run : old.value("runs", json::array()))
       if (run.value("status", "") == "ok") done[run.value("name", "")] = run;
     console.print(format("resume: %zu of %zu variants already done\n", done.size(), variants.size()));
@@ -272,8 +285,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     } else {
       json run;
       try {
-        run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(),
-                         options.images, config.warmupFrames, config.measuredFrames);
+        run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(), options.images,
+                         config.warmupFrames, config.measuredFrames);
       } catch (const std::exception& e) {
         if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
         run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
@@ -297,8 +310,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
                        options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
   if (ctx.validationMessages()) {
-    std::fprintf(stderr, "hybridbench: %s%u validation message(s)\n", console.shared() ? (device.name + ": ").c_str() : "",
-                 ctx.validationMessages());
+    std::fprintf(stderr, "hybridbench: %s%u validation message(s)\n",
+                 console.shared() ? (device.name + ": ").c_str() : "", ctx.validationMessages());
     return kExitDeviceFailure;
   }
   return kExitOk;

@@ -32,8 +32,10 @@ void writeFileAtomic(const std::string& path, const std::string& text) {
 std::string slug(const std::string& s) {
   std::string out;
   for (char c : s) {
-    if (std::isalnum(static_cast<unsigned char>(c))) out += char(std::tolower(static_cast<unsigned char>(c)));
-    else if (!out.empty() && out.back() != '-') out += '-';
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      out += char(std::tolower(static_cast<unsigned char>(c)));
+    else if (!out.empty() && out.back() != '-')
+      out += '-';
   }
   while (!out.empty() && out.back() == '-') out.pop_back();
   return out.empty() ? "run" : out;
@@ -42,7 +44,8 @@ std::string slug(const std::string& s) {
 std::string resultsCsv(const json& results) {
   std::ostringstream o;
   o << "run,status,tile_size,light_culling,aabb,normal_culling,backend,width,height,world_pos,range_test,"
-       "depth_slices,t_min,light_count,triangle_scale,pass,median_ms,mean_ms,stddev_ms,min_ms,max_ms,p95_ms,samples,rays_traced,"
+       "depth_slices,t_min,light_count,triangle_scale,pass,median_ms,mean_ms,stddev_ms,min_ms,max_ms,p95_ms,samples,"
+       "rays_traced,"
        "rays_oracle\n";
   auto q = [](const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -91,9 +94,7 @@ std::string resultsCsv(const json& results) {
 void writeSweepOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "results.json").string(), results.dump(1) + "\n");
   writeFileAtomic((fs::path(dir) / "results.csv").string(), resultsCsv(results));
-  {
-    writeFileAtomic((fs::path(dir) / "tables.md").string(), allTablesMarkdown(results));
-  }
+  { writeFileAtomic((fs::path(dir) / "tables.md").string(), allTablesMarkdown(results)); }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
 }

@@ -23,11 +23,11 @@ struct DeviceError : std::runtime_error {
 };
 
 // Internal invariant; stays on in release builds.
-#define HB_ASSERT(cond)                                                                    \
-  do {                                                                                     \
-    if (!(cond))                                                                           \
-      throw std::logic_error(std::string("internal invariant failed: ") + #cond + " at " + \
-                             __FILE__ + ":" + std::to_string(__LINE__));                   \
+#define HB_ASSERT(cond)                                                                                     \
+  do {                                                                                                      \
+    if (!(cond))                                                                                            \
+      throw std::logic_error(std::string("internal invariant failed: ") + #cond + " at " + __FILE__ + ":" + \
+                             std::to_string(__LINE__));                                                     \
   } while (0)
 
 }  // namespace hb

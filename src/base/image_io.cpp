@@ -164,8 +164,7 @@ ImageRGBA8 readPng(const std::filesystem::path& path) {
   const std::vector<uint8_t> bytes = readFileBytes(path);
   int w = 0, h = 0, channels = 0;
   stbi_uc* data = stbi_load_from_memory(bytes.data(), int(bytes.size()), &w, &h, &channels, 4);
-  if (!data)
-    throw InputError("cannot decode PNG '" + path.string() + "': " + stbi_failure_reason());
+  if (!data) throw InputError("cannot decode PNG '" + path.string() + "': " + stbi_failure_reason());
   ImageRGBA8 img = makeImage(uint32_t(w), uint32_t(h));
   std::memcpy(img.px.data(), data, img.px.size());
   stbi_image_free(data);
@@ -239,12 +238,8 @@ Rgb8 thesisHeatColor(double t) {
     double t, r, g, b;
   };
   // Thesis Figure 5.2 bands at 10 lights: 0-3 black/blue, 4-7 cyan/green, 8-10 yellow/red.
-  static constexpr std::array<Stop, 6> kStops = {{{0.0, 0, 0, 0},
-                                                  {0.3, 0, 0, 1},
-                                                  {0.4, 0, 1, 1},
-                                                  {0.7, 0, 1, 0},
-                                                  {0.8, 1, 1, 0},
-                                                  {1.0, 1, 0, 0}}};
+  static constexpr std::array<Stop, 6> kStops = {
+      {{0.0, 0, 0, 0}, {0.3, 0, 0, 1}, {0.4, 0, 1, 1}, {0.7, 0, 1, 0}, {0.8, 1, 1, 0}, {1.0, 1, 0, 0}}};
   if (!std::isfinite(t)) return kMagenta;
   t = std::clamp(t, 0.0, 1.0);
   size_t k = 1;
@@ -334,9 +329,7 @@ ToneMapOperator toneMapOperatorFromName(const std::string& name) {
   throw InputError("unknown tone-mapping operator '" + name + "': use \"aces\" or \"reinhard\"");
 }
 
-const char* toneMapOperatorName(ToneMapOperator op) {
-  return op == ToneMapOperator::AcesFitted ? "aces" : "reinhard";
-}
+const char* toneMapOperatorName(ToneMapOperator op) { return op == ToneMapOperator::AcesFitted ? "aces" : "reinhard"; }
 
 double linearToSrgb(double linear) {
   linear = std::clamp(linear, 0.0, 1.0);

@@ -54,8 +54,8 @@ uint32_t crc32Png(std::span<const uint8_t> bytes, uint32_t crc = 0);
 // to black at zfar, so near and far structure are both visible. depth == 0 (cleared: sky) is
 // dark blue; non-finite depth is magenta. `affine`: the orthographic mapping depth = (zf - d)/(zf - zn)
 // instead. Preconditions: depth.size() == width*height, 0 < znear < zfar.
-ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t height, float znear,
-                        float zfar, bool affine = false);
+ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t height, float znear, float zfar,
+                        bool affine = false);
 
 // The thesis's ray-count colours (section 5, Figure 5.2): black/blue for 0-3 of 10, cyan/green
 // for 4-7, yellow/red for 8-10, as a piecewise-linear ramp through
@@ -65,8 +65,7 @@ ImageRGBA8 depthToImage(std::span<const float> depth, uint32_t width, uint32_t h
 Rgb8 thesisHeatColor(double t);
 // Preconditions: counts.size() == width*height. maxValue is the light count (the most rays a
 // pixel can trace); it maps to red.
-ImageRGBA8 heatmapThesis(std::span<const uint32_t> counts, uint32_t width, uint32_t height,
-                         uint32_t maxValue);
+ImageRGBA8 heatmapThesis(std::span<const uint32_t> counts, uint32_t width, uint32_t height, uint32_t maxValue);
 // A legend strip for heatmapThesis: maxValue+1 equal cells, left to right, cell i coloured as the
 // count i. Preconditions: width >= maxValue+1, height >= 1.
 ImageRGBA8 heatmapLegend(uint32_t maxValue, uint32_t width, uint32_t height);
@@ -74,16 +73,15 @@ ImageRGBA8 heatmapLegend(uint32_t maxValue, uint32_t width, uint32_t height);
 // Unit normals (3 floats per pixel) to colour n*0.5+0.5; pixels whose valid byte is 0 are black.
 // An empty `valid` means every pixel is valid. Preconditions: normals.size() == 3*width*height,
 // valid.empty() || valid.size() == width*height.
-ImageRGBA8 normalsToImage(std::span<const float> normals, std::span<const uint8_t> valid,
-                          uint32_t width, uint32_t height);
+ImageRGBA8 normalsToImage(std::span<const float> normals, std::span<const uint8_t> valid, uint32_t width,
+                          uint32_t height);
 
 // A perceptual colour map (viridis, polynomial fit) of t in [0,1]: dark purple -> teal -> yellow,
 // luminance increasing monotonically.
 Rgb8 viridisColor(double t);
 // errors / maxErr clamped to [0,1] through viridisColor; non-finite errors are magenta.
 // Preconditions: errors.size() == width*height, maxErr > 0.
-ImageRGBA8 errorMapToImage(std::span<const float> errors, uint32_t width, uint32_t height,
-                           float maxErr);
+ImageRGBA8 errorMapToImage(std::span<const float> errors, uint32_t width, uint32_t height, float maxErr);
 
 // ---- tone mapping ------------------------------------------------------------------------------
 

@@ -56,9 +56,10 @@ TEST(Png, RoundTripKeepsPixelsAndTextChunks) {
   ImageRGBA8 img{5, 3, {}};
   std::mt19937 rng(1234);
   for (size_t i = 0; i < size_t(5) * 3 * 4; ++i) img.px.push_back(uint8_t(rng()));
-  const std::map<std::string, std::string> text = {
-      {"tonemap", "aces"}, {"device", "NVIDIA H100 80GB HBM3"}, {"config", "{\"tile\": 8}"},
-      {"note", "lavapipe \xC2\xB5s"}};  // non-ASCII UTF-8: stored as iTXt
+  const std::map<std::string, std::string> text = {{"tonemap", "aces"},
+                                                   {"device", "NVIDIA H100 80GB HBM3"},
+                                                   {"config", "{\"tile\": 8}"},
+                                                   {"note", "lavapipe \xC2\xB5s"}};  // non-ASCII UTF-8: stored as iTXt
   const fs::path file = dir.path / "img.png";
   writePng(file, img, text);
 
@@ -245,8 +246,8 @@ TEST(ErrorMap, ViridisMatchesMatplotlibAndItsLuminanceRises) {
   double previous = -1;
   for (int i = 0; i <= 16; ++i) {
     const Rgb8 c = viridisColor(i / 16.0);
-    const double y = 0.2126 * srgbToLinear(c.r / 255.0) + 0.7152 * srgbToLinear(c.g / 255.0) +
-                     0.0722 * srgbToLinear(c.b / 255.0);
+    const double y =
+        0.2126 * srgbToLinear(c.r / 255.0) + 0.7152 * srgbToLinear(c.g / 255.0) + 0.0722 * srgbToLinear(c.b / 255.0);
     EXPECT_GT(y, previous) << i;
     previous = y;
   }

@@ -55,8 +55,7 @@ std::string closestKey(std::string_view key, const std::vector<std::string_view>
   return best <= plausible ? std::string(bestKey) : std::string();
 }
 
-void failUnknownKey(std::string_view key, const Where& container,
-                    const std::vector<std::string_view>& allowed) {
+void failUnknownKey(std::string_view key, const Where& container, const std::vector<std::string_view>& allowed) {
   std::string message = "unknown key \"" + std::string(key) + "\"";
   std::string guess = closestKey(key, allowed);
   if (!guess.empty()) {
@@ -69,8 +68,7 @@ void failUnknownKey(std::string_view key, const Where& container,
   container.fail(message);
 }
 
-void requireObjectWithKeys(const Json& value, const Where& where,
-                           const std::vector<std::string_view>& allowed) {
+void requireObjectWithKeys(const Json& value, const Where& where, const std::vector<std::string_view>& allowed) {
   if (!value.is_object()) where.fail("expected an object, got " + describe(value));
   for (const auto& item : value.items()) {
     if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
@@ -124,8 +122,7 @@ double readNumber(const Json& value, const Where& where, double lo, double hi, b
   bool ok = std::isfinite(v) && (loExclusive ? v > lo : v >= lo) && v <= hi;
   if (ok) return v;
   if (std::isinf(hi))
-    where.fail(describe(value) + " is out of range: must be " + (loExclusive ? "> " : ">= ") +
-               formatNumber(lo));
+    where.fail(describe(value) + " is out of range: must be " + (loExclusive ? "> " : ">= ") + formatNumber(lo));
   where.fail(describe(value) + " is out of range " + (loExclusive ? "(" : "[") + formatNumber(lo) + ", " +
              formatNumber(hi) + "]");
   return v;
@@ -166,8 +163,7 @@ size_t readChoice(const Json& value, const Where& where, std::span<const std::st
 }
 
 std::vector<double> readNumbers(const Json& value, const Where& where, size_t n, const char* shape) {
-  if (!value.is_array() || value.size() != n)
-    where.fail(std::string("expected ") + shape + ", got " + describe(value));
+  if (!value.is_array() || value.size() != n) where.fail(std::string("expected ") + shape + ", got " + describe(value));
   std::vector<double> out;
   for (size_t i = 0; i < n; ++i) {
     if (!value[i].is_number() || !std::isfinite(value[i].get<double>()))
@@ -250,8 +246,7 @@ Json parseText(const std::string& text, const std::string& source) {
     int consumed = 0;
     size_t at = what.find("line ");
     if (at != std::string::npos &&
-        std::sscanf(what.c_str() + at, "line %u, column %u: %n", &line, &column, &consumed) == 2 &&
-        consumed > 0)
+        std::sscanf(what.c_str() + at, "line %u, column %u: %n", &line, &column, &consumed) == 2 && consumed > 0)
       throw InputError(source + ":" + std::to_string(line) + ":" + std::to_string(column) +
                        ": malformed JSON: " + what.substr(at + size_t(consumed)));
     throw InputError(source + ": malformed JSON at byte " + std::to_string(e.byte) + ": " + what);

@@ -34,8 +34,7 @@ std::string closestKey(std::string_view key, const std::vector<std::string_view>
 
 // Requires an object whose keys are all in `allowed`; an unknown key fails naming the object's
 // path with a did-you-mean suggestion (or the allowed keys).
-void requireObjectWithKeys(const Json& value, const Where& where,
-                           const std::vector<std::string_view>& allowed);
+void requireObjectWithKeys(const Json& value, const Where& where, const std::vector<std::string_view>& allowed);
 [[noreturn]] void failUnknownKey(std::string_view key, const Where& container,
                                  const std::vector<std::string_view>& allowed);
 

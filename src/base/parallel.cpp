@@ -18,7 +18,8 @@ unsigned analysisThreads() {
     char* end = nullptr;
     const long n = std::strtol(env, &end, 10);
     if (end == env || *end != '\0' || n < 1 || n > 1024)
-      throw InputError(std::string("HYBRIDBENCH_THREADS=") + env + " is not a thread count 1..1024; unset it to use every core");
+      throw InputError(std::string("HYBRIDBENCH_THREADS=") + env +
+                       " is not a thread count 1..1024; unset it to use every core");
     return unsigned(n);
   }
   return std::max(1u, std::thread::hardware_concurrency());

@@ -25,8 +25,10 @@ std::string escapeXml(const std::string& s) {
       case '\'': out += "&apos;"; break;
       default:
         // Control characters other than tab/newline are not allowed in XML 1.0.
-        if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n') out += ' ';
-        else out += ch;
+        if (static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\n')
+          out += ' ';
+        else
+          out += ch;
     }
   }
   return out;

@@ -12,11 +12,11 @@
 #include <set>
 #include <sstream>
 
-#include "scene/camera.h"
+#include "base/errors.h"
 #include "config/config_reader.h"
 #include "effects/effects.h"
 #include "scene/ambient_json.h"
-#include "base/errors.h"
+#include "scene/camera.h"
 
 namespace hb {
 
@@ -36,9 +36,9 @@ constexpr uint32_t kCpuMaxWidth = 480, kCpuMaxHeight = 270, kCpuWarmup = 2, kCpu
 constexpr int64_t kCpuAoDirections = 64, kCpuAoResolution = 128, kCpuAoSamples = 256, kCpuAoSteps = 32;
 constexpr int64_t kCpuIndirectSamples = 64, kCpuIndirectPhotons = 4;  // the gathered reference and photons a face side
 
-const std::vector<std::string_view> kTopKeys = {
-    "name",    "description", "scene",    "scene_params", "camera", "lights", "ambient", "resolution",
-    "effects", "frames",      "defaults", "variants",     "grid",   "notes"};
+const std::vector<std::string_view> kTopKeys = {"name",     "description", "scene",      "scene_params", "camera",
+                                                "lights",   "ambient",     "resolution", "effects",      "frames",
+                                                "defaults", "variants",    "grid",       "notes"};
 
 // Floats print as the shortest decimal that reads back to the same float (0.1f → 0.1, not
 // 0.10000000149011612), so the effective config reads like the file it came from.
@@ -73,8 +73,7 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
     } else if (isGltfPath(s)) {
       std::filesystem::path p(s);
       // Absolute, so that the effective config in a results file names the same file from anywhere.
-      if (p.is_relative())
-        p = std::filesystem::absolute(std::filesystem::path(c.sourceName).parent_path() / p);
+      if (p.is_relative()) p = std::filesystem::absolute(std::filesystem::path(c.sourceName).parent_path() / p);
       c.scene = p.lexically_normal().string();
     } else {
       std::string names;
@@ -89,15 +88,16 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
     const Json& sp = doc["scene_params"];
     requireObjectWithKeys(sp, w, {"triangle_scale", "lights", "seed", "light_range"});
     if (sp.contains("triangle_scale"))
-      c.sceneParams.triangleScale = readNumber(sp["triangle_scale"], w.key("triangle_scale"),
-                                               kMinTriangleScale, kMaxTriangleScale, false);
+      c.sceneParams.triangleScale =
+          readNumber(sp["triangle_scale"], w.key("triangle_scale"), kMinTriangleScale, kMaxTriangleScale, false);
     if (sp.contains("lights"))
       c.sceneParams.lightCount = uint32_t(readInt(sp["lights"], w.key("lights"), 0, kMaxLightCount));
     if (sp.contains("seed")) c.sceneParams.seed = uint32_t(readInt(sp["seed"], w.key("seed"), 0, UINT32_MAX));
     if (sp.contains("light_range")) {
       const std::vector<double> r = readNumbers(sp["light_range"], w.key("light_range"), 2, "[min, max] in metres");
       if (!(r[0] > 0.0 && r[0] <= r[1] && r[1] < 1e6))
-        w.key("light_range").fail(describe(sp["light_range"]) + " is not a range; use [min, max] with 0 < min <= max < 1e6");
+        w.key("light_range")
+            .fail(describe(sp["light_range"]) + " is not a range; use [min, max] with 0 < min <= max < 1e6");
       c.sceneParams.lightRangeMin = r[0];
       c.sceneParams.lightRangeMax = r[1];
     }
@@ -107,7 +107,8 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
 void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
   if (v.is_string()) {
     if (v.get<std::string>() != "auto")
-      w.fail(describe(v) + " is not \"auto\"; give \"auto\" (frame the scene's bounds), {\"index\": N} or "
+      w.fail(describe(v) +
+             " is not \"auto\"; give \"auto\" (frame the scene's bounds), {\"index\": N} or "
              "{\"position\", \"target\"}");
     cam.autoFrame = true;
     return;
@@ -128,12 +129,10 @@ void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
   cam.position = readVec3(v["position"], w.key("position"), "[x, y, z]");
   cam.target = readVec3(v["target"], w.key("target"), "[x, y, z]");
   if (v.contains("up")) cam.up = readVec3(v["up"], w.key("up"), "[x, y, z]");
-  if (v.contains("yfov_deg"))
-    cam.yfovDeg = float(readNumber(v["yfov_deg"], w.key("yfov_deg"), 1.0, 179.0, false));
+  if (v.contains("yfov_deg")) cam.yfovDeg = float(readNumber(v["yfov_deg"], w.key("yfov_deg"), 1.0, 179.0, false));
   if (v.contains("znear")) cam.znear = readFloat(v["znear"], w.key("znear"), 0.0, kInf, true);
   if (v.contains("zfar")) cam.zfar = readFloat(v["zfar"], w.key("zfar"), 0.0, kInf, true);
-  if (!(cam.zfar > cam.znear))
-    w.key("zfar").fail("must be greater than znear (" + std::to_string(cam.znear) + ")");
+  if (!(cam.zfar > cam.znear)) w.key("zfar").fail("must be greater than znear (" + std::to_string(cam.znear) + ")");
   glm::vec3 forward = cam.target - cam.position;
   if (glm::length(forward) == 0.0f) w.key("target").fail("must differ from position");
   // lookAt needs a view direction that is not parallel to up; 1e-6 of the product of lengths is
@@ -147,20 +146,17 @@ void parseCamera(CameraSpec& cam, const Json& v, const Where& w) {
   bool isView = std::abs(glm::determinant(glm::mat3(view)) - 1.0f) < 1e-3f;
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) isView = isView && std::isfinite(view[c][r]);
-  if (!isView)
-    w.fail("position, target and up give no view in float; give them in metres below 1e19");
+  if (!isView) w.fail("position, target and up give no view in float; give them in metres below 1e19");
 }
 
 Light parseLight(const Json& v, const Where& w) {
   requireObjectWithKeys(v, w,
-                        {"type", "name", "position", "direction", "color", "intensity", "range",
-                         "inner_cone_deg", "outer_cone_deg", "cast_shadows"});
+                        {"type", "name", "position", "direction", "color", "intensity", "range", "inner_cone_deg",
+                         "outer_cone_deg", "cast_shadows"});
   if (!v.contains("type")) w.fail("missing \"type\" (\"point\", \"spot\" or \"directional\")");
   Light l;
   l.type = LightType(readChoice(v["type"], w.key("type"), {"point", "spot", "directional"}));
-  const char* typeName = l.type == LightType::Point  ? "point"
-                         : l.type == LightType::Spot ? "spot"
-                                                     : "directional";
+  const char* typeName = l.type == LightType::Point ? "point" : l.type == LightType::Spot ? "spot" : "directional";
   bool positioned = l.type != LightType::Directional, aimed = l.type != LightType::Point;
   auto notFor = [&](const char* key, bool applies) {
     if (v.contains(key) && !applies)
@@ -171,8 +167,7 @@ Light parseLight(const Json& v, const Where& w) {
   notFor("direction", aimed);
   notFor("inner_cone_deg", l.type == LightType::Spot);
   notFor("outer_cone_deg", l.type == LightType::Spot);
-  if (positioned && !v.contains("position"))
-    w.fail(std::string("a ") + typeName + " light needs \"position\"");
+  if (positioned && !v.contains("position")) w.fail(std::string("a ") + typeName + " light needs \"position\"");
   if (aimed && !v.contains("direction")) w.fail(std::string("a ") + typeName + " light needs \"direction\"");
 
   if (v.contains("name")) l.name = readString(v["name"], w.key("name"));
@@ -189,8 +184,7 @@ Light parseLight(const Json& v, const Where& w) {
     for (int i = 0; i < 3; ++i)
       if (l.color[i] < 0.0f) w.key("color").index(size_t(i)).fail(describe(v["color"][i]) + " is negative");
   }
-  if (v.contains("intensity"))
-    l.intensity = readFloat(v["intensity"], w.key("intensity"), 0.0, kInf, false);
+  if (v.contains("intensity")) l.intensity = readFloat(v["intensity"], w.key("intensity"), 0.0, kInf, false);
   if (v.contains("range")) {
     l.range = readFloat(v["range"], w.key("range"), 0.0, kInf, true);
   } else if (positioned) {
@@ -203,8 +197,7 @@ Light parseLight(const Json& v, const Where& w) {
     double inner = 0.0, outer = 45.0;  // glTF defaults: 0 and pi/4
     if (v.contains("inner_cone_deg"))
       inner = readNumber(v["inner_cone_deg"], w.key("inner_cone_deg"), 0.0, 90.0, false);
-    if (v.contains("outer_cone_deg"))
-      outer = readNumber(v["outer_cone_deg"], w.key("outer_cone_deg"), 0.0, 90.0, true);
+    if (v.contains("outer_cone_deg")) outer = readNumber(v["outer_cone_deg"], w.key("outer_cone_deg"), 0.0, 90.0, true);
     if (!(inner < outer))
       w.key("inner_cone_deg")
           .fail(describe(Json(inner)) + " must be less than outer_cone_deg (" + describe(Json(outer)) + ")");
@@ -313,8 +306,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
   if (!doc.is_object()) top.fail("expected a JSON object at the top level, got " + describe(doc));
   requireObjectWithKeys(doc, top, kTopKeys);
 
-  if (!doc.contains("name"))
-    top.fail("missing \"name\"; every config needs one, e.g. \"name\": \"my-sweep\"");
+  if (!doc.contains("name")) top.fail("missing \"name\"; every config needs one, e.g. \"name\": \"my-sweep\"");
   c.name = readString(doc["name"], top.key("name"));
   bool nameOk = !c.name.empty() && std::all_of(c.name.begin(), c.name.end(), [](unsigned char ch) {
     return std::isalnum(ch) || ch == '.' || ch == '_' || ch == '-';
@@ -339,9 +331,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
       w.fail("expected \"scene\" or a list of lights, got " + describe(l));
     }
     if (c.lights && doc.contains("scene_params") && doc["scene_params"].contains("lights"))
-      top.key("scene_params")
-          .key("lights")
-          .fail("cannot be combined with an explicit \"lights\" list; remove one");
+      top.key("scene_params").key("lights").fail("cannot be combined with an explicit \"lights\" list; remove one");
   }
   if (doc.contains("ambient")) c.ambient = readAmbient(doc["ambient"], top.key("ambient"));
   if (doc.contains("effects")) {
@@ -353,16 +343,13 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
     requireObjectWithKeys(doc["frames"], w, {"warmup", "measured"});
     const Json& f = doc["frames"];
     if (f.contains("warmup")) c.warmupFrames = uint32_t(readInt(f["warmup"], w.key("warmup"), 0, 100000));
-    if (f.contains("measured"))
-      c.measuredFrames = uint32_t(readInt(f["measured"], w.key("measured"), 1, 1000000));
+    if (f.contains("measured")) c.measuredFrames = uint32_t(readInt(f["measured"], w.key("measured"), 1, 1000000));
   }
 
   // Defaults: built-in, then the top-level resolution, then the atrium's scene_params, then "defaults".
   if (doc.contains("resolution")) {
     if (doc.contains("defaults") && doc["defaults"].is_object() && doc["defaults"].contains("resolution"))
-      top.key("defaults")
-          .key("resolution")
-          .fail("is also given at the top level as \"resolution\"; keep one");
+      top.key("defaults").key("resolution").fail("is also given at the top level as \"resolution\"; keep one");
     applyParam(c.defaults, "resolution", doc["resolution"], top.key("resolution"), top);
   }
   if (c.sceneIsBuiltin()) {
@@ -395,8 +382,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
   if (doc.contains("notes")) {
     Where w = top.key("notes");
     if (!doc["notes"].is_array()) w.fail("expected a list of strings, got " + describe(doc["notes"]));
-    for (size_t i = 0; i < doc["notes"].size(); ++i)
-      c.notes.push_back(readString(doc["notes"][i], w.index(i)));
+    for (size_t i = 0; i < doc["notes"].size(); ++i) c.notes.push_back(readString(doc["notes"][i], w.index(i)));
   }
 
   std::map<std::string, std::string> seen;  // name → origin
@@ -423,8 +409,7 @@ void checkParamsFitScene(const Config& c, const VariantParams& p, const std::str
     throw InputError(where + ": triangle_scale applies only to the built-in \"atrium\" scene (this config renders " +
                      c.scene + "); remove it");
   if (c.lights && p.lightCount) {
-    throw InputError(
-        where + ": light_count cannot be combined with the config's explicit \"lights\" list; remove one");
+    throw InputError(where + ": light_count cannot be combined with the config's explicit \"lights\" list; remove one");
   }
 }
 
@@ -439,9 +424,8 @@ Config parseConfig(const nlohmann::json& doc, const std::string& sourceName) {
 Config loadConfig(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
-    throw InputError(
-        path +
-        ": cannot open the config file; give the path of a config JSON file (e.g. configs/thesis.json)");
+    throw InputError(path +
+                     ": cannot open the config file; give the path of a config JSON file (e.g. configs/thesis.json)");
   std::stringstream text;
   text << in.rdbuf();
   return parseDocument(parseText(text.str(), path), path);
@@ -489,8 +473,7 @@ nlohmann::json toJson(const Config& c) {
   j["frames"] = {{"warmup", c.warmupFrames}, {"measured", c.measuredFrames}};
   j["defaults"] = toJson(c.defaults);
   j["variants"] = nlohmann::json::array();
-  for (const Variant& v : expandVariants(c))
-    j["variants"].push_back({{"name", v.name}, {"params", toJson(v.params)}});
+  for (const Variant& v : expandVariants(c)) j["variants"].push_back({{"name", v.name}, {"params", toJson(v.params)}});
   j["notes"] = c.notes;
   return j;
 }
@@ -521,8 +504,7 @@ Config lowerForCpuDevice(Config c) {
   if (warmup != c.warmupFrames)
     changes.push_back("warmup " + std::to_string(warmup) + " -> " + std::to_string(c.warmupFrames));
   if (measured != c.measuredFrames)
-    changes.push_back("measured frames " + std::to_string(measured) + " -> " +
-                      std::to_string(c.measuredFrames));
+    changes.push_back("measured frames " + std::to_string(measured) + " -> " + std::to_string(c.measuredFrames));
 
   // Ambient occlusion's and the indirect light's sizes scale a CPU device's work as much as the
   // resolution does (512 maps of 256² take minutes a frame on lavapipe): they are capped too,
@@ -541,10 +523,14 @@ Config lowerForCpuDevice(Config c) {
   };
   auto capAo = [&](nlohmann::json& effects) {
     capEffect(effects, "ambient_occlusion",
-              {{"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuAoSamples},
+              {{"directions", kCpuAoDirections},
+               {"ldm_resolution", kCpuAoResolution},
+               {"samples", kCpuAoSamples},
                {"steps", kCpuAoSteps}});
     capEffect(effects, "indirect",
-              {{"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuIndirectSamples},
+              {{"directions", kCpuAoDirections},
+               {"ldm_resolution", kCpuAoResolution},
+               {"samples", kCpuIndirectSamples},
                {"photons", kCpuIndirectPhotons}});
   };
   capAo(c.effects);

@@ -158,7 +158,8 @@ struct VariantParams {
   uint32_t r3dThreadBox = 64;
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
-  ShadingMethod shading = ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
+  ShadingMethod shading =
+      ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
   uint32_t maxLightsPerTile = 32;
   LightLists lightLists = LightLists::Tile;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params
@@ -206,7 +207,7 @@ struct Config {
   bool sceneIsHardCase() const;
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
-  std::optional<Ambient> ambient;  // "ambient": replaces the scene's ambient term (scene.h)
+  std::optional<Ambient> ambient;            // "ambient": replaces the scene's ambient term (scene.h)
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights
   // The "effects" object as the file gives it (validated): keys it leaves out stay the scene's
   // or the built-in default (effects/effects.h). An EffectsRequest layer of source Config.

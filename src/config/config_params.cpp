@@ -1,9 +1,9 @@
 // VariantParams: reading one parameter strictly, writing them back, and --set key=value.
 #include <charconv>
 
+#include "base/errors.h"
 #include "config/config.h"
 #include "config/config_reader.h"
-#include "base/errors.h"
 #include "effects/effects.h"
 
 namespace hb {
@@ -82,57 +82,177 @@ static_assert(LightLists(1) == LightLists::Bitmask && LightLists(2) == LightList
 const std::vector<ParamSpec>& paramSpecs() {
   using K = ParamKind;
   static const std::vector<ParamSpec> specs = {
-      {"tile_size", K::IntChoice, {}, {8, 16, 32}, 0, 0, "", "px", "",
+      {"tile_size",
+       K::IntChoice,
+       {},
+       {8, 16, 32},
+       0,
+       0,
+       "",
+       "px",
+       "",
        "side of the square screen tiles that lights are culled into",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.tileSize = v.get<uint32_t>(); }},
-      {"light_culling", K::Bool, {}, {}, 0, 0, "", "", "",
+      {"light_culling",
+       K::Bool,
+       {},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "cull lights into per-tile lists; off: every pixel considers every light",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.lightCulling = v.get<bool>(); }},
-      {"aabb", K::Bool, {}, {}, 0, 0, "", "", "",
+      {"aabb",
+       K::Bool,
+       {},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "test lights against each tile's depth AABB as well as its frustum (acts with light culling on)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.aabb = v.get<bool>(); }},
-      {"normal_culling", K::Choice, {"off", "naive", "improved", "geometric"}, {}, 0, 0, "", "", "",
+      {"normal_culling",
+       K::Choice,
+       {"off", "naive", "improved", "geometric"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "skip shadow rays to lights behind the surface (geometric: the triangle's own normal; any primary but "
        "hardware)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.normalCulling = NormalCulling(i); }},
-      {"backend", K::Choice, {"auto", "rayquery", "pipeline"}, {}, 0, 0, "", "", "",
+      {"backend",
+       K::Choice,
+       {"auto", "rayquery", "pipeline"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "how shadow rays are traced: ray queries in compute, a ray-tracing pipeline, or whichever the device has",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.backend = RtBackend(i); }},
-      {"resolution", K::Resolution, {}, {}, 1, double(kMaxResolution), "", "px", "",
+      {"resolution",
+       K::Resolution,
+       {},
+       {},
+       1,
+       double(kMaxResolution),
+       "",
+       "px",
+       "",
        "render size [width, height] (--set also takes WIDTHxHEIGHT)",
        [](VariantParams& p, const Json& v, size_t, const Where&) {
          p.resolution = {v[0].get<uint32_t>(), v[1].get<uint32_t>()};
        }},
-      {"world_pos", K::Choice, {"alg41", "matrix", "hit"}, {}, 0, 0, "", "", "",
+      {"world_pos",
+       K::Choice,
+       {"alg41", "matrix", "hit"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "how a pixel's world position is rebuilt: thesis Alg. 4.1, the inverse view-projection, or the primary "
        "method's hit (any primary but hardware)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.worldPos = WorldPosMethod(i); }},
-      {"range_test", K::Bool, {}, {}, 0, 0, "", "", "",
+      {"range_test",
+       K::Bool,
+       {},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "per-pixel light range test before tracing (beyond the thesis)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.rangeTest = v.get<bool>(); }},
-      {"depth_slices", K::Int, {}, {}, 0, 32, "not 1 (0 = off)", "", "",
+      {"depth_slices",
+       K::Int,
+       {},
+       {},
+       0,
+       32,
+       "not 1 (0 = off)",
+       "",
+       "",
        "2.5D depth-sliced light culling: slices per tile (beyond the thesis)",
        [](VariantParams& p, const Json& v, size_t, const Where& where) {
          if (v.get<int64_t>() == 1) where.fail("1 is not allowed: use 0 (off) or 2..32 slices");
          p.depthSlices = v.get<uint32_t>();
        }},
-      {"t_min", K::Choice, {"constant", "scaled"}, {}, 0, 0, "", "", "",
+      {"t_min",
+       K::Choice,
+       {"constant", "scaled"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "shadow rays' t_min: the thesis's 0.001 m, or max(0.001 m, 400u x distance to the eye)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.tMin = ShadowTMin(i); }},
-      {"primary", K::Choice, {"hardware", "3dr", "3dr-binned", "2dr", "raycast"}, {}, 0, 0, "", "", "",
+      {"primary",
+       K::Choice,
+       {"hardware", "3dr", "3dr-binned", "2dr", "raycast"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "primary visibility: the hardware depth prepass, compute 3D rasterization (brute force or binned into "
        "8x8 tiles), the 2D homogeneous baseline, or a ray per pixel",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.primary = PrimaryMethod(i); }},
-      {"projection", K::Choice, {"perspective", "orthographic", "paraboloid", "latlong"}, {}, 0, 0, "", "",
-       "the camera's", "the view's projection, replacing the camera's",
+      {"projection",
+       K::Choice,
+       {"perspective", "orthographic", "paraboloid", "latlong"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "the camera's",
+       "the view's projection, replacing the camera's",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.projection = CameraProjection(i); }},
-      {"r3d_thread_box", K::Int, {}, {}, 1, 65536, "", "px", "",
+      {"r3d_thread_box",
+       K::Int,
+       {},
+       {},
+       1,
+       65536,
+       "",
+       "px",
+       "",
        "3dr: a triangle whose screen box has at most this many pixels is rasterized by its own thread",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dThreadBox = v.get<uint32_t>(); }},
-      {"shading", K::Choice, {"forward", "visbuffer"}, {}, 0, 0, "", "", "",
+      {"shading",
+       K::Choice,
+       {"forward", "visbuffer"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "the forward pass, or shading in compute from the visibility buffer (any primary but hardware)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.shading = ShadingMethod(i); }},
-      {"max_lights_per_tile", K::Int, {}, {}, 32, 1024, "a multiple of 32", "lights", "",
+      {"max_lights_per_tile",
+       K::Int,
+       {},
+       {},
+       32,
+       1024,
+       "a multiple of 32",
+       "lights",
+       "",
        "capacity of a tile's light list (one 32-bit visibility word per 32 lights)",
        [](VariantParams& p, const Json& v, size_t, const Where& where) {
          const int64_t n = v.get<int64_t>();
@@ -140,16 +260,48 @@ const std::vector<ParamSpec>& paramSpecs() {
          if (n % 32 != 0) where.fail(std::to_string(n) + " is not a multiple of 32");
          p.maxLightsPerTile = uint32_t(n);
        }},
-      {"light_lists", K::Choice, {"tile", "bitmask", "zbin"}, {}, 0, 0, "", "", "",
+      {"light_lists",
+       K::Choice,
+       {"tile", "bitmask", "zbin"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
        "light list layout: the thesis's capped tile lists, or uncapped bitmasks or z-bins",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.lightLists = LightLists(i); }},
-      {"light_count", K::Int, {}, {}, 0, double(kMaxLightCount), "", "lights", "scene_params.lights",
+      {"light_count",
+       K::Int,
+       {},
+       {},
+       0,
+       double(kMaxLightCount),
+       "",
+       "lights",
+       "scene_params.lights",
        "procedural point lights (built-in atrium with its own lights only)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.lightCount = v.get<uint32_t>(); }},
-      {"triangle_scale", K::Number, {}, {}, kMinTriangleScale, kMaxTriangleScale, "", "",
-       "scene_params.triangle_scale", "multiplies the atrium's triangle count (built-in atrium only)",
+      {"triangle_scale",
+       K::Number,
+       {},
+       {},
+       kMinTriangleScale,
+       kMaxTriangleScale,
+       "",
+       "",
+       "scene_params.triangle_scale",
+       "multiplies the atrium's triangle count (built-in atrium only)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.triangleScale = v.get<double>(); }},
-      {"effects", K::Effects, {}, {}, 0, 0, "", "", "none",
+      {"effects",
+       K::Effects,
+       {},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "none",
        "this variant's effects object, over the config's \"effects\" (see hybridbench help effects)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.effects = nlohmann::json(v); }},
   };
@@ -171,8 +323,7 @@ const std::vector<std::string_view>& paramKeys() {
   return keys;
 }
 
-void applyParam(VariantParams& p, std::string_view key, const Json& v, const Where& where,
-                const Where& container) {
+void applyParam(VariantParams& p, std::string_view key, const Json& v, const Where& where, const Where& container) {
   const ParamSpec* spec = findParam(key);
   if (!spec) failUnknownKey(key, container, paramKeys());
   size_t choice = 0;
@@ -194,8 +345,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
 
 void applyParams(VariantParams& p, const Json& object, const Where& where) {
   requireObjectWithKeys(object, where, paramKeys());
-  for (const auto& item : object.items())
-    applyParam(p, item.key(), item.value(), where.key(item.key()), where);
+  for (const auto& item : object.items()) applyParam(p, item.key(), item.value(), where.key(item.key()), where);
 }
 
 std::string valueLabel(const Json& value) {
@@ -249,9 +399,8 @@ void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) 
     const std::string& s = value.get_ref<const std::string&>();
     size_t x = s.find('x');
     uint64_t w = 0, h = 0;
-    bool ok = x != std::string::npos && std::from_chars(s.data(), s.data() + x, w).ptr == s.data() + x &&
-              x > 0 && std::from_chars(s.data() + x + 1, s.data() + s.size(), h).ptr == s.data() + s.size() &&
-              x + 1 < s.size();
+    bool ok = x != std::string::npos && std::from_chars(s.data(), s.data() + x, w).ptr == s.data() + x && x > 0 &&
+              std::from_chars(s.data() + x + 1, s.data() + s.size(), h).ptr == s.data() + s.size() && x + 1 < s.size();
     if (!ok) where.key(key).fail("expected WIDTHxHEIGHT (e.g. 1920x1080) or [w, h], got \"" + s + "\"");
     value = Json::array({w, h});
   }

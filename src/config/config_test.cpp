@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/atrium.h"
 #include "base/errors.h"
 #include "base/input_error_of.h"
+#include "scene/atrium.h"
 
 namespace hb {
 namespace {
@@ -25,9 +25,7 @@ std::string readFile(const std::string& path) {
 }
 
 // Parses a config given as JSON text (keys kept in file order, as loadConfig does).
-Config parseText(const std::string& text) {
-  return parseConfig(nlohmann::ordered_json::parse(text), "x.json");
-}
+Config parseText(const std::string& text) { return parseConfig(nlohmann::ordered_json::parse(text), "x.json"); }
 
 std::string errorOfText(const std::string& text) {
   return inputErrorOf([&] { parseText(text); });
@@ -68,10 +66,9 @@ TEST(ShippedConfigs, Table51HasTheThesisSixConfigurationsAt8x8Tiles) {
     bool lightCulling, aabb;
     NormalCulling normals;
   };
-  const Expected expected[] = {
-      {false, false, NormalCulling::Off},    {true, false, NormalCulling::Off},
-      {true, true, NormalCulling::Off},      {true, true, NormalCulling::Naive},
-      {true, true, NormalCulling::Improved}, {false, false, NormalCulling::Improved}};
+  const Expected expected[] = {{false, false, NormalCulling::Off},    {true, false, NormalCulling::Off},
+                               {true, true, NormalCulling::Off},      {true, true, NormalCulling::Naive},
+                               {true, true, NormalCulling::Improved}, {false, false, NormalCulling::Improved}};
   for (size_t i = 0; i < v.size(); ++i) {
     SCOPED_TRACE(v[i].name);
     EXPECT_EQ(v[i].params.tileSize, 8u);
@@ -173,8 +170,7 @@ TEST(EmbeddedConfig, EqualsConfigsThesisJsonByteForByte) {
 }
 
 TEST(EffectiveConfig, ReparsesToTheSameRunsForEveryShippedConfig) {
-  for (const char* name :
-       {"thesis", "ci", "thesis-sponza", "scaling", "thesis-table-5-1", "thesis-table-5-2"}) {
+  for (const char* name : {"thesis", "ci", "thesis-sponza", "scaling", "thesis-table-5-1", "thesis-table-5-2"}) {
     SCOPED_TRACE(name);
     Config c = loadConfig(kConfigDir + "/" + name + ".json");
     nlohmann::json j = toJson(c);
@@ -191,8 +187,8 @@ TEST(EffectiveConfig, FillsEveryParameterDefault) {
   Config c = parseText(R"({"name": "n", "variants": [{"name": "a", "params": {}}]})");
   nlohmann::json p = toJson(c)["variants"][0]["params"];
   for (const char* key :
-       {"tile_size", "light_culling", "aabb", "normal_culling", "backend", "resolution", "world_pos",
-        "range_test", "depth_slices", "t_min", "max_lights_per_tile", "light_count", "triangle_scale"})
+       {"tile_size", "light_culling", "aabb", "normal_culling", "backend", "resolution", "world_pos", "range_test",
+        "depth_slices", "t_min", "max_lights_per_tile", "light_count", "triangle_scale"})
     EXPECT_TRUE(p.contains(key)) << key;
   EXPECT_EQ(p["t_min"], "constant");  // the thesis's t_min
   // Built-in defaults: the thesis's best configuration (Tables 5.1 and 5.2).
@@ -206,10 +202,9 @@ TEST(Expansion, NamedVariantsComeFirstThenTheGridOnTopOfDefaults) {
       "variants": [{"name": "base", "params": {"tile_size": 32}}],
       "grid": {"tile_size": [8, 16], "normal_culling": ["naive", "improved"]}})");
   std::vector<Variant> v = expandVariants(c);
-  EXPECT_EQ(namesOf(v),
-            (std::vector<std::string>{
-                "base", "tile_size=8, normal_culling=naive", "tile_size=8, normal_culling=improved",
-                "tile_size=16, normal_culling=naive", "tile_size=16, normal_culling=improved"}));
+  EXPECT_EQ(namesOf(v), (std::vector<std::string>{
+                            "base", "tile_size=8, normal_culling=naive", "tile_size=8, normal_culling=improved",
+                            "tile_size=16, normal_culling=naive", "tile_size=16, normal_culling=improved"}));
   for (const Variant& x : v) EXPECT_EQ(x.params.backend, RtBackend::Pipeline);
   EXPECT_EQ(v[0].params.tileSize, 32u);
   EXPECT_EQ(v[3].params.tileSize, 16u);
@@ -233,8 +228,7 @@ TEST(Expansion, SceneParamsSeedTheAtriumParametersAndVariantsOverrideThem) {
 }
 
 TEST(ConfigErrors, UnknownTopLevelKeySuggestsTheClosest) {
-  EXPECT_EQ(errorOfText(R"({"name": "n", "grdi": {}})"),
-            R"(x.json: unknown key "grdi" (did you mean "grid"?))");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "grdi": {}})"), R"(x.json: unknown key "grdi" (did you mean "grid"?))");
 }
 
 TEST(ConfigErrors, UnknownKeyFarFromAnyListsTheAllowedKeys) {
@@ -305,33 +299,31 @@ TEST(Config, LightRangeGivesEveryAtriumLightARangeInsideIt) {
 }
 
 TEST(ConfigErrors, DuplicateNamesAreRefused) {
-  EXPECT_EQ(
-      errorOfText(R"({"name": "n", "variants": [{"name": "a"}, {"name": "a"}]})"),
-      R"(x.json: variants[1].name: the name "a" is used twice (also by variants[0]); names must be unique)");
-  EXPECT_EQ(
-      errorOfText(R"({"name": "n", "variants": [{"name": "tile_size=8"}], "grid": {"tile_size": [8, 16]}})"),
-      R"(x.json: grid: the name "tile_size=8" is used twice (also by variants[0]); names must be unique)");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "variants": [{"name": "a"}, {"name": "a"}]})"),
+            R"(x.json: variants[1].name: the name "a" is used twice (also by variants[0]); names must be unique)");
+  EXPECT_EQ(errorOfText(R"({"name": "n", "variants": [{"name": "tile_size=8"}], "grid": {"tile_size": [8, 16]}})"),
+            R"(x.json: grid: the name "tile_size=8" is used twice (also by variants[0]); names must be unique)");
   EXPECT_EQ(errorOfText(R"({"name": "n", "grid": {"tile_size": [8, 16, 8]}})"),
             "x.json: grid.tile_size[2]: 8 is already in the list at [0]");
 }
 
 TEST(ConfigErrors, SceneSpecificParametersAreRefusedForGltfScenes) {
-  EXPECT_EQ(
-      errorOfText(R"({"name": "n", "scene": "s.gltf", "scene_params": {"lights": 3}})"),
-      R"(x.json: scene_params: applies only to the built-in "atrium" scene; remove it or set "scene": "atrium")");
-  std::string e = errorOfText(
-      R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"triangle_scale": 2}}]})");
-  EXPECT_EQ(
-      e.rfind("x.json: variants[0].params: triangle_scale applies only to the built-in \"atrium\" scene", 0), 0u)
+  EXPECT_EQ(errorOfText(R"({"name": "n", "scene": "s.gltf", "scene_params": {"lights": 3}})"),
+            R"(x.json: scene_params: applies only to the built-in "atrium" scene; remove it or set "scene": "atrium")");
+  std::string e =
+      errorOfText(R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"triangle_scale": 2}}]})");
+  EXPECT_EQ(e.rfind("x.json: variants[0].params: triangle_scale applies only to the built-in \"atrium\" scene", 0), 0u)
       << e;
   // light_count works on any scene (automatic lights, app/auto_scene.h), but not beside a list.
-  EXPECT_NO_THROW(parseText(
-      R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"light_count": 3}}]})"));
+  EXPECT_NO_THROW(
+      parseText(R"({"name": "n", "scene": "s.gltf", "variants": [{"name": "a", "params": {"light_count": 3}}]})"));
   e = errorOfText(
       R"({"name": "n", "scene": "s.gltf", "lights": [], "variants": [{"name": "a", "params": {"light_count": 3}}]})");
-  EXPECT_NE(e.find("light_count cannot be combined with the config's explicit \"lights\" list"), std::string::npos) << e;
-  EXPECT_EQ(errorOfText(R"({"name": "n", "scene": "sponza"})"),
-            R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes, microbench-262144, microbench-144) nor a .gltf/.glb path)");
+  EXPECT_NE(e.find("light_count cannot be combined with the config's explicit \"lights\" list"), std::string::npos)
+      << e;
+  EXPECT_EQ(
+      errorOfText(R"({"name": "n", "scene": "sponza"})"),
+      R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes, microbench-262144, microbench-144) nor a .gltf/.glb path)");
 }
 
 TEST(ConfigErrors, StructuralMistakesNameTheField) {
@@ -346,9 +338,8 @@ TEST(ConfigErrors, StructuralMistakesNameTheField) {
   EXPECT_EQ(errorOfText(R"({"name": "n", "camera": {"index": 0, "position": [0, 0, 0]}})")
                 .rfind("x.json: camera: give either", 0),
             0u);
-  EXPECT_EQ(
-      errorOfText(R"({"name": "my sweep"})"),
-      R"(x.json: name: "my sweep" may use only letters, digits, '.', '_' and '-' (it names output files))");
+  EXPECT_EQ(errorOfText(R"({"name": "my sweep"})"),
+            R"(x.json: name: "my sweep" may use only letters, digits, '.', '_' and '-' (it names output files))");
 }
 
 class TempFile {
@@ -412,9 +403,8 @@ TEST(SetOverride, BadOverridesGiveTheConfigMessages) {
   EXPECT_EQ(err("tile_size=12"), "--set tile_size=12: tile_size: 12 is not one of 8, 16, 32");
   EXPECT_EQ(err("tilesize=8"), R"(--set tilesize=8: unknown key "tilesize" (did you mean "tile_size"?))");
   EXPECT_EQ(err("aabb=maybe"), R"(--set aabb=maybe: aabb: expected true or false, got "maybe")");
-  EXPECT_EQ(
-      err("resolution=1920x"),
-      R"(--set resolution=1920x: resolution: expected WIDTHxHEIGHT (e.g. 1920x1080) or [w, h], got "1920x")");
+  EXPECT_EQ(err("resolution=1920x"),
+            R"(--set resolution=1920x: resolution: expected WIDTHxHEIGHT (e.g. 1920x1080) or [w, h], got "1920x")");
   EXPECT_EQ(err("tile_size").rfind("--set tile_size: expected key=value", 0), 0u);
   EXPECT_EQ(p, VariantParams{}) << "a refused override changes nothing";
 }
@@ -424,8 +414,7 @@ TEST(SetOverride, SceneCheckRefusesAtriumParametersOnGltf) {
   VariantParams p = expandVariants(c)[0].params;
   applySetOverride(p, "triangle_scale=4");
   std::string e = inputErrorOf([&] { checkParamsFitScene(c, p, "--set triangle_scale=4"); });
-  EXPECT_EQ(
-      e.rfind("--set triangle_scale=4: triangle_scale applies only to the built-in \"atrium\" scene", 0), 0u)
+  EXPECT_EQ(e.rfind("--set triangle_scale=4: triangle_scale applies only to the built-in \"atrium\" scene", 0), 0u)
       << e;
 }
 
@@ -487,8 +476,7 @@ TEST(EffectiveConfig, PrintsFloatsAsWrittenAndLightsInFull) {
 }
 
 TEST(ConfigCamera, ExplicitPoseLooksFromPositionToTarget) {
-  Config c =
-      parseText(R"({"name": "n", "camera": {"position": [1, 2, 3], "target": [1, 2, -7], "yfov_deg": 90}})");
+  Config c = parseText(R"({"name": "n", "camera": {"position": [1, 2, 3], "target": [1, 2, -7], "yfov_deg": 90}})");
   Camera cam = cameraFromSpec(c.camera);
   // lookAt maps the eye to the origin and the target onto -z at its distance (10); float round-off
   // of a translation by values <= 10 is below 10 * 2^-23 ~ 1.2e-6, so 1e-5 is a safe bound.
@@ -522,8 +510,7 @@ TEST(ConfigErrors, ACameraPoseWithoutAViewIsNamed) {
 TEST(ConfigErrors, EveryMessageIsOneLine) {
   for (const char* bad :
        {R"({"name": "n", "grdi": 1})", R"({"name": "n", "defaults": {"tile_size": "big"}})",
-        R"({"name": "n", "lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0]}]})",
-        R"([1, 2])"}) {
+        R"({"name": "n", "lights": [{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 0]}]})", R"([1, 2])"}) {
     std::string e = errorOfText(bad);
     EXPECT_FALSE(e.empty()) << bad;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
@@ -536,8 +523,9 @@ TEST(ConfigCamera, AutoIsAcceptedAndWrittenBackAndAnythingElseIsNamed) {
   EXPECT_FALSE(c.camera.explicitPose);
   EXPECT_EQ(toJson(c)["camera"], "auto");
   EXPECT_FALSE(parseText(R"({"name": "n", "scene": "s.gltf"})").camera.autoFrame);
-  EXPECT_EQ(errorOfText(R"({"name": "n", "camera": "front"})"),
-            R"(x.json: camera: "front" is not "auto"; give "auto" (frame the scene's bounds), {"index": N} or {"position", "target"})");
+  EXPECT_EQ(
+      errorOfText(R"({"name": "n", "camera": "front"})"),
+      R"(x.json: camera: "front" is not "auto"; give "auto" (frame the scene's bounds), {"index": N} or {"position", "target"})");
 }
 
 }  // namespace

@@ -109,8 +109,7 @@ bool isEffectSet(const std::string& keyEqualsValue) {
 EffectsLayer parseEffectSet(const std::string& keyEqualsValue) {
   const std::string where = "--set " + keyEqualsValue;
   const size_t eq = keyEqualsValue.find('=');
-  if (eq == std::string::npos)
-    throw InputError(where + ": expected effect=value, e.g. --set shadows=false");
+  if (eq == std::string::npos) throw InputError(where + ": expected effect=value, e.g. --set shadows=false");
   const std::string key = effectKeyOf(keyEqualsValue);
   const std::string text = keyEqualsValue.substr(eq + 1);
   nlohmann::ordered_json value = nlohmann::ordered_json::parse(text, nullptr, /*allow_exceptions=*/false);
@@ -129,13 +128,15 @@ bool FramePlan::hasPass(std::string_view pass) const {
   return std::find(passes.begin(), passes.end(), pass) != passes.end();
 }
 
-bool FramePlan::needs(FrameResource r) const { return std::find(resources.begin(), resources.end(), r) != resources.end(); }
+bool FramePlan::needs(FrameResource r) const {
+  return std::find(resources.begin(), resources.end(), r) != resources.end();
+}
 
 nlohmann::json FramePlan::effectsJson() const {
   nlohmann::json j = nlohmann::json::object();
   for (const EffectState& e : effects) {
-    nlohmann::json s = {{"called_for", e.calledFor}, {"runs", e.runs}, {"value", e.value},
-                        {"source", toString(e.source)}};
+    nlohmann::json s = {
+        {"called_for", e.calledFor}, {"runs", e.runs}, {"value", e.value}, {"source", toString(e.source)}};
     if (!e.origin.empty()) s["origin"] = e.origin;
     if (!e.skippedBecause.empty()) s["skipped_because"] = e.skippedBecause;
     j[e.name] = s;
@@ -178,7 +179,8 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
       if (s.runs && usedByValue)
         effectPasses.push_back(pass);
       else if (s.runs)
-        effectPassSkipped.push_back({pass, std::string("effects.") + def->name + " = " + s.value.dump() + " does not use it"});
+        effectPassSkipped.push_back(
+            {pass, std::string("effects.") + def->name + " = " + s.value.dump() + " does not use it"});
       else
         effectPassSkipped.push_back({pass, s.skippedBecause});
     }
@@ -205,8 +207,8 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
       if (plan.needs(FrameResource::LightLists))
         plan.passes.push_back(p);
       else
-        plan.skipped.push_back({p, scene.lights.empty() ? "the scene has no lights"
-                                                        : "every light is directional (never culled)"});
+        plan.skipped.push_back(
+            {p, scene.lights.empty() ? "the scene has no lights" : "every light is directional (never culled)"});
     } else {
       for (const auto& [skippedPass, why] : effectPassSkipped)
         if (skippedPass == p) plan.skipped.push_back({p, why});

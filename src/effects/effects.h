@@ -79,17 +79,17 @@ struct EffectState {
   std::string name;
   nlohmann::json value;  // as called for, after precedence
   EffectSource source = EffectSource::Default;
-  std::string origin;    // the file or argument that decided it ("" for the default)
+  std::string origin;  // the file or argument that decided it ("" for the default)
   bool calledFor = false;
   bool runs = false;
   std::string skippedBecause;  // why it does not run ("" when it runs)
 };
 
 struct FramePlan {
-  std::vector<EffectState> effects;                            // in allEffects() order
-  std::vector<std::string> passes;                             // that run, in frame order
-  std::vector<std::pair<std::string, std::string>> skipped;    // passes not run, with the reason
-  std::vector<FrameResource> resources;                        // allocated for the frame
+  std::vector<EffectState> effects;                          // in allEffects() order
+  std::vector<std::string> passes;                           // that run, in frame order
+  std::vector<std::pair<std::string, std::string>> skipped;  // passes not run, with the reason
+  std::vector<FrameResource> resources;                      // allocated for the frame
 
   bool runs(std::string_view effect) const;
   bool hasPass(std::string_view pass) const;

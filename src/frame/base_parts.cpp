@@ -38,9 +38,9 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
   } else {
     RayCastInputs cast;
     if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
-    raster3d_ = std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
-                                               f.settings.primary, f.settings.raster3dThreadBox,
-                                               f.settings.fp64Fallback, cast);
+    raster3d_ =
+        std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
+                                       f.settings.primary, f.settings.raster3dThreadBox, f.settings.fp64Fallback, cast);
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {res::kTlas};
     else
@@ -84,10 +84,10 @@ LightListsPart::LightListsPart(FrameBuilder& f) {
     cs.zbinNear = f.camera.znear;
     cs.zbinFar = std::max(far, 2.0f * f.camera.znear);
   }
-  culling_ = std::make_unique<LightCulling>(f.ctx, cs, s.width, s.height, f.resources.requireBuffer(res::kFrameConstants),
-                                            f.resources.requireBuffer(res::kLights),
-                                            f.resources.requireImage(res::kDepth),
-                                            f.resources.sampler(res::kPointSampler));
+  culling_ =
+      std::make_unique<LightCulling>(f.ctx, cs, s.width, s.height, f.resources.requireBuffer(res::kFrameConstants),
+                                     f.resources.requireBuffer(res::kLights), f.resources.requireImage(res::kDepth),
+                                     f.resources.sampler(res::kPointSampler));
   f.constants.lists = culling_->listConstants();
   f.constants.zbins = culling_->zbinConstants();
   const CullingOutputs o = culling_->outputs();
@@ -140,8 +140,9 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   FramePass pass;
   pass.name = kShadingPass;
   pass.reads = {res::kFrameConstants, res::kDepth, res::kSceneVertices, res::kSceneIndices};
-  for (const char* optional : {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility,
-                               res::kVisibility, res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance})
+  for (const char* optional :
+       {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility, res::kVisibility,
+        res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance})
     if (r.has(optional)) pass.reads.push_back(optional);
   if (!lists) pass.reads.push_back(res::kLights);
   pass.writes = {res::kColor, res::kRefNormals};

@@ -20,8 +20,8 @@ namespace hb {
 
 // What effects publish for shading to compose (each optional).
 namespace res {
-inline constexpr const char* kShadowVisibility = "shadows.visibility";  // words per pixel: lights visible
-inline constexpr const char* kAmbientOcclusion = "ambient_occlusion";   // float per pixel
+inline constexpr const char* kShadowVisibility = "shadows.visibility";     // words per pixel: lights visible
+inline constexpr const char* kAmbientOcclusion = "ambient_occlusion";      // float per pixel
 inline constexpr const char* kIndirectIrradiance = "indirect.irradiance";  // RGBA32F, W/m²
 }  // namespace res
 

@@ -12,8 +12,9 @@ SurfaceInputs surfaceInputs(const FrameBuilder& f) {
   s.worldPos = f.settings.worldPos;
   s.normals = s.hitIds ? NormalCulling::Geometric : NormalCulling::Improved;
   if (s.worldPos == WorldPosMethod::Hit && !s.hitIds)
-    throw InputError("world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
-                     "3dr-binned, 2dr or raycast");
+    throw InputError(
+        "world_pos=hit needs the triangle ids of a computed primary visibility: set primary=3dr, "
+        "3dr-binned, 2dr or raycast");
   return s;
 }
 

@@ -3,8 +3,8 @@
 // frame order, so a part finds what earlier parts published (resources.buffer("light_lists.grid"))
 // and publishes what it writes for the parts after it.
 #pragma once
-#include <nlohmann/json.hpp>
 #include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 
 #include "effects/effects.h"
 #include "frame/frame_pass.h"
@@ -19,24 +19,24 @@ namespace hb {
 
 // The names of the resources the base frame publishes (the parts publish their own).
 namespace res {
-inline constexpr const char* kSceneVertices = "scene.vertices";    // gpu_scene.h
+inline constexpr const char* kSceneVertices = "scene.vertices";  // gpu_scene.h
 inline constexpr const char* kSceneIndices = "scene.indices";
 inline constexpr const char* kFrameConstants = "frame_constants";  // gpu::FrameConstants (UBO)
 inline constexpr const char* kLights = "lights";                   // gpu::GpuLight per scene light
 inline constexpr const char* kDepth = "depth";                     // reverse-Z depth, D32_SFLOAT
 inline constexpr const char* kPointSampler = "point_sampler";
-inline constexpr const char* kTlas = "tlas";                       // the ray tracer's scene
+inline constexpr const char* kTlas = "tlas";  // the ray tracer's scene
 // Primary visibility by compute (raster3d / raycast): a visibility buffer and what decodes it.
-inline constexpr const char* kVisibility = "visibility";                  // u64 per pixel: depth | triangle id
-inline constexpr const char* kVisibilityRays = "visibility.rays";         // gpu::Raster3dConstants (UBO)
+inline constexpr const char* kVisibility = "visibility";                     // u64 per pixel: depth | triangle id
+inline constexpr const char* kVisibilityRays = "visibility.rays";            // gpu::Raster3dConstants (UBO)
 inline constexpr const char* kVisibilityTriangles = "visibility.triangles";  // 3 vec4 per triangle, world
 // Light lists (light culling).
 inline constexpr const char* kListLights = "light_lists.lights";    // the lights as the lists index them
 inline constexpr const char* kListGrid = "light_lists.grid";        // u32 x 4 per tile
 inline constexpr const char* kListIndices = "light_lists.indices";  // indices or bit masks (+ z-bins)
 // Shading.
-inline constexpr const char* kColor = "color";                      // linear HDR, RGBA16F
-inline constexpr const char* kRefNormals = "reference_normals";     // analysis: true face normals
+inline constexpr const char* kColor = "color";                   // linear HDR, RGBA16F
+inline constexpr const char* kRefNormals = "reference_normals";  // analysis: true face normals
 }  // namespace res
 
 struct FrameBuilder {

@@ -27,8 +27,8 @@ static NamedResource imageResource(const std::string& name, const Image& image, 
   const vk::Format f = static_cast<vk::Format>(image.format());
   if (format.empty()) format = vk::to_string(f);
   const uint64_t bytes = uint64_t(image.width()) * image.height() * vk::blockSize(f);
-  NamedResource r{name, std::move(format), std::to_string(image.width()) + " x " + std::to_string(image.height()),
-                  bytes, nullptr, &image};
+  NamedResource r{name,  std::move(format), std::to_string(image.width()) + " x " + std::to_string(image.height()),
+                  bytes, nullptr,           &image};
   r.layout = layout;
   return r;
 }

@@ -30,10 +30,10 @@ struct RenderSettings {
   LightLists lightLists = LightLists::Tile;  // tile (capped at 32, the thesis) | bitmask | zbin
   ShadowTMin tMin = ShadowTMin::Constant;    // scaled: max(kShadowTMin, kShadowTMinPerMetre·dist)
   PrimaryMethod primary = PrimaryMethod::Hardware;
-  bool fp64Fallback = true;                  // raster3d: false only to measure what the fallback prevents
-  uint32_t raster3dThreadBox = 64;           // raster3d: the largest box one thread rasterizes
+  bool fp64Fallback = true;                        // raster3d: false only to measure what the fallback prevents
+  uint32_t raster3dThreadBox = 64;                 // raster3d: the largest box one thread rasterizes
   ShadingMethod shading = ShadingMethod::Forward;  // visbuffer: in compute from the visibility buffer
-  bool raster3dShadingDepthTest = true;      // raster3d: early depth test before the id test (false: check only)
+  bool raster3dShadingDepthTest = true;            // raster3d: early depth test before the id test (false: check only)
 };
 
 // The pass that computes primary visibility for a method (effects.h kDepthPrepassPass, ...).

@@ -50,15 +50,16 @@ static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
     const bool hardware = settings.primary == PrimaryMethod::Hardware;
     const std::string primary = toString(settings.primary);
     if (settings.primary == PrimaryMethod::Raster2d || (hardware && !planar))
-      throw InputError(what + " needs primary=3dr, 3dr-binned or raycast" + (planar ? "" : " (or hardware for orthographic)") +
-                       " (primary=" + primary + " draws " + (hardware ? "planar views only" : "perspective views only") +
-                       ")");
+      throw InputError(what + " needs primary=3dr, 3dr-binned or raycast" +
+                       (planar ? "" : " (or hardware for orthographic)") + " (primary=" + primary + " draws " +
+                       (hardware ? "planar views only" : "perspective views only") + ")");
     // The forward pass draws through the view's matrix, which a curved view has not; on top of a
     // compute method its depth test is derived for perspective depth (shading.cpp).
     if (settings.shading != ShadingMethod::Visbuffer && !(planar && hardware))
       throw InputError(what + " needs shading=visbuffer" +
-                       (planar ? " with primary=" + primary + " (the forward pass draws orthographic views only "
-                                                              "on top of primary=hardware)"
+                       (planar ? " with primary=" + primary +
+                                     " (the forward pass draws orthographic views only "
+                                     "on top of primary=hardware)"
                                : " (the forward pass rasterizes through a planar matrix)"));
     if (settings.lightCulling)
       throw InputError(what + " needs light_culling=false (the light tiles are frusta of a perspective view)");
@@ -82,25 +83,19 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
                                      camera_.zfar)),
       gpuScene_(ctx, scene),
       depth_(ctx, settings.width, settings.height, kDepthFormat,
-             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                 VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
              VK_IMAGE_ASPECT_DEPTH_BIT),
       frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
       lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
               true, MemClass::Other) {
   // Settings the frame cannot run with are refused before anything is created by hand.
-  // Depth turns back into positions through a planar matrix (perspective or orthographic).
-  const bool curved = camera_.projection != CameraProjection::Perspective &&
-                      camera_.projection != CameraProjection::Orthographic;
-  if (curved && plan_.runs("shadows") && settings.worldPos != WorldPosMethod::Hit)
-    throw InputError(std::string("projection=") + toString(camera_.projection) +
-                     " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
-                     "matrix otherwise)");
   if (plan_.needs(FrameResource::AccelerationStructures) && !ctx.canTrace())
-    throw InputError("device \"" + ctx.info().name +
-                     "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
-                     (plan_.runs("shadows") ? "set effects.shadows=false (--set shadows=false)"
-                                            : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
+    throw InputError(
+        "device \"" + ctx.info().name +
+        "\" cannot trace rays (no ray query, no ray-tracing pipeline); it is usable for raster-only work: " +
+        (plan_.runs("shadows") ? "set effects.shadows=false (--set shadows=false)"
+                               : "set primary=hardware, 3dr, 3dr-binned or 2dr"));
   VkSamplerCreateInfo si{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
   si.magFilter = si.minFilter = VK_FILTER_NEAREST;
   si.addressModeU = si.addressModeV = si.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
@@ -117,15 +112,17 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   } samplerGuard{ctx.device(), pointSampler_};
 
   const uint32_t lightCount = uint32_t(scene.lights.size());
-  gpu::FrameConstants fc = makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
-                                              settings.tMin == ShadowTMin::Scaled ? gpu::kShadowTMinPerMetre : 0.0f);
+  gpu::FrameConstants fc =
+      makeFrameConstants(view_, proj_, settings.width, settings.height, settings.tileSize, lightCount,
+                         settings.tMin == ShadowTMin::Scaled ? gpu::kShadowTMinPerMetre : 0.0f);
   std::vector<gpu::GpuLight> packed = packLights(scene.lights);
   if (!packed.empty()) std::memcpy(lights_.mapped(), packed.data(), packed.size() * sizeof(gpu::GpuLight));
 
   // The frame's shared resources, then its parts in frame order: each part finds what the parts
   // before it published (frame/frame_builder.h).
   passesSkipped_ = plan_.skipped;
-  if (plan_.needs(FrameResource::AccelerationStructures)) accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
+  if (plan_.needs(FrameResource::AccelerationStructures))
+    accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
   resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
   resources_.publish(res::kFrameConstants, frameConstants_, "gpu::FrameConstants", "1");
@@ -135,7 +132,9 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
 
   FrameBuilder builder{ctx, scene, settings_, plan_, camera_, view_, proj_, gpuScene_, resources_, fc, nullptr};
-  auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) { parts_.emplace_back(std::move(name), std::move(part)); };
+  auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) {
+    parts_.emplace_back(std::move(name), std::move(part));
+  };
   addPart("primary", std::make_unique<PrimaryPart>(builder));
   if (plan_.needs(FrameResource::LightLists)) addPart("light_lists", std::make_unique<LightListsPart>(builder));
   auto addEffects = [&](FramePhase phase) {
@@ -156,8 +155,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The declarations hold the frame together: every pass the plan runs is built exactly once,
   // and reads only what the frame or a pass before it wrote.
   std::vector<std::string> written;
-  for (const char* name : {res::kSceneVertices, res::kSceneIndices, res::kFrameConstants, res::kLights,
-                                  res::kPointSampler, res::kTlas})
+  for (const char* name :
+       {res::kSceneVertices, res::kSceneIndices, res::kFrameConstants, res::kLights, res::kPointSampler, res::kTlas})
     if (resources_.has(name)) written.push_back(name);
   uint32_t timerEntries = 0;
   for (const std::string& name : plan_.passes) {
@@ -171,7 +170,9 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     HB_ASSERT(found != nullptr && found->record);  // the plan runs a pass no part built
     for (const std::string& read : found->reads) {
       const bool before = std::find(written.begin(), written.end(), read) != written.end();
-      if (!before) std::fprintf(stderr, "internal error: pass %s reads %s before any pass writes it\n", name.c_str(), read.c_str());
+      if (!before)
+        std::fprintf(stderr, "internal error: pass %s reads %s before any pass writes it\n", name.c_str(),
+                     read.c_str());
       HB_ASSERT(before);
     }
     written.insert(written.end(), found->writes.begin(), found->writes.end());
@@ -306,7 +307,8 @@ static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, ui
 }
 
 std::vector<float> Renderer::readColor() const {
-  std::vector<uint8_t> bytes = readbackImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor), 8);
+  std::vector<uint8_t> bytes =
+      readbackImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor), 8);
   std::vector<float> out(bytes.size() / 2);
   for (size_t i = 0; i < out.size(); ++i) {
     uint16_t h;
@@ -323,6 +325,5 @@ std::vector<float> Renderer::readRefNormals() const {
   std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;
 }
-
 
 }  // namespace hb

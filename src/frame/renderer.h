@@ -26,7 +26,7 @@ class Raster3dPass;
 
 // Readbacks of the shadow pass (analysis frames).
 struct ShadowReadback {
-  uint32_t words = 1;                // visibility words per pixel
+  uint32_t words = 1;  // visibility words per pixel
   // words × pixels, word-major (word j of pixel i at j·pixels + i): bit k of word j = the
   // (32j + k)-th light of the pixel's list walk (CullingReadback::pixelLights) is visible. Words past
   // the walk's last are left as the GPU found them.
@@ -93,7 +93,7 @@ class Renderer {
   GpuTimer& timer() { return *timer_; }
 
   bool hasCulling() const;
-  uint64_t listMemoryBytes() const;  // grid, lists, bins; 0 without culling
+  uint64_t listMemoryBytes() const;      // grid, lists, bins; 0 without culling
   const Raster3dPass* raster3d() const;  // primary visibility by compute (raster3d, raycast) only
   const AccelerationStructures* accel() const { return accel_.get(); }
 

@@ -56,8 +56,8 @@ AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const G
     VkAccelerationStructureBuildSizesInfoKHR sizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
     rt.getBuildSizes(ctx.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &b.info, counts.data(), &sizes);
     Buffer buf(ctx, sizes.accelerationStructureSize,
-               VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, false,
-               MemClass::AccelerationStructure);
+               VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+               false, MemClass::AccelerationStructure);
     VkAccelerationStructureCreateInfoKHR ci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
     ci.buffer = buf.handle();
     ci.size = sizes.accelerationStructureSize;
@@ -87,10 +87,10 @@ AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const G
     vi.accelerationStructureReference = rt.getAddress(ctx.device(), &ai);
     inst.push_back(vi);
   }
-  instances_ = uploadBuffer(ctx, inst.data(), inst.size() * sizeof(VkAccelerationStructureInstanceKHR),
-                            VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
-                                VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
-                            MemClass::AccelerationStructure);
+  instances_ = uploadBuffer(
+      ctx, inst.data(), inst.size() * sizeof(VkAccelerationStructureInstanceKHR),
+      VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT | VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR,
+      MemClass::AccelerationStructure);
   VkAccelerationStructureGeometryKHR tg{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR};
   tg.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
   tg.flags = VK_GEOMETRY_OPAQUE_BIT_KHR;
@@ -105,9 +105,10 @@ AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const G
   uint32_t instCount = uint32_t(inst.size());
   VkAccelerationStructureBuildSizesInfoKHR tsizes{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR};
   rt.getBuildSizes(ctx.device(), VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, &tinfo, &instCount, &tsizes);
-  tlasBuffer_ = Buffer(ctx, tsizes.accelerationStructureSize,
-                       VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                       false, MemClass::AccelerationStructure);
+  tlasBuffer_ =
+      Buffer(ctx, tsizes.accelerationStructureSize,
+             VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, false,
+             MemClass::AccelerationStructure);
   VkAccelerationStructureCreateInfoKHR tci{VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR};
   tci.buffer = tlasBuffer_.handle();
   tci.size = tsizes.accelerationStructureSize;
@@ -126,25 +127,28 @@ AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const G
   tinfo.scratchData.deviceAddress = scratchBase + tlasScratchOffset;
 
   auto t0 = std::chrono::steady_clock::now();
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
-    std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges;
-    for (MeshBuild& b : builds) {
-      infos.push_back(b.info);
-      ranges.push_back(b.ranges.data());
-    }
-    if (!infos.empty()) rt.cmdBuild(cmd, uint32_t(infos.size()), infos.data(), ranges.data());
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                  VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                  VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
-    VkAccelerationStructureBuildRangeInfoKHR tr{instCount, 0, 0, 0};
-    const VkAccelerationStructureBuildRangeInfoKHR* trp = &tr;
-    rt.cmdBuild(cmd, 1, &tinfo, &trp);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                  VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                  VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
-  }, "the BLAS/TLAS build");
+  ctx.submitAndWait(
+      [&](VkCommandBuffer cmd) {
+        std::vector<VkAccelerationStructureBuildGeometryInfoKHR> infos;
+        std::vector<const VkAccelerationStructureBuildRangeInfoKHR*> ranges;
+        for (MeshBuild& b : builds) {
+          infos.push_back(b.info);
+          ranges.push_back(b.ranges.data());
+        }
+        if (!infos.empty()) rt.cmdBuild(cmd, uint32_t(infos.size()), infos.data(), ranges.data());
+        memoryBarrier(
+            cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+            VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+            VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+        VkAccelerationStructureBuildRangeInfoKHR tr{instCount, 0, 0, 0};
+        const VkAccelerationStructureBuildRangeInfoKHR* trp = &tr;
+        rt.cmdBuild(cmd, 1, &tinfo, &trp);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                      VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
+                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+                      VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
+      },
+      "the BLAS/TLAS build");
   buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -17,8 +17,8 @@ class AccelerationStructures {
   AccelerationStructures(const AccelerationStructures&) = delete;
 
   VkAccelerationStructureKHR tlas() const { return tlas_; }
-  double buildMs() const { return buildMs_; }          // wall-clock time of the builds (submit to fence)
-  uint64_t bytes() const { return bytes_; }             // BLAS + TLAS storage
+  double buildMs() const { return buildMs_; }  // wall-clock time of the builds (submit to fence)
+  uint64_t bytes() const { return bytes_; }    // BLAS + TLAS storage
   uint32_t blasCount() const { return uint32_t(blas_.size()); }
 
  private:

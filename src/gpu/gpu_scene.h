@@ -3,8 +3,8 @@
 #pragma once
 #include <vector>
 
-#include "scene/scene.h"
 #include "gpu/vk_resources.h"
+#include "scene/scene.h"
 #include "shared/gpu_types.h"
 
 namespace hb {

@@ -19,9 +19,9 @@ class GpuTimer {
   GpuTimer(const GpuTimer&) = delete;
 
   bool available() const { return available_; }
-  void reset(VkCommandBuffer cmd);           // before the frame's first pass
-  void frameBegin(VkCommandBuffer cmd);      // top of the frame
-  void frameEnd(VkCommandBuffer cmd);        // bottom of the frame
+  void reset(VkCommandBuffer cmd);       // before the frame's first pass
+  void frameBegin(VkCommandBuffer cmd);  // top of the frame
+  void frameEnd(VkCommandBuffer cmd);    // bottom of the frame
   // Intervals nest: end() closes the latest open begin(), so a pass can time its dispatches as
   // sub-passes inside its own interval ("raster3d" contains "raster3d.tiles").
   void begin(VkCommandBuffer cmd, const std::string& pass);

@@ -51,7 +51,8 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
     b.colorWriteMask = 0xF;
     if (d.additiveBlend) {
       b.blendEnable = VK_TRUE;
-      b.srcColorBlendFactor = b.dstColorBlendFactor = b.srcAlphaBlendFactor = b.dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE;
+      b.srcColorBlendFactor = b.dstColorBlendFactor = b.srcAlphaBlendFactor = b.dstAlphaBlendFactor =
+          VK_BLEND_FACTOR_ONE;
       b.colorBlendOp = b.alphaBlendOp = VK_BLEND_OP_ADD;
     }
   }

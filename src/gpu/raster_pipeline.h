@@ -12,10 +12,10 @@ namespace hb {
 struct RasterPipelineDesc {
   VkPipelineLayout layout = VK_NULL_HANDLE;
   VkShaderModule vertex = VK_NULL_HANDLE;
-  VkShaderModule fragment = VK_NULL_HANDLE;              // none: depth only (the prepass)
+  VkShaderModule fragment = VK_NULL_HANDLE;  // none: depth only (the prepass)
   const VkSpecializationInfo* fragmentSpec = nullptr;
   uint32_t vertexAttributes = 1;  // 1: position; 3: position, normal, uv; 0: no vertex input (gl_VertexIndex only)
-  bool depthTest = true;  // false: no depth attachment (depthFormat UNDEFINED), no test
+  bool depthTest = true;          // false: no depth attachment (depthFormat UNDEFINED), no test
   bool depthWrite = true;
   VkCompareOp depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
   float depthBiasConstant = 0.0f;  // both 0: no depth bias

@@ -43,8 +43,8 @@ RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLa
                                                     {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR},
                                                     {VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR}};
   for (uint32_t g = 0; g < groupCount; ++g) {
-    groups[g].type = g < 2 ? VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR
-                           : VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
+    groups[g].type =
+        g < 2 ? VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR : VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
     groups[g].generalShader = g < 2 ? g : VK_SHADER_UNUSED_KHR;
     groups[g].closestHitShader = g < 2 ? VK_SHADER_UNUSED_KHR : g;
     groups[g].anyHitShader = VK_SHADER_UNUSED_KHR;
@@ -58,7 +58,7 @@ RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLa
   ci.maxPipelineRayRecursionDepth = 1;
   ci.layout = pipeline_.layout();
   VK_CHECK(c.rt().createRayTracingPipelines(c.device(), VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &ci, nullptr,
-                                             &pipeline_.pipeline_));
+                                            &pipeline_.pipeline_));
   pipeline_.bindPoint_ = VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
 
   // Shader binding table: each region starts at a shaderGroupBaseAlignment boundary.
@@ -67,12 +67,11 @@ RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLa
   const VkDeviceSize stride = alignUp(handleSize, props.shaderGroupHandleAlignment);
   const VkDeviceSize base = props.shaderGroupBaseAlignment;
   std::vector<uint8_t> handles(size_t(groupCount) * handleSize);
-  VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline_.handle(), 0, groupCount, handles.size(),
-                                        handles.data()));
+  VK_CHECK(c.rt().getShaderGroupHandles(c.device(), pipeline_.handle(), 0, groupCount, handles.size(), handles.data()));
   const VkDeviceSize region = alignUp(stride, base);
   sbt_ = Buffer(c, region * groupCount + base,
-               VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
-               MemClass::Other);
+                VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, true,
+                MemClass::Other);
   const VkDeviceAddress start = alignUp(sbt_.address(), base);
   uint8_t* mapped = static_cast<uint8_t*>(sbt_.mapped()) + (start - sbt_.address());
   for (uint32_t g = 0; g < groupCount; ++g)

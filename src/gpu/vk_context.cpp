@@ -14,19 +14,27 @@ namespace hb {
 const char* vkResultName(VkResult r) {
   switch (r) {
 #define HB_CASE(x) \
-  case x:          \
-    return #x;
-    HB_CASE(VK_SUCCESS) HB_CASE(VK_NOT_READY) HB_CASE(VK_TIMEOUT) HB_CASE(VK_INCOMPLETE)
-    HB_CASE(VK_ERROR_OUT_OF_HOST_MEMORY) HB_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
-    HB_CASE(VK_ERROR_INITIALIZATION_FAILED) HB_CASE(VK_ERROR_DEVICE_LOST)
-    HB_CASE(VK_ERROR_MEMORY_MAP_FAILED) HB_CASE(VK_ERROR_LAYER_NOT_PRESENT)
-    HB_CASE(VK_ERROR_EXTENSION_NOT_PRESENT) HB_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
-    HB_CASE(VK_ERROR_INCOMPATIBLE_DRIVER) HB_CASE(VK_ERROR_TOO_MANY_OBJECTS)
-    HB_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) HB_CASE(VK_ERROR_FRAGMENTED_POOL)
-    HB_CASE(VK_ERROR_OUT_OF_POOL_MEMORY) HB_CASE(VK_ERROR_UNKNOWN)
+  case x: return #x
+    HB_CASE(VK_SUCCESS);
+    HB_CASE(VK_NOT_READY);
+    HB_CASE(VK_TIMEOUT);
+    HB_CASE(VK_INCOMPLETE);
+    HB_CASE(VK_ERROR_OUT_OF_HOST_MEMORY);
+    HB_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY);
+    HB_CASE(VK_ERROR_INITIALIZATION_FAILED);
+    HB_CASE(VK_ERROR_DEVICE_LOST);
+    HB_CASE(VK_ERROR_MEMORY_MAP_FAILED);
+    HB_CASE(VK_ERROR_LAYER_NOT_PRESENT);
+    HB_CASE(VK_ERROR_EXTENSION_NOT_PRESENT);
+    HB_CASE(VK_ERROR_FEATURE_NOT_PRESENT);
+    HB_CASE(VK_ERROR_INCOMPATIBLE_DRIVER);
+    HB_CASE(VK_ERROR_TOO_MANY_OBJECTS);
+    HB_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED);
+    HB_CASE(VK_ERROR_FRAGMENTED_POOL);
+    HB_CASE(VK_ERROR_OUT_OF_POOL_MEMORY);
+    HB_CASE(VK_ERROR_UNKNOWN);
 #undef HB_CASE
-    default:
-      return "VkResult(unknown)";
+    default: return "VkResult(unknown)";
   }
 }
 
@@ -54,7 +62,8 @@ static std::string versionString(uint32_t v) {
 }
 
 static bool hasExtension(const std::vector<VkExtensionProperties>& exts, const char* name) {
-  return std::any_of(exts.begin(), exts.end(), [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+  return std::any_of(exts.begin(), exts.end(),
+                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
 static std::vector<VkExtensionProperties> deviceExtensions(VkPhysicalDevice pd) {
@@ -153,9 +162,13 @@ static VkInstance createInstance(bool validation) {
   VkInstance inst = VK_NULL_HANDLE;
   VkResult r = vkCreateInstance(&ci, nullptr, &inst);
   if (r == VK_ERROR_LAYER_NOT_PRESENT)
-    throw InputError("HYBRIDBENCH_VALIDATION=1 but the Khronos validation layer is not installed; install vulkan-validationlayers or unset HYBRIDBENCH_VALIDATION");
+    throw InputError(
+        "HYBRIDBENCH_VALIDATION=1 but the Khronos validation layer is not installed; install vulkan-validationlayers "
+        "or unset HYBRIDBENCH_VALIDATION");
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
-    throw DeviceError("no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER); install a Vulkan driver (e.g. mesa-vulkan-drivers) or set VK_DRIVER_FILES to its ICD json");
+    throw DeviceError(
+        "no Vulkan driver found (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER); install a Vulkan driver (e.g. "
+        "mesa-vulkan-drivers) or set VK_DRIVER_FILES to its ICD json");
   vkCheck(r, "vkCreateInstance");
   return inst;
 }
@@ -230,7 +243,8 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
     VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mi.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
     mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
     mi.pfnUserCallback = debugCallback;
@@ -248,9 +262,11 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
     throw DeviceError("device \"" + info_.name + "\" has no graphics+compute queue; pick another with --device");
 
   // Query what the device supports, then enable the subset we use.
-  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtpF{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR rtpF{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   VkPhysicalDeviceRayQueryFeaturesKHR rqF{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR asF{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR asF{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
@@ -259,12 +275,22 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   f11.pNext = &f12;
   f12.pNext = &f13;
   void** tail = &f13.pNext;
-  if (info_.accelerationStructure) { *tail = &asF; tail = &asF.pNext; }
-  if (info_.rayQuery) { *tail = &rqF; tail = &rqF.pNext; }
-  if (info_.rayTracingPipeline) { *tail = &rtpF; tail = &rtpF.pNext; }
+  if (info_.accelerationStructure) {
+    *tail = &asF;
+    tail = &asF.pNext;
+  }
+  if (info_.rayQuery) {
+    *tail = &rqF;
+    tail = &rqF.pNext;
+  }
+  if (info_.rayTracingPipeline) {
+    *tail = &rtpF;
+    tail = &rtpF.pNext;
+  }
   vkGetPhysicalDeviceFeatures2(physical_, &f2);
   if (props_.apiVersion < VK_API_VERSION_1_3 || !f13.dynamicRendering || !f13.synchronization2)
-    throw DeviceError("device \"" + info_.name + "\" lacks Vulkan 1.3 dynamic rendering/synchronization2; hybridbench needs a Vulkan 1.3 device");
+    throw DeviceError("device \"" + info_.name +
+                      "\" lacks Vulkan 1.3 dynamic rendering/synchronization2; hybridbench needs a Vulkan 1.3 device");
   if (info_.accelerationStructure && (!asF.accelerationStructure || !f12.bufferDeviceAddress)) {
     info_.accelerationStructure = info_.rayQuery = info_.rayTracingPipeline = false;
   }
@@ -277,9 +303,11 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   VkPhysicalDeviceVulkan11Features en11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
   VkPhysicalDeviceVulkan12Features en12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceVulkan13Features en13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  VkPhysicalDeviceAccelerationStructureFeaturesKHR enAs{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR enAs{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
   VkPhysicalDeviceRayQueryFeaturesKHR enRq{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
-  VkPhysicalDeviceRayTracingPipelineFeaturesKHR enRtp{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR enRtp{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR};
   en2.pNext = &en11;
   en11.pNext = &en12;
   en12.pNext = &en13;

@@ -24,7 +24,7 @@ double gpuTimeoutSeconds();
 struct DeviceInfo {
   uint32_t index = 0;
   std::string name;
-  std::string type;    // "discrete", "integrated", "virtual", "cpu", "other"
+  std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
   uint32_t vendorId = 0, deviceId = 0;
   std::string vendor;  // "NVIDIA", "AMD", "Intel", "Mesa (lavapipe)", ...
   std::string driverName, driverInfo, driverVersion;

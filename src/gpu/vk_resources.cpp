@@ -91,10 +91,12 @@ Buffer uploadBuffer(const VulkanContext& ctx, const void* data, VkDeviceSize siz
   Buffer staging(ctx, size, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, MemClass::Staging);
   std::memcpy(staging.mapped(), data, size);
   Buffer dst(ctx, size, usage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, cls);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    VkBufferCopy region{0, 0, size};
-    vkCmdCopyBuffer(cmd, staging.handle(), dst.handle(), 1, &region);
-  }, "a buffer upload");
+  ctx.submitAndWait(
+      [&](VkCommandBuffer cmd) {
+        VkBufferCopy region{0, 0, size};
+        vkCmdCopyBuffer(cmd, staging.handle(), dst.handle(), 1, &region);
+      },
+      "a buffer upload");
   return dst;
 }
 
@@ -187,19 +189,21 @@ std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image,
                                    uint32_t bytesPerPixel) {
   VkDeviceSize size = VkDeviceSize(image.width()) * image.height() * bytesPerPixel;
   Buffer staging(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferImageCopy region{};
-    region.imageSubresource = {image.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT)
-                                                                          : image.aspect(),
-                               0, 0, 1};
-    region.imageExtent = {image.width(), image.height(), 1};
-    vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &region);
-    imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                 VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
-  }, "an image readback");
+  ctx.submitAndWait(
+      [&](VkCommandBuffer cmd) {
+        imageBarrier(cmd, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {
+            image.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : image.aspect(),
+            0, 0, 1};
+        region.imageExtent = {image.width(), image.height(), 1};
+        vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &region);
+        imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT,
+                     VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+                     VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+      },
+      "an image readback");
   std::vector<uint8_t> out(size);
   std::memcpy(out.data(), staging.mapped(), size);
   return out;
@@ -207,12 +211,14 @@ std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image,
 
 std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buffer) {
   Buffer staging(ctx, buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_TRANSFER_READ_BIT);
-    VkBufferCopy region{0, 0, buffer.size()};
-    vkCmdCopyBuffer(cmd, buffer.handle(), staging.handle(), 1, &region);
-  }, "a buffer readback");
+  ctx.submitAndWait(
+      [&](VkCommandBuffer cmd) {
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        VkBufferCopy region{0, 0, buffer.size()};
+        vkCmdCopyBuffer(cmd, buffer.handle(), staging.handle(), 1, &region);
+      },
+      "a buffer readback");
   std::vector<uint8_t> out(buffer.size());
   std::memcpy(out.data(), staging.mapped(), buffer.size());
   return out;

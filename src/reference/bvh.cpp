@@ -25,8 +25,8 @@ static double edgeFunctionExtended(double a, double b, double c, double d) {
   return double((long double)a * (long double)b - (long double)c * (long double)d);
 }
 
-bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& org, const glm::dvec3& dir,
-                                 double tMin, double tMax, double& tOut) {
+bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& org, const glm::dvec3& dir, double tMin,
+                                 double tMax, double& tOut) {
   if (isDegenerate(tri)) return false;  // det could be a tiny non-zero rounding residue
   // 1. Permute so that z is the ray's largest-magnitude axis; swap x/y to keep the winding.
   const glm::dvec3 ad = glm::abs(dir);
@@ -124,8 +124,8 @@ uint32_t Bvh::build(uint32_t first, uint32_t count, std::vector<glm::dvec3>& cen
 // Slab test, widened by (1 + 2γ3) on the far side (pbrt-v4, Bounds3::IntersectP) so that the box
 // test cannot reject a ray that the watertight triangle test would hit. Zero direction
 // components are handled explicitly (0 * inf = NaN otherwise).
-static bool rayHitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& org,
-                       const glm::dvec3& invDir, const glm::dvec3& dir, double tMin, double tMax) {
+static bool rayHitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dvec3& org, const glm::dvec3& invDir,
+                       const glm::dvec3& dir, double tMin, double tMax) {
   constexpr double kGamma3 = 3.0 * kEps / (1.0 - 3.0 * kEps);
   double t0 = tMin, t1 = tMax;
   for (int i = 0; i < 3; ++i) {

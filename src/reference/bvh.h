@@ -24,8 +24,8 @@ bool isDegenerate(const BvhTriangle& tri);
 // Watertight test, both faces. Hits iff the ray meets the closed triangle (edges included) at
 // t in [tMin, tMax]; then writes t. Degenerate triangles (isDegenerate) and a zero `dir` never hit;
 // no NaN escapes (every NaN comparison falls to "miss").
-bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& origin, const glm::dvec3& dir,
-                                 double tMin, double tMax, double& t);
+bool intersectTriangleWatertight(const BvhTriangle& tri, const glm::dvec3& origin, const glm::dvec3& dir, double tMin,
+                                 double tMax, double& t);
 
 struct BvhHit {
   double t;

@@ -106,11 +106,11 @@ TEST(Bvh, AgreesWithBruteForceOnRandomRays) {
 TEST(Bvh, DegenerateTrianglesNeverHitAndProduceNoNaN) {
   const glm::dvec3 a(0, 0, 0), b(1, 0, 0), c(2, 0, 0);
   const std::vector<BvhTriangle> degenerate = {
-      {a, b, c},                                           // collinear
-      {a, a, b},                                           // repeated vertex
-      {a, a, a},                                           // a point
-      {a, b, glm::dvec3(0.5, 1e-300, 0)},                  // area far below rounding
-      {a, b, glm::dvec3(std::nan(""), 0, 0)},              // non-finite
+      {a, b, c},                               // collinear
+      {a, a, b},                               // repeated vertex
+      {a, a, a},                               // a point
+      {a, b, glm::dvec3(0.5, 1e-300, 0)},      // area far below rounding
+      {a, b, glm::dvec3(std::nan(""), 0, 0)},  // non-finite
   };
   for (const auto& t : degenerate) {
     EXPECT_TRUE(isDegenerate(t));

@@ -18,8 +18,8 @@ TileRect tileRect(uint32_t tx, uint32_t ty, uint32_t tileSize, uint32_t width, u
 uint32_t tileCount(uint32_t pixels, uint32_t tileSize) { return (pixels + tileSize - 1) / tileSize; }
 
 template <typename T>
-std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>& proj, const TileRect& rect,
-                                             uint32_t width, uint32_t height) {
+std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width,
+                                             uint32_t height) {
   // ndc = 2*(px/W) - 1: the product by 2 is exact, so an fma and a separate multiply-add agree.
   auto ray = [&](uint32_t px, uint32_t py) {
     const T ndcX = T(2) * (T(px) / T(width)) - T(1);
@@ -50,8 +50,7 @@ T viewZFromDepth(T depth, const ProjectionParams<T>& proj) {
   return -proj.d / (depth + proj.c);
 }
 
-TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, uint32_t height,
-                              const TileRect& rect) {
+TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, uint32_t height, const TileRect& rect) {
   HB_ASSERT(depth.size() == size_t(width) * height && rect.x1 <= width && rect.y1 <= height);
   TileDepthRange range;
   for (uint32_t y = rect.y0; y < rect.y1; ++y)
@@ -65,8 +64,8 @@ TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, u
 }
 
 template <typename T>
-TileVolume<T> tileVolume(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width,
-                         uint32_t height, T minDepth, T maxDepth) {
+TileVolume<T> tileVolume(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width, uint32_t height,
+                         T minDepth, T maxDepth) {
   TileVolume<T> v{};
   v.empty = !(maxDepth > T(0));
   // An empty tile gets a harmless range (no NaN anywhere); nothing is tested against it.
@@ -117,8 +116,8 @@ bool sphereOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& centre, T r
 }
 
 template <typename T>
-bool coneOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& tip, const glm::vec<3, T>& axis,
-                      T height, T baseRadius) {
+bool coneOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& tip, const glm::vec<3, T>& axis, T height,
+                      T baseRadius) {
   if (!(glm::dot(plane.n, tip) + plane.d < T(0))) return false;
   // cross(cross(a, n), a) = n - (a·n) a for unit a; built from the small cross(a, n) it keeps its
   // direction accurate even when n is nearly parallel to a (no cancellation in n - (a·n) a).
@@ -130,12 +129,13 @@ bool coneOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& tip, const gl
 }
 
 template <typename T>
-bool sphereOverlapsAabb(const glm::vec<3, T>& lo, const glm::vec<3, T>& hi,
-                        const glm::vec<3, T>& centre, T radius) {
+bool sphereOverlapsAabb(const glm::vec<3, T>& lo, const glm::vec<3, T>& hi, const glm::vec<3, T>& centre, T radius) {
   T d2 = T(0);
   for (int i = 0; i < 3; ++i) {
-    if (centre[i] < lo[i]) d2 += (lo[i] - centre[i]) * (lo[i] - centre[i]);
-    else if (centre[i] > hi[i]) d2 += (centre[i] - hi[i]) * (centre[i] - hi[i]);
+    if (centre[i] < lo[i])
+      d2 += (lo[i] - centre[i]) * (lo[i] - centre[i]);
+    else if (centre[i] > hi[i])
+      d2 += (centre[i] - hi[i]) * (centre[i] - hi[i]);
   }
   return d2 <= radius * radius;
 }
@@ -210,8 +210,8 @@ bool lightTouchesTile(const TileVolume<T>& tile, const ViewLight<T>& light, bool
 }
 
 template <typename T>
-TileLightList cullTile(const TileVolume<T>& tile, const std::vector<ViewLight<T>>& lights,
-                       bool useAabb, uint32_t capacity) {
+TileLightList cullTile(const TileVolume<T>& tile, const std::vector<ViewLight<T>>& lights, bool useAabb,
+                       uint32_t capacity) {
   TileLightList list;
   for (uint32_t i = 0; i < lights.size(); ++i) {
     if (!lightTouchesTile(tile, lights[i], useAabb)) continue;
@@ -255,8 +255,7 @@ double distanceToTileVolume(const TileVolume<double>& tile, const glm::dvec3& p)
       if (j != i && planeDistance(tile.planes[j], q) < -slack) inFace = false;
     if (inFace) best = std::min(best, -s);
   }
-  for (const auto& e : kEdges)
-    best = std::min(best, distanceToSegment(p, tile.corners[e[0]], tile.corners[e[1]]));
+  for (const auto& e : kEdges) best = std::min(best, distanceToSegment(p, tile.corners[e[0]], tile.corners[e[1]]));
   return best;
 }
 
@@ -382,7 +381,7 @@ bool exactLightMeetsTile(const TileVolume<double>& tile, const ViewLight<double>
   const double dist = distanceToTileVolume(tile, light.position);
   if (dist > light.range) return false;  // every light volume lies in its range ball
   if (light.type == LightType::Point || light.cosOuter <= 0.0) return true;  // ball (>= 90°: ball)
-  if (dist == 0.0) return true;  // tip inside the tile
+  if (dist == 0.0) return true;                                              // tip inside the tile
   double scale = light.range + glm::length(light.position);
   for (const auto& c : tile.corners) scale = std::max(scale, glm::length(c));
   const Sector sector{light.position, light.direction, light.range, light.cosOuter, light.sinOuter};
@@ -397,9 +396,8 @@ uint64_t cullingMemoryBytes(uint32_t width, uint32_t height, uint32_t tileSize, 
   return tiles * 16u + tiles * 4u * capacity;
 }
 
-CullStatistics cullStatistics(const std::vector<TileLightList>& kept,
-                              const std::vector<std::vector<uint32_t>>& exact, uint32_t width,
-                              uint32_t height, uint32_t tileSize, uint32_t capacity) {
+CullStatistics cullStatistics(const std::vector<TileLightList>& kept, const std::vector<std::vector<uint32_t>>& exact,
+                              uint32_t width, uint32_t height, uint32_t tileSize, uint32_t capacity) {
   HB_ASSERT(kept.size() == exact.size());
   HB_ASSERT(kept.size() == uint64_t(tileCount(width, tileSize)) * tileCount(height, tileSize));
   CullStatistics s;
@@ -447,26 +445,24 @@ void addGeometryStatistics(CullStatistics& s, const std::vector<TileLightList>& 
 }
 
 // Explicit instantiations: float mirrors the GPU, double is the reference.
-#define HB_CULL_INSTANTIATE(T)                                                                     \
-  template std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>&, const TileRect&, \
-                                                        uint32_t, uint32_t);                       \
-  template std::array<Plane<T>, 4> tileSidePlanes(const std::array<glm::vec<3, T>, 4>&);          \
-  template T viewZFromDepth(T, const ProjectionParams<T>&);                                        \
-  template TileVolume<T> tileVolume(const ProjectionParams<T>&, const TileRect&, uint32_t, uint32_t, \
-                                    T, T);                                                         \
-  template ViewLight<T> toViewLight(const Light&, const glm::mat<4, 4, T>&);                      \
-  template bool sphereOutsidePlane(const Plane<T>&, const glm::vec<3, T>&, T);                     \
-  template bool coneOutsidePlane(const Plane<T>&, const glm::vec<3, T>&, const glm::vec<3, T>&, T, T); \
-  template bool sphereOverlapsAabb(const glm::vec<3, T>&, const glm::vec<3, T>&,                   \
-                                   const glm::vec<3, T>&, T);                                      \
-  template bool lightPassesPlanes(const TileVolume<T>&, const ViewLight<T>&);                      \
-  template bool lightPassesAabb(const TileVolume<T>&, const ViewLight<T>&);                        \
-  template bool lightTouchesTile(const TileVolume<T>&, const ViewLight<T>&, bool);                 \
-  template uint32_t sliceOf(const TileVolume<T>&, T);                                              \
-  template void applyDepthSlices(TileVolume<T>&, uint32_t, const ProjectionParams<T>&,              \
-                                 const std::vector<float>&, uint32_t, uint32_t, const TileRect&);   \
-  template T sliceWidening(const TileVolume<T>&, const ViewLight<T>&);                             \
-  template uint32_t lightSliceMask(const TileVolume<T>&, const ViewLight<T>&);                     \
+#define HB_CULL_INSTANTIATE(T)                                                                                    \
+  template std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>&, const TileRect&, uint32_t,    \
+                                                        uint32_t);                                                \
+  template std::array<Plane<T>, 4> tileSidePlanes(const std::array<glm::vec<3, T>, 4>&);                          \
+  template T viewZFromDepth(T, const ProjectionParams<T>&);                                                       \
+  template TileVolume<T> tileVolume(const ProjectionParams<T>&, const TileRect&, uint32_t, uint32_t, T, T);       \
+  template ViewLight<T> toViewLight(const Light&, const glm::mat<4, 4, T>&);                                      \
+  template bool sphereOutsidePlane(const Plane<T>&, const glm::vec<3, T>&, T);                                    \
+  template bool coneOutsidePlane(const Plane<T>&, const glm::vec<3, T>&, const glm::vec<3, T>&, T, T);            \
+  template bool sphereOverlapsAabb(const glm::vec<3, T>&, const glm::vec<3, T>&, const glm::vec<3, T>&, T);       \
+  template bool lightPassesPlanes(const TileVolume<T>&, const ViewLight<T>&);                                     \
+  template bool lightPassesAabb(const TileVolume<T>&, const ViewLight<T>&);                                       \
+  template bool lightTouchesTile(const TileVolume<T>&, const ViewLight<T>&, bool);                                \
+  template uint32_t sliceOf(const TileVolume<T>&, T);                                                             \
+  template void applyDepthSlices(TileVolume<T>&, uint32_t, const ProjectionParams<T>&, const std::vector<float>&, \
+                                 uint32_t, uint32_t, const TileRect&);                                            \
+  template T sliceWidening(const TileVolume<T>&, const ViewLight<T>&);                                            \
+  template uint32_t lightSliceMask(const TileVolume<T>&, const ViewLight<T>&);                                    \
   template TileLightList cullTile(const TileVolume<T>&, const std::vector<ViewLight<T>>&, bool, uint32_t);
 HB_CULL_INSTANTIATE(float)
 HB_CULL_INSTANTIATE(double)

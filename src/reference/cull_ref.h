@@ -52,8 +52,8 @@ uint32_t tileCount(uint32_t pixels, uint32_t tileSize);  // ceil(pixels / tileSi
 // [0] = (x0, y0) top-left, [1] = (x1, y0) top-right, [2] = (x1, y1) bottom-right,
 // [3] = (x0, y1) bottom-left, in pixels. ndc = 2*(px/W) - 1; view = (ndc.x/A, ndc.y/B, -1).
 template <typename T>
-std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>& proj, const TileRect& rect,
-                                             uint32_t width, uint32_t height);
+std::array<glm::vec<3, T>, 4> tileCornerRays(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width,
+                                             uint32_t height);
 
 // The four side planes through the eye (origin) and two corner rays: [0] left = cross(c3, c0),
 // [1] top = cross(c0, c1), [2] right = cross(c1, c2), [3] bottom = cross(c2, c3), normalised;
@@ -74,8 +74,7 @@ struct TileDepthRange {
   float maxDepth = 0.0f;
   bool empty() const { return maxDepth <= 0.0f; }
 };
-TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, uint32_t height,
-                              const TileRect& rect);
+TileDepthRange tileDepthRange(const std::vector<float>& depth, uint32_t width, uint32_t height, const TileRect& rect);
 
 // The tile's depth-bounded frustum: planes [0..3] sides, [4] near (n = (0,0,-1), d = zNear),
 // [5] far (n = (0,0,1), d = -zFar); corners [0..3] = cornerRays[i] * -zNear, [4..7] the same at
@@ -95,12 +94,12 @@ struct TileVolume {
   T zNear, zFar;
   bool empty;
   uint32_t slices = 0;
-  T sliceScale = T(0);    // slices / (zNear - zFar); 0 for a flat tile (zNear == zFar: one slab)
+  T sliceScale = T(0);  // slices / (zNear - zFar); 0 for a flat tile (zNear == zFar: one slab)
   uint32_t depthMask = 0;
 };
 template <typename T>
-TileVolume<T> tileVolume(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width,
-                         uint32_t height, T minDepth, T maxDepth);
+TileVolume<T> tileVolume(const ProjectionParams<T>& proj, const TileRect& rect, uint32_t width, uint32_t height,
+                         T minDepth, T maxDepth);
 
 // A light in view space. tanOuter < 0 means "no cone test" (outer angle > kMaxConeCullAngle: the
 // spot is culled as its range sphere). cosOuter/sinOuter describe the true cone (exact test).
@@ -131,12 +130,11 @@ bool sphereOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& centre, T r
 // (the vector identity gives n - dot(n, axis)*axis); v = 0 when n ∥ axis (any base point is then
 // equally far along n). [Ericson, Real-Time Collision Detection, 5.2.4 / thesis 4.2.3]
 template <typename T>
-bool coneOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& tip, const glm::vec<3, T>& axis,
-                      T height, T baseRadius);
+bool coneOutsidePlane(const Plane<T>& plane, const glm::vec<3, T>& tip, const glm::vec<3, T>& axis, T height,
+                      T baseRadius);
 // Squared distance from the centre to the box <= r².
 template <typename T>
-bool sphereOverlapsAabb(const glm::vec<3, T>& lo, const glm::vec<3, T>& hi,
-                        const glm::vec<3, T>& centre, T radius);
+bool sphereOverlapsAabb(const glm::vec<3, T>& lo, const glm::vec<3, T>& hi, const glm::vec<3, T>& centre, T radius);
 
 // Thesis 4.2.3 plane tests: point = range sphere vs 6 planes; spot = range sphere AND (if
 // tanOuter >= 0) cone of height = range vs 6 planes (the spot's sector lies in both); directional
@@ -186,8 +184,8 @@ struct TileLightList {
   uint32_t total = 0;
 };
 template <typename T>
-TileLightList cullTile(const TileVolume<T>& tile, const std::vector<ViewLight<T>>& lights,
-                       bool useAabb, uint32_t capacity = kDefaultTileCapacity);
+TileLightList cullTile(const TileVolume<T>& tile, const std::vector<ViewLight<T>>& lights, bool useAabb,
+                       uint32_t capacity = kDefaultTileCapacity);
 
 // ---- exact reference (double) ----
 
@@ -227,15 +225,14 @@ struct CullStatistics {
   // Against the geometry (addGeometryStatistics): a light is NEEDED by a tile when it reaches
   // (range ball, and cone for a spot) the view-space point of at least one of its pixels.
   uint64_t neededPairs = 0;
-  uint64_t uselessPairs = 0;         // stored lights that reach none of the tile's pixels
-  double uselessRate = 0.0;          // uselessPairs / storedPairs (0 when none)
-  uint64_t missedNeeded = 0;         // needed lights missing from a tile that did not overflow
-  uint64_t slicedAway = 0;           // with depth slices: exact lights the slab test removed
+  uint64_t uselessPairs = 0;  // stored lights that reach none of the tile's pixels
+  double uselessRate = 0.0;   // uselessPairs / storedPairs (0 when none)
+  uint64_t missedNeeded = 0;  // needed lights missing from a tile that did not overflow
+  uint64_t slicedAway = 0;    // with depth slices: exact lights the slab test removed
 };
 // Precondition: kept.size() == exact.size() == tileCount(width)*tileCount(height).
-CullStatistics cullStatistics(const std::vector<TileLightList>& kept,
-                              const std::vector<std::vector<uint32_t>>& exact, uint32_t width,
-                              uint32_t height, uint32_t tileSize, uint32_t capacity);
+CullStatistics cullStatistics(const std::vector<TileLightList>& kept, const std::vector<std::vector<uint32_t>>& exact,
+                              uint32_t width, uint32_t height, uint32_t tileSize, uint32_t capacity);
 
 // Fills the geometry figures of `s` from needed[i], tile i's needed lights (ascending; a subset of
 // its exact set). With depth slices the exact set is no longer what a tile must keep (the slab

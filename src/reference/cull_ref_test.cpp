@@ -39,8 +39,8 @@ Case randomCase(std::mt19937_64& rng) {
   c.height = 1 + uint32_t(u01(rng) * 1600);
   const uint32_t sizes[3] = {8, 16, 32};
   const uint32_t ts = sizes[rng() % 3];
-  c.rect = tileRect(uint32_t(rng() % tileCount(c.width, ts)), uint32_t(rng() % tileCount(c.height, ts)), ts,
-                    c.width, c.height);
+  c.rect = tileRect(uint32_t(rng() % tileCount(c.width, ts)), uint32_t(rng() % tileCount(c.height, ts)), ts, c.width,
+                    c.height);
   // Depths of surfaces at log-uniform view distances; sometimes a flat tile, rarely a sky tile.
   auto depthAt = [&](double dist) { return float(c.proj.d / dist - c.proj.c); };  // inverse of viewZ
   float d1 = depthAt(logUniform(rng, zn, zf)), d2 = depthAt(logUniform(rng, zn, zf));
@@ -159,18 +159,18 @@ TEST(LightCulling, ExactSpotMissHasNoSectorPointInTheTile) {
     const Case c = randomCase(rng);
     if (c.light.type != LightType::Spot || c.maxDepth <= 0.0f) continue;
     const auto vol = volumeOf(c);
-    if (exactLightMeetsTile(vol, c.light) || distanceToTileVolume(vol, c.light.position) > c.light.range)
-      continue;
+    if (exactLightMeetsTile(vol, c.light) || distanceToTileVolume(vol, c.light.position) > c.light.range) continue;
     ++misses;
     const glm::dvec3 a = c.light.direction;
-    const glm::dvec3 t1 = glm::normalize(glm::cross(a, std::abs(a.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    const glm::dvec3 t1 =
+        glm::normalize(glm::cross(a, std::abs(a.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     const glm::dvec3 t2 = glm::cross(a, t1);
     const double outer = std::atan2(c.light.sinOuter, c.light.cosOuter);
     for (int s = 0; s < 200; ++s) {
       const double th = outer * std::sqrt(u01(rng)), ph = 2 * kPi * u01(rng);
       const double r = c.light.range * std::cbrt(u01(rng));
-      const glm::dvec3 p = c.light.position +
-                           r * (std::cos(th) * a + std::sin(th) * (std::cos(ph) * t1 + std::sin(ph) * t2));
+      const glm::dvec3 p =
+          c.light.position + r * (std::cos(th) * a + std::sin(th) * (std::cos(ph) * t1 + std::sin(ph) * t2));
       bool inside = true;
       for (const auto& pl : vol.planes) inside = inside && glm::dot(pl.n, p) + pl.d > 1e-9 * r;
       ASSERT_FALSE(inside) << "case " << i;
@@ -202,8 +202,8 @@ TEST(LightCulling, FloatAgreesWithDoubleExceptWithinRoundingMargin) {
     const auto vd = volumeOf(c);
     const ProjectionParams<float> pf{float(c.proj.a), float(c.proj.b), float(c.proj.c), float(c.proj.d)};
     const auto vf = tileVolume(pf, c.rect, c.width, c.height, c.minDepth, c.maxDepth);
-    ViewLight<float> lf{c.light.type, glm::vec3(c.light.position), glm::vec3(c.light.direction),
-                        float(c.light.range), float(c.light.tanOuter), float(c.light.cosOuter),
+    ViewLight<float> lf{c.light.type,           glm::vec3(c.light.position), glm::vec3(c.light.direction),
+                        float(c.light.range),   float(c.light.tanOuter),     float(c.light.cosOuter),
                         float(c.light.sinOuter)};
     for (int aabb = 0; aabb < 2; ++aabb) {
       const bool d = lightTouchesTile(vd, c.light, aabb);
@@ -296,15 +296,16 @@ TEST(LightCulling, LightCentredOnATilePlaneIsKept) {
 
 TEST(LightCulling, RangeReachingIntoViewFromBehindTheCameraIsKept) {
   Fixture f;
-  const auto t = f.tile(60, 33, 0.5, 10.0);  // tile at the image centre
-  EXPECT_TRUE(keptEverywhere(t, Fixture::point({0, 0, 2.0}, 3.0)));    // reaches z = -1
+  const auto t = f.tile(60, 33, 0.5, 10.0);                                   // tile at the image centre
+  EXPECT_TRUE(keptEverywhere(t, Fixture::point({0, 0, 2.0}, 3.0)));           // reaches z = -1
   EXPECT_FALSE(lightTouchesTile(t, Fixture::point({0, 0, 2.0}, 2.4), true));  // stops at z = -0.4
   EXPECT_FALSE(exactLightMeetsTile(t, Fixture::point({0, 0, 2.0}, 2.4)));
 }
 
 TEST(LightCulling, CameraInsideALightsSphereKeepsIt) {
   Fixture f;
-  for (uint32_t tx : {0u, 60u, 119u}) EXPECT_TRUE(keptEverywhere(f.tile(tx, 0, 1.0, 4.0), Fixture::point({0, 0, 0}, 5.0)));
+  for (uint32_t tx : {0u, 60u, 119u})
+    EXPECT_TRUE(keptEverywhere(f.tile(tx, 0, 1.0, 4.0), Fixture::point({0, 0, 0}, 5.0)));
 }
 
 TEST(LightCulling, LightStraddlingTheNearBoundIsKept) {
@@ -343,7 +344,7 @@ TEST(LightCulling, DepthDiscontinuityBoundsTheTileByBothSurfaces) {
   depth[size_t(rect.y0) * f.width + rect.x0 + 7] = 0.0f;  // a sky pixel does not widen the range
   const auto r = tileDepthRange(depth, f.width, f.height, rect);
   const auto t = tileVolume(f.proj, rect, f.width, f.height, double(r.minDepth), double(r.maxDepth));
-  EXPECT_NEAR(t.zNear, -2.0, 2.0 * 1e-6);    // float depth: relative error ≲ 2u in z (reverse-Z)
+  EXPECT_NEAR(t.zNear, -2.0, 2.0 * 1e-6);  // float depth: relative error ≲ 2u in z (reverse-Z)
   EXPECT_NEAR(t.zFar, -100.0, 100.0 * 1e-6);
   const glm::dvec3 axis = (t.corners[0] + t.corners[2]) / 2.0 / 2.0;  // ray at z = -1
   for (double z : {2.0, 50.0, 100.0}) EXPECT_TRUE(keptEverywhere(t, Fixture::point(axis * z, 0.01)));

@@ -22,9 +22,7 @@ double capArea(double s) {
 }
 
 // Inverse of capArea on [0, 4π]: s = 2 asin(√(area/4π)) (Leopardi's sradius_of_cap, dim 2).
-double capColatitude(double area) {
-  return 2.0 * std::asin(std::sqrt(std::min(1.0, area / (4.0 * kPi))));
-}
+double capColatitude(double area) { return 2.0 * std::asin(std::sqrt(std::min(1.0, area / (4.0 * kPi)))); }
 
 // The toolbox's circle_offset (without the extra twist), in turns: half the difference of one
 // sector of each ring lines the sectors up, gcd/(2 m m') then turns by half the smallest angle
@@ -100,8 +98,8 @@ std::vector<EqRegion> eqRegions(uint32_t regions) {
       lo -= std::floor(lo);
       double centre = lo + 0.5 / m;
       if (centre >= 1.0) centre -= 1.0;
-      out.push_back({z, top, bottom, 2.0 * kPi * lo, 2.0 * kPi * (lo + 1.0 / m), 0.5 * (top + bottom),
-                     2.0 * kPi * centre});
+      out.push_back(
+          {z, top, bottom, 2.0 * kPi * lo, 2.0 * kPi * (lo + 1.0 / m), 0.5 * (top + bottom), 2.0 * kPi * centre});
     }
     offset += circleOffset(m, p.ringCounts[z + 1]);
     offset -= std::floor(offset);

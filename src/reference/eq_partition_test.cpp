@@ -137,8 +137,8 @@ TEST(LdmDirections, FiveHundredTwelveUnitDirectionsNoneTheNegativeOfAnother) {
   EXPECT_EQ(onEquator, 29);
   EXPECT_GT(closestToAntipode, 0.01);
   EXPECT_GT(closest, 0.01);
-  std::printf("[ ldm dirs ] n = 512: min |v + w| = %.4f, min |v - w| = %.4f, %d on the equator\n",
-              closestToAntipode, closest, onEquator);
+  std::printf("[ ldm dirs ] n = 512: min |v + w| = %.4f, min |v - w| = %.4f, %d on the equator\n", closestToAntipode,
+              closest, onEquator);
 }
 
 TEST(LdmDirections, AreDeterministic) {
@@ -157,8 +157,8 @@ TEST(LdmDirections, OpenSkyCosineSumIsOneWithinTheIssueBoundsForRandomNormals) {
     const auto dirs = ldmDirections(n);
     double worst = 0.0;
     for (int k = 0; k < 20000; ++k) worst = std::max(worst, std::abs(openSky(dirs, randomUnit(rng)) - 1.0));
-    std::printf("[ open sky ] n = %u: worst |(2/n) sum |m.v| - 1| over 20000 random normals = %.5f (bound %.3f)\n",
-                n, worst, bound);
+    std::printf("[ open sky ] n = %u: worst |(2/n) sum |m.v| - 1| over 20000 random normals = %.5f (bound %.3f)\n", n,
+                worst, bound);
     EXPECT_LE(worst, bound) << "n = " << n;
   }
 }

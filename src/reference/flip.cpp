@@ -145,7 +145,7 @@ FeatureKernels featureKernels(double ppd) {
     const double x = i;
     const double g = std::exp(-x * x / (2.0 * sigma * sigma));
     k.gauss.push_back(g);
-    k.edge.push_back(-x * g);                               // d/dx of the Gaussian (up to scale)
+    k.edge.push_back(-x * g);                                // d/dx of the Gaussian (up to scale)
     k.point.push_back((x * x / (sigma * sigma) - 1.0) * g);  // d²/dx² of the Gaussian (up to scale)
   }
   k.gauss = normalised(std::move(k.gauss));
@@ -294,9 +294,9 @@ int flipSupportRadius(double ppd) { return std::max(csfRadius(ppd), featureRadiu
 
 FlipResult ldrFlip(const ImageRGBA8& reference, const ImageRGBA8& test, double ppd) {
   if (reference.width != test.width || reference.height != test.height)
-    throw InputError("FLIP: reference is " + std::to_string(reference.width) + "x" +
-                     std::to_string(reference.height) + " but test is " + std::to_string(test.width) + "x" +
-                     std::to_string(test.height) + "; render both at the same resolution");
+    throw InputError("FLIP: reference is " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                     " but test is " + std::to_string(test.width) + "x" + std::to_string(test.height) +
+                     "; render both at the same resolution");
   HB_ASSERT(std::isfinite(ppd) && ppd > 0);
   HB_ASSERT(reference.width > 0 && reference.height > 0);
   HB_ASSERT(reference.px.size() == size_t(reference.width) * reference.height * 4);
@@ -318,11 +318,10 @@ FlipResult ldrFlip(const ImageRGBA8& reference, const ImageRGBA8& test, double p
     const double colourDistance =
         std::pow(hyab({ref.l.v[i], ref.a.v[i], ref.b.v[i]}, {tst.l.v[i], tst.a.v[i], tst.b.v[i]}), kQc);
     // Compress: [0, pc*cmax) -> [0, pt) linearly, [pc*cmax, cmax] -> [pt, 1].
-    const double ec = colourDistance < pcCmax
-                          ? kPt * colourDistance / pcCmax
-                          : kPt + (colourDistance - pcCmax) / (cmax - pcCmax) * (1.0 - kPt);
-    const double featureDiff = std::max(std::abs(double(ref.edge.v[i]) - tst.edge.v[i]),
-                                        std::abs(double(ref.point.v[i]) - tst.point.v[i]));
+    const double ec = colourDistance < pcCmax ? kPt * colourDistance / pcCmax
+                                              : kPt + (colourDistance - pcCmax) / (cmax - pcCmax) * (1.0 - kPt);
+    const double featureDiff =
+        std::max(std::abs(double(ref.edge.v[i]) - tst.edge.v[i]), std::abs(double(ref.point.v[i]) - tst.point.v[i]));
     const double ef = std::pow(featureDiff / std::numbers::sqrt2, kQf);
     // The paper takes green-blue (cmax) as the largest distance in the gamut, so the clamps only
     // absorb round-off.

@@ -20,7 +20,7 @@ constexpr double pixelsPerDegree(double distanceM, double widthM, double resolut
 constexpr double kDefaultPpd = pixelsPerDegree(0.7, 0.7, 3840);
 
 struct FlipResult {
-  ImageF errorMap;  // 1 channel, values in [0, 1]
+  ImageF errorMap;                             // 1 channel, values in [0, 1]
   double mean = 0, p50 = 0, p95 = 0, max = 0;  // percentiles interpolate linearly between ranks
 };
 

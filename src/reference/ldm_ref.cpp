@@ -191,8 +191,8 @@ double aoLdm(const std::vector<ExactLdm>& ldms, const glm::dvec3& p, const glm::
   return 2.0 * sum / double(ldms.size());
 }
 
-double aoLdm(const Bvh& bvh, const std::vector<LdmView>& views, const glm::dvec3& p, const glm::dvec3& n,
-             double dMax, double bias) {
+double aoLdm(const Bvh& bvh, const std::vector<LdmView>& views, const glm::dvec3& p, const glm::dvec3& n, double dMax,
+             double bias) {
   checkAoArguments(n, dMax, bias);
   HB_ASSERT(!views.empty());
   double sum = 0.0;

@@ -115,8 +115,8 @@ double aoRayTraced(const Bvh& bvh, const glm::dvec3& p, const glm::dvec3& n, con
 double aoLdm(const std::vector<ExactLdm>& ldms, const glm::dvec3& p, const glm::dvec3& n, double dMax, double bias);
 // Bit for bit the same as aoLdm on exactLdm(bvh, views[i]), building only the pixel each trace
 // reads (for many directions at high resolution).
-double aoLdm(const Bvh& bvh, const std::vector<LdmView>& views, const glm::dvec3& p, const glm::dvec3& n,
-             double dMax, double bias);
+double aoLdm(const Bvh& bvh, const std::vector<LdmView>& views, const glm::dvec3& p, const glm::dvec3& n, double dMax,
+             double bias);
 
 // The sample direction for (u, v) in [0, 1]²: Shirley-Chiu's concentric map to the unit disk
 // (area-preserving up to a constant), Malley's lift to the hemisphere about n

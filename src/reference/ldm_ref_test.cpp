@@ -73,8 +73,8 @@ bool slab(glm::dvec3 lo, glm::dvec3 hi, glm::dvec3 o, glm::dvec3 d, double& t0, 
 
 TEST(LdmView, BasisIsRightHandedOrthonormalWithRightCrossUpAlongMinusDir) {
   std::mt19937_64 rng(21);
-  std::vector<glm::dvec3> dirs = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                  {0, -1, 0}, {0.6, 0.8, 0.0}, {0.6, 0.8, -0.0}};
+  std::vector<glm::dvec3> dirs = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0},       {-1, 0, 0},
+                                  {0, 1, 0}, {0, -1, 0}, {0.6, 0.8, 0.0}, {0.6, 0.8, -0.0}};
   for (int k = 0; k < 2000; ++k) dirs.push_back(randomUnit(rng));
   for (const auto& d : ldmDirections(512)) dirs.push_back(d);
   for (const auto& d : dirs) {
@@ -170,8 +170,8 @@ TEST(ExactLdm, ABoxGivesTwoSortedEntriesPerPixelThroughItAndNoneOutside) {
   EXPECT_GT(outside, 5000);
   EXPECT_LT(borderline, 200);  // pixels within 1e-6 of the silhouette: a few per view at most
   EXPECT_GT(onDiagonal, 0);    // the merge of hits through a shared edge was exercised
-  std::printf("[ exact ldm ] box: %d pixels through, %d outside, %d borderline, %d on a shared edge\n",
-              inside, outside, borderline, onDiagonal);
+  std::printf("[ exact ldm ] box: %d pixels through, %d outside, %d borderline, %d on a shared edge\n", inside, outside,
+              borderline, onDiagonal);
 }
 
 TEST(ExactLdm, NodeStatsOfTwoBoxesBehindEachOther) {
@@ -190,8 +190,8 @@ TEST(ExactLdm, NodeStatsOfTwoBoxesBehindEachOther) {
   const double expected = 2.5 / (4.0 * s.radius * s.radius);
   EXPECT_NEAR(st.mean, expected, 0.02 * expected);
   EXPECT_EQ(st.p99, 4u);  // 0.25/(2r)² = 5.6 % of the pixels hold 4
-  std::printf("[ exact ldm ] two boxes, 128²: nodes per pixel mean %.4f (expected %.4f), p99 %u, max %u\n",
-              st.mean, expected, st.p99, st.max);
+  std::printf("[ exact ldm ] two boxes, 128²: nodes per pixel mean %.4f (expected %.4f), p99 %u, max %u\n", st.mean,
+              expected, st.p99, st.max);
 }
 
 TEST(ExactLdm, AClosedSphereHasEvenListsOfAtMostTwo) {
@@ -423,10 +423,11 @@ TEST(Ao, RayTracedAndMonteCarloMatchTheOpeningsViewFactorOnTheFloorOfAnOpenBox) 
     EXPECT_NEAR(rt, exact, tolRt) << f.x << "," << f.y;
     EXPECT_NEAR(mc, exact, tolMc) << f.x << "," << f.y;
     EXPECT_NEAR(rt, mc, tolRt + tolMc) << f.x << "," << f.y;
-    std::printf("[ ao ] open box at (%5.2f,%5.2f): exact %.5f  ray traced N=256 %.5f (err %+.5f, tol %.4f = "
-                "%.5f + 5x%.5f, %d regions crossed)  MC 1024 %.5f (err %+.5f, tol %.4f, %d strata crossed)\n",
-                f.x, f.y, exact, rt, rt - exact, tolRt, std::abs(q.deterministic), q.sigma, q.crossed, mc,
-                mc - exact, tolMc, s.crossed);
+    std::printf(
+        "[ ao ] open box at (%5.2f,%5.2f): exact %.5f  ray traced N=256 %.5f (err %+.5f, tol %.4f = "
+        "%.5f + 5x%.5f, %d regions crossed)  MC 1024 %.5f (err %+.5f, tol %.4f, %d strata crossed)\n",
+        f.x, f.y, exact, rt, rt - exact, tolRt, std::abs(q.deterministic), q.sigma, q.crossed, mc, mc - exact, tolMc,
+        s.crossed);
   }
 }
 
@@ -481,8 +482,8 @@ TEST(Ao, LdmAgreesWithRayTracingExceptWherePixelSizeOrBiasExplainIt) {
   const Bvh bvh = openTopBox(h);
   const LdmSphere sphere = ldmBoundingSphere(bvh);
   const auto dirs = ldmDirections(256);
-  const glm::dvec3 rim[4][2] = {{{-1, -1, h}, {1, -1, h}}, {{1, -1, h}, {1, 1, h}}, {{1, 1, h}, {-1, 1, h}},
-                                {{-1, 1, h}, {-1, -1, h}}};
+  const glm::dvec3 rim[4][2] = {
+      {{-1, -1, h}, {1, -1, h}}, {{1, -1, h}, {1, 1, h}}, {{1, 1, h}, {-1, 1, h}}, {{-1, 1, h}, {-1, -1, h}}};
   const glm::dvec3 n(0, 0, 1);
   for (uint32_t res : {64u, 512u, 4096u}) {
     const double d = std::sqrt(2.0) * sphere.radius / res;
@@ -516,9 +517,10 @@ TEST(Ao, LdmAgreesWithRayTracingExceptWherePixelSizeOrBiasExplainIt) {
       }
       worstGap = std::max(worstGap, std::abs(ldm - rt));
     }
-    std::printf("[ ao ] LDM vs ray traced, N=256, R=%u: %d of %zu direction tests differ, %d flagged, "
-                "worst |AO gap| %.5f\n",
-                res, differ, 4 * dirs.size(), flaggedCount, worstGap);
+    std::printf(
+        "[ ao ] LDM vs ray traced, N=256, R=%u: %d of %zu direction tests differ, %d flagged, "
+        "worst |AO gap| %.5f\n",
+        res, differ, 4 * dirs.size(), flaggedCount, worstGap);
     if (res == 4096) {
       EXPECT_EQ(differ, 0);
     }

@@ -131,8 +131,8 @@ double silvermanKernel(double l) {
 //   ∫ E_p π K dA = (Φ/((π/4) A_r))·π·A_r·∫_disk K dα' dβ'/4 = Φ·∫_disk K = Φ,
 // since ∫_disk K = ∫_0^1 (3/π)(1 - l²)² 2πl dl = 1. Off the plane, y - x = h n gives
 // M_p(y - x) = (0, 0, 2a h/den), l = 2|h|/√|den|: l = 1 at |h| = ½√|den|.
-double splatIrradiance(const glm::dvec3& x, const glm::dvec3& du, const glm::dvec3& dv, const glm::dvec3& n,
-                       double phi, const glm::dvec3& y) {
+double splatIrradiance(const glm::dvec3& x, const glm::dvec3& du, const glm::dvec3& dv, const glm::dvec3& n, double phi,
+                       const glm::dvec3& y) {
   const double footprint = glm::length(glm::cross(du, dv));  // A_r
   const glm::dvec3 dvXn = glm::cross(dv, n), nXdu = glm::cross(n, du);
   const double den = glm::dot(du, dvXn);

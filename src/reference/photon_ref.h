@@ -80,7 +80,7 @@ double silvermanKernel(double l);
 // support is the ellipse inscribed in the parallelogram x ± du/2 ± dv/2. A receiver at normal
 // distance h from the plane reaches the kernel's edge at h = ½√|du·(dv × n)| (half the width of
 // a square of the footprint's area): a sets how far across a crease a photon still lights.
-double splatIrradiance(const glm::dvec3& x, const glm::dvec3& du, const glm::dvec3& dv, const glm::dvec3& n,
-                       double phi, const glm::dvec3& y);
+double splatIrradiance(const glm::dvec3& x, const glm::dvec3& du, const glm::dvec3& dv, const glm::dvec3& n, double phi,
+                       const glm::dvec3& y);
 
 }  // namespace hb

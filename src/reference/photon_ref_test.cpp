@@ -108,7 +108,7 @@ TEST(PhotonRef, TransferMatchesTheHitsOfOffsetRays) {
   const double eps = 1e-6;
   for (int k = 0; k < 200; ++k) {
     const glm::dvec3 x0(3 * uni(rng), 3 * uni(rng), 3 * uni(rng));
-    const glm::dvec3 d = randomUnit(rng) * (k % 2 ? 1.0 : 1.7);  // unit and not
+    const glm::dvec3 d = randomUnit(rng) * (k % 2 ? 1.0 : 1.7);    // unit and not
     glm::dvec3 n = k == 0 ? -glm::normalize(d) : randomUnit(rng);  // head-on, else tilted
     if (std::abs(glm::dot(n, glm::normalize(d))) < 0.2) continue;  // grazing: the bound grows as 1/c
     const double t = 0.5 + 4.5 * (uni(rng) + 1.0) / 2.0;
@@ -122,7 +122,8 @@ TEST(PhotonRef, TransferMatchesTheHitsOfOffsetRays) {
     transferDifferential(d, t, n, dx, dd);
     const double c = glm::dot(n, d), g = glm::dot(n, dd), h = glm::dot(n, dx0);
     const double X = glm::length(x0) + t * glm::length(d) + glm::length(dx0) + glm::length(dd);
-    const double bound = eps * std::abs(h + t * g) / std::abs(c + eps * g) * (std::abs(g / c) * glm::length(d) + glm::length(dd));
+    const double bound =
+        eps * std::abs(h + t * g) / std::abs(c + eps * g) * (std::abs(g / c) * glm::length(d) + glm::length(dd));
     EXPECT_LE(glm::length((hit(eps) - hit(0.0)) / eps - dx), bound + 16.0 * kEps * X / eps) << k;
     // dx lies in the plane: dx·n = 0 up to the rounding of dx' + dt d (terms <= |dx'| + |dt d|).
     const glm::dvec3 moved = dx0 + t * dd;
@@ -238,7 +239,8 @@ TEST(PhotonRef, SplatVanishesOutsideTheEllipseAndBeyondItsNormalReach) {
   for (int k = 0; k < 64; ++k) {
     const double th = 2 * kPi * k / 64;
     const glm::dvec3 dir = 0.5 * (std::cos(th) * c.du + std::sin(th) * c.dv);
-    for (double rho : {1.0 + 1e-9, 1.5, 4.0}) EXPECT_EQ(splatIrradiance(c.x, c.du, c.dv, c.n, phi, c.x + rho * dir), 0.0);
+    for (double rho : {1.0 + 1e-9, 1.5, 4.0})
+      EXPECT_EQ(splatIrradiance(c.x, c.du, c.dv, c.n, phi, c.x + rho * dir), 0.0);
     EXPECT_GT(splatIrradiance(c.x, c.du, c.dv, c.n, phi, c.x + (1.0 - 1e-6) * dir), 0.0);
   }
   // Along the normal l = 2|h|/√|den|: the edge at |h| = ½√|den|, on both sides of the plane.

@@ -23,8 +23,6 @@ using raster3d_test::rayAt;
 constexpr double kU = 5.9604644775390625e-8;  // 2^-24
 double gamma(int k) { return k * kU / (1.0 - k * kU); }
 
-
-
 // Rounded after every operation, whatever the compiler's contraction setting.
 float mulR(float a, float b) {
   volatile float p = a * b;

@@ -26,8 +26,6 @@ struct Mesh {
   std::vector<uint32_t> indices;
 };
 
-
-
 // A planar mesh given in pixel coordinates (px, one per vertex), with its outline (a closed loop of
 // vertex indices); lifted onto a plane so that every vertex lies on the ray through its pixel
 // position (exactly in double, then rounded to float once, as a scene stores it).

@@ -10,8 +10,7 @@ template <typename T>
 ReconstructionCamera<T> reconstructionCamera(const glm::mat<4, 4, T>& view, const glm::mat<4, 4, T>& proj,
                                              uint32_t width, uint32_t height) {
   HB_ASSERT(width > 0 && height > 0);
-  return {glm::inverse(view), glm::inverse(proj * view), proj[0][0], proj[1][1], proj[2][2], proj[3][2],
-          width, height};
+  return {glm::inverse(view), glm::inverse(proj * view), proj[0][0], proj[1][1], proj[2][2], proj[3][2], width, height};
 }
 
 // Pixel centre → NDC with the fma form Herbie suggested (thesis 4.3.2).
@@ -72,9 +71,12 @@ struct Sampler {
       }
     }
     // Naive: the next sample, or the previous one at the last column/row (or beside sky).
-    if (r1) out = p(x + sx, y + sy) - p(x, y);
-    else if (l1) out = p(x, y) - p(x - sx, y - sy);
-    else return false;
+    if (r1)
+      out = p(x + sx, y + sy) - p(x, y);
+    else if (l1)
+      out = p(x, y) - p(x - sx, y - sy);
+    else
+      return false;
     return true;
   }
 };
@@ -82,8 +84,8 @@ struct Sampler {
 }  // namespace
 
 template <typename T>
-glm::vec<3, T> reconstructNormal(const std::vector<float>& depth, const ReconstructionCamera<T>& cam,
-                                 uint32_t x, uint32_t y, NormalMethod method, bool* ok) {
+glm::vec<3, T> reconstructNormal(const std::vector<float>& depth, const ReconstructionCamera<T>& cam, uint32_t x,
+                                 uint32_t y, NormalMethod method, bool* ok) {
   HB_ASSERT(depth.size() == size_t(cam.width) * cam.height && x < cam.width && y < cam.height);
   if (ok) *ok = false;
   const Sampler<T> s{depth, cam};
@@ -116,13 +118,13 @@ std::vector<ReconstructedPixel> reconstructImage(const std::vector<float>& depth
   return out;
 }
 
-#define HB_RECONSTRUCT_INSTANTIATE(T)                                                                      \
-  template ReconstructionCamera<T> reconstructionCamera(const glm::mat<4, 4, T>&, const glm::mat<4, 4, T>&, \
-                                                        uint32_t, uint32_t);                               \
-  template glm::vec<3, T> worldFromDepth(const ReconstructionCamera<T>&, uint32_t, uint32_t, T);           \
-  template glm::vec<3, T> worldFromDepthPlain(const ReconstructionCamera<T>&, uint32_t, uint32_t, T);      \
-  template glm::vec<3, T> reconstructNormal(const std::vector<float>&, const ReconstructionCamera<T>&,     \
-                                            uint32_t, uint32_t, NormalMethod, bool*);
+#define HB_RECONSTRUCT_INSTANTIATE(T)                                                                                 \
+  template ReconstructionCamera<T> reconstructionCamera(const glm::mat<4, 4, T>&, const glm::mat<4, 4, T>&, uint32_t, \
+                                                        uint32_t);                                                    \
+  template glm::vec<3, T> worldFromDepth(const ReconstructionCamera<T>&, uint32_t, uint32_t, T);                      \
+  template glm::vec<3, T> worldFromDepthPlain(const ReconstructionCamera<T>&, uint32_t, uint32_t, T);                 \
+  template glm::vec<3, T> reconstructNormal(const std::vector<float>&, const ReconstructionCamera<T>&, uint32_t,      \
+                                            uint32_t, NormalMethod, bool*);
 HB_RECONSTRUCT_INSTANTIATE(float)
 HB_RECONSTRUCT_INSTANTIATE(double)
 #undef HB_RECONSTRUCT_INSTANTIATE

@@ -49,8 +49,8 @@ struct ReconstructedPixel {
 //    the derivative: left P(0) - P(-1), right P(+1) - P(0); ties go left. A side needs both its
 //    samples; with one side complete it is used; with neither, the naive rule applies.
 template <typename T>
-glm::vec<3, T> reconstructNormal(const std::vector<float>& depth, const ReconstructionCamera<T>& cam,
-                                 uint32_t x, uint32_t y, NormalMethod method, bool* ok = nullptr);
+glm::vec<3, T> reconstructNormal(const std::vector<float>& depth, const ReconstructionCamera<T>& cam, uint32_t x,
+                                 uint32_t y, NormalMethod method, bool* ok = nullptr);
 
 // Every pixel, in double (the reference). Precondition: depth.size() == width*height.
 std::vector<ReconstructedPixel> reconstructImage(const std::vector<float>& depth,

@@ -4,15 +4,15 @@
 #include <functional>
 #include <optional>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "scene/camera.h"
 
 namespace hb {
 namespace {
 
-constexpr double kU = 0x1p-24;  // float unit roundoff
+constexpr double kU = 0x1p-24;   // float unit roundoff
 constexpr double kUd = 0x1p-53;  // double unit roundoff
 
 struct PlaneGeom {
@@ -103,7 +103,8 @@ double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
 template <typename T>
 void expectPlaneNormals(const View& v, const PlaneGeom& pl, NormalMethod method, double perPointExtra) {
   const auto depth = v.depth([&](uint32_t, uint32_t) { return &pl; });
-  ReconstructionCamera<T> cam = reconstructionCamera(glm::mat<4, 4, T>(v.view), glm::mat<4, 4, T>(v.proj), v.width, v.height);
+  ReconstructionCamera<T> cam =
+      reconstructionCamera(glm::mat<4, 4, T>(v.view), glm::mat<4, 4, T>(v.proj), v.width, v.height);
   int checked = 0;
   for (uint32_t y = 1; y + 1 < v.height; ++y)
     for (uint32_t x = 1; x + 1 < v.width; ++x) {
@@ -118,7 +119,8 @@ void expectPlaneNormals(const View& v, const PlaneGeom& pl, NormalMethod method,
                                ? p - v.pointAt(x, y - 1, *ty0)
                                : v.pointAt(x, y + 1, *ty1) - p;
       // Position error per sample (about the same for neighbours): depth rounding + arithmetic.
-      const double e = 1.01 * (depthRoundingBound(v, p) + perPointExtra * (glm::length(p - v.eye) + glm::length(v.eye)));
+      const double e =
+          1.01 * (depthRoundingBound(v, p) + perPointExtra * (glm::length(p - v.eye) + glm::length(v.eye)));
       bool ok = false;
       const glm::dvec3 n = glm::dvec3(reconstructNormal(depth, cam, x, y, method, &ok));
       ASSERT_TRUE(ok);
@@ -195,7 +197,8 @@ TEST(Reconstruction, SkyPixelsAreFlaggedAndNeverNaN) {
     }
     // The centre column (x = 16) has a normal wherever it and a neighbour per axis are not sky.
     auto geo = [&](int64_t x, int64_t y) {
-      return x >= 0 && y >= 0 && x < int64_t(v.width) && y < int64_t(v.height) && depth[size_t(y) * v.width + size_t(x)] > 0.0f;
+      return x >= 0 && y >= 0 && x < int64_t(v.width) && y < int64_t(v.height) &&
+             depth[size_t(y) * v.width + size_t(x)] > 0.0f;
     };
     int centre = 0;
     for (int64_t y = 0; y < int64_t(v.height); ++y) {

@@ -1,6 +1,6 @@
-#include "report/results_json.h"
-#include "base/text_format.h"
 #include "report/accuracy_report.h"
+#include "base/text_format.h"
+#include "report/results_json.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,7 +18,6 @@ namespace {
 
 using namespace results;  // at, numberAt, medianOf, escapeCell, csvField, requireResultsFile
 
-
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kDash = "—";
 
@@ -27,12 +26,9 @@ bool isOk(const json& run) { return at(run, "status") == "ok"; }
 double measureOf(const json& run, AccuracyMeasure m) {
   const json& acc = at(run, "accuracy");
   switch (m) {
-    case AccuracyMeasure::AoError:
-      return numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae");
-    case AccuracyMeasure::IndirectError:
-      return numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse");
-    case AccuracyMeasure::ImageError:
-      return numberAt(acc, "image_error");
+    case AccuracyMeasure::AoError: return numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae");
+    case AccuracyMeasure::IndirectError: return numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse");
+    case AccuracyMeasure::ImageError: return numberAt(acc, "image_error");
     case AccuracyMeasure::ShadowMismatchRate: {
       const json& sm = at(acc, "shadow_mismatches");
       const double pairs = numberAt(sm, "pairs_compared");
@@ -45,12 +41,10 @@ double measureOf(const json& run, AccuracyMeasure m) {
       if (!(oracle > 0) || !std::isfinite(traced)) return kNaN;
       return std::max(0.0, oracle - traced) / oracle;
     }
-    case AccuracyMeasure::None:
-      break;
+    case AccuracyMeasure::None: break;
   }
   return kNaN;
 }
-
 
 std::string cell(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : kDash; }
 
@@ -121,8 +115,8 @@ AccuracyFront accuracyFront(const json& results) {
 
   // The first measure that every ok run with a frame time carries, so all points share a scale.
   front.measure = AccuracyMeasure::None;
-  for (AccuracyMeasure m : {AccuracyMeasure::AoError, AccuracyMeasure::IndirectError, AccuracyMeasure::ImageError, AccuracyMeasure::ShadowMismatchRate,
-                            AccuracyMeasure::RayDeficit}) {
+  for (AccuracyMeasure m : {AccuracyMeasure::AoError, AccuracyMeasure::IndirectError, AccuracyMeasure::ImageError,
+                            AccuracyMeasure::ShadowMismatchRate, AccuracyMeasure::RayDeficit}) {
     bool all = true, any = false;
     for (const json& run : runs) {
       if (!isOk(run) || !std::isfinite(medianOf(at(run, "frame_ms")))) continue;
@@ -139,17 +133,14 @@ AccuracyFront accuracyFront(const json& results) {
     AccuracyPoint p;
     p.name = stringOr(at(run, "name"), "(unnamed)");
     p.ok = isOk(run);
-    if (!p.ok)
-      p.failure = stringOr(at(run, "error"), "status " + at(run, "status").dump());
+    if (!p.ok) p.failure = stringOr(at(run, "error"), "status " + at(run, "status").dump());
     p.frameMs = medianOf(at(run, "frame_ms"));
     p.error = measureOf(run, front.measure);
     front.points.push_back(p);
   }
 
   // O(n²) dominance test; sweeps have tens of runs.
-  auto eligible = [](const AccuracyPoint& p) {
-    return p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error);
-  };
+  auto eligible = [](const AccuracyPoint& p) { return p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error); };
   for (AccuracyPoint& p : front.points) {
     if (!eligible(p)) continue;
     p.onFront = true;
@@ -181,8 +172,9 @@ std::string accuracyReportMarkdown(const json& results) {
 
   std::string out = "## Accuracy vs frame time — " + escapeCell(sweepName(results)) + "\n\n" +
                     escapeCell(contextLine(results)) + "\n\n";
-  out += "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | Lights reaching no "
-         "pixel | False negatives | Normal error (°) | Normal image error | World-pos error";
+  out +=
+      "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | Lights reaching no "
+      "pixel | False negatives | Normal error (°) | Normal image error | World-pos error";
   std::string rule = "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:";
   if (anyImage) out += " | Image error (FLIP)", rule += "|--:";
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
@@ -208,25 +200,23 @@ std::string accuracyReportMarkdown(const json& results) {
     const json& acc = at(run, "accuracy");
     const json& sm = at(acc, "shadow_mismatches");
     out += cell(p.frameMs, "%.3f") + " | " + cell(numberAt(rays, "traced"), "%.0f") + " | " +
-           cell(numberAt(rays, "efficiency"), "%.3f") + " | " +
-           cell(numberAt(cull, "false_positive_rate"), "%.3f") + " | " +
-           cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
+           cell(numberAt(rays, "efficiency"), "%.3f") + " | " + cell(numberAt(cull, "false_positive_rate"), "%.3f") +
+           " | " + cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
            cell(numberAt(cull, "false_negatives"), "%.0f") + " | " +
            cell(numberAt(acc, "normal_angular_error_deg"), "%.2f") + " | " +
            cell(numberAt(acc, "normal_image_error"), "%.4g") + " | " +
            cell(numberAt(acc, "world_pos_rel_error"), "%.2e");
     if (anyImage) out += " | " + cell(numberAt(acc, "image_error"), "%.4g");
     if (anyShadow)
-      out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " +
-             cell(numberAt(sm, "wrongly_lit"), "%.0f");
+      out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " + cell(numberAt(sm, "wrongly_lit"), "%.0f");
     if (anyAo) out += " | " + cell(numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae"), "%.4f");
     if (anyIndirect) out += " | " + cell(numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse"), "%.4f");
     const bool placed = std::isfinite(p.frameMs) && std::isfinite(p.error);
     out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
   }
 
-  out += std::string("\nPareto front: frame time (median ms) against ") +
-         accuracyMeasureLabel(front.measure) + " = " + accuracyMeasureDefinition(front.measure) +
+  out += std::string("\nPareto front: frame time (median ms) against ") + accuracyMeasureLabel(front.measure) + " = " +
+         accuracyMeasureDefinition(front.measure) +
          ". A run is on the front when no other ok run is at least as fast and at least as "
          "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
          "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
@@ -237,8 +227,7 @@ std::string accuracyReportMarkdown(const json& results) {
          "variant reconstructs no normals).\n";
   if (!failed.empty()) {
     out += "\nFailed runs (not on the front):\n";
-    for (const AccuracyPoint* p : failed)
-      out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";
+    for (const AccuracyPoint* p : failed) out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";
   }
   return out;
 }
@@ -299,31 +288,26 @@ std::string accuracyReportSvg(const json& results) {
   s += format("<text x=\"%.0f\" y=\"28\" font-size=\"16\" font-weight=\"bold\">", kL) +
        escapeXml("Accuracy vs frame time — " + contextLine(results)) + "</text>\n";
   s += format("<text x=\"%.0f\" y=\"48\">", kL) +
-       escapeXml("sweep " + sweepName(results) + "; red: Pareto front (lower-left is better)") +
-       "</text>\n";
+       escapeXml("sweep " + sweepName(results) + "; red: Pareto front (lower-left is better)") + "</text>\n";
 
   // Grid, ticks and tick labels.
   for (int i = 0; i <= kMaxTicks && xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
     const double v = xa.lo + i * xa.step, x = px(v);
-    s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x,
-                kT, x, kB);
-    s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18,
-                xa.decimals, v);
+    s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x, kT, x, kB);
+    s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18, xa.decimals, v);
   }
   for (int i = 0; i <= kMaxTicks && ya.lo + i * ya.step <= ya.hi + 0.5 * ya.step; ++i) {
     const double v = ya.lo + i * ya.step, y = py(v);
-    s += format("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", kL,
-                y, kR, y);
-    s += format("<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.*f</text>\n", kL - 6, y + 4,
-                ya.decimals, v);
+    s += format("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#e0e0e0\"/>\n", kL, y, kR, y);
+    s += format("<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.*f</text>\n", kL - 6, y + 4, ya.decimals, v);
   }
-  s += format("<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" "
-              "stroke=\"black\"/>\n",
-              kL, kT, kR - kL, kB - kT);
-  s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">frame time, median (ms)</text>\n",
-              0.5 * (kL + kR), kB + 42);
-  s += format("<text transform=\"translate(20 %.0f) rotate(-90)\" text-anchor=\"middle\">",
-              0.5 * (kT + kB)) +
+  s += format(
+      "<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" "
+      "stroke=\"black\"/>\n",
+      kL, kT, kR - kL, kB - kT);
+  s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">frame time, median (ms)</text>\n", 0.5 * (kL + kR),
+              kB + 42);
+  s += format("<text transform=\"translate(20 %.0f) rotate(-90)\" text-anchor=\"middle\">", 0.5 * (kT + kB)) +
        escapeXml(accuracyMeasureLabel(front.measure)) + "</text>\n";
 
   // Staircase through the front, sorted by time: right at the current error, then down — the
@@ -331,19 +315,18 @@ std::string accuracyReportSvg(const json& results) {
   std::vector<const AccuracyPoint*> fr;
   for (const AccuracyPoint* p : pts)
     if (p->onFront) fr.push_back(p);
-  std::sort(fr.begin(), fr.end(),
-            [](auto* a, auto* b) { return a->frameMs < b->frameMs || (a->frameMs == b->frameMs && a->error > b->error); });
+  std::sort(fr.begin(), fr.end(), [](auto* a, auto* b) {
+    return a->frameMs < b->frameMs || (a->frameMs == b->frameMs && a->error > b->error);
+  });
   if (fr.size() > 1) {
     s += format("<path d=\"M %.1f %.1f", px(fr[0]->frameMs), py(fr[0]->error));
-    for (size_t i = 1; i < fr.size(); ++i)
-      s += format(" H %.1f V %.1f", px(fr[i]->frameMs), py(fr[i]->error));
+    for (size_t i = 1; i < fr.size(); ++i) s += format(" H %.1f V %.1f", px(fr[i]->frameMs), py(fr[i]->error));
     s += "\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n";
   }
 
   // Points numbered in results order, with a legend of full names.
   if (pts.empty())
-    s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">", 0.5 * (kL + kR),
-                0.5 * (kT + kB)) +
+    s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">", 0.5 * (kL + kR), 0.5 * (kT + kB)) +
          escapeXml(front.measure == AccuracyMeasure::None ? "no accuracy measure in the results"
                                                           : "no ok runs to plot") +
          "</text>\n";
@@ -352,9 +335,10 @@ std::string accuracyReportSvg(const json& results) {
     const AccuracyPoint& p = *pts[i];
     const char* color = p.onFront ? "#d62728" : "#1f77b4";
     const double x = px(p.frameMs), y = py(p.error);
-    s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.7\" "
-                "stroke=\"%s\"><title>",
-                x, y, color, color) +
+    s += format(
+             "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.7\" "
+             "stroke=\"%s\"><title>",
+             x, y, color, color) +
          escapeXml(p.name + format(": %.3f ms, %.4g", p.frameMs, p.error)) + "</title></circle>\n";
     double lx = x + 6;  // shift right past labels already placed at about the same spot
     // Each move takes lx past one placed label, so there are at most labels.size() of them.
@@ -364,8 +348,7 @@ std::string accuracyReportSvg(const json& results) {
         if (std::abs(ox - lx) < 12 && std::abs(oy - (y - 6)) < 11) lx = ox + 12, moved = 1;
     }
     labels.emplace_back(lx, y - 6);
-    s += format("<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">%zu</text>\n", lx,
-                y - 6, color, i + 1);
+    s += format("<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">%zu</text>\n", lx, y - 6, color, i + 1);
     s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">", kR + 20, kT + 10 + 18.0 * i, color) +
          escapeXml(format("%zu  ", i + 1) + p.name + (p.onFront ? " (front)" : "")) + "</text>\n";
   }

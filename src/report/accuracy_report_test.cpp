@@ -11,7 +11,6 @@
 #include "base/errors.h"
 #include "report/xml_test_util.h"
 
-
 namespace hb {
 namespace {
 
@@ -36,9 +35,7 @@ json run(const std::string& name, double ms, double imageError) {
 json resultsWith(std::vector<json> runs) {
   return {{"schema_version", 1},
           {"context",
-           {{"device", {{"name", "Test <GPU> & Co"}}},
-            {"resolution", {64, 32}},
-            {"config", {{"name", "unit"}}}}},
+           {{"device", {{"name", "Test <GPU> & Co"}}}, {"resolution", {64, 32}}, {"config", {{"name", "unit"}}}}},
           {"runs", runs}};
 }
 
@@ -54,8 +51,8 @@ json handMade() {
   json f = run("F", 1, 0);
   f["status"] = "error";
   f["error"] = "device lost | retry";
-  return resultsWith({run("A", 10, 0), run("B", 5, 0.01), run("C", 4, 0.02), run("D", 6, 0.01),
-                      run("E", 5, 0.01), f, run("G", 12, 0)});
+  return resultsWith({run("A", 10, 0), run("B", 5, 0.01), run("C", 4, 0.02), run("D", 6, 0.01), run("E", 5, 0.01), f,
+                      run("G", 12, 0)});
 }
 
 std::vector<std::string> frontNames(const AccuracyFront& f) {
@@ -111,7 +108,9 @@ TEST(AccuracyReport, FailedRunsAreListedAndNeverOnTheFront) {
 }
 
 TEST(AccuracyReport, MissingFieldsPrintADashNeverAFigure) {
-  json bare = {{"name", "bare"}, {"status", "ok"}, {"frame_ms", {{"median", 3.0}}},
+  json bare = {{"name", "bare"},
+               {"status", "ok"},
+               {"frame_ms", {{"median", 3.0}}},
                {"rays", {{"traced", 100}, {"oracle", 100}}}};
   const std::string md = accuracyReportMarkdown(resultsWith({run("full", 5, 0.01), bare}));
   const std::vector<std::string> cells = rowCells(md, "bare");

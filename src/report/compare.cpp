@@ -1,5 +1,5 @@
-#include "base/text_format.h"
 #include "report/compare.h"
+#include "base/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <limits>
 #include <span>
 
-#include "config/config.h"
 #include "base/errors.h"
+#include "config/config.h"
 #include "report/stats.h"
 
 namespace hb {
@@ -22,8 +22,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // Passes in frame order (docs/frame.md "The frame"); others follow alphabetically.
 const std::vector<std::string> kPassOrder = {"depth_prepass", "tile_frustums", "light_culling",
-                                             "shadows", "shading", "analysis"};
-
+                                             "shadows",       "shading",       "analysis"};
 
 // The value at a dotted path, or null where any step is missing (never throws).
 json valueAt(const json& root, const std::vector<std::string>& path) {
@@ -42,15 +41,20 @@ std::string shortDump(const json& v) {
 
 void requireResultsFile(const json& r, const char* side) {
   if (!r.is_object() || !r.contains("schema_version"))
-    throw InputError(format("results %s: not a hybridbench results file (no schema_version); "
-                            "pass a results.json written by 'hybridbench sweep'", side));
+    throw InputError(
+        format("results %s: not a hybridbench results file (no schema_version); "
+               "pass a results.json written by 'hybridbench sweep'",
+               side));
   if (r["schema_version"] != 1)
-    throw InputError(format("results %s: schema_version %s is not supported (expected 1); "
-                            "regenerate it with this version of hybridbench",
-                            side, shortDump(r["schema_version"]).c_str()));
+    throw InputError(
+        format("results %s: schema_version %s is not supported (expected 1); "
+               "regenerate it with this version of hybridbench",
+               side, shortDump(r["schema_version"]).c_str()));
   if (!r.contains("runs") || !r["runs"].is_array())
-    throw InputError(format("results %s: field 'runs' is missing or not an array; pass a "
-                            "complete results.json", side));
+    throw InputError(
+        format("results %s: field 'runs' is missing or not an array; pass a "
+               "complete results.json",
+               side));
 }
 
 // A results file written before a parameter existed lacks its key; its runs used that parameter's
@@ -67,23 +71,20 @@ json withParamDefaults(json variants) {
 }
 
 // Fields that must agree for a comparison to mean anything: same scene bytes, same config.
-void checkComparable(const json& a, const json& b, const CompareOptions& options,
-                     std::vector<std::string>& warnings) {
+void checkComparable(const json& a, const json& b, const CompareOptions& options, std::vector<std::string>& warnings) {
   const std::vector<std::vector<std::string>> fields = {
-      {"context", "scene", "sha256"}, {"context", "config", "scene"},
-      {"context", "resolution"},      {"context", "config", "resolution"},
-      {"context", "config", "variants"}, {"context", "config", "sweep"}};
+      {"context", "scene", "sha256"},      {"context", "config", "scene"},    {"context", "resolution"},
+      {"context", "config", "resolution"}, {"context", "config", "variants"}, {"context", "config", "sweep"}};
   for (const auto& path : fields) {
     json va = valueAt(a, path), vb = valueAt(b, path);
     if (path.back() == "variants") va = withParamDefaults(va), vb = withParamDefaults(vb);
     if (va == vb) continue;
     std::string name;
     for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;
-    const std::string what = format("%s differs (A: %s, B: %s)", name.c_str(),
-                                    shortDump(va).c_str(), shortDump(vb).c_str());
+    const std::string what =
+        format("%s differs (A: %s, B: %s)", name.c_str(), shortDump(va).c_str(), shortDump(vb).c_str());
     if (!options.force)
-      throw InputError("cannot compare: " + what +
-                       "; compare runs of the same scene and config, or pass --force");
+      throw InputError("cannot compare: " + what + "; compare runs of the same scene and config, or pass --force");
     warnings.push_back("forced comparison: " + what);
   }
 }
@@ -114,8 +115,8 @@ Timing timingOf(const json& stats) {
 
 std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   const bool significant = r.p < o.alpha;  // false for NaN (no samples)
-  const bool noisy = r.nA < kMinSamplesForVerdict || r.nB < kMinSamplesForVerdict ||
-                     !(r.cvA <= kMaxQuietCv) || !(r.cvB <= kMaxQuietCv);
+  const bool noisy = r.nA < kMinSamplesForVerdict || r.nB < kMinSamplesForVerdict || !(r.cvA <= kMaxQuietCv) ||
+                     !(r.cvB <= kMaxQuietCv);
   if (noisy && !significant) return "too noisy";
   const double t = o.thresholdPct / 100;
   if (significant && r.ratio > 1 + t) return "slower";
@@ -123,9 +124,8 @@ std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   return "same";
 }
 
-CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta,
-                          const Timing& tb, const CompareOptions& o,
-                          std::vector<std::string>& warnings) {
+CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta, const Timing& tb,
+                          const CompareOptions& o, std::vector<std::string>& warnings) {
   CompareRow r;
   r.variant = variant;
   r.pass = pass;
@@ -144,15 +144,15 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
     r.ciHigh = ci.high;
   }
   if (pass == "frame" && (r.nA < kFewSamplesWarning || r.nB < kFewSamplesWarning))
-    warnings.push_back(format("%s: only %zu (A) and %zu (B) frame samples; fewer than %zu leaves "
-                              "the U test little power, measure more frames",
-                              variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
+    warnings.push_back(
+        format("%s: only %zu (A) and %zu (B) frame samples; fewer than %zu leaves "
+               "the U test little power, measure more frames",
+               variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
   r.verdict = verdictFor(r, o);
   return r;
 }
 
-std::vector<std::string> passesInFrameOrder(const json& passesA, const json& passesB,
-                                            const std::string& variant,
+std::vector<std::string> passesInFrameOrder(const json& passesA, const json& passesB, const std::string& variant,
                                             std::vector<std::string>& warnings) {
   std::vector<std::string> common, extra;
   auto keysOf = [](const json& p) {
@@ -168,8 +168,7 @@ std::vector<std::string> passesInFrameOrder(const json& passesA, const json& pas
       warnings.push_back(variant + ": pass '" + k + "' only in A");
   }
   for (const std::string& k : keysOf(passesB))
-    if (!passesA.is_object() || !passesA.contains(k))
-      warnings.push_back(variant + ": pass '" + k + "' only in B");
+    if (!passesA.is_object() || !passesA.contains(k)) warnings.push_back(variant + ": pass '" + k + "' only in B");
   auto rank = [](const std::string& p) {
     auto it = std::find(kPassOrder.begin(), kPassOrder.end(), p);
     return static_cast<size_t>(it - kPassOrder.begin());
@@ -190,9 +189,7 @@ std::string deviceName(const json& r) {
   return v.is_string() ? v.get<std::string>() : "unknown";
 }
 
-std::string num(double v, const char* fmt) {
-  return std::isfinite(v) ? format(fmt, v) : std::string("n/a");
-}
+std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : std::string("n/a"); }
 
 json numOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
@@ -204,8 +201,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
   if (!(options.alpha > 0 && options.alpha < 1))
     throw InputError(format("--alpha %g is outside (0, 1); use e.g. 0.05", options.alpha));
   if (!(options.thresholdPct >= 0))
-    throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5",
-                            options.thresholdPct));
+    throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5", options.thresholdPct));
   CompareReport report;
   report.deviceA = deviceName(a);
   report.deviceB = deviceName(b);
@@ -225,13 +221,12 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const std::string statusA = runA.value("status", std::string("ok"));
     const std::string statusB = runB->value("status", std::string("ok"));
     if (statusA != "ok" || statusB != "ok") {
-      report.warnings.push_back(format("variant '%s' skipped: status %s in A, %s in B",
-                                       name.c_str(), statusA.c_str(), statusB.c_str()));
+      report.warnings.push_back(
+          format("variant '%s' skipped: status %s in A, %s in B", name.c_str(), statusA.c_str(), statusB.c_str()));
       continue;
     }
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
-                                      timingOf(runB->value("frame_ms", json())), options,
-                                      report.warnings);
+                                      timingOf(runB->value("frame_ms", json())), options, report.warnings);
     if (frame.verdict == "slower") report.regression = true;
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
@@ -241,38 +236,34 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json passesA = runA.value("passes", json::object());
     const json passesB = runB->value("passes", json::object());
     for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
-      report.rows.push_back(compareTimings(name, pass, timingOf(passesA[pass]),
-                                           timingOf(passesB[pass]), options, report.warnings));
+      report.rows.push_back(
+          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, report.warnings));
   }
   for (const json& runB : b["runs"]) {
     const std::string name = runB.value("name", std::string());
     if (!findRun(a["runs"], name)) report.warnings.push_back("variant '" + name + "' only in B");
   }
-  report.geomeanRatio =
-      logRatioCount ? std::exp(logRatioSum / static_cast<double>(logRatioCount)) : kNaN;
+  report.geomeanRatio = logRatioCount ? std::exp(logRatioSum / static_cast<double>(logRatioCount)) : kNaN;
   return report;
 }
 
 std::string formatCompare(const CompareReport& r) {
   const double confidencePct = 100 * (1 - r.alpha);
-  std::string out = format("A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g\n\n", r.deviceA.c_str(),
-                           r.deviceB.c_str(), r.thresholdPct, r.alpha);
-  out += format("| variant | pass | A median (ms) | B median (ms) | B/A | %.4g %% CI of B/A | p | "
-                "verdict |\n",
-                confidencePct);
+  std::string out = format("A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g\n\n", r.deviceA.c_str(), r.deviceB.c_str(),
+                           r.thresholdPct, r.alpha);
+  out += format(
+      "| variant | pass | A median (ms) | B median (ms) | B/A | %.4g %% CI of B/A | p | "
+      "verdict |\n",
+      confidencePct);
   out += "|---|---|---:|---:|---:|---|---:|---|\n";
   for (const CompareRow& row : r.rows) {
-    const std::string p = !std::isfinite(row.p) ? "n/a"
-                          : row.p < 1e-4        ? "<0.0001"
-                                                : format("%.4f", row.p);
-    out += "| " + row.variant + " | " + row.pass + " | " + num(row.medianA, "%.3f") + " | " +
-           num(row.medianB, "%.3f") + " | " + num(row.ratio, "%.3f") + " | [" +
-           num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "] | " + p + " | " +
-           row.verdict + " |\n";
+    const std::string p = !std::isfinite(row.p) ? "n/a" : row.p < 1e-4 ? "<0.0001" : format("%.4f", row.p);
+    out += "| " + row.variant + " | " + row.pass + " | " + num(row.medianA, "%.3f") + " | " + num(row.medianB, "%.3f") +
+           " | " + num(row.ratio, "%.3f") + " | [" + num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "] | " +
+           p + " | " + row.verdict + " |\n";
   }
   out += "\ngeometric mean of frame-time ratios B/A: " + num(r.geomeanRatio, "%.4f") + "\n";
-  out += std::string("regression (a frame time slower beyond the threshold): ") +
-         (r.regression ? "yes" : "no") + "\n";
+  out += std::string("regression (a frame time slower beyond the threshold): ") + (r.regression ? "yes" : "no") + "\n";
   if (!r.warnings.empty()) {
     out += "\nwarnings:\n";
     for (const std::string& w : r.warnings) out += "- " + w + "\n";
@@ -286,8 +277,8 @@ std::string formatCompareJunit(const CompareReport& r) {
     failures += row.verdict == "slower";
     skipped += row.verdict == "too noisy";
   }
-  const std::string counts = format("tests=\"%zu\" failures=\"%zu\" errors=\"0\" skipped=\"%zu\"", r.rows.size(),
-                                    failures, skipped);
+  const std::string counts =
+      format("tests=\"%zu\" failures=\"%zu\" errors=\"0\" skipped=\"%zu\"", r.rows.size(), failures, skipped);
   std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   out += "<testsuites name=\"hybridbench compare\" " + counts + ">\n";
   out += "  <testsuite name=\"" + escapeXml(r.deviceB + " against " + r.deviceA) + "\" " + counts + ">\n";
@@ -300,9 +291,8 @@ std::string formatCompareJunit(const CompareReport& r) {
   out += "    </properties>\n";
   for (const CompareRow& row : r.rows) {
     const std::string what = "B/A " + num(row.ratio, "%.3f") + " (" + num(row.medianB, "%.3f") + " ms against " +
-                             num(row.medianA, "%.3f") + " ms), " + format("%.4g", 100 * (1 - r.alpha)) +
-                             " % CI [" + num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "], p " +
-                             num(row.p, "%.4g");
+                             num(row.medianA, "%.3f") + " ms), " + format("%.4g", 100 * (1 - r.alpha)) + " % CI [" +
+                             num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "], p " + num(row.p, "%.4g");
     // time: B's median in seconds (JUnit's unit), 0 when missing.
     out += "    <testcase classname=\"" + escapeXml("hybridbench." + row.variant) + "\" name=\"" + escapeXml(row.pass) +
            "\" time=\"" + format("%.6f", std::isfinite(row.medianB) ? row.medianB / 1000.0 : 0.0) + "\"";

@@ -27,15 +27,15 @@ constexpr double kMaxQuietCv = 0.10;
 constexpr size_t kFewSamplesWarning = 20;
 
 struct CompareRow {
-  std::string variant;       // run name, matched between A and B
-  std::string pass;          // "frame" or a pass name ("shadows", ...)
-  size_t nA = 0, nB = 0;     // samples per side
+  std::string variant;    // run name, matched between A and B
+  std::string pass;       // "frame" or a pass name ("shadows", ...)
+  size_t nA = 0, nB = 0;  // samples per side
   double medianA = 0, medianB = 0;
   double cvA = 0, cvB = 0;
-  double ratio = 0;          // medianB / medianA (> 1: B is slower)
+  double ratio = 0;              // medianB / medianA (> 1: B is slower)
   double ciLow = 0, ciHigh = 0;  // ratioInterval(A, B, alpha): NaN without samples
-  double p = 1;              // Mann-Whitney two-sided; NaN without samples
-  std::string verdict;       // "faster" | "slower" | "same" | "too noisy"
+  double p = 1;                  // Mann-Whitney two-sided; NaN without samples
+  std::string verdict;           // "faster" | "slower" | "same" | "too noisy"
 };
 
 struct CompareReport {
@@ -44,7 +44,7 @@ struct CompareReport {
   std::vector<CompareRow> rows;  // per matched variant: "frame" first, then passes in frame order
   double geomeanRatio = 0;       // geometric mean of the frame-level ratios (NaN when none)
   std::vector<std::string> warnings;
-  bool regression = false;       // any frame-level row is "slower"
+  bool regression = false;  // any frame-level row is "slower"
 };
 
 // Compares results file b against a (docs/results-format.md, schema_version 1).
@@ -52,8 +52,7 @@ struct CompareReport {
 // context.scene.sha256, the config's scene, the resolution or the config's variants differ; the
 // message names the field and both values. Runs whose status is not "ok", variants or passes
 // present on one side only, and small samples give warnings, not errors.
-CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b,
-                             const CompareOptions& options);
+CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b, const CompareOptions& options);
 
 // A Markdown table for the console and for CI logs, then the geometric mean, the regression
 // flag and the warnings.

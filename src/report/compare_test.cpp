@@ -9,8 +9,8 @@
 
 #include "report/xml_test_util.h"
 
-#include "config/config.h"
 #include "base/errors.h"
+#include "config/config.h"
 #include "report/stats.h"
 
 namespace hb {
@@ -35,19 +35,17 @@ json statsBlock(const std::vector<double>& samples) { return toJson(summarize(sa
 
 // A minimal schema-1 results file: one run per (name, frame-time center), a "shadows" pass at
 // 90 % of the frame.
-json makeResults(const std::string& sceneSha, uint32_t seed, size_t n, double scale,
-                 double cv = 0.02) {
+json makeResults(const std::string& sceneSha, uint32_t seed, size_t n, double scale, double cv = 0.02) {
   std::mt19937 rng(seed);
   json runs = json::array();
-  for (const auto& [name, center] : {std::pair<const char*, double>{"no_opt_t8", 16.0},
-                                     {"all_on_t8", 9.44}}) {
+  for (const auto& [name, center] : {std::pair<const char*, double>{"no_opt_t8", 16.0}, {"all_on_t8", 9.44}}) {
     runs.push_back({{"name", name},
                     {"params", {{"tile_size", 8}}},
                     {"frames", n},
                     {"frame_ms", statsBlock(noisyTimes(rng, n, center * scale, cv))},
                     {"passes",
                      {{"shadows", statsBlock(noisyTimes(rng, n, 0.9 * center * scale, cv))},
-                                {"depth_prepass", statsBlock(noisyTimes(rng, n, 0.3, cv))}}},
+                      {"depth_prepass", statsBlock(noisyTimes(rng, n, 0.3, cv))}}},
                     {"status", "ok"}});
   }
   return {{"schema_version", 1},
@@ -93,7 +91,8 @@ TEST(CompareResults, TwentyPercentSlowerIsARegression) {
 // both variants; depth_prepass is not scaled in B), none when the two draws match; well-formed XML
 // with the counts in the suite's attributes.
 TEST(CompareResults, JunitReportHasATestCasePerRowAndAFailurePerSlowdown) {
-  const json a = makeResults("abc", 1, 30, 1.0), slow = makeResults("abc", 2, 30, 1.2), same = makeResults("abc", 2, 30, 1.0);
+  const json a = makeResults("abc", 1, 30, 1.0), slow = makeResults("abc", 2, 30, 1.2),
+             same = makeResults("abc", 2, 30, 1.0);
   const CompareReport r = compareResults(a, slow, {});
   const std::string xml = formatCompareJunit(r);
   EXPECT_EQ(testing::xmlProblem(xml), "") << xml;
@@ -211,15 +210,14 @@ TEST(FormatCompare, MarkdownTableHasOneLinePerRowAndTheVerdict) {
   const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
   const CompareReport r = compareResults(a, b, {});
   const std::string text = formatCompare(r);
-  EXPECT_NE(text.find("| variant | pass | A median (ms) | B median (ms) | B/A | 95 % CI of B/A"),
-            std::string::npos) << text;
+  EXPECT_NE(text.find("| variant | pass | A median (ms) | B median (ms) | B/A | 95 % CI of B/A"), std::string::npos)
+      << text;
   size_t tableLines = 0;
   for (size_t pos = 0; (pos = text.find("\n| ", pos)) != std::string::npos; ++pos) ++tableLines;
   EXPECT_EQ(tableLines, r.rows.size() + 1);  // + header line (the separator starts with "|-")
   EXPECT_NE(text.find("| no_opt_t8 | frame |"), std::string::npos);
   EXPECT_NE(text.find("| slower |"), std::string::npos);
-  EXPECT_NE(text.find("regression (a frame time slower beyond the threshold): yes"),
-            std::string::npos);
+  EXPECT_NE(text.find("regression (a frame time slower beyond the threshold): yes"), std::string::npos);
   // Frame row first, then passes in frame order.
   EXPECT_LT(text.find("| no_opt_t8 | depth_prepass |"), text.find("| no_opt_t8 | shadows |"));
 }
@@ -229,8 +227,7 @@ TEST(CompareToJson, CarriesRowsAndTheRegressionFlag) {
   const json j = toJson(compareResults(a, b, {}));
   EXPECT_TRUE(j["regression"].get<bool>());
   ASSERT_EQ(j["rows"].size(), 6u);
-  for (const char* key : {"variant", "pass", "median_a", "median_b", "ratio", "ci_low", "ci_high",
-                          "p", "verdict"})
+  for (const char* key : {"variant", "pass", "median_a", "median_b", "ratio", "ci_low", "ci_high", "p", "verdict"})
     EXPECT_TRUE(j["rows"][0].contains(key)) << key;
   EXPECT_EQ(j["rows"][0]["verdict"], "slower");
 }

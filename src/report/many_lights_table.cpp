@@ -15,7 +15,6 @@ using namespace results;  // at, numberAt, medianOf, escapeCell
 
 namespace {
 
-
 std::string listsOf(const json& run) {
   const json& l = at(at(run, "params"), "light_lists");
   return l.is_string() ? l.get<std::string>() : "tile";
@@ -72,15 +71,17 @@ std::string manyLightsTableMarkdown(const json& results) {
     const double traced = numberAt(rays, "traced"), oracle = numberAt(rays, "oracle");
     const double shadows = passMedianMs(run, "shadows"), frame = medianOf(at(run, "frame_ms"));
     const double lights = numberAt(at(run, "params"), "light_count");
-    const double listBytes = at(cul, "list_memory_bytes").is_number() ? numberAt(cul, "list_memory_bytes")
-                                                                       : numberAt(cul, "memory_bytes");
+    const double listBytes =
+        at(cul, "list_memory_bytes").is_number() ? numberAt(cul, "list_memory_bytes") : numberAt(cul, "memory_bytes");
     o << "| " << escapeCell(name) << " | " << lists << " | " << numberCell(lights, "%.0f") << " | " << image << " | "
-      << numberCell(numberAt(cul, "lights_per_tile_mean"), "%.1f") << " / " << numberCell(numberAt(cul, "lights_per_tile_max"), "%.0f")
-      << " | " << numberCell(listBytes / 1048576.0, "%.2f") << " | " << numberCell(passMedianMs(run, "light_culling"), "%.3f") << " | "
-      << numberCell(shadows, "%.2f") << " | " << numberCell(passMedianMs(run, "shading"), "%.2f") << " | " << numberCell(frame, "%.2f")
-      << " | " << numberCell(traced, "%.0f") << " | " << numberCell(oracle, "%.0f") << " | "
-      << numberCell(numberAt(rays, "efficiency"), "%.4f") << " | " << numberCell(numberAt(rays, "dropped_by_overflow"), "%.0f")
-      << " | " << numberCell(traced / (shadows * 1e-3) / 1e9, "%.2f") << " |\n";
+      << numberCell(numberAt(cul, "lights_per_tile_mean"), "%.1f") << " / "
+      << numberCell(numberAt(cul, "lights_per_tile_max"), "%.0f") << " | " << numberCell(listBytes / 1048576.0, "%.2f")
+      << " | " << numberCell(passMedianMs(run, "light_culling"), "%.3f") << " | " << numberCell(shadows, "%.2f")
+      << " | " << numberCell(passMedianMs(run, "shading"), "%.2f") << " | " << numberCell(frame, "%.2f") << " | "
+      << numberCell(traced, "%.0f") << " | " << numberCell(oracle, "%.0f") << " | "
+      << numberCell(numberAt(rays, "efficiency"), "%.4f") << " | "
+      << numberCell(numberAt(rays, "dropped_by_overflow"), "%.0f") << " | "
+      << numberCell(traced / (shadows * 1e-3) / 1e9, "%.2f") << " |\n";
     if (lists != "tile" && !std::isnan(oracle) && !std::isnan(frame)) {
       points[lists + " " + image].first.push_back(oracle);
       points[lists + " " + image].second.push_back(frame);

@@ -60,17 +60,19 @@ std::string primaryTableMarkdown(const json& results) {
     if (at(p, "projection").is_string() && at(p, "projection") != "perspective")
       method += " (" + at(p, "projection").get<std::string>() + ")";
     const double refined = numberAt(p, "bins_refined");
-    const std::string emptyBins = refined > 0 ? numberCell(100.0 * numberAt(p, "bins_refined_without_hit") / refined, "%.1f %%") : "—";
+    const std::string emptyBins =
+        refined > 0 ? numberCell(100.0 * numberAt(p, "bins_refined_without_hit") / refined, "%.1f %%") : "—";
     const double ms = primaryPassMs(run), frame = medianOf(at(run, "frame_ms"));
     const double setups = numberAt(p, "triangle_setups"), tested = numberAt(p, "pixels_tested");
     const double ops = kPaper3drSetupOps * setups + kPaper3drPixelOps * tested;
     o << "| " << escapeCell(at(run, "name").is_string() ? at(run, "name").get<std::string>() : "?") << " | " << method
-      << " | " << numberCell(ms, "%.3f") << " | " << numberCell(hardwareMs / ms, "%.2fx") << " | " << numberCell(frame, "%.3f") << " | "
-      << numberCell(setups, "%.0f") << " | " << numberCell(tested, "%.0f") << " | "
-      << numberCell(numberAt(p, "edge_evaluations_per_pixel"), "%.1f") << " | " << numberCell(numberAt(p, "atomics_per_pixel"), "%.2f")
-      << " | " << numberCell(100.0 * numberAt(p, "fp64_fallback_rate"), "%.4f %%") << " | " << numberCell(ops * 1e-6, "%.1f")
-      << " | " << coverageCell(p) << " | " << numberCell(numberAt(at(p, "against_ray_cast"), "not_ties"), "%.0f") << " | "
-      << emptyBins << " |\n";
+      << " | " << numberCell(ms, "%.3f") << " | " << numberCell(hardwareMs / ms, "%.2fx") << " | "
+      << numberCell(frame, "%.3f") << " | " << numberCell(setups, "%.0f") << " | " << numberCell(tested, "%.0f")
+      << " | " << numberCell(numberAt(p, "edge_evaluations_per_pixel"), "%.1f") << " | "
+      << numberCell(numberAt(p, "atomics_per_pixel"), "%.2f") << " | "
+      << numberCell(100.0 * numberAt(p, "fp64_fallback_rate"), "%.4f %%") << " | " << numberCell(ops * 1e-6, "%.1f")
+      << " | " << coverageCell(p) << " | " << numberCell(numberAt(at(p, "against_ray_cast"), "not_ties"), "%.0f")
+      << " | " << emptyBins << " |\n";
   }
   return o.str();
 }

@@ -31,15 +31,17 @@ double medianOf(const json& stats) {
 
 double passMedianMs(const json& run, const char* pass) {
   const json& passes = at(run, "passes");
-  return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass]) : std::numeric_limits<double>::quiet_NaN();
+  return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass])
+                                                     : std::numeric_limits<double>::quiet_NaN();
 }
 
 std::string numberCell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
 
 void requireResultsFile(const json& r) {
   if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())
-    throw InputError("results: not a schema_version 1 results file with a 'runs' array; pass a "
-                     "results.json written by 'hybridbench sweep'");
+    throw InputError(
+        "results: not a schema_version 1 results file with a 'runs' array; pass a "
+        "results.json written by 'hybridbench sweep'");
 }
 
 std::string escapeCell(std::string s) {

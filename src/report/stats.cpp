@@ -31,8 +31,7 @@ struct Ranks {
 Ranks midranks(const std::vector<double>& pooled) {
   std::vector<size_t> order(pooled.size());
   std::iota(order.begin(), order.end(), size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](size_t x, size_t y) { return pooled[x] < pooled[y]; });
+  std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return pooled[x] < pooled[y]; });
   Ranks r;
   r.doubledRank.resize(pooled.size());
   for (size_t i = 0; i < order.size();) {
@@ -73,14 +72,11 @@ uint64_t orderKey(double x) {
   const uint64_t u = std::bit_cast<uint64_t>(x);
   return (u >> 63) ? ~u : (u | (uint64_t{1} << 63));
 }
-double fromOrderKey(uint64_t k) {
-  return std::bit_cast<double>((k >> 63) ? (k & ~(uint64_t{1} << 63)) : ~k);
-}
+double fromOrderKey(uint64_t k) { return std::bit_cast<double>((k >> 63) ? (k & ~(uint64_t{1} << 63)) : ~k); }
 
 // Number of pairs (i, j) with fl(y_j - x_i) <= t, x and y ascending. fl(y - x) is monotone in
 // both arguments (rounding is monotone), so the per-i count only grows with i: two pointers.
-uint64_t countDifferencesAtMost(const std::vector<double>& x, const std::vector<double>& y,
-                                double t) {
+uint64_t countDifferencesAtMost(const std::vector<double>& x, const std::vector<double>& y, double t) {
   uint64_t count = 0;
   size_t j = 0;
   for (double xi : x) {
@@ -154,9 +150,10 @@ Summary summarize(std::span<const double> samples) {
 }
 
 nlohmann::json toJson(const Summary& s, std::span<const double> samples) {
-  return {{"median", s.median}, {"mean", s.mean}, {"stddev", s.stddev}, {"cv", s.cv},
-          {"min", s.min},       {"max", s.max},   {"p95", s.p95},
-          {"samples", std::vector<double>(samples.begin(), samples.end())}};
+  return {{"median", s.median}, {"mean", s.mean},
+          {"stddev", s.stddev}, {"cv", s.cv},
+          {"min", s.min},       {"max", s.max},
+          {"p95", s.p95},       {"samples", std::vector<double>(samples.begin(), samples.end())}};
 }
 
 MannWhitney mannWhitneyU(std::span<const double> a, std::span<const double> b) {
@@ -197,8 +194,7 @@ RatioInterval ratioInterval(std::span<const double> a, std::span<const double> b
   RatioInterval r{kNaN, kNaN, kNaN};
   if (a.empty() || b.empty() || !(alpha > 0 && alpha < 1)) return r;
   auto positive = [](double v) { return v > 0 && std::isfinite(v); };
-  if (!std::all_of(a.begin(), a.end(), positive) || !std::all_of(b.begin(), b.end(), positive))
-    return r;
+  if (!std::all_of(a.begin(), a.end(), positive) || !std::all_of(b.begin(), b.end(), positive)) return r;
   std::vector<double> la, lb;
   for (double v : a) la.push_back(std::log(v));
   for (double v : b) lb.push_back(std::log(v));
@@ -206,13 +202,12 @@ RatioInterval ratioInterval(std::span<const double> a, std::span<const double> b
   std::sort(lb.begin(), lb.end());
 
   const uint64_t pairs = static_cast<uint64_t>(la.size()) * lb.size();
-  r.estimate = pairs % 2 == 1 ? std::exp(kthDifference(la, lb, (pairs + 1) / 2))
-                              : std::exp(0.5 * (kthDifference(la, lb, pairs / 2) +
-                                                kthDifference(la, lb, pairs / 2 + 1)));
+  r.estimate = pairs % 2 == 1
+                   ? std::exp(kthDifference(la, lb, (pairs + 1) / 2))
+                   : std::exp(0.5 * (kthDifference(la, lb, pairs / 2) + kthDifference(la, lb, pairs / 2 + 1)));
   const double pairsD = static_cast<double>(pairs);
   const double z = normalQuantile(1 - alpha / 2);
-  const double c = std::floor(
-      pairsD / 2 - z * std::sqrt(pairsD * static_cast<double>(la.size() + lb.size() + 1) / 12));
+  const double c = std::floor(pairsD / 2 - z * std::sqrt(pairsD * static_cast<double>(la.size() + lb.size() + 1) / 12));
   if (c < 1) {
     r.low = std::exp(lb.front() - la.back());
     r.high = std::exp(lb.back() - la.front());

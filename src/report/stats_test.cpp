@@ -169,8 +169,8 @@ TEST(RatioInterval, SelectionEqualsSortingAllPairwiseDifferences) {
   std::sort(d.begin(), d.end());
   const double alpha = 0.05;
   const double n = static_cast<double>(d.size());
-  const size_t c = static_cast<size_t>(
-      std::floor(n / 2 - normalQuantile(1 - alpha / 2) * std::sqrt(n * (37 + 41 + 1) / 12)));
+  const size_t c =
+      static_cast<size_t>(std::floor(n / 2 - normalQuantile(1 - alpha / 2) * std::sqrt(n * (37 + 41 + 1) / 12)));
   ASSERT_GE(c, 1u);
   const RatioInterval r = ratioInterval(a, b, alpha);
   EXPECT_EQ(r.low, std::exp(d[c - 1]));

@@ -1,6 +1,6 @@
-#include "report/results_json.h"
-#include "base/text_format.h"
 #include "report/tables.h"
+#include "base/text_format.h"
+#include "report/results_json.h"
 
 #include <cmath>
 #include <cstdarg>
@@ -17,7 +17,6 @@ using nlohmann::json;
 namespace {
 
 using namespace results;  // at, numberAt, medianOf, escapeCell, csvField, requireResultsFile
-
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -37,14 +36,12 @@ const ThesisConfig kThesis[] = {
     {"5.1", "light culling", 8, true, false, "off", 11.52, -28.00},
     {"5.1", "light culling + AABB", 8, true, true, "off", 10.93, -31.69},
     {"5.1", "light culling + AABB + shadow ray culling", 8, true, true, "naive", 9.59, -40.06},
-    {"5.1", "light culling + AABB + improved shadow ray culling", 8, true, true, "improved", 9.67,
-     -39.56},
+    {"5.1", "light culling + AABB + improved shadow ray culling", 8, true, true, "improved", 9.67, -39.56},
     {"5.1", "improved shadow ray culling", 8, false, false, "improved", 13.55, -15.31},
     {"5.2", "8x8", 8, true, true, "improved", 9.44, kNaN},
     {"5.2", "16x16", 16, true, true, "improved", 9.56, kNaN},
     {"5.2", "32x32", 32, true, true, "improved", 9.99, kNaN},
 };
-
 
 std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
 
@@ -106,14 +103,12 @@ std::string headerLine(const json& results) {
   const json& scene = at(ctx, "scene");
   const json& tool = at(ctx, "tool");
   const json& res = at(ctx, "resolution");
-  const std::string resolution =
-      res.is_array() && res.size() == 2 ? res[0].dump() + "x" + res[1].dump() : "unknown";
+  const std::string resolution = res.is_array() && res.size() == 2 ? res[0].dump() + "x" + res[1].dump() : "unknown";
   std::string sha = stringAt(scene, "sha256");
   if (sha.size() > 12) sha = sha.substr(0, 12) + "…";
-  return "Device: " + stringAt(device, "name") + ", driver " + stringAt(device, "driver") +
-         ", ray tracing " + stringAt(device, "rt_backend") + " · resolution " + resolution +
-         " · scene " + stringAt(scene, "name") + " (sha256 " + sha + ") · hybridbench " +
-         stringAt(tool, "version") + ", git " + stringAt(tool, "git");
+  return "Device: " + stringAt(device, "name") + ", driver " + stringAt(device, "driver") + ", ray tracing " +
+         stringAt(device, "rt_backend") + " · resolution " + resolution + " · scene " + stringAt(scene, "name") +
+         " (sha256 " + sha + ") · hybridbench " + stringAt(tool, "version") + ", git " + stringAt(tool, "git");
 }
 
 std::string frameCell(const ThesisRow& r) {
@@ -148,11 +143,9 @@ std::vector<ThesisRow> thesisRows(const json& results) {
     } else {
       r.runName = at(*run, "name").is_string() ? at(*run, "name").get<std::string>() : "";
       r.status = at(*run, "status") == "ok" ? "ok" : "error";
-      if (r.status == "error")
-        r.note = "run '" + r.runName + "' failed: " + stringAt(*run, "error");
+      if (r.status == "error") r.note = "run '" + r.runName + "' failed: " + stringAt(*run, "error");
       if (matches > 1)
-        r.note += (r.note.empty() ? "" : "; ") +
-                  format("%zu runs match; showing '%s'", matches, r.runName.c_str());
+        r.note += (r.note.empty() ? "" : "; ") + format("%zu runs match; showing '%s'", matches, r.runName.c_str());
       if (r.status == "ok") {
         r.frameMs = medianOf(at(*run, "frame_ms"));
         r.raysTraced = numberAt(at(*run, "rays"), "traced");
@@ -175,40 +168,43 @@ std::vector<ThesisRow> thesisRows(const json& results) {
 std::string thesisTablesMarkdown(const json& results) {
   const std::vector<ThesisRow> rows = thesisRows(results);
   std::string out = "# Thesis tables\n\n" + headerLine(results) + "\n\n";
-  out += "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
-         "of the frame).\n";
+  out +=
+      "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
+      "of the frame).\n";
   if (results.contains("context") && results["context"].contains("timing_caveat") &&
       results["context"]["timing_caveat"].is_string())
     out += "\nCaveat: " + results["context"]["timing_caveat"].get<std::string>() + "\n";
   std::vector<std::string> notes;
   auto extraCells = [&](const ThesisRow& r) {
     if (!r.note.empty()) notes.push_back(r.table + " " + r.label + ": " + r.note);
-    return " | " + num(r.raysTraced, "%.0f") + " | " + num(r.efficiency, "%.3f") + " | " +
-           shareCell(r.shadowShare) + " | " + bytes(r.memoryBytes) + " |\n";
+    return " | " + num(r.raysTraced, "%.0f") + " | " + num(r.efficiency, "%.3f") + " | " + shareCell(r.shadowShare) +
+           " | " + bytes(r.memoryBytes) + " |\n";
   };
   auto diffCell = [](const ThesisRow& r) {
-    return r.status != "ok" ? std::string() : std::isfinite(r.diffPct) ? format("%.2f", r.diffPct)
-                                                                        : std::string("n/a");
+    return r.status != "ok" ? std::string() : std::isfinite(r.diffPct) ? format("%.2f", r.diffPct) : std::string("n/a");
   };
   const std::string extraHeader =
       " | rays traced | ray efficiency (oracle/traced) | shadow pass share | culling memory |\n";
   out += "\n## Table 5.1 — tile size 8x8\n\n";
-  out += "| enabled optimisations | frame time (ms) | diff (%) | thesis frame time (ms) | thesis "
-         "diff (%)" + extraHeader;
+  out +=
+      "| enabled optimisations | frame time (ms) | diff (%) | thesis frame time (ms) | thesis "
+      "diff (%)" +
+      extraHeader;
   out += "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ThesisRow& r : rows) {
     if (r.table != "5.1") continue;
-    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " +
-           format("%g", r.thesisMs) + " | " + format("%.2f", r.thesisDiffPct) + extraCells(r);
+    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " + format("%g", r.thesisMs) +
+           " | " + format("%.2f", r.thesisDiffPct) + extraCells(r);
   }
-  out += "\n## Table 5.2 — all optimisations on (light culling, AABB, improved shadow ray "
-         "culling)\n\n";
+  out +=
+      "\n## Table 5.2 — all optimisations on (light culling, AABB, improved shadow ray "
+      "culling)\n\n";
   out += "| tile size | frame time (ms) | diff vs 8x8 (%) | thesis frame time (ms)" + extraHeader;
   out += "|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ThesisRow& r : rows) {
     if (r.table != "5.2") continue;
-    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " +
-           format("%g", r.thesisMs) + extraCells(r);
+    out += "| " + r.label + " | " + escapeCell(frameCell(r)) + " | " + diffCell(r) + " | " + format("%g", r.thesisMs) +
+           extraCells(r);
   }
   if (!notes.empty()) {
     out += "\nNotes:\n";
@@ -224,12 +220,23 @@ std::string thesisTablesCsv(const json& results) {
       "frame_ms_median,diff_pct,thesis_frame_ms,thesis_diff_pct,rays_traced,ray_efficiency,"
       "shadow_share,culling_memory_bytes,note\n";
   for (const ThesisRow& r : rows) {
-    const std::vector<std::string> fields = {
-        r.table, r.label, std::to_string(r.tileSize), r.lightCulling ? "true" : "false",
-        r.aabb ? "true" : "false", r.normalCulling, r.status, r.runName,
-        num(r.frameMs, "%.6g"), num(r.diffPct, "%.2f"), format("%g", r.thesisMs),
-        num(r.thesisDiffPct, "%.2f"), num(r.raysTraced, "%.0f"), num(r.efficiency, "%.6g"),
-        num(r.shadowShare, "%.6g"), num(r.memoryBytes, "%.0f"), r.note};
+    const std::vector<std::string> fields = {r.table,
+                                             r.label,
+                                             std::to_string(r.tileSize),
+                                             r.lightCulling ? "true" : "false",
+                                             r.aabb ? "true" : "false",
+                                             r.normalCulling,
+                                             r.status,
+                                             r.runName,
+                                             num(r.frameMs, "%.6g"),
+                                             num(r.diffPct, "%.2f"),
+                                             format("%g", r.thesisMs),
+                                             num(r.thesisDiffPct, "%.2f"),
+                                             num(r.raysTraced, "%.0f"),
+                                             num(r.efficiency, "%.6g"),
+                                             num(r.shadowShare, "%.6g"),
+                                             num(r.memoryBytes, "%.0f"),
+                                             r.note};
     for (size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + csvField(fields[i]);
     out += "\n";
   }

@@ -9,7 +9,6 @@
 
 #include "base/errors.h"
 
-
 namespace hb {
 namespace {
 
@@ -63,8 +62,7 @@ TEST(ThesisTables, MarkdownRowsFollowTheThesisOrderWithDiffsToNoOptimisations) {
   size_t last = 0;
   for (const std::string& row : expected) {
     const size_t pos = md.find("\n" + row, last);
-    ASSERT_NE(pos, std::string::npos) << "row not found after the previous one: " << row << "\n"
-                                      << md;
+    ASSERT_NE(pos, std::string::npos) << "row not found after the previous one: " << row << "\n" << md;
     last = pos + 1;
   }
   EXPECT_LT(md.find("## Table 5.1"), md.find("## Table 5.2"));
@@ -79,8 +77,7 @@ TEST(ThesisTables, ExtraColumnsCarryRaysShadowShareAndMemory) {
                     "0 B |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| light culling + AABB | 2.732 | -31.70 | 10.93 | -31.69 | 6635520 | 0.625 |"),
-            std::string::npos);
+  EXPECT_NE(md.find("| light culling + AABB | 2.732 | -31.70 | 10.93 | -31.69 | 6635520 | 0.625 |"), std::string::npos);
   EXPECT_NE(md.find("| 1.48 MiB |"), std::string::npos);
   // 16x16: 8160 tiles * (8 + 40) B = 391680 B = 382.5 KiB.
   EXPECT_NE(md.find("| 16x16 | 2.450 | 1.24 | 9.56 | 4561920 | 0.909 |"), std::string::npos);
@@ -89,8 +86,8 @@ TEST(ThesisTables, ExtraColumnsCarryRaysShadowShareAndMemory) {
 
 TEST(ThesisTables, HeaderNamesDeviceDriverResolutionSceneAndRevision) {
   const std::string header = lines(thesisTablesMarkdown(fixture())).at(2);
-  for (const char* part : {"NVIDIA H100 80GB HBM3", "driver 580.159", "1920x1080", "atrium",
-                           "9f2b6c1e4a7d", "git 3f2c9a1b7d4e"})
+  for (const char* part :
+       {"NVIDIA H100 80GB HBM3", "driver 580.159", "1920x1080", "atrium", "9f2b6c1e4a7d", "git 3f2c9a1b7d4e"})
     EXPECT_NE(header.find(part), std::string::npos) << part << " not in: " << header;
 }
 
@@ -98,13 +95,11 @@ TEST(ThesisTables, RemovedVariantIsMissingNeverInvented) {
   json results = fixture();
   eraseRun(results, "lc_aabb_t8");
   const std::string md = thesisTablesMarkdown(results);
-  EXPECT_NE(md.find("| light culling + AABB | missing (not in results) |  | 10.93 | -31.69 |"),
-            std::string::npos)
+  EXPECT_NE(md.find("| light culling + AABB | missing (not in results) |  | 10.93 | -31.69 |"), std::string::npos)
       << md;
   // The rows around it are unchanged.
   EXPECT_NE(md.find("| light culling | 2.880 | -28.00 |"), std::string::npos);
-  EXPECT_NE(md.find("| light culling + AABB + shadow ray culling | 2.400 | -40.00 |"),
-            std::string::npos);
+  EXPECT_NE(md.find("| light culling + AABB + shadow ray culling | 2.400 | -40.00 |"), std::string::npos);
 }
 
 TEST(ThesisTables, MissingBaselineLeavesDiffsUnavailable) {
@@ -131,15 +126,17 @@ TEST(ThesisTables, RunsWithOptionsBeyondTheThesisNeverStandInForItsRows) {
     std::string key;
     json beyond, thesis;  // a value beyond the thesis, and the thesis's own
   };
-  for (const Option& o : std::vector<Option>{
-           {"range_test", true, false}, {"depth_slices", 32, 0}, {"t_min", "scaled", "constant"}}) {
+  for (const Option& o :
+       std::vector<Option>{{"range_test", true, false}, {"depth_slices", 32, 0}, {"t_min", "scaled", "constant"}}) {
     for (const bool isBeyond : {true, false}) {
       json results = fixture();
       for (json& run : results["runs"])
         if (run["name"] == "lc_t8") run["params"][o.key] = isBeyond ? o.beyond : o.thesis;
       const ThesisRow row = thesisRows(results)[1];  // "light culling"
-      if (isBeyond) EXPECT_EQ(row.status, "missing") << o.key;
-      else EXPECT_EQ(row.runName, "lc_t8") << o.key;
+      if (isBeyond)
+        EXPECT_EQ(row.status, "missing") << o.key;
+      else
+        EXPECT_EQ(row.runName, "lc_t8") << o.key;
     }
   }
 }
@@ -182,18 +179,9 @@ TEST(ThesisTables, CsvHasAHeaderAndOneRowPerTableRow) {
     return std::count(line.begin(), line.end(), ',') + 1;  // no quoted commas in the fixture
   };
   for (const std::string& line : csv) EXPECT_EQ(columns(line), columns(csv[0])) << line;
-  EXPECT_EQ(csv[1].rfind("5.1,no optimisations,8,false,false,off,ok,baseline_t8,4,0.00,16,0.00,",
-                         0),
-            0u)
-      << csv[1];
-  EXPECT_EQ(csv[2].rfind("5.1,light culling,8,true,false,off,ok,lc_t8,2.88,-28.00,11.52,-28.00,",
-                         0),
-            0u)
-      << csv[2];
-  EXPECT_EQ(csv[8].rfind("5.2,16x16,16,true,true,improved,ok,lc_aabb_improved_t16,2.45,1.24,9.56,,",
-                         0),
-            0u)
-      << csv[8];
+  EXPECT_EQ(csv[1].rfind("5.1,no optimisations,8,false,false,off,ok,baseline_t8,4,0.00,16,0.00,", 0), 0u) << csv[1];
+  EXPECT_EQ(csv[2].rfind("5.1,light culling,8,true,false,off,ok,lc_t8,2.88,-28.00,11.52,-28.00,", 0), 0u) << csv[2];
+  EXPECT_EQ(csv[8].rfind("5.2,16x16,16,true,true,improved,ok,lc_aabb_improved_t16,2.45,1.24,9.56,,", 0), 0u) << csv[8];
 }
 
 TEST(ThesisTables, CsvQuotesFieldsWithCommasAndQuotes) {
@@ -201,8 +189,7 @@ TEST(ThesisTables, CsvQuotesFieldsWithCommasAndQuotes) {
   eraseRun(results, "lc_t8");
   results["runs"][1]["name"] = "baseline \"8x8\", v1";  // was baseline_t8
   const std::string csv = thesisTablesCsv(results);
-  EXPECT_NE(csv.find("5.1,light culling,8,true,false,off,missing,,,,11.52,-28.00,"),
-            std::string::npos) << csv;
+  EXPECT_NE(csv.find("5.1,light culling,8,true,false,off,missing,,,,11.52,-28.00,"), std::string::npos) << csv;
   EXPECT_NE(csv.find(",ok,\"baseline \"\"8x8\"\", v1\",4,0.00,"), std::string::npos) << csv;
 }
 

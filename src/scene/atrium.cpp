@@ -7,9 +7,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/camera.h"
 #include "base/errors.h"
 #include "base/splitmix64.h"
+#include "scene/camera.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -20,19 +20,41 @@ constexpr double kPi = 3.141592653589793;
 
 // ---- Layout (metres). Sponza after its node scale: 29.8 x 12.4 x 18.3 (the Crytek Sponza glTF's bounds).
 constexpr double kHalfX = 14.9, kHalfZ = 9.15, kFloorY = -0.2, kTopY = 12.2;
-constexpr double kWall = 0.4;                                   // outer wall thickness
+constexpr double kWall = 0.4;  // outer wall thickness
 constexpr double kInnerX = kHalfX - kWall, kInnerZ = kHalfZ - kWall;
-constexpr double kColonnadeZ = 4.0;                             // |z| of both colonnades
+constexpr double kColonnadeZ = 4.0;  // |z| of both colonnades
 constexpr int kGroundColumns = 9, kUpperColumns = 17;
 constexpr double kGroundPitch = 3.0, kUpperPitch = 1.5, kFirstColumnX = -12.0;
 constexpr double kGroundSpringY = 4.3, kGalleryFloorY = 5.9, kUpperSpringY = 9.0;
 
 // ---- Materials: exactly 25, in this order.
 enum MaterialId : uint32_t {
-  kFloorStone, kWallBrick, kWallPlaster, kColumnStone, kColumnUpperStone, kColumnTrim, kArchStone,
-  kGallerySlab, kBalustradeMarble, kRoofStone, kFabricRed, kFabricGreen, kFabricBlue, kFabricGold,
-  kVaseTerracotta, kVaseGlazed, kSoil, kLeaf, kStem, kLionStone, kBeadStone, kMetalBronze,
-  kMetalGold, kMetalIron, kMetalBrass, kMaterialCount
+  kFloorStone,
+  kWallBrick,
+  kWallPlaster,
+  kColumnStone,
+  kColumnUpperStone,
+  kColumnTrim,
+  kArchStone,
+  kGallerySlab,
+  kBalustradeMarble,
+  kRoofStone,
+  kFabricRed,
+  kFabricGreen,
+  kFabricBlue,
+  kFabricGold,
+  kVaseTerracotta,
+  kVaseGlazed,
+  kSoil,
+  kLeaf,
+  kStem,
+  kLionStone,
+  kBeadStone,
+  kMetalBronze,
+  kMetalGold,
+  kMetalIron,
+  kMetalBrass,
+  kMaterialCount
 };
 static_assert(kMaterialCount == 25);
 enum TextureId : int { kCheckerTexture, kBrickTexture, kMetalRoughnessTexture };
@@ -134,8 +156,8 @@ void addBoxInFrame(MeshBuilder& mb, uint32_t material, const glm::dmat4& frame, 
 // half-disc of radius r (r < w/2, r < h) centred at (cx, y0). The front and back faces are cut
 // into quads along rays from the disc centre, from the arch curve to the block's outline; the
 // block's two top corners are among the ray angles so that every outline piece lies on one side.
-void addArchSpandrel(MeshBuilder& mb, uint32_t material, double cx, double y0, double zc, double w,
-                     double h, double r, double d, uint32_t n) {
+void addArchSpandrel(MeshBuilder& mb, uint32_t material, double cx, double y0, double zc, double w, double h, double r,
+                     double d, uint32_t n) {
   HB_ASSERT(r < w / 2 && r < h && n >= 2);
   const double cornerAngle = std::atan2(h, w / 2);
   std::vector<double> angles;
@@ -152,8 +174,10 @@ void addArchSpandrel(MeshBuilder& mb, uint32_t material, double cx, double y0, d
     arch[i] = {cx + r * c, y0 + r * s};
     archNormal[i] = {-c, -s};  // the intrados faces the disc centre
     // Where the ray leaves the block; the corners exactly, to keep the top and sides straight.
-    if (std::abs(angles[i] - cornerAngle) < 1e-6) outline[i] = {cx + w / 2, y0 + h};
-    else if (std::abs(angles[i] - (kPi - cornerAngle)) < 1e-6) outline[i] = {cx - w / 2, y0 + h};
+    if (std::abs(angles[i] - cornerAngle) < 1e-6)
+      outline[i] = {cx + w / 2, y0 + h};
+    else if (std::abs(angles[i] - (kPi - cornerAngle)) < 1e-6)
+      outline[i] = {cx - w / 2, y0 + h};
     else {
       const double tSide = std::abs(c) > 1e-12 ? (w / 2) / std::abs(c) : 1e300;
       const double tTop = s > 1e-12 ? h / s : 1e300;
@@ -196,12 +220,14 @@ void addStructure(Scene& scene) {
   addBox(mb, kFloorStone, {-kHalfX, kFloorY, -kHalfZ}, {kHalfX, 0.0, kHalfZ}, 0.5);
   for (int s : {-1, 1}) {
     addBox(mb, kWallBrick, {-kHalfX, 0.0, s > 0 ? kInnerZ : -kHalfZ}, {kHalfX, kTopY, s > 0 ? kHalfZ : -kInnerZ}, 0.5);
-    addBox(mb, kWallBrick, {s > 0 ? kInnerX : -kHalfX, 0.0, -kInnerZ}, {s > 0 ? kHalfX : -kInnerX, kTopY, kInnerZ}, 0.5);
+    addBox(mb, kWallBrick, {s > 0 ? kInnerX : -kHalfX, 0.0, -kInnerZ}, {s > 0 ? kHalfX : -kInnerX, kTopY, kInnerZ},
+           0.5);
     auto zs = [s](double a, double b) { return std::pair(std::min(s * a, s * b), std::max(s * a, s * b)); };
     auto [z0, z1] = zs(kColonnadeZ - 0.3, kInnerZ);
     addBox(mb, kGallerySlab, {-kInnerX, kGalleryFloorY - 0.3, z0}, {kInnerX, kGalleryFloorY, z1});
     auto [b0, b1] = zs(kColonnadeZ - 0.1, kColonnadeZ + 0.1);
-    addBox(mb, kBalustradeMarble, {groundColumnX(0), kGalleryFloorY, b0}, {-groundColumnX(0), kGalleryFloorY + 1.0, b1});
+    addBox(mb, kBalustradeMarble, {groundColumnX(0), kGalleryFloorY, b0},
+           {-groundColumnX(0), kGalleryFloorY + 1.0, b1});
     auto [t0, t1] = zs(kColonnadeZ - 0.3, kColonnadeZ + 0.3);
     addBox(mb, kWallPlaster, {-kInnerX, 9.75, t0}, {kInnerX, 11.3, t1});
     auto [r0, r1] = zs(kColonnadeZ + 0.2, kInnerZ);
@@ -288,8 +314,8 @@ void addCurtains(Scene& scene, double q) {
         const glm::dvec3 n = glm::normalize(glm::cross(pu, pv));
         return Vertex{glm::vec3(p), glm::vec3(n), glm::vec2(u * 2, v * 4)};
       });
-      addCylinder(mb, kMetalBrass, translate({cx - 1.3, top + 0.02, z0}) * rotate(-kPi / 2, {0, 0, 1}), 0.025,
-                  2.6, tess(12, q, 4), 1);
+      addCylinder(mb, kMetalBrass, translate({cx - 1.3, top + 0.02, z0}) * rotate(-kPi / 2, {0, 0, 1}), 0.025, 2.6,
+                  tess(12, q, 4), 1);
     }
   mb.appendTo(scene);
 }
@@ -307,9 +333,9 @@ void addVases(Scene& scene, double q) {
   }
   body.front() = {0.11, 0.06};  // the exact end points of the neighbouring sections: closed seams
   body.back() = {0.16, 0.95};
-  const std::vector<std::vector<glm::dvec2>> shell = {
-      {{0, 0}, {0.18, 0}}, {{0.18, 0}, {0.18, 0.06}}, {{0.18, 0.06}, {0.11, 0.06}}, body,
-      {{0.16, 0.95}, {0.13, 0.95}}, {{0.13, 0.95}, {0.13, 0.9}}};
+  const std::vector<std::vector<glm::dvec2>> shell = {{{0, 0}, {0.18, 0}},          {{0.18, 0}, {0.18, 0.06}},
+                                                      {{0.18, 0.06}, {0.11, 0.06}}, body,
+                                                      {{0.16, 0.95}, {0.13, 0.95}}, {{0.13, 0.95}, {0.13, 0.9}}};
   const std::vector<std::vector<glm::dvec2>> soil = {{{0.13, 0.9}, {0, 0.9}}};
   SplitMix64 rng{0xA7121Aull};  // fixed: the geometry does not depend on AtriumParams::seed
   int index = 0;
@@ -350,16 +376,22 @@ void addLionHeads(Scene& scene, double q) {
       addTorus(mb, kLionStone, frame * translate({0, 0, 0.12}) * toZAxis, 0.42, 0.1, tess(40, q, 6), tess(12, q, 3));
       for (int c = 0; c < 20; ++c) {
         const double a = 2 * kPi * c / 20;
-        addSphere(mb, kLionStone, frame * translate({0.55 * std::cos(a), 0.55 * std::sin(a), 0.1}) * scale(glm::dvec3(0.07)),
+        addSphere(mb, kLionStone,
+                  frame * translate({0.55 * std::cos(a), 0.55 * std::sin(a), 0.1}) * scale(glm::dvec3(0.07)),
                   tess(10, q, 4), tess(5, q, 2));
       }
-      addSphere(mb, kLionStone, frame * translate({0, 0, 0.15}) * scale({0.3, 0.36, 0.22}), tess(32, q, 6), tess(16, q, 3));
-      addSphere(mb, kLionStone, frame * translate({0, -0.1, 0.34}) * scale({0.12, 0.09, 0.1}), tess(16, q, 4), tess(8, q, 2));
+      addSphere(mb, kLionStone, frame * translate({0, 0, 0.15}) * scale({0.3, 0.36, 0.22}), tess(32, q, 6),
+                tess(16, q, 3));
+      addSphere(mb, kLionStone, frame * translate({0, -0.1, 0.34}) * scale({0.12, 0.09, 0.1}), tess(16, q, 4),
+                tess(8, q, 2));
       for (double ex : {-0.11, 0.11}) {
-        addSphere(mb, kMetalIron, frame * translate({ex, 0.1, 0.33}) * scale(glm::dvec3(0.04)), tess(12, q, 4), tess(6, q, 2));
-        addSphere(mb, kLionStone, frame * translate({ex * 2.5, 0.3, 0.12}) * scale({0.08, 0.1, 0.05}), tess(12, q, 4), tess(6, q, 2));
+        addSphere(mb, kMetalIron, frame * translate({ex, 0.1, 0.33}) * scale(glm::dvec3(0.04)), tess(12, q, 4),
+                  tess(6, q, 2));
+        addSphere(mb, kLionStone, frame * translate({ex * 2.5, 0.3, 0.12}) * scale({0.08, 0.1, 0.05}), tess(12, q, 4),
+                  tess(6, q, 2));
       }
-      addTorus(mb, kMetalGold, frame * translate({0, -0.38, 0.2}) * toZAxis, 0.14, 0.022, tess(32, q, 6), tess(10, q, 3));
+      addTorus(mb, kMetalGold, frame * translate({0, -0.38, 0.2}) * toZAxis, 0.14, 0.022, tess(32, q, 6),
+               tess(10, q, 3));
     }
   mb.appendTo(scene);
 }
@@ -390,7 +422,8 @@ void addLights(Scene& scene, const AtriumParams& params) {
       // The same draw mapped onto [min, max], so that the sequence (and every other light
       // property) does not change.
       l.rangeFromEq41 = false;
-      l.range = float(params.lightRangeMin + (explicitRange - 3.0) / 9.0 * (params.lightRangeMax - params.lightRangeMin));
+      l.range =
+          float(params.lightRangeMin + (explicitRange - 3.0) / 9.0 * (params.lightRangeMax - params.lightRangeMin));
     } else {
       l.rangeFromEq41 = i % 5 == 4;  // two in ten take thesis eq. 4.1
       l.range = float(l.rangeFromEq41 ? rangeFromIntensity(l.intensity) : explicitRange);

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/camera.h"
 #include "base/errors.h"
+#include "scene/camera.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -177,7 +177,8 @@ TEST(Atrium, NoTriangleIsDegenerateOrASliver) {
   forEachTriangle(atrium(), [&](uint32_t, const Vertex& a, const Vertex& b, const Vertex& c) {
     const glm::dvec3 pa(a.position), pb(b.position), pc(c.position);
     const double twiceArea = glm::length(glm::cross(pb - pa, pc - pa));
-    const double longest2 = std::max({glm::dot(pb - pa, pb - pa), glm::dot(pc - pb, pc - pb), glm::dot(pa - pc, pa - pc)});
+    const double longest2 =
+        std::max({glm::dot(pb - pa, pb - pa), glm::dot(pc - pb, pc - pb), glm::dot(pa - pc, pa - pc)});
     bad += !(twiceArea > 1e-3 * longest2);
   });
   EXPECT_EQ(bad, 0u);

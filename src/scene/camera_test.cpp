@@ -21,8 +21,8 @@ TEST(Projection, HasTheStructureOfThesisEquation21) {
   EXPECT_DOUBLE_EQ(p[2][3], -1.0);
   for (int c = 0; c < 4; ++c)
     for (int r = 0; r < 4; ++r) {
-      bool structural = (c == 0 && r == 0) || (c == 1 && r == 1) || (c == 2 && r == 2) || (c == 3 && r == 2) ||
-                        (c == 2 && r == 3);
+      bool structural =
+          (c == 0 && r == 0) || (c == 1 && r == 1) || (c == 2 && r == 2) || (c == 3 && r == 2) || (c == 2 && r == 3);
       if (!structural) {
         EXPECT_EQ(p[c][r], 0.0) << c << "," << r;
       }

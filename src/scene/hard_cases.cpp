@@ -6,9 +6,9 @@
 #include <cmath>
 #include <utility>
 
+#include "base/errors.h"
 #include "scene/atrium.h"
 #include "scene/camera.h"
-#include "base/errors.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -259,7 +259,7 @@ Scene makeMicrobench(uint32_t triangles) {
 }
 
 std::vector<std::string> builtinSceneNames() {
-  return {"atrium",   "plane",    "depth-step", "cube",          "tiny-triangles", "grazing",
+  return {"atrium",      "plane",    "depth-step", "cube",          "tiny-triangles", "grazing",
           "grazing-far", "thin-gap", "degenerate", "open-occluder", "far-origin",     "far-planes"};
 }
 

@@ -182,7 +182,8 @@ TEST(HardCases, TinyTrianglesAreUnderThreePixelsAndStripsOnePixelWide) {
     const glm::dvec3 size = hi - lo;
     if (size.y < 3 * pixel) tiny += size.x < 3 * pixel;
     // float rounding of x near 3..8 m: 2^-21 m per coordinate, so the width is pixel +- 1e-6.
-    else strips += std::abs(size.x - pixel) < 1e-6;
+    else
+      strips += std::abs(size.x - pixel) < 1e-6;
   }
   EXPECT_EQ(tiny, 1600u);
   EXPECT_EQ(strips, 20u);  // 10 strips of 2 triangles

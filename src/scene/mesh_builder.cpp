@@ -82,8 +82,8 @@ void MeshBuilder::appendTo(Scene& scene) {
   scene.instances.push_back(Instance{uint32_t(scene.meshes.size() - 1), glm::mat4(1.0f)});
 }
 
-void addQuad(MeshBuilder& mb, uint32_t material, glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2,
-             glm::dvec3 p3, glm::dvec3 normal) {
+void addQuad(MeshBuilder& mb, uint32_t material, glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2, glm::dvec3 p3,
+             glm::dvec3 normal) {
   const double w = glm::length(p1 - p0), h = glm::length(p3 - p0);
   const uint32_t a = mb.vertex(material, makeVertex(p0, normal, {0, 0}));
   const uint32_t b = mb.vertex(material, makeVertex(p1, normal, {w, 0}));
@@ -172,8 +172,7 @@ void addLathe(MeshBuilder& mb, uint32_t material, const std::vector<std::vector<
   }
 }
 
-void addSphere(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, uint32_t segments,
-               uint32_t bands) {
+void addSphere(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, uint32_t segments, uint32_t bands) {
   HB_ASSERT(bands >= 2);
   std::vector<glm::dvec2> profile(bands + 1);
   for (uint32_t i = 0; i <= bands; ++i) {
@@ -183,16 +182,16 @@ void addSphere(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, 
   addLathe(mb, material, {profile}, segments, transform);
 }
 
-void addCylinder(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double radius,
-                 double height, uint32_t segments, uint32_t rings) {
+void addCylinder(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double radius, double height,
+                 uint32_t segments, uint32_t rings) {
   HB_ASSERT(radius > 0 && height > 0 && rings >= 1);
   std::vector<glm::dvec2> side(rings + 1);
   for (uint32_t i = 0; i <= rings; ++i) side[i] = {radius, height * i / rings};
   addLathe(mb, material, {{{0, 0}, {radius, 0}}, side, {{radius, height}, {0, height}}}, segments, transform);
 }
 
-void addTorus(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double major,
-              double minor, uint32_t segments, uint32_t tubeSegments) {
+void addTorus(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double major, double minor,
+              uint32_t segments, uint32_t tubeSegments) {
   HB_ASSERT(major > minor && minor > 0 && tubeSegments >= 3);
   // Counter-clockwise round the tube's centre: the solid is on the left.
   std::vector<glm::dvec2> profile(tubeSegments + 1);

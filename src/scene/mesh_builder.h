@@ -64,18 +64,17 @@ void addLathe(MeshBuilder& mb, uint32_t material, const std::vector<std::vector<
 
 // Unit sphere mapped by `transform` (an ellipsoid under non-uniform scale): `segments` around,
 // `bands` >= 2 from pole to pole; 2 * segments * (bands - 1) triangles.
-void addSphere(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, uint32_t segments,
-               uint32_t bands);
+void addSphere(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, uint32_t segments, uint32_t bands);
 
 // Closed cylinder of `radius` from y = 0 to y = height in local space, mapped by `transform`:
 // 2 * segments * (rings + 1) triangles.
-void addCylinder(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double radius,
-                 double height, uint32_t segments, uint32_t rings);
+void addCylinder(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double radius, double height,
+                 uint32_t segments, uint32_t rings);
 
 // Torus about the local y axis (ring radius `major` > tube radius `minor` > 0), mapped by
 // `transform`: 2 * segments * tubeSegments triangles.
-void addTorus(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double major,
-              double minor, uint32_t segments, uint32_t tubeSegments);
+void addTorus(MeshBuilder& mb, uint32_t material, const glm::dmat4& transform, double major, double minor,
+              uint32_t segments, uint32_t tubeSegments);
 
 // Open sheet: a grid of nu x nv quads over (u, v) in [0,1]^2; `at(u, v)` gives each vertex (its
 // normal picks the front side). The caller makes sure no quad collapses.
@@ -83,7 +82,7 @@ void addSheet(MeshBuilder& mb, uint32_t material, uint32_t nu, uint32_t nv,
               const std::function<Vertex(double u, double v)>& at);
 
 // A quad with flat normal `normal`; p0..p3 go round it (either direction).
-void addQuad(MeshBuilder& mb, uint32_t material, glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2,
-             glm::dvec3 p3, glm::dvec3 normal);
+void addQuad(MeshBuilder& mb, uint32_t material, glm::dvec3 p0, glm::dvec3 p1, glm::dvec3 p2, glm::dvec3 p3,
+             glm::dvec3 normal);
 
 }  // namespace hb

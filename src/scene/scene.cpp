@@ -15,7 +15,6 @@ const char* toString(CameraProjection p) {
   return "?";
 }
 
-
 uint64_t Scene::triangleCount() const {
   uint64_t n = 0;
   for (const Instance& inst : instances)

@@ -68,7 +68,7 @@ struct Light {
   float intensity = 1.0f;
   float range = 0.0f;  // > 0 always after loading: missing ranges come from thesis eq. 4.1
   bool rangeFromEq41 = false;
-  float innerConeAngle = 0.0f;               // radians, spot only
+  float innerConeAngle = 0.0f;                // radians, spot only
   float outerConeAngle = 0.785398163397448f;  // radians, spot only (glTF default pi/4)
   bool castShadows = true;
 };
@@ -95,7 +95,7 @@ struct Camera {
   std::string name;
   glm::mat4 view{1.0f};  // world → view (right-handed, looking down -z, y up in view space)
   CameraProjection projection = CameraProjection::Perspective;
-  float yfov = 1.0471975512f;  // radians (perspective)
+  float yfov = 1.0471975512f;      // radians (perspective)
   float xmag = 1.0f, ymag = 1.0f;  // orthographic: half the view's width and height (glTF)
   float znear = 0.1f;
   float zfar = 1000.0f;  // reverse-Z: near → depth 1, far → depth 0
@@ -122,7 +122,7 @@ struct Scene {
   std::string effectsOrigin;
   std::optional<Ambient> ambient;  // none: nothing for ambient occlusion to darken
 
-  uint64_t triangleCount() const;  // over instances (a mesh instanced twice counts twice)
+  uint64_t triangleCount() const;                   // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances
   // Every triangle in world space, 3 vertices each, in draw order (instance × primitive, as
   // GpuScene draws them): triangle k is the k-th triangle drawn, the id the 3D rasterizer reports.

@@ -9,12 +9,12 @@
 
 // FUZZ_CHECK(cond): abort naming the condition when it is false. FUZZ_TARGET_NAME names the
 // target in the message ("fuzz_gltf: ... breaks: <cond>").
-#define FUZZ_CHECK(cond)                                                          \
-  do {                                                                            \
-    if (!(cond)) {                                                                \
+#define FUZZ_CHECK(cond)                                                            \
+  do {                                                                              \
+    if (!(cond)) {                                                                  \
       std::fprintf(stderr, "%s: the result breaks: %s\n", FUZZ_TARGET_NAME, #cond); \
-      std::abort();                                                               \
-    }                                                                             \
+      std::abort();                                                                 \
+    }                                                                               \
   } while (0)
 
 namespace hb::fuzz {

@@ -34,8 +34,7 @@ void checkScene(const hb::Scene& scene) {
       FUZZ_CHECK(uint64_t(p.vertexOffset) + p.vertexCount <= scene.vertices.size());
       FUZZ_CHECK(p.indexCount % 3 == 0);
       FUZZ_CHECK(p.material < scene.materials.size());
-      for (uint32_t i = 0; i < p.indexCount; ++i)
-        FUZZ_CHECK(scene.indices[p.firstIndex + i] < p.vertexCount);
+      for (uint32_t i = 0; i < p.indexCount; ++i) FUZZ_CHECK(scene.indices[p.firstIndex + i] < p.vertexCount);
     }
   for (const hb::Instance& instance : scene.instances)
     FUZZ_CHECK(instance.mesh < scene.meshes.size() && finite(instance.transform));
@@ -59,8 +58,7 @@ void checkScene(const hb::Scene& scene) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   hb::GltfLoadWarnings warnings;  // collected, not printed
   try {
-    const hb::Scene scene =
-        hb::loadGltfFromMemory(std::span(data, size), "fuzz.gltf", kNoBaseDir, &warnings);
+    const hb::Scene scene = hb::loadGltfFromMemory(std::span(data, size), "fuzz.gltf", kNoBaseDir, &warnings);
     checkScene(scene);
     // What `scene info` and the results' scene hash do with any scene that loads.
     (void)hb::sceneInfoText(scene);

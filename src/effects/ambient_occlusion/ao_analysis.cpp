@@ -68,8 +68,14 @@ AoErrors aoErrors(const std::vector<float>& ao, const std::vector<float>& refere
 }
 
 nlohmann::json toJson(const AoErrors& e) {
-  return {{"pixels", e.pixels}, {"mae", e.mae},   {"rmse", e.rmse},          {"bias", e.bias},
-          {"p95", e.p95},       {"max", e.maxAbs}, {"share_over_0_1", e.over01}, {"flip", e.flip}};
+  return {{"pixels", e.pixels},
+          {"mae", e.mae},
+          {"rmse", e.rmse},
+          {"bias", e.bias},
+          {"p95", e.p95},
+          {"max", e.maxAbs},
+          {"share_over_0_1", e.over01},
+          {"flip", e.flip}};
 }
 
 }  // namespace hb

@@ -28,8 +28,9 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
   using namespace json_reader;
   AoSettings s;
   if (value.is_boolean()) return s;
-  requireObjectWithKeys(value, where,
-                        {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples", "steps"});
+  requireObjectWithKeys(
+      value, where,
+      {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples", "steps"});
   if (value.contains("method"))
     s.method = AoMethod(
         readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2], kMethods[3]}));
@@ -40,8 +41,7 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
     s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
   if (value.contains("d_max") && !value["d_max"].is_null())
     s.dMax = readNumber(value["d_max"], where.key("d_max"), 0.0, std::numeric_limits<double>::infinity(), true);
-  if (value.contains("bias"))
-    s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
   readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
   readSquareSamples(value, where, s.samples);
   return s;
@@ -50,8 +50,10 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
 void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   if (value.is_boolean()) return;
   if (!value.is_object())
-    where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, d_max, bias, "
-               "ldm_list, ldm_build, samples, steps), got " + json_reader::describe(value));
+    where.fail(
+        "expected true, false or an object of settings (method, directions, ldm_resolution, d_max, bias, "
+        "ldm_list, ldm_build, samples, steps), got " +
+        json_reader::describe(value));
   read(value, where);
 }
 
@@ -68,7 +70,8 @@ std::vector<const char*> passesOf(const nlohmann::json& value) {
 }
 
 std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
-  if (!scene.ambient) return "the scene has no ambient term (add extras.ambient to the glTF scene or \"ambient\" to the config)";
+  if (!scene.ambient)
+    return "the scene has no ambient term (add extras.ambient to the glTF scene or \"ambient\" to the config)";
   if (!(scene.ambient->intensity > 0.0f)) return "the scene's ambient intensity is 0";
   return "";
 }
@@ -79,8 +82,8 @@ void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader:
                          std::string& build) {
   using namespace json_reader;
   if (value.contains("ldm_list"))
-    list = std::vector<std::string>{"max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"),
-                                                                           {"max64", "cas", "sbuffer"})];
+    list = std::vector<std::string>{
+        "max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"), {"max64", "cas", "sbuffer"})];
   if (value.contains("ldm_build"))
     build = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
 }
@@ -98,9 +101,13 @@ AoSettings aoSettingsOf(const nlohmann::json& value) {
 }
 
 nlohmann::json AoSettings::toJson() const {
-  nlohmann::json j = {{"method", hb::toString(method)}, {"directions", directions}, {"ldm_resolution", ldmResolution},
-                      {"d_max", dMax ? nlohmann::json(*dMax) : nlohmann::json()}, {"bias", bias},
-                      {"ldm_list", ldmList}, {"ldm_build", ldmBuild}};
+  nlohmann::json j = {{"method", hb::toString(method)},
+                      {"directions", directions},
+                      {"ldm_resolution", ldmResolution},
+                      {"d_max", dMax ? nlohmann::json(*dMax) : nlohmann::json()},
+                      {"bias", bias},
+                      {"ldm_list", ldmList},
+                      {"ldm_build", ldmBuild}};
   if (method == AoMethod::Reference) j["samples"] = samples;
   if (method == AoMethod::Hbao) j["steps"] = steps;
   return j;
@@ -109,8 +116,9 @@ nlohmann::json AoSettings::toJson() const {
 const EffectDef& ambientOcclusionEffect() {
   static const EffectDef def{
       .name = "ambient_occlusion",
-      .summary = "ambient occlusion of the scene's ambient term: layered depth maps along N directions, the same "
-                 "directions ray traced, or a Monte Carlo reference",
+      .summary =
+          "ambient occlusion of the scene's ambient term: layered depth maps along N directions, the same "
+          "directions ray traced, or a Monte Carlo reference",
       .defaultValue = false,
       .validate = validate,
       .needs = {FrameResource::Depth},

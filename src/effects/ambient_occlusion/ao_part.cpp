@@ -18,16 +18,23 @@ AoPart::AoPart(FrameBuilder& f) {
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
   const FrameResources& r = f.resources;
-  AoInputs ai{&r.requireBuffer(res::kFrameConstants), &r.requireImage(res::kDepth), r.sampler(res::kPointSampler),
-              r.tlas(res::kTlas), surface.hitIds, surface.hitRays, surface.hitTriangles};
+  AoInputs ai{&r.requireBuffer(res::kFrameConstants),
+              &r.requireImage(res::kDepth),
+              r.sampler(res::kPointSampler),
+              r.tlas(res::kTlas),
+              surface.hitIds,
+              surface.hitRays,
+              surface.hitTriangles};
   ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
   std::vector<std::string> surfaceReads = {res::kFrameConstants, res::kDepth};
-  if (surface.hitIds) surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  if (surface.hitIds)
+    surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   if (ao_->buildsLdms()) {
-    f.resources.publish("ambient_occlusion.ldm", ao_->ldm()->links(), "u64 or u32 list nodes", "counted per frame + 5 %");
+    f.resources.publish("ambient_occlusion.ldm", ao_->ldm()->links(), "u64 or u32 list nodes",
+                        "counted per frame + 5 %");
     FramePass build;
     build.name = kLdmBuildPass;
     build.reads = {res::kSceneVertices, res::kSceneIndices};

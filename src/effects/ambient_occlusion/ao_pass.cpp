@@ -14,15 +14,12 @@ namespace hb {
 namespace {
 
 std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
-  std::vector<Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-                            {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  std::vector<Binding> b = {
+      {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},  {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+      {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+      {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+      {15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+      {18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
   if (tlas) b.push_back({5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
   return b;
 }
@@ -55,7 +52,8 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                              MemClass::Other);
   uint32_t maxSteps = 1;
   if (ao.method == AoMethod::Ldm) {
-    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, "ambient_occlusion");
+    ldm_ =
+        makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, "ambient_occlusion");
     maxSteps = ldm_->nodeCapacity();
   }
   gpu::AoConstants c{};
@@ -76,8 +74,8 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   if (ldm_) {
     c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
     c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
-                : ldm_->list() == LdmList::Cas     ? gpu::kLdmListCas
-                                                   : gpu::kLdmListSbuffer;
+                : ldm_->list() == LdmList::Cas ? gpu::kLdmListCas
+                                               : gpu::kLdmListSbuffer;
     c.ldmCapacity = ldm_->nodeCapacity();
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
@@ -101,7 +99,8 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     if (tlas_) sets->writeAccelerationStructure(0, 5, tlas_);
     // Without hits bindings 11-13 are never read; any buffer of the right type will do.
     sets->writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? *in.hitIds : placeholder_).handle());
-    sets->writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
+    sets->writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                      (in.hitRays ? in.hitRays : in.frameConstants)->handle());
     sets->writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
     sets->writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
@@ -127,8 +126,9 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   if (method == AoMethod::Ldm || method == AoMethod::Hbao) {
     HB_ASSERT(method == AoMethod::Hbao || ldm_);
     p->compute.createLayout({sets_->layout()}, 0);
-    p->compute.createCompute("ao_compute.comp", SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
-                                                              method == AoMethod::Ldm ? gpu::kAoLdm : gpu::kAoHbao}});
+    p->compute.createCompute("ao_compute.comp",
+                             SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
+                                            method == AoMethod::Ldm ? gpu::kAoLdm : gpu::kAoHbao}});
   } else {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
@@ -156,16 +156,14 @@ void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, const Descript
     p.rt->traceRays(cmd, width_, height_);
   else
     vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  memoryBarrier(
+      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
+      VK_ACCESS_2_SHADER_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void AoPass::recordAo(VkCommandBuffer cmd) const {
-  recordProgram(cmd, *programs_.at(settings_.ao.method), *sets_);
-}
+void AoPass::recordAo(VkCommandBuffer cmd) const { recordProgram(cmd, *programs_.at(settings_.ao.method), *sets_); }
 
 static std::vector<float> readFloats(const VulkanContext& ctx, const Buffer& b) {
   const std::vector<uint8_t> bytes = readbackBuffer(ctx, b);

@@ -26,8 +26,11 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
   a["pixels_sky"] = sky;
   a["pixels_without_normal"] = noNormal;
   const AoMemory m = ao.memory();
-  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes}, {"ldm_maps", m.ldmMapBytes}, {"directions", m.directionBytes},
-                       {"output", m.outputBytes}, {"total", m.total()}};
+  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes},
+                       {"ldm_maps", m.ldmMapBytes},
+                       {"directions", m.directionBytes},
+                       {"output", m.outputBytes},
+                       {"total", m.total()}};
   if (const LdmBuild* ldm = ao.ldm()) a["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
   write("ao.png", aoToImage(mine, w, h),
         {{"Description", std::string("ambient occlusion (") + toString(ao.settings().ao.method) +
@@ -38,7 +41,8 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
   }
   for (AoMethod ref : {AoMethod::RayTraced, AoMethod::Reference}) {
     if (ref == ao.settings().ao.method) {  // the method is its own reference: no error by definition
-      a[std::string("vs_") + toString(ref)] = {{"mae", 0.0}, {"rmse", 0.0}, {"bias", 0.0}, {"flip", 0.0}, {"itself", true}};
+      a[std::string("vs_") + toString(ref)] = {
+          {"mae", 0.0}, {"rmse", 0.0}, {"bias", 0.0}, {"flip", 0.0}, {"itself", true}};
       continue;
     }
     const std::vector<float> r = ao.computeWith(ref);
@@ -48,7 +52,8 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
     write("ao_error_" + name + ".png", aoErrorToImage(mine, r, w, h, 0.25f),
           {{"Description", std::string("|AO - AO ") + toString(ref) + "|, viridis 0..0.25"}});
     char line[200];
-    std::snprintf(line, sizeof line, "ambient occlusion (%s) vs %s: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f",
+    std::snprintf(line, sizeof line,
+                  "ambient occlusion (%s) vs %s: MAE %.4f, RMSE %.4f, bias %+.4f, p95 %.4f, FLIP %.4f",
                   toString(ao.settings().ao.method), toString(ref), e.mae, e.rmse, e.bias, e.p95, e.flip);
     summary.push_back(line);
   }

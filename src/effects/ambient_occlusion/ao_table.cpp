@@ -11,7 +11,6 @@ namespace hb {
 using nlohmann::json;
 using namespace results;  // at, numberAt, medianOf, escapeCell
 
-
 std::string aoTableMarkdown(const json& results) {
   results::requireResultsFile(results);
   bool any = false;
@@ -34,8 +33,8 @@ std::string aoTableMarkdown(const json& results) {
     const json& res = at(at(run, "params"), "resolution");
     const std::string image = res.is_array() && res.size() == 2 ? res[0].dump() + "x" + res[1].dump() : "—";
     if (!a.is_object()) {
-      o << "| " << escapeCell(name) << " | off | — | — | " << image << " | — | — | " << numberCell(medianOf(at(run, "frame_ms")), "%.3f")
-        << " | — | — | — | — | — | — | — |\n";
+      o << "| " << escapeCell(name) << " | off | — | — | " << image << " | — | — | "
+        << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | — | — | — | — | — | — | — |\n";
       continue;
     }
     const std::string method = at(a, "method").is_string() ? at(a, "method").get<std::string>() : "?";
@@ -43,18 +42,19 @@ std::string aoTableMarkdown(const json& results) {
     const json& l = at(a, "ldm");
     const double mb = numberAt(at(a, "memory_bytes"), "ldm_links") / 1048576.0;
     const std::string nodes = l.is_object() ? numberCell(numberAt(at(l, "nodes_per_pixel"), "mean"), "%.2f") + " / " +
-                                                  numberCell(numberAt(at(l, "nodes_per_pixel"), "p99"), "%.0f") + " / " +
-                                                  numberCell(numberAt(at(l, "nodes_per_pixel"), "max"), "%.0f")
+                                                  numberCell(numberAt(at(l, "nodes_per_pixel"), "p99"), "%.0f") +
+                                                  " / " + numberCell(numberAt(at(l, "nodes_per_pixel"), "max"), "%.0f")
                                             : "—";
     const json& vr = at(a, "vs_raytraced");
     const json& vf = at(a, "vs_reference");
     o << "| " << escapeCell(name) << " | " << method << " | "
       << (method == "reference" ? "—" : numberCell(numberAt(a, "directions"), "%.0f")) << " | "
       << (ldm ? numberCell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | " << image << " | "
-      << numberCell(passMedianMs(run, "ldm_build"), "%.3f") << " | " << numberCell(passMedianMs(run, "ambient_occlusion"), "%.3f") << " | "
+      << numberCell(passMedianMs(run, "ldm_build"), "%.3f") << " | "
+      << numberCell(passMedianMs(run, "ambient_occlusion"), "%.3f") << " | "
       << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
-      << (ldm ? numberCell(mb, "%.1f") + " (" + numberCell(numberAt(l, "exact_bytes") / 1048576.0, "%.1f") + ")" : "—") << " | "
-      << nodes << " | " << (ldm ? numberCell(numberAt(l, "overflow"), "%.0f") : "—") << " | "
+      << (ldm ? numberCell(mb, "%.1f") + " (" + numberCell(numberAt(l, "exact_bytes") / 1048576.0, "%.1f") + ")" : "—")
+      << " | " << nodes << " | " << (ldm ? numberCell(numberAt(l, "overflow"), "%.0f") : "—") << " | "
       << (method == "raytraced" ? "0 (itself)" : numberCell(numberAt(vr, "mae"), "%.4f")) << " | "
       << (method == "raytraced" ? "—" : numberCell(numberAt(vr, "bias"), "%+.4f")) << " | "
       << (method == "reference" ? "0 (itself)" : numberCell(numberAt(vf, "mae"), "%.4f")) << " | "

@@ -13,5 +13,4 @@ namespace hb {
 
 std::string aoTableMarkdown(const nlohmann::json& results);
 
-
 }  // namespace hb

@@ -23,8 +23,10 @@ json results() {
                     {"directions", 512},
                     {"ldm_resolution", 200},
                     {"memory_bytes", {{"ldm_links", 2.0 * 1048576}}},
-                    {"ldm", {{"exact_bytes", 1.9 * 1048576}, {"overflow", 0},
-                             {"nodes_per_pixel", {{"mean", 2.12}, {"p99", 11}, {"max", 27}}}}},
+                    {"ldm",
+                     {{"exact_bytes", 1.9 * 1048576},
+                      {"overflow", 0},
+                      {"nodes_per_pixel", {{"mean", 2.12}, {"p99", 11}, {"max", 27}}}}},
                     {"vs_raytraced", {{"mae", 0.0104}, {"bias", 0.006}}},
                     {"vs_reference", {{"mae", 0.02}, {"flip", 0.08}}}};
   const json reference = {{"method", "reference"},

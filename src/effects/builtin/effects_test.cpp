@@ -35,11 +35,11 @@ TEST(Effects, DefaultsCallForShadowsAndTheFrameHasEveryPassInFrameOrder) {
   // Ambient occlusion and indirect light are off unless called for: their passes are listed with that reason.
   const std::string off = "effects.ambient_occlusion is off (default)", offInd = "effects.indirect is off (default)";
   EXPECT_EQ(plan.skipped, (std::vector<std::pair<std::string, std::string>>{{"ldm_build", off},
-                                                                             {"ambient_occlusion", off},
-                                                                             {"indirect_ldm_build", offInd},
-                                                                             {"photon_trace", offInd},
-                                                                             {"photon_splat", offInd},
-                                                                             {"indirect_gather", offInd}}));
+                                                                            {"ambient_occlusion", off},
+                                                                            {"indirect_ldm_build", offInd},
+                                                                            {"photon_trace", offInd},
+                                                                            {"photon_splat", offInd},
+                                                                            {"indirect_gather", offInd}}));
   EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
   EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
   const EffectState& s = stateOf(plan, "shadows");
@@ -103,12 +103,14 @@ TEST(Effects, AmbientOcclusionNeedsAnAmbientTermAndBuildsOnlyWhatItsMethodUses) 
   EXPECT_EQ(aoSettingsOf(stateOf(plan, "ambient_occlusion").value).directions, 128u);
 
   scene.ambient->intensity = 0.0f;
-  EXPECT_EQ(stateOf(planFrame(scene, request), "ambient_occlusion").skippedBecause, "the scene's ambient intensity is 0");
+  EXPECT_EQ(stateOf(planFrame(scene, request), "ambient_occlusion").skippedBecause,
+            "the scene's ambient intensity is 0");
 }
 
 TEST(Effects, AmbientOcclusionSettingsAreCheckedWithWhereAndHowToFix) {
-  EXPECT_EQ(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"method": "hbao2"})"); }),
-            R"(--set ambient_occlusion={"method": "hbao2"}: effects.ambient_occlusion.method: "hbao2" is not one of "ldm", "raytraced", "reference", "hbao")");
+  EXPECT_EQ(
+      inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"method": "hbao2"})"); }),
+      R"(--set ambient_occlusion={"method": "hbao2"}: effects.ambient_occlusion.method: "hbao2" is not one of "ldm", "raytraced", "reference", "hbao")");
   EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"directions": 0})"); }).find("directions"),
             std::string::npos);
   EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"samples": 1000})"); }).find("is not a square"),
@@ -151,14 +153,17 @@ TEST(Effects, ACalledForEffectThatCannotActIsSkippedWithItsReason) {
 
 TEST(Effects, AnUnknownEffectOrABadValueIsOneLineNamingSourceAndKeyPath) {
   const json_reader::Where where{"scene.gltf", "scenes[0].extras.effects"};
-  EXPECT_EQ(inputErrorOf([&] { validateEffects(nlohmann::json{{"shadow", true}}, where); }),
+  EXPECT_EQ(inputErrorOf([&] {
+              validateEffects(nlohmann::json{{"shadow", true}}, where);
+            }),
             "scene.gltf: scenes[0].extras.effects: unknown key \"shadow\" (did you mean \"shadows\"?)");
   const std::string bad = inputErrorOf([&] { validateEffects(nlohmann::json{{"shadows", {{"x", 1}}}}, where); });
   EXPECT_EQ(bad.rfind("scene.gltf: scenes[0].extras.effects.shadows: ", 0), 0u) << bad;
   EXPECT_EQ(bad.find('\n'), std::string::npos) << bad;
   EXPECT_NE(inputErrorOf([&] { validateEffects(nlohmann::json::array(), where); }).find("scenes[0].extras.effects"),
             std::string::npos);
-  EXPECT_NE(inputErrorOf([] { parseEffectSet("effects.bloom=true"); }).find("--set effects.bloom=true"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { parseEffectSet("effects.bloom=true"); }).find("--set effects.bloom=true"),
+            std::string::npos);
   EXPECT_NE(inputErrorOf([] { parseEffectSet("shadows=maybe"); }).find("--set shadows=maybe: effects.shadows"),
             std::string::npos);
 }

@@ -23,8 +23,8 @@ IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Wh
   using namespace json_reader;
   IndirectSettings s;
   if (value.is_boolean()) return s;
-  requireObjectWithKeys(value, where,
-                        {"method", "directions", "ldm_resolution", "photons", "bias", "ldm_list", "ldm_build", "samples"});
+  requireObjectWithKeys(
+      value, where, {"method", "directions", "ldm_resolution", "photons", "bias", "ldm_list", "ldm_build", "samples"});
   if (value.contains("method"))
     s.method = IndirectMethod(readChoice(value["method"], where.key("method"), {"ldm", "raytraced", "reference"}));
   if (value.contains("directions"))
@@ -41,8 +41,10 @@ IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Wh
 void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   if (value.is_boolean()) return;
   if (!value.is_object())
-    where.fail("expected true, false or an object of settings (method, directions, ldm_resolution, photons, bias, "
-               "ldm_list, ldm_build, samples), got " + json_reader::describe(value));
+    where.fail(
+        "expected true, false or an object of settings (method, directions, ldm_resolution, photons, bias, "
+        "ldm_list, ldm_build, samples), got " +
+        json_reader::describe(value));
   read(value, where);
 }
 
@@ -63,12 +65,12 @@ std::vector<const char*> passesOf(const nlohmann::json& value) {
 }
 
 std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
-  const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) {
-    return l.type != LightType::Directional && l.intensity > 0.0f;
-  });
+  const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                 [](const Light& l) { return l.type != LightType::Directional && l.intensity > 0.0f; });
   if (!emits)
-    return scene.lights.empty() ? "the scene has no lights"
-                                : "no point or spot light with a positive intensity (directional lights emit no photons)";
+    return scene.lights.empty()
+               ? "the scene has no lights"
+               : "no point or spot light with a positive intensity (directional lights emit no photons)";
   return "";
 }
 
@@ -98,9 +100,10 @@ nlohmann::json IndirectSettings::toJson() const {
 const EffectDef& indirectEffect() {
   static const EffectDef def{
       .name = "indirect",
-      .summary = "single-bounce indirect light from point and spot lights: photons split into N directions, traced "
-                 "through layered depth maps or the ray tracer and splatted with their differentials, or a gathered "
-                 "reference",
+      .summary =
+          "single-bounce indirect light from point and spot lights: photons split into N directions, traced "
+          "through layered depth maps or the ray tracer and splatted with their differentials, or a gathered "
+          "reference",
       .defaultValue = false,
       .validate = validate,
       .needs = {FrameResource::Depth, FrameResource::AccelerationStructures},

@@ -15,14 +15,20 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.normals = surface.normals;
   is.rayQuery = f.settings.backend != RtBackend::Pipeline && f.ctx.info().rayQuery;  // backend=pipeline: every ray pass
   const FrameResources& r = f.resources;
-  IndirectInputs ii{&r.requireBuffer(res::kFrameConstants), &r.requireBuffer(res::kLights), &r.requireImage(res::kDepth),
-                    r.sampler(res::kPointSampler), r.tlas(res::kTlas), surface.hitIds, surface.hitRays,
+  IndirectInputs ii{&r.requireBuffer(res::kFrameConstants),
+                    &r.requireBuffer(res::kLights),
+                    &r.requireImage(res::kDepth),
+                    r.sampler(res::kPointSampler),
+                    r.tlas(res::kTlas),
+                    surface.hitIds,
+                    surface.hitRays,
                     surface.hitTriangles};
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
   std::vector<std::string> surfaceReads = {res::kFrameConstants, res::kDepth, res::kTlas};
-  if (surface.hitIds) surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  if (surface.hitIds)
+    surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   auto add = [&](const char* name, std::vector<std::string> reads, std::vector<std::string> writes,
                  void (IndirectPass::*record)(VkCommandBuffer) const) {
     FramePass pass;

@@ -23,7 +23,8 @@ constexpr double kSpotCubeCos = 0.05;
 double spotFactor(const Light& l, const glm::dvec3& d) {
   if (l.type != LightType::Spot) return 1.0;
   const double cosOuter = std::cos(double(l.outerConeAngle)), cosInner = std::cos(double(l.innerConeAngle));
-  const double t = std::clamp((glm::dot(glm::dvec3(l.direction), d) - cosOuter) / std::max(cosInner - cosOuter, 1e-4), 0.0, 1.0);
+  const double t =
+      std::clamp((glm::dot(glm::dvec3(l.direction), d) - cosOuter) / std::max(cosInner - cosOuter, 1e-4), 0.0, 1.0);
   return t * t;
 }
 
@@ -37,10 +38,22 @@ PhotonTally tallyPhotons(const std::vector<gpu::Photon>& photons) {
     std::memcpy(&status, &p.normalStatus.w, 4);
     const double flux = double(p.positionFluxR.w) + double(p.duFluxG.w) + double(p.dvFluxB.w);
     switch (status) {
-      case gpu::kPhotonStored: ++t.stored; t.fluxStored += flux; break;
-      case gpu::kPhotonHidden: ++t.hidden; t.fluxHidden += flux; break;
-      case gpu::kPhotonEscaped: ++t.escaped; t.fluxEscaped += flux; break;
-      case gpu::kPhotonGrazing: ++t.grazing; t.fluxGrazing += flux; break;
+      case gpu::kPhotonStored:
+        ++t.stored;
+        t.fluxStored += flux;
+        break;
+      case gpu::kPhotonHidden:
+        ++t.hidden;
+        t.fluxHidden += flux;
+        break;
+      case gpu::kPhotonEscaped:
+        ++t.escaped;
+        t.fluxEscaped += flux;
+        break;
+      case gpu::kPhotonGrazing:
+        ++t.grazing;
+        t.fluxGrazing += flux;
+        break;
       default: ++t.empty; break;
     }
   }
@@ -60,13 +73,16 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     : ctx_(ctx), gpuScene_(gpuScene), settings_(settings), in_(in), width_(width), height_(height), splat_(ctx) {
   const IndirectSettings& s = settings.indirect;
   if (!in.tlas)
-    throw InputError("effects.indirect needs the ray tracer (its photons and gathered rays meet surfaces by ray); "
-                     "this device has none");
+    throw InputError(
+        "effects.indirect needs the ray tracer (its photons and gathered rays meet surfaces by ray); "
+        "this device has none");
   VkFormatProperties fp{};
   vkGetPhysicalDeviceFormatProperties(ctx.physical(), kIrradianceFormat, &fp);
-  const VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
+  const VkFormatFeatureFlags needed =
+      VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT | VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT;
   if ((fp.optimalTilingFeatures & needed) != needed)
-    throw DeviceError("device \"" + ctx.info().name + "\" cannot blend into or store RGBA32F images, which photon "
+    throw DeviceError("device \"" + ctx.info().name +
+                      "\" cannot blend into or store RGBA32F images, which photon "
                       "splatting needs; use effects.indirect.method=reference or another device");
   std::vector<glm::dvec3> dirs;
   try {
@@ -117,9 +133,9 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   const DrawTables tables = drawTables(gpuScene);
   draws_ = uploadBuffer(ctx, tables.draws.data(), tables.draws.size() * sizeof(gpu::GpuDraw),
                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
-  triangleDraw_ = uploadBuffer(ctx, tables.triangleDraw.data(),
-                               std::max<size_t>(1, tables.triangleDraw.size()) * sizeof(uint32_t),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  triangleDraw_ =
+      uploadBuffer(ctx, tables.triangleDraw.data(), std::max<size_t>(1, tables.triangleDraw.size()) * sizeof(uint32_t),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   const std::vector<uint32_t> idBase = triangleIdBase(scene);
   idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                          MemClass::Other);
@@ -132,7 +148,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   c.directions = s.directions;
   c.resolution = s.ldmResolution;
   c.mapPixels = ldm_ ? ldm_->mapCount() * s.ldmResolution * s.ldmResolution : 0;
-  c.ldmList = !ldm_ ? 0u
+  c.ldmList = !ldm_                            ? 0u
               : ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
               : ldm_->list() == LdmList::Cas   ? gpu::kLdmListCas
                                                : gpu::kLdmListSbuffer;
@@ -155,10 +171,10 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
 
   if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
-  const VkShaderStageFlags trace = settings_.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-                                                       : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
-                                                                            VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
-                                                                            VK_SHADER_STAGE_MISS_BIT_KHR);
+  const VkShaderStageFlags trace =
+      settings_.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                         : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+                                              VK_SHADER_STAGE_MISS_BIT_KHR);
   const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   bindings_ = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
                {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace},
@@ -204,26 +220,28 @@ IndirectPass::~IndirectPass() = default;
 IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   Target t;
   if (withPhotons)
-    t.photons = Buffer(ctx_, slots() * sizeof(gpu::Photon), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                       false, MemClass::Other);
+    t.photons = Buffer(ctx_, slots() * sizeof(gpu::Photon),
+                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
   t.irradiance = Image(ctx_, width_, height_, kIrradianceFormat,
-                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
-                           VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                       VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                           VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                        VK_IMAGE_ASPECT_COLOR_BIT);
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, t.irradiance, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
-    VkClearColorValue zero{};
-    VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
-  }, "clearing the indirect light's target");
+  ctx_.submitAndWait(
+      [&](VkCommandBuffer cmd) {
+        imageBarrier(cmd, t.irradiance, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
+                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+        VkClearColorValue zero{};
+        VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+      },
+      "clearing the indirect light's target");
   auto sets = std::make_unique<DescriptorSets>(ctx_, bindings_, 1, uint32_t(textures_->images().size()));
   DescriptorSets& d = *sets;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   d.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
   d.writeBuffer(0, 1, sb, in_.lights->handle());
-  d.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(), VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-               in_.sampler);
+  d.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
+               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
   d.writeAccelerationStructure(0, 5, in_.tlas);
   d.writeBuffer(0, 6, sb, gpuScene_.vertices().handle());
   d.writeBuffer(0, 7, sb, gpuScene_.indices().handle());
@@ -334,15 +352,13 @@ void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t) const {
   HB_ASSERT(vertices <= 0xFFFFFFFFull);
   vkCmdDraw(cmd, uint32_t(vertices), 1, 0, 0);
   vkCmdEndRendering(cmd);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  memoryBarrier(
+      cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void IndirectPass::recordTrace(VkCommandBuffer cmd) const {
-  recordTraceInto(cmd, *programs_.at(method()), frame_);
-}
+void IndirectPass::recordTrace(VkCommandBuffer cmd) const { recordTraceInto(cmd, *programs_.at(method()), frame_); }
 void IndirectPass::recordSplat(VkCommandBuffer cmd) const { recordSplatInto(cmd, frame_); }
 void IndirectPass::recordGather(VkCommandBuffer cmd) const {
   recordGatherInto(cmd, *programs_.at(IndirectMethod::Reference), frame_);
@@ -380,10 +396,12 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
   if (m == IndirectMethod::Reference) {
     ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordGatherInto(cmd, p, scratch_); }, "the gathered indirect light");
   } else {
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-      recordTraceInto(cmd, p, scratch_);
-      recordSplatInto(cmd, scratch_);
-    }, "the ray-traced photons");
+    ctx_.submitAndWait(
+        [&](VkCommandBuffer cmd) {
+          recordTraceInto(cmd, p, scratch_);
+          recordSplatInto(cmd, scratch_);
+        },
+        "the ray-traced photons");
     if (photons) *photons = readSlots(ctx_, scratch_.photons);
   }
   return readRgba(ctx_, scratch_.irradiance);

@@ -77,8 +77,8 @@ class IndirectPass {
   IndirectMethod method() const { return settings_.indirect.method; }
   const Image& irradiance() const { return frame_.irradiance; }  // RGBA32F, GENERAL layout
   const Buffer& photonSlots() const { return frame_.photons; }   // gpu::Photon per slot (not for reference)
-  std::vector<float> readIrradiance() const;                      // rgba per pixel
-  std::vector<gpu::Photon> readPhotons() const;                   // every slot (not for reference)
+  std::vector<float> readIrradiance() const;                     // rgba per pixel
+  std::vector<gpu::Photon> readPhotons() const;                  // every slot (not for reference)
   // Analysis frames: the irradiance (rgba per pixel) of `method` on the surface of the last frame,
   // computed into a second target (its own submissions); photons, when given, receive its slots.
   std::vector<float> computeWith(IndirectMethod method, std::vector<gpu::Photon>* photons = nullptr);

@@ -17,9 +17,9 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
                                    std::vector<std::string>& summary) {
   nlohmann::json j = ind.settings().indirect.toJson();
   const IndirectMemory m = ind.memory();
-  j["memory_bytes"] = {{"ldm", m.ldmBytes}, {"photons", m.photonBytes}, {"faces", m.faceBytes},
-                       {"directions", m.directionBytes}, {"target", m.targetBytes}, {"textures", m.textureBytes},
-                       {"total", m.total()}};
+  j["memory_bytes"] = {
+      {"ldm", m.ldmBytes},       {"photons", m.photonBytes},   {"faces", m.faceBytes}, {"directions", m.directionBytes},
+      {"target", m.targetBytes}, {"textures", m.textureBytes}, {"total", m.total()}};
   if (const LdmBuild* ldm = ind.ldm()) j["ldm"] = ldmJson(*ldm, ldm->links().size());
   j["emitters"] = ind.emitters();
   j["flux_emitted_w"] = ind.emittedFlux();
@@ -28,11 +28,20 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
   const std::vector<float> mine = ind.computeWith(method, &photons);
   if (method != IndirectMethod::Reference) {
     const PhotonTally t = tallyPhotons(photons);
-    j["split_photons"] = {{"primaries", ind.primaries()}, {"slots", t.slots}, {"stored", t.stored}, {"hidden", t.hidden},
-                    {"escaped", t.escaped}, {"grazing", t.grazing}, {"empty", t.empty},
-                    {"flux_reflected_w", t.fluxReflected()}, {"flux_stored_w", t.fluxStored},
-                    {"flux_hidden_w", t.fluxHidden}, {"flux_escaped_w", t.fluxEscaped}, {"flux_grazing_w", t.fluxGrazing},
-                    {"discarded_share", t.slots ? double(t.hidden + t.escaped + t.grazing) / double(t.slots) : 0.0}};
+    j["split_photons"] = {
+        {"primaries", ind.primaries()},
+        {"slots", t.slots},
+        {"stored", t.stored},
+        {"hidden", t.hidden},
+        {"escaped", t.escaped},
+        {"grazing", t.grazing},
+        {"empty", t.empty},
+        {"flux_reflected_w", t.fluxReflected()},
+        {"flux_stored_w", t.fluxStored},
+        {"flux_hidden_w", t.fluxHidden},
+        {"flux_escaped_w", t.fluxEscaped},
+        {"flux_grazing_w", t.fluxGrazing},
+        {"discarded_share", t.slots ? double(t.hidden + t.escaped + t.grazing) / double(t.slots) : 0.0}};
   }
   const float scale = indirectScale(mine);
   j["image_scale"] = scale;
@@ -53,16 +62,20 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
     if (ref == IndirectMethod::RayTraced) {
       const PhotonAgreement a = comparePhotons(photons, refPhotons, ind.landingTolerance());
       j[name]["photons"] = {{"same_status_share", a.slots ? double(a.sameStatus) / double(a.slots) : 0.0},
-                            {"both_stored", a.bothStored}, {"off_surface", a.offSurface},
+                            {"both_stored", a.bothStored},
+                            {"off_surface", a.offSurface},
                             {"landing_tolerance_m", ind.landingTolerance()},
-                            {"median_distance_m", a.p50Distance}, {"p99_distance_m", a.p99Distance},
+                            {"median_distance_m", a.p50Distance},
+                            {"p99_distance_m", a.p99Distance},
                             {"max_distance_m", a.maxDistance}};
     }
     const float rs = indirectScale(r);
     write("indirect_" + std::string(toString(ref)) + ".png", indirectToImage(r, w, h, rs),
-          {{"Description", std::string("indirect irradiance (") + toString(ref) + "), ACES after x" + std::to_string(rs)}});
+          {{"Description",
+            std::string("indirect irradiance (") + toString(ref) + "), ACES after x" + std::to_string(rs)}});
     write("indirect_error_" + name + ".png", indirectErrorToImage(mine, r, w, h, rs),
-          {{"Description", std::string("|Y - Y ") + toString(ref) + "| over the reference's 99th percentile, viridis 0..0.5"}});
+          {{"Description",
+            std::string("|Y - Y ") + toString(ref) + "| over the reference's 99th percentile, viridis 0..0.5"}});
     char line[200];
     std::snprintf(line, sizeof line, "indirect (%s) vs %s: relMSE %.4f, total %.4f, FLIP %.4f", toString(method),
                   toString(ref), e.relMse, e.totalRatio, e.flip);

@@ -11,7 +11,6 @@ namespace hb {
 using nlohmann::json;
 using namespace results;  // at, numberAt, medianOf, escapeCell
 
-
 std::string indirectTableMarkdown(const json& results) {
   results::requireResultsFile(results);
   bool any = false;
@@ -52,8 +51,9 @@ std::string indirectTableMarkdown(const json& results) {
       << (photons ? numberCell(perFace, "%.0f") + "²" : "—") << " | " << image << " | "
       << numberCell(passMedianMs(run, "indirect_ldm_build"), "%.3f") << " | "
       << numberCell(passMedianMs(run, photons ? "photon_trace" : "indirect_gather"), "%.3f") << " | "
-      << numberCell(passMedianMs(run, "photon_splat"), "%.3f") << " | " << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | "
-      << numberCell(numberAt(p, "slots"), "%.0f") << " | " << numberCell(numberAt(p, "stored"), "%.0f") << " | "
+      << numberCell(passMedianMs(run, "photon_splat"), "%.3f") << " | "
+      << numberCell(medianOf(at(run, "frame_ms")), "%.3f") << " | " << numberCell(numberAt(p, "slots"), "%.0f") << " | "
+      << numberCell(numberAt(p, "stored"), "%.0f") << " | "
       << numberCell(100.0 * numberAt(p, "discarded_share"), "%.1f %%") << " | "
       << numberCell(numberAt(at(a, "memory_bytes"), "total") / 1048576.0, "%.1f") << " | "
       << (selfRt ? "0 (itself)" : numberCell(numberAt(vr, "rel_mse"), "%.4f")) << " | "

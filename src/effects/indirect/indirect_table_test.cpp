@@ -10,17 +10,26 @@ namespace {
 using nlohmann::json;
 
 json indirectRun(const char* name, double frameMs, json ind, json passes) {
-  return {{"name", name},        {"status", "ok"},         {"params", {{"resolution", {800, 800}}}},
-          {"passes", passes},    {"frame_ms", {{"median", frameMs}}}, {"indirect", ind}};
+  return {{"name", name},
+          {"status", "ok"},
+          {"params", {{"resolution", {800, 800}}}},
+          {"passes", passes},
+          {"frame_ms", {{"median", frameMs}}},
+          {"indirect", ind}};
 }
 
 json indirectResults() {
-  const json ldm = {{"method", "ldm"}, {"directions", 512}, {"ldm_resolution", 200}, {"photons", 16},
+  const json ldm = {{"method", "ldm"},
+                    {"directions", 512},
+                    {"ldm_resolution", 200},
+                    {"photons", 16},
                     {"memory_bytes", {{"total", 3.0 * 1048576}}},
                     {"split_photons", {{"slots", 1000}, {"stored", 400}, {"discarded_share", 0.6}}},
                     {"vs_raytraced", {{"rel_mse", 0.066}, {"total_ratio", 0.977}}},
                     {"vs_reference", {{"rel_mse", 0.135}, {"total_ratio", 0.797}, {"flip", 0.27}}}};
-  const json rt = {{"method", "raytraced"}, {"directions", 512}, {"photons", 16},
+  const json rt = {{"method", "raytraced"},
+                   {"directions", 512},
+                   {"photons", 16},
                    {"memory_bytes", {{"total", 1.0 * 1048576}}},
                    {"split_photons", {{"slots", 1000}, {"stored", 410}, {"discarded_share", 0.59}}},
                    {"vs_raytraced", {{"rel_mse", 0.0}, {"itself", true}}},
@@ -28,7 +37,8 @@ json indirectResults() {
   return {{"schema_version", 1},
           {"runs",
            {indirectRun("ldm", 10.0, ldm,
-                        {{"indirect_ldm_build", {{"median", 2.0}}}, {"photon_trace", {{"median", 0.5}}},
+                        {{"indirect_ldm_build", {{"median", 2.0}}},
+                         {"photon_trace", {{"median", 0.5}}},
                          {"photon_splat", {{"median", 7.0}}}}),
             indirectRun("rt", 12.0, rt, {{"photon_trace", {{"median", 3.0}}}, {"photon_splat", {{"median", 7.0}}}})}}};
 }
@@ -54,8 +64,8 @@ TEST(IndirectTable, TheAccuracyReportOfAnIndirectSweepMeasuresTheRelativeMse) {
   ASSERT_EQ(f.points.size(), 2u);
   EXPECT_DOUBLE_EQ(f.points[0].error, 0.135);
   EXPECT_DOUBLE_EQ(f.points[1].error, 0.121);
-  EXPECT_TRUE(f.points[0].onFront);   // faster
-  EXPECT_TRUE(f.points[1].onFront);   // more accurate
+  EXPECT_TRUE(f.points[0].onFront);  // faster
+  EXPECT_TRUE(f.points[1].onFront);  // more accurate
   EXPECT_NE(accuracyReportMarkdown(indirectResults()).find("Indirect error (relMSE vs reference)"), std::string::npos);
 }
 

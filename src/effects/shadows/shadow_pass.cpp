@@ -29,7 +29,6 @@ VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, 
   return bytes;
 }
 
-
 std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
   return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
           {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
@@ -55,11 +54,12 @@ VkShaderStageFlags stagesFor(ShadowBackend b) {
 }  // namespace
 
 struct ShadowPass::Variant {
-  Pipeline compute;                              // rayquery backend
+  Pipeline compute;                               // rayquery backend
   std::unique_ptr<RaygenMissPipeline> rtProgram;  // pipeline backend
 
   Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
-    SpecConstants spec{{s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
+    SpecConstants spec{
+        {s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
     if (s.backend == ShadowBackend::RayQuery) {
       compute.createLayout({layout}, 0);
       compute.createCompute("shadows_rayquery.comp", spec);
@@ -102,8 +102,9 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeAccelerationStructure(0, 5, in.tlas);
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
-    throw InputError("world_pos=hit and normal_culling=geometric need the triangle ids of a computed primary "
-                     "visibility: set primary=3dr, 3dr-binned, 2dr or raycast");
+    throw InputError(
+        "world_pos=hit and normal_culling=geometric need the triangle ids of a computed primary "
+        "visibility: set primary=3dr, 3dr-binned, 2dr or raycast");
   // Without them bindings 11-13 are never read; any buffer of the right type will do.
   sets_.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? in.hitIds : in.lights)->handle());
   sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());

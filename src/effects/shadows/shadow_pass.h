@@ -20,10 +20,10 @@ const char* toString(ShadowBackend);
 struct ShadowSettings {
   ShadowBackend backend = ShadowBackend::RayQuery;
   uint32_t tileSize = 16;
-  NormalCulling normals = NormalCulling::Off;      // geometric needs hit ids
+  NormalCulling normals = NormalCulling::Off;       // geometric needs hit ids
   WorldPosMethod worldPos = WorldPosMethod::Alg41;  // hit needs hit ids
   bool rangeTest = false;
-  uint32_t listMode = 0;       // gpu::kList*
+  uint32_t listMode = 0;         // gpu::kList*
   uint32_t visibilityWords = 1;  // per pixel: 1 for tile lists, ceil(lights/32) for the masks
 };
 

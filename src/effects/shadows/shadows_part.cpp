@@ -13,8 +13,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
   const RenderSettings& s = f.settings;
   const FrameResources& r = f.resources;
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
-  const bool curved = f.camera.projection != CameraProjection::Perspective &&
-                      f.camera.projection != CameraProjection::Orthographic;
+  const bool curved =
+      f.camera.projection != CameraProjection::Perspective && f.camera.projection != CameraProjection::Orthographic;
   if (curved && s.worldPos != WorldPosMethod::Hit)
     throw InputError(std::string("projection=") + toString(f.camera.projection) +
                      " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
@@ -30,9 +30,12 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
   ss.rangeTest = s.rangeTest;
   ss.listMode = f.constants.lists.x;
   ss.visibilityWords = f.constants.lists.z;
-  inputs_ = {&r.requireBuffer(res::kFrameConstants), &r.requireBuffer(res::kListLights),
-             &r.requireBuffer(res::kListGrid),       &r.requireBuffer(res::kListIndices),
-             &r.requireImage(res::kDepth),           r.sampler(res::kPointSampler),
+  inputs_ = {&r.requireBuffer(res::kFrameConstants),
+             &r.requireBuffer(res::kListLights),
+             &r.requireBuffer(res::kListGrid),
+             &r.requireBuffer(res::kListIndices),
+             &r.requireImage(res::kDepth),
+             r.sampler(res::kPointSampler),
              r.tlas(res::kTlas)};
   inputs_.hitIds = r.buffer(res::kVisibility);
   inputs_.hitRays = r.buffer(res::kVisibilityRays);
@@ -45,7 +48,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
   FramePass pass;
   pass.name = kShadowsPass;
   pass.reads = {res::kFrameConstants, res::kListLights, res::kListGrid, res::kListIndices, res::kDepth, res::kTlas};
-  if (inputs_.hitIds) pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  if (inputs_.hitIds)
+    pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
   pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { shadows_->record(cmd, frame.analysis); };
   pass.after = [](VkCommandBuffer cmd) {

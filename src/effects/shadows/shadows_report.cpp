@@ -24,8 +24,8 @@ namespace hb {
 // the list but shadowed or culled by the normal/range test; black not in the pixel's list; dark
 // blue sky. One walk of each pixel's list for all of them, rows on every core.
 static std::vector<ImageRGBA8> visibilityOfLights(const ShadowReadback& sh, const CullingReadback& cr,
-                                           const std::vector<float>& depth, uint32_t w, uint32_t h,
-                                           uint32_t tileSize, uint32_t count) {
+                                                  const std::vector<float>& depth, uint32_t w, uint32_t h,
+                                                  uint32_t tileSize, uint32_t count) {
   std::vector<ImageRGBA8> imgs(count, ImageRGBA8{w, h, std::vector<uint8_t>(size_t(w) * h * 4, 255)});
   const size_t pixels = size_t(w) * h;
   const bool zbin = cr.lists == LightLists::Zbin;
@@ -48,8 +48,10 @@ static std::vector<ImageRGBA8> visibilityOfLights(const ShadowReadback& sh, cons
         const uint32_t l = cr.indices[k];
         if (l >= count) continue;
         const uint32_t slot = k - first;
-        if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u) paint(l, 255, 255, 255);
-        else paint(l, 110, 20, 20);
+        if ((sh.visibility[size_t(slot / 32) * pixels + i] >> (slot % 32)) & 1u)
+          paint(l, 255, 255, 255);
+        else
+          paint(l, 110, 20, 20);
       }
     }
   });
@@ -59,7 +61,8 @@ static std::vector<ImageRGBA8> visibilityOfLights(const ShadowReadback& sh, cons
 // Per pixel, the scene lights whose bit is set in the pixel's visibility words (bit k = the k-th
 // light of its walk). Sky: 0. Precondition: every light index < 64.
 static std::vector<uint64_t> visibleSceneLights(const ShadowReadback& sh, const CullingReadback& cr,
-                                         const std::vector<float>& depth, uint32_t w, uint32_t h, uint32_t tileSize) {
+                                                const std::vector<float>& depth, uint32_t w, uint32_t h,
+                                                uint32_t tileSize) {
   const size_t pixels = size_t(w) * h;
   std::vector<uint64_t> out(pixels, 0);
   const bool zbin = cr.lists == LightLists::Zbin;
@@ -86,11 +89,11 @@ static bool lightReaches(const Light& l, const glm::dvec3& p, const glm::dvec3& 
   const double dist = glm::length(d);
   if (!(dist > 0.0) || dist > l.range) return false;
   d /= dist;
-  if (l.type == LightType::Spot && glm::dot(-d, glm::normalize(glm::dvec3(l.direction))) < std::cos(double(l.outerConeAngle)))
+  if (l.type == LightType::Spot &&
+      glm::dot(-d, glm::normalize(glm::dvec3(l.direction))) < std::cos(double(l.outerConeAngle)))
     return false;
   return glm::dot(n, d) > 0.0;
 }
-
 
 void reportShadows(EffectReport& r) {
   ShadowsPart* shadows = shadowsOf(r.renderer);
@@ -133,11 +136,13 @@ void reportShadows(EffectReport& r) {
   rays["efficiency"] = rayEfficiency(oracle.total, acc.traced);
   r.run["rays"] = rays;
   const uint32_t heatMax = rayHeatmapMax(cr.lists == LightLists::Tile, lightCount, acc.perPixel);
-  write("rays.png", rayHeatmap(acc.perPixel, w, h, heatMax),
-        {{"Description", "shadow rays per pixel, thesis colours (black/blue 0-30 %, cyan/green 40-70 %, yellow/red "
-                         "80-100 % of " + std::to_string(heatMax) + " rays; red = " +
-                         (cr.lists == LightLists::Tile ? "the most a capped tile list can trace)"
-                                                       : "the most any pixel traced)")}});
+  write(
+      "rays.png", rayHeatmap(acc.perPixel, w, h, heatMax),
+      {{"Description",
+        "shadow rays per pixel, thesis colours (black/blue 0-30 %, cyan/green 40-70 %, yellow/red "
+        "80-100 % of " +
+            std::to_string(heatMax) + " rays; red = " +
+            (cr.lists == LightLists::Tile ? "the most a capped tile list can trace)" : "the most any pixel traced)")}});
   write("rays_oracle.png", rayHeatmap(oracle.perPixel, w, h, heatMax),
         {{"Description", "the oracle's rays per pixel (the fewest any culler could trace)"}});
   if (reference && !reference->visible.empty() && reference->width == w && reference->height == h) {
@@ -209,8 +214,9 @@ void reportShadows(EffectReport& r) {
       char name[64];
       std::snprintf(name, sizeof name, "visibility_light%02u.png", l);
       write(name, images[l],
-            {{"Description", "white lit, dark red shadowed or culled by the normal/range test, black not in the "
-                             "pixel's light list, blue sky"}});
+            {{"Description",
+              "white lit, dark red shadowed or culled by the normal/range test, black not in the "
+              "pixel's light list, blue sky"}});
     }
   }
   if (params.normalCulling != NormalCulling::Off) {

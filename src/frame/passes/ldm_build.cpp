@@ -44,17 +44,20 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                  VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
              false, MemClass::Other),
-      counters_(ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
-                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
-                false, MemClass::Other),
+      counters_(
+          ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
+          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+          false, MemClass::Other),
       sets_(ctx, bindingsFor(method)),
       pipeline_(ctx) {
   HB_ASSERT(!maps_.empty() && resolution_ > 0 && nodeCapacity_ > 0);
   if (!ctx.info().bufferInt64Atomics || (method == LdmBuildMethod::Hardware && !ctx.info().fragmentSubgroupBallot))
-    throw InputError("device \"" + ctx.info().name + "\" lacks 64-bit buffer atomics or subgroup ballots in fragment "
+    throw InputError("device \"" + ctx.info().name +
+                     "\" lacks 64-bit buffer atomics or subgroup ballots in fragment "
                      "shaders, which the hardware LDM build needs: use effects.ambient_occlusion.method=raytraced");
   if (method == LdmBuildMethod::Raster3d && !ctx.info().shaderFloat64)
-    throw InputError("device \"" + ctx.info().name + "\" has no fp64 in shaders, which ldm_build=3dr needs at shared "
+    throw InputError("device \"" + ctx.info().name +
+                     "\" has no fp64 in shaders, which ldm_build=3dr needs at shared "
                      "vertices: use ldm_build=hardware");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
   const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
@@ -62,15 +65,17 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
-  const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64 : list == LdmList::Cas ? gpu::kLdmListCas
-                                                                                              : gpu::kLdmListSbuffer;
+  const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64
+                          : list == LdmList::Cas ? gpu::kLdmListCas
+                                                 : gpu::kLdmListSbuffer;
   auto specFor = [&](uint32_t phase) { return SpecConstants{{resolution_, nodeCapacity_, pixels, listId, phase}}; };
   if (method == LdmBuildMethod::Raster3d) {
     std::vector<glm::vec4> tris;
     for (const glm::vec3& v : scene.worldTriangles()) tris.emplace_back(v, 1.0f);
     triangleCount_ = uint32_t(tris.size() / 3);
     if ((uint64_t(triangleCount_) + 63) / 64 > 65535)  // the dispatch's x count (Vulkan's guaranteed minimum)
-      throw InputError("ldm_build=3dr: " + std::to_string(triangleCount_) + " triangles exceed one dispatch (4,194,240); "
+      throw InputError("ldm_build=3dr: " + std::to_string(triangleCount_) +
+                       " triangles exceed one dispatch (4,194,240); "
                        "use ldm_build=hardware");
     if (tris.empty()) tris.emplace_back(0.0f);
     triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -117,7 +122,8 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   for (uint32_t stage = 0; stage < 4; ++stage) {
     scan_[stage] = std::make_unique<Pipeline>(ctx);
     scan_[stage]->createLayout({scanSets_->layout()}, 0);
-    scan_[stage]->createCompute("ldm_sbuffer.comp", SpecConstants{{stage, pixels, nodeCapacity_, stage == 1 ? 1024u : 256u}});
+    scan_[stage]->createCompute("ldm_sbuffer.comp",
+                                SpecConstants{{stage, pixels, nodeCapacity_, stage == 1 ? 1024u : 256u}});
   }
 }
 
@@ -270,7 +276,8 @@ std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuS
   if (capacity > 0xFFFFFFF0ull)
     throw InputError(std::string("effects.") + effect + ": " + std::to_string(fragments) +
                      " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
-  return std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), resolution, uint32_t(capacity), method, kind);
+  return std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), resolution, uint32_t(capacity), method,
+                                    kind);
 }
 
 }  // namespace hb

@@ -18,23 +18,17 @@ VkDeviceSize listWords(const CullingSettings& s, uint32_t tiles, uint32_t maskWo
 
 std::vector<Binding> cullingBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs}, {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {5, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs},
+          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}, {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
 }
 }  // namespace
 
-LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& settings, uint32_t width,
-                           uint32_t height, const Buffer& frameConstants, const Buffer& lights, const Image& depth,
-                           VkSampler sampler)
+LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& settings, uint32_t width, uint32_t height,
+                           const Buffer& frameConstants, const Buffer& lights, const Image& depth, VkSampler sampler)
     : ctx_(ctx),
       settings_(settings),
       tilesX_((width + settings.tileSize - 1) / settings.tileSize),
@@ -48,16 +42,19 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
       indices_(ctx, listWords(settings, tilesX_ * tilesY_, maskWords_) * sizeof(uint32_t),
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
       // zbin only; one element otherwise (never read).
-      sortedLights_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(gpu::GpuLight),
-                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
-      order_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(uint32_t),
+      sortedLights_(
+          ctx,
+          (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(gpu::GpuLight),
+          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
+      order_(ctx,
+             (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * sizeof(uint32_t),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Culling),
       extents_(ctx, (settings.lists == LightLists::Zbin ? std::max<uint32_t>(1, settings.lightCount) : 1) * 8,
                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       viewLights_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(gpu::GpuViewLight),
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
-      viewSpheres_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                   false, MemClass::Culling),
+      viewSpheres_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(glm::vec4),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       sets_(ctx, cullingBindings()),
       frustumPipeline_(ctx),
       cullPipeline_(ctx),
@@ -71,8 +68,8 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
     throw InputError(std::to_string(settings.lightCount) + " lights: light culling handles at most " +
                      std::to_string(gpu::kMaxLights) + "; lower light_count");
   if (settings.lists == LightLists::Zbin && !(settings.zbinNear > 0.0f && settings.zbinFar > settings.zbinNear))
-    throw InputError("light_lists=zbin: the bins need 0 < near < far (got " + std::to_string(settings.zbinNear) +
-                     ", " + std::to_string(settings.zbinFar) + ")");
+    throw InputError("light_lists=zbin: the bins need 0 < near < far (got " + std::to_string(settings.zbinNear) + ", " +
+                     std::to_string(settings.zbinFar) + ")");
   if (settings.depthSlices == 1 || settings.depthSlices > 32)
     throw InputError("depth_slices " + std::to_string(settings.depthSlices) + " is not 0 (off) or 2..32");
   sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
@@ -92,9 +89,9 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   cullPipeline_.createLayout({sets_.layout()}, 4);
   // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test,
   // 3 depth slices, 4 list form.
-  cullPipeline_.createCompute("light_cull.comp", {{settings.tileSize, settings.lightCulling ? 1u : 0u,
-                                                   settings.aabb ? 1u : 0u, settings.depthSlices,
-                                                   listModeOf(settings.lists)}});
+  cullPipeline_.createCompute("light_cull.comp",
+                              {{settings.tileSize, settings.lightCulling ? 1u : 0u, settings.aabb ? 1u : 0u,
+                                settings.depthSlices, listModeOf(settings.lists)}});
   viewPipeline_.createLayout({sets_.layout()}, 4);
   viewPipeline_.createCompute("light_view.comp", {{listModeOf(settings.lists)}});
   if (settings.lists == LightLists::Zbin) {

@@ -9,8 +9,8 @@
 //            Sorting and binning run first in the same timed pass; later passes read the sorted
 //            lights (lightsForLists) and map back through order().
 // Before the tiles, every light is put in view space once (light_view.comp.glsl), so each tile
-// transforms nothing and tests a light's 16-byte range sphere first, the rest only where it passes. Tile size, the AABB test, culling on/off
-// and the list form are specialization constants: no dynamic branching on them.
+// transforms nothing and tests a light's 16-byte range sphere first, the rest only where it passes. Tile size, the AABB
+// test, culling on/off and the list form are specialization constants: no dynamic branching on them.
 #pragma once
 #include <string>
 
@@ -29,7 +29,7 @@ struct CullingSettings {
   uint32_t capacity = 32;    // lights stored per tile (one 32-bit visibility mask)
   uint32_t depthSlices = 0;  // 0 off, 2..32: Harada's 2.5D slab test after the plane/AABB tests
   LightLists lists = LightLists::Tile;
-  uint32_t lightCount = 0;   // sizes the masks (at most gpu::kMaxLights)
+  uint32_t lightCount = 0;                  // sizes the masks (at most gpu::kMaxLights)
   float zbinNear = 0.1f, zbinFar = 100.0f;  // zbin: view distances the bins span (log-spaced)
 };
 

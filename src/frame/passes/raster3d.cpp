@@ -1,8 +1,8 @@
 #include "frame/passes/raster3d.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <algorithm>
 #include <tuple>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -13,8 +13,8 @@
 
 namespace hb {
 
-gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height,
-                                         uint32_t triangleCount, uint32_t smallArea) {
+gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
+                                         uint32_t smallArea) {
   const glm::dmat4 viewInv = glm::inverse(glm::dmat4(camera.view));
   const glm::dvec3 right(viewInv[0]), up(viewInv[1]), back(viewInv[2]), eye(viewInv[3]);
   const glm::dvec3 forward = -back;
@@ -36,8 +36,8 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   // C and D as camera.cpp computes them in float for the hardware path's projection.
   const float fzn = camera.znear, fzf = camera.zfar;
   c.depth = glm::vec4(float(zn), float(zf), fzn / (fzf - fzn), fzf * fzn / (fzf - fzn));
-  c.project = glm::vec4(float(w / (2.0 * a * tanHalf)), float(h / (2.0 * tanHalf)), float(w / 2.0 - 0.5),
-                        float(h / 2.0 - 0.5));
+  c.project =
+      glm::vec4(float(w / (2.0 * a * tanHalf)), float(h / (2.0 * tanHalf)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
   c.width = width;
   c.height = height;
   c.triangleCount = triangleCount;
@@ -80,7 +80,6 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   }
   return c;
 }
-
 
 namespace {
 std::vector<Binding> storageBindings(uint32_t count, VkShaderStageFlags stages) {
@@ -141,9 +140,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     const std::vector<uint32_t> idBase = triangleIdBase(scene);
     idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            MemClass::Other);
-    const VkShaderStageFlags stages = rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-                                                       : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR |
-                                                                            VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    const VkShaderStageFlags stages =
+        rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+                         : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
     castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
     castSets_->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
     castSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
@@ -159,12 +158,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         p->createCompute("primary_raycast.comp", {{analysis}});
       }
     } else {
-      castRtTimed_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
-                                                          "primary_raycast.rmiss", SpecConstants{{0u}},
-                                                          "primary_raycast.rchit");
-      castRtAnalysis_ = std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
-                                                             "primary_raycast.rmiss", SpecConstants{{1u}},
-                                                             "primary_raycast.rchit");
+      castRtTimed_ =
+          std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                               "primary_raycast.rmiss", SpecConstants{{0u}}, "primary_raycast.rchit");
+      castRtAnalysis_ =
+          std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
+                                               "primary_raycast.rmiss", SpecConstants{{1u}}, "primary_raycast.rchit");
     }
     return;
   }
@@ -182,8 +181,10 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
   const std::vector<std::pair<const char*, uint32_t>> stages =
-      binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 3},
-                                                             {"raster3d_scan.comp", 2}, {"raster3d.comp", 4},
+      binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0},
+                                                             {"raster3d.comp", 3},
+                                                             {"raster3d_scan.comp", 2},
+                                                             {"raster3d.comp", 4},
                                                              {"raster3d_tiles.comp", 1}}
              : std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 1}};
   for (const auto& [shader, pass] : stages)
@@ -244,8 +245,7 @@ void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
   } else {
     const RaygenMissPipeline& p = analysis ? *castRtAnalysis_ : *castRtTimed_;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0,
-                            nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0, nullptr);
     p.traceRays(cmd, width_, height_);
   }
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
@@ -255,7 +255,7 @@ void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
 void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer) const {
   const bool cast = mode_ == PrimaryMethod::RayCast;
   if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
-  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);  // the item count
+  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);                       // the item count
   if (mode_ == PrimaryMethod::Raster3dBinned) vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -274,8 +274,8 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
   vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT);
   imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
                VK_ACCESS_2_TRANSFER_WRITE_BIT);

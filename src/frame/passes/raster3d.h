@@ -31,15 +31,14 @@ namespace hb {
 // The rays of the camera through pixel centres, as the 3DR shader and its CPU reference use them
 // (computed in double, rounded once). Perspective: d(x, y) = d0 + x·dx + y·dy, forward component
 // 1; the other projections: camera_ray.glsl.inc.
-gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height,
-                                         uint32_t triangleCount, uint32_t smallArea);
+gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
+                                         uint32_t smallArea);
 
 struct Raster3dCounters {
-  uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0,
-           bigTriangles = 0, listOverflows = 0, listEntries = 0,
-           binsRefined = 0, binsEmpty = 0;  // binned: (triangle, tile) entries tested, of those covering nothing
+  uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0, bigTriangles = 0,
+           listOverflows = 0, listEntries = 0, binsRefined = 0,
+           binsEmpty = 0;  // binned: (triangle, tile) entries tested, of those covering nothing
 };
-
 
 // What ray casting needs: the TLAS and the device's way to trace.
 struct RayCastInputs {
@@ -68,14 +67,14 @@ class Raster3dPass {
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
   std::vector<std::string> subPasses() const;
 
-  const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
+  const Buffer& visibility() const { return vis_; }       // uint64 per pixel, ~0 = nothing
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
   const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
   uint32_t triangleCount() const { return triangleCount_; }
 
   // Readbacks (after an analysis frame).
   std::vector<uint64_t> readVisibility() const;
-  std::vector<uint32_t> readCoverage() const;  // (triangle, pixel) pairs covered, per pixel
+  std::vector<uint32_t> readCoverage() const;    // (triangle, pixel) pairs covered, per pixel
   std::vector<uint32_t> readPixelTests() const;  // triangles tested at each pixel (3 edge evaluations each)
   Raster3dCounters readCounters() const;
 
@@ -93,7 +92,7 @@ class Raster3dPass {
   std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
   Pipeline resolve_;
   std::unique_ptr<DescriptorSets> castSets_;
-  std::unique_ptr<Pipeline> castTimed_, castAnalysis_;  // ray query
+  std::unique_ptr<Pipeline> castTimed_, castAnalysis_;                // ray query
   std::unique_ptr<RaygenMissPipeline> castRtTimed_, castRtAnalysis_;  // ray-tracing pipeline
 };
 

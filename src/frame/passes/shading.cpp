@@ -55,7 +55,8 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
   sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
   sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.indices ? in.indices : in.lights)->handle());
-  sets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.visibility ? in.visibility : &dummyVisibility_)->handle());
+  sets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.visibility ? in.visibility : &dummyVisibility_)->handle());
   sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
   sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
   sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
@@ -75,8 +76,9 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
     if (!in.visibilityIds || !in.rays)
-      throw InputError("shading=visbuffer needs a visibility buffer of triangle ids: set primary=3dr, 3dr-binned, 2dr or "
-                       "raycast");
+      throw InputError(
+          "shading=visbuffer needs a visibility buffer of triangle ids: set primary=3dr, 3dr-binned, 2dr or "
+          "raycast");
     createVisbuffer(ctx, scene);
   } else {
     timed_ = createPipeline(false);
@@ -167,7 +169,8 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   v.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
   v.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
   v.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.indices ? in_.indices : in_.lights)->handle());
-  v.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
+  v.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
   v.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
   v.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
   v.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
@@ -188,9 +191,8 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
     p->createLayout({v.layout()}, 0);
-    p->createCompute("shading_visbuffer.comp",
-                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u,
-                       in_.listMode}});
+    p->createCompute("shading_visbuffer.comp", {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis,
+                                                 in_.indirect ? 1u : 0u, in_.listMode}});
   }
 }
 

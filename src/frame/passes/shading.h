@@ -1,7 +1,7 @@
 // Pass 5 (thesis 4.4): the forward shading pass — the scene drawn again with depth test EQUAL
-// against the prepass depth (writes off; after 3D rasterization: the visibility buffer's id instead), Cook-Torrance with bindless textures, visibility from
-// the shadow pass's bitmask. Writes a linear HDR colour target (RGBA16F); the analysis variant
-// also writes each pixel's true face normal (the reference for normal reconstruction).
+// against the prepass depth (writes off; after 3D rasterization: the visibility buffer's id instead), Cook-Torrance
+// with bindless textures, visibility from the shadow pass's bitmask. Writes a linear HDR colour target (RGBA16F); the
+// analysis variant also writes each pixel's true face normal (the reference for normal reconstruction).
 #pragma once
 #include <memory>
 
@@ -19,7 +19,7 @@ struct ShadingInputs {
   const Buffer* visibility;  // nullptr: no shadow pass (every light visible); ShadowPass::visibility()
   const Image* depth;        // DEPTH_READ_ONLY_OPTIMAL
   uint32_t tileSize;
-  uint32_t listMode;         // gpu::kList*: how grid and indices hold the tile lists
+  uint32_t listMode;  // gpu::kList*: how grid and indices hold the tile lists
   // 3D rasterization's visibility buffer (uint64 per pixel: t bits << 32 | triangle id), or
   // nullptr after the hardware prepass. Given: no depth test; a fragment is shaded only where its
   // triangle is the pixel's (the depths of two rasterizers differ in their last bits, so EQUAL
@@ -49,7 +49,7 @@ class ShadingPass {
   ~ShadingPass();
   void record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const;
   bool visbuffer() const { return bool(vbSets_); }
-  const Image& color() const { return color_; }          // COLOR_ATTACHMENT_OPTIMAL after record
+  const Image& color() const { return color_; }  // COLOR_ATTACHMENT_OPTIMAL after record
   const Image& refNormals() const { return refNormals_; }
 
  private:

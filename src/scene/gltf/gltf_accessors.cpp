@@ -12,30 +12,14 @@ namespace {
 std::string componentTypeName(int componentType) {
   const char* name = "unknown";
   switch (componentType) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE:
-      name = "BYTE";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      name = "UNSIGNED_BYTE";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_SHORT:
-      name = "SHORT";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
-      name = "UNSIGNED_SHORT";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_INT:
-      name = "INT";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-      name = "UNSIGNED_INT";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_FLOAT:
-      name = "FLOAT";
-      break;
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
-      name = "DOUBLE";
-      break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE: name = "BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: name = "UNSIGNED_BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: name = "SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: name = "UNSIGNED_SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_INT: name = "INT"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: name = "UNSIGNED_INT"; break;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: name = "FLOAT"; break;
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE: name = "DOUBLE"; break;
   }
   return std::to_string(componentType) + " (" + name + ")";
 }
@@ -47,15 +31,13 @@ float readComponent(const uint8_t* p, int componentType) {
       std::memcpy(&f, p, 4);
       return f;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return static_cast<float>(*p) / 255.0f;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return static_cast<float>(*p) / 255.0f;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       uint16_t u;
       std::memcpy(&u, p, 2);
       return static_cast<float>(u) / 65535.0f;
     }
-    default:
-      HB_ASSERT(false);
+    default: HB_ASSERT(false);
   }
 }
 
@@ -66,8 +48,7 @@ AccessorView Loader::accessor(int index, const std::string& field, int type,
   size_t a = checkIndex(index, model_.accessors.size(), field, "accessors");
   const tinygltf::Accessor& acc = model_.accessors[a];
   const std::string where = field + " (accessors[" + std::to_string(a) + "])";
-  if (acc.sparse.isSparse)
-    fail(where, "sparse accessors are not supported", "write the data densely");
+  if (acc.sparse.isSparse) fail(where, "sparse accessors are not supported", "write the data densely");
   if (acc.type != type)
     fail(where,
          "type is " + std::to_string(acc.type) + ", expected " + std::to_string(type) +
@@ -80,44 +61,37 @@ AccessorView Loader::accessor(int index, const std::string& field, int type,
     allowed += (allowed.empty() ? "" : " or ") + componentTypeName(ct);
   }
   if (!supported)
-    fail(where, "unsupported componentType " + componentTypeName(acc.componentType),
-         "store it as " + allowed);
+    fail(where, "unsupported componentType " + componentTypeName(acc.componentType), "store it as " + allowed);
   if (acc.count == 0) fail(where, "count is 0", "give the accessor at least one element");
-  if (acc.bufferView < 0)
-    fail(where, "has no bufferView (an all-zero accessor)", "give it a bufferView with data");
-  size_t v =
-      checkIndex(acc.bufferView, model_.bufferViews.size(), where + ".bufferView", "bufferViews");
+  if (acc.bufferView < 0) fail(where, "has no bufferView (an all-zero accessor)", "give it a bufferView with data");
+  size_t v = checkIndex(acc.bufferView, model_.bufferViews.size(), where + ".bufferView", "bufferViews");
   const tinygltf::BufferView& view = model_.bufferViews[v];
-  size_t b = checkIndex(view.buffer, model_.buffers.size(),
-                        "bufferViews[" + std::to_string(v) + "].buffer", "buffers");
+  size_t b = checkIndex(view.buffer, model_.buffers.size(), "bufferViews[" + std::to_string(v) + "].buffer", "buffers");
   const tinygltf::Buffer& buffer = model_.buffers[b];
 
   const uint64_t elementSize =
-      static_cast<uint64_t>(
-          tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType))) *
+      static_cast<uint64_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType))) *
       static_cast<uint64_t>(tinygltf::GetNumComponentsInType(static_cast<uint32_t>(acc.type)));
   const uint64_t stride = view.byteStride != 0 ? view.byteStride : elementSize;
   if (stride < elementSize)
     fail("bufferViews[" + std::to_string(v) + "].byteStride",
-         "stride " + std::to_string(stride) + " is smaller than the " +
-             std::to_string(elementSize) + "-byte elements of " + where,
+         "stride " + std::to_string(stride) + " is smaller than the " + std::to_string(elementSize) +
+             "-byte elements of " + where,
          "set byteStride to 0 or at least " + std::to_string(elementSize));
   const uint64_t viewEnd = static_cast<uint64_t>(view.byteOffset) + view.byteLength;
   if (viewEnd > buffer.data.size())
     fail("bufferViews[" + std::to_string(v) + "] (read by " + where + ")",
-         "ends at byte " + std::to_string(viewEnd) + " but buffers[" + std::to_string(b) +
-             "] holds only " + std::to_string(buffer.data.size()) + " bytes",
+         "ends at byte " + std::to_string(viewEnd) + " but buffers[" + std::to_string(b) + "] holds only " +
+             std::to_string(buffer.data.size()) + " bytes",
          "fix byteOffset/byteLength or supply the whole buffer");
   // count <= byteLength + 1 bounds stride * (count - 1) below 2^8 * 2^64 / 2^8: no overflow.
   const bool countFits = acc.count <= view.byteLength + 1;
-  const uint64_t need =
-      countFits ? acc.byteOffset + stride * (acc.count - 1) + elementSize : ~uint64_t(0);
+  const uint64_t need = countFits ? acc.byteOffset + stride * (acc.count - 1) + elementSize : ~uint64_t(0);
   if (!countFits || need > view.byteLength)
     fail(where,
-         std::to_string(acc.count) + " elements from byteOffset " + std::to_string(acc.byteOffset) +
-             " with stride " + std::to_string(stride) + " need " +
-             (countFits ? std::to_string(need) : std::string("more")) + " bytes but bufferViews[" +
-             std::to_string(v) + "] has only " + std::to_string(view.byteLength),
+         std::to_string(acc.count) + " elements from byteOffset " + std::to_string(acc.byteOffset) + " with stride " +
+             std::to_string(stride) + " need " + (countFits ? std::to_string(need) : std::string("more")) +
+             " bytes but bufferViews[" + std::to_string(v) + "] has only " + std::to_string(view.byteLength),
          "fix the accessor's count/byteOffset or make the bufferView and buffer longer");
   AccessorView out;
   out.data = buffer.data.data() + view.byteOffset + acc.byteOffset;
@@ -134,8 +108,7 @@ std::vector<glm::vec<N, float>> Loader::readVectors(const AccessorView& view) co
   const size_t componentSize = view.elementSize / N;
   for (size_t i = 0; i < view.count; ++i)
     for (int c = 0; c < N; ++c)
-      out[i][c] =
-          readComponent(view.data + i * view.stride + c * componentSize, view.componentType);
+      out[i][c] = readComponent(view.data + i * view.stride + c * componentSize, view.componentType);
   return out;
 }
 

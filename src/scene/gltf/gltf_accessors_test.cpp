@@ -14,9 +14,8 @@ TEST(GltfLoad, ComputesNormalsAndSequentialIndicesWhenMissing) {
   TestDir dir;
   GltfBuilder b;
   // Two triangles of a quad facing +z, no NORMAL and no indices.
-  json prim = {{"attributes",
-                {{"POSITION",
-                  b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
+  json prim = {
+      {"attributes", {{"POSITION", b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
   b.doc["meshes"] = json::array({{{"primitives", json::array({prim})}}});
   b.scene({b.node({{"mesh", 0}})});
   Scene s = loadGltf(b.writeGltf(dir / "bare.gltf").string());
@@ -101,11 +100,9 @@ TEST(GltfLoadErrors, IndexPastTheVertexCountNamesTheIndices) {
   GltfBuilder b;
   int pos = b.floats({0, 0, 0, 1, 0, 0, 1, 1, 0}, "VEC3", 3);
   int idx = b.accessor(b.view(std::vector<uint16_t>{0, 1, 7}), kU16, "SCALAR", 3);
-  b.doc["meshes"] =
-      json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}}}});
+  b.doc["meshes"] = json::array({{{"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}}}});
   b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "index.gltf"),
-                   {"meshes[0].primitives[0].indices", "7", "3 vertices"});
+  expectInputError(b.writeGltf(dir / "index.gltf"), {"meshes[0].primitives[0].indices", "7", "3 vertices"});
 }
 
 TEST(GltfLoadErrors, NonFinitePositionsNameThePositionAttribute) {
@@ -127,15 +124,13 @@ TEST(GltfLoadErrors, UnsupportedComponentTypeNamesTheAccessor) {
   b.doc["accessors"][3]["componentType"] = kFloat;  // float indices
   b.doc["accessors"][3]["count"] = 3;
   b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "floatidx.gltf"),
-                   {"meshes[0].primitives[0].indices", "componentType 5126"});
+  expectInputError(b.writeGltf(dir / "floatidx.gltf"), {"meshes[0].primitives[0].indices", "componentType 5126"});
 
   GltfBuilder c;
   c.quad();
   c.doc["accessors"][0]["componentType"] = kU16;  // quantized positions (KHR_mesh_quantization)
   c.scene({c.node({{"mesh", 0}})});
-  expectInputError(c.writeGltf(dir / "u16pos.gltf"),
-                   {"attributes.POSITION", "componentType 5123", "FLOAT"});
+  expectInputError(c.writeGltf(dir / "u16pos.gltf"), {"attributes.POSITION", "componentType 5123", "FLOAT"});
 }
 
 }  // namespace

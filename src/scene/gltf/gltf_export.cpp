@@ -8,9 +8,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <limits>
 #include <filesystem>
 #include <glm/gtc/matrix_inverse.hpp>
+#include <limits>
 
 #include "base/errors.h"
 #include "scene/ambient_json.h"
@@ -123,9 +123,8 @@ class Exporter {
       const auto* p = static_cast<const unsigned char*>(data);
       out->insert(out->end(), p, p + size);
     };
-    HB_ASSERT(stbi_write_png_to_func(append, &png, static_cast<int>(t.width),
-                                     static_cast<int>(t.height), 4, t.rgba.data(),
-                                     static_cast<int>(t.width * 4)) != 0);
+    HB_ASSERT(stbi_write_png_to_func(append, &png, static_cast<int>(t.width), static_cast<int>(t.height), 4,
+                                     t.rgba.data(), static_cast<int>(t.width * 4)) != 0);
     tinygltf::Image image;
     image.name = t.name;
     image.mimeType = "image/png";
@@ -144,8 +143,8 @@ class Exporter {
     };
     tinygltf::Material mat;
     mat.name = m.name;
-    mat.pbrMetallicRoughness.baseColorFactor = {m.baseColorFactor.r, m.baseColorFactor.g,
-                                                m.baseColorFactor.b, m.baseColorFactor.a};
+    mat.pbrMetallicRoughness.baseColorFactor = {m.baseColorFactor.r, m.baseColorFactor.g, m.baseColorFactor.b,
+                                                m.baseColorFactor.a};
     mat.pbrMetallicRoughness.metallicFactor = m.metallicFactor;
     mat.pbrMetallicRoughness.roughnessFactor = m.roughnessFactor;
     mat.pbrMetallicRoughness.baseColorTexture.index = texture(m.baseColorTexture);
@@ -180,17 +179,16 @@ class Exporter {
       prim.mode = TINYGLTF_MODE_TRIANGLES;
       prim.material = static_cast<int>(p.material);
       const int position =
-          addAccessor(addView(positions.data(), positions.size() * sizeof(glm::vec3),
-                              TINYGLTF_TARGET_ARRAY_BUFFER),
+          addAccessor(addView(positions.data(), positions.size() * sizeof(glm::vec3), TINYGLTF_TARGET_ARRAY_BUFFER),
                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
       if (p.vertexCount > 0) {  // the spec requires POSITION bounds
         model_.accessors[static_cast<size_t>(position)].minValues = {lo.x, lo.y, lo.z};
         model_.accessors[static_cast<size_t>(position)].maxValues = {hi.x, hi.y, hi.z};
       }
       prim.attributes["POSITION"] = position;
-      prim.attributes["NORMAL"] = addAccessor(
-          addView(normals.data(), normals.size() * sizeof(glm::vec3), TINYGLTF_TARGET_ARRAY_BUFFER),
-          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
+      prim.attributes["NORMAL"] =
+          addAccessor(addView(normals.data(), normals.size() * sizeof(glm::vec3), TINYGLTF_TARGET_ARRAY_BUFFER),
+                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, p.vertexCount);
       // Coordinates that are all +0 are what the loader gives a primitive without TEXCOORD_0, so
       // they are left out (the validator reports an attribute no texture reads, UNUSED_OBJECT);
       // any others are written, read by a texture or not, so that the scene loads back the same.
@@ -198,12 +196,11 @@ class Exporter {
         return uv.x == 0.0f && uv.y == 0.0f && !std::signbit(uv.x) && !std::signbit(uv.y);
       });
       if (!allZero)
-        prim.attributes["TEXCOORD_0"] = addAccessor(
-            addView(uvs.data(), uvs.size() * sizeof(glm::vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
-            TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, p.vertexCount);
+        prim.attributes["TEXCOORD_0"] =
+            addAccessor(addView(uvs.data(), uvs.size() * sizeof(glm::vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
+                        TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, p.vertexCount);
       prim.indices =
-          addAccessor(addView(indices.data(), indices.size() * sizeof(uint32_t),
-                              TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+          addAccessor(addView(indices.data(), indices.size() * sizeof(uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
       mesh.primitives.push_back(std::move(prim));
     }
@@ -242,15 +239,9 @@ class Exporter {
     light.color = {l.color.r, l.color.g, l.color.b};
     light.intensity = l.intensity;
     switch (l.type) {
-      case LightType::Point:
-        light.type = "point";
-        break;
-      case LightType::Spot:
-        light.type = "spot";
-        break;
-      case LightType::Directional:
-        light.type = "directional";
-        break;
+      case LightType::Point: light.type = "point"; break;
+      case LightType::Spot: light.type = "spot"; break;
+      case LightType::Directional: light.type = "directional"; break;
     }
     if (l.type != LightType::Directional) HB_ASSERT(l.range > 0.0f);
     light.range = l.range;  // tinygltf writes it when > 0: always for point and spot lights
@@ -266,8 +257,7 @@ class Exporter {
     // exactly -direction so that the loader's -Z comes back to the same vector; X and Y complete
     // a right-handed orthonormal frame around it.
     const glm::dvec3 z = -glm::dvec3(l.direction);
-    const glm::dvec3 up =
-        std::abs(z.y) < 0.9 * glm::length(z) ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 up = std::abs(z.y) < 0.9 * glm::length(z) ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
     const glm::dvec3 x = glm::normalize(glm::cross(up, z));
     const glm::dvec3 y = glm::normalize(glm::cross(z, x));
     const glm::dmat4 frame(glm::dvec4(x, 0.0), glm::dvec4(y, 0.0), glm::dvec4(z, 0.0),
@@ -299,8 +289,7 @@ void exportGltf(const Scene& scene, const std::string& path) {
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   std::error_code ec;
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
-    throw InputError(path + ": the directory " + parent.string() +
-                     " does not exist; create it first");
+    throw InputError(path + ": the directory " + parent.string() + " does not exist; create it first");
   const tinygltf::Model model = Exporter(scene).build();
   tinygltf::TinyGLTF writer;
   const bool glb = endsWithGlb(path);

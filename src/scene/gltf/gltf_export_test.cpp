@@ -5,17 +5,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <cstdlib>
 #include <fstream>
-#include <sstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <sstream>
 
 #include "base/errors.h"
+#include "base/sha256.h"
 #include "scene/gltf/gltf_io.h"
 #include "scene/gltf/gltf_test_util.h"
-#include "base/sha256.h"
 
 namespace hb::gltf_test {
 namespace {
@@ -33,11 +33,9 @@ Scene handBuiltScene() {
     p.vertexCount = 4;
     p.indexCount = 6;
     p.material = material;
-    const glm::vec3 n =
-        glm::normalize(glm::vec3(0.1f, 0.2f, 1.0f));  // deliberately not axis-aligned
+    const glm::vec3 n = glm::normalize(glm::vec3(0.1f, 0.2f, 1.0f));  // deliberately not axis-aligned
     for (int i = 0; i < 4; ++i)
-      s.vertices.push_back(
-          {glm::vec3(0.3f * (i & 1), 0.7f * (i >> 1), z), n, glm::vec2(0.1f * i, 1.0f / 3.0f * i)});
+      s.vertices.push_back({glm::vec3(0.3f * (i & 1), 0.7f * (i >> 1), z), n, glm::vec2(0.1f * i, 1.0f / 3.0f * i)});
     for (uint32_t i : {0u, 1u, 3u, 0u, 3u, 2u}) s.indices.push_back(i);
     return p;
   };
@@ -45,8 +43,8 @@ Scene handBuiltScene() {
   s.meshes.push_back({"one-prim", {addQuad(-1.25f, 2)}});
   s.instances.push_back({0, glm::mat4(1.0f)});
   s.instances.push_back({1, glm::translate(glm::mat4(1.0f), glm::vec3(3.1f, -2.0f, 0.7f))});
-  s.instances.push_back({1, glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)) *
-                                glm::scale(glm::mat4(1.0f), glm::vec3(1.5f))});
+  s.instances.push_back(
+      {1, glm::rotate(glm::mat4(1.0f), 0.3f, glm::vec3(0, 1, 0)) * glm::scale(glm::mat4(1.0f), glm::vec3(1.5f))});
 
   Texture tex;
   tex.name = "checker";
@@ -54,8 +52,7 @@ Scene handBuiltScene() {
   tex.height = 3;
   tex.srgb = true;
   for (uint32_t i = 0; i < 12; ++i)
-    tex.rgba.insert(tex.rgba.end(),
-                    {uint8_t(i * 20), uint8_t(255 - i * 7), uint8_t(i * i), uint8_t(200 + i)});
+    tex.rgba.insert(tex.rgba.end(), {uint8_t(i * 20), uint8_t(255 - i * 7), uint8_t(i * i), uint8_t(200 + i)});
   s.textures.push_back(tex);
   Texture mr = tex;
   mr.name = "metal-rough";
@@ -106,8 +103,7 @@ Scene handBuiltScene() {
 
   Camera cam;
   cam.name = "main";
-  cam.view =
-      glm::lookAt(glm::vec3(6.0f, 2.5f, 7.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0));
+  cam.view = glm::lookAt(glm::vec3(6.0f, 2.5f, 7.0f), glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(0, 1, 0));
   cam.yfov = 0.9f;
   cam.znear = 0.05f;
   cam.zfar = 250.0f;
@@ -122,11 +118,10 @@ Scene handBuiltScene() {
   return s;
 }
 
-void expectSameScene(const Scene &a, const Scene &b) {
+void expectSameScene(const Scene& a, const Scene& b) {
   EXPECT_EQ(a.name, b.name);
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
-  EXPECT_EQ(0,
-            std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)));
+  EXPECT_EQ(0, std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vertex)));
   EXPECT_EQ(a.indices, b.indices);
   ASSERT_EQ(a.meshes.size(), b.meshes.size());
   for (size_t m = 0; m < a.meshes.size(); ++m) {
@@ -175,8 +170,7 @@ void expectSameScene(const Scene &a, const Scene &b) {
     // The loader normalises the exported -Z column (= the float direction d) in double. A float
     // normalize leaves | |d| - 1 | <= 3·2^-24, so dividing by |d| moves each component (|c| <= 1)
     // by at most 3·2^-24, and rounding back to float adds at most 2^-25: below 2^-22.
-    for (int k = 0; k < 3; ++k)
-      EXPECT_NEAR(x.direction[k], y.direction[k], 0x1p-22f) << "light " << i;
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(x.direction[k], y.direction[k], 0x1p-22f) << "light " << i;
     EXPECT_EQ(x.color, y.color);
     EXPECT_EQ(x.intensity, y.intensity);
     EXPECT_EQ(x.range, y.range);
@@ -236,17 +230,14 @@ TEST(GltfExport, WritesRangesAndDeclaresTheLightsExtension) {
   TestDir dir;
   exportGltf(handBuiltScene(), (dir / "scene.gltf").string());
   json doc = json::parse(std::ifstream(dir / "scene.gltf"));
-  EXPECT_NE(
-      std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_lights_punctual"),
-      doc["extensionsUsed"].end());
-  const json &lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
+  EXPECT_NE(std::find(doc["extensionsUsed"].begin(), doc["extensionsUsed"].end(), "KHR_lights_punctual"),
+            doc["extensionsUsed"].end());
+  const json& lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
   ASSERT_EQ(lights.size(), 3u);
   EXPECT_EQ(lights[0]["range"].get<float>(), 12.5f);
   EXPECT_EQ(lights[1]["range"].get<float>(), static_cast<float>(rangeFromIntensity(7.0)));
   EXPECT_EQ(doc["asset"]["version"], "2.0");
-  EXPECT_EQ(
-      doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0),
-      0u);
+  EXPECT_EQ(doc["buffers"][0]["uri"].get<std::string>().rfind("data:application/octet-stream;base64,", 0), 0u);
 }
 
 TEST(GltfExport, UnwritablePathIsAnInputError) {
@@ -264,8 +255,8 @@ TEST(GltfValidator, HandBuiltSceneWithEveryExportedFeatureHasNoErrorsOrWarnings)
   exportGltf(handBuiltScene(), (dir / "scene.glb").string());
   const std::string log = (dir / "validator.log").string();
   const std::string command = "node '" HYBRIDBENCH_SOURCE_DIR "/scripts/validate-gltf.mjs' '" +
-                              (dir / "scene.gltf").string() + "' '" + (dir / "scene.glb").string() +
-                              "' > '" + log + "' 2>&1";
+                              (dir / "scene.gltf").string() + "' '" + (dir / "scene.glb").string() + "' > '" + log +
+                              "' 2>&1";
   const int status = std::system(command.c_str());
   std::stringstream output;
   output << std::ifstream(log).rdbuf();
@@ -277,8 +268,7 @@ TEST(GltfValidator, HandBuiltSceneWithEveryExportedFeatureHasNoErrorsOrWarnings)
 
 TEST(SceneInfo, CountsAndBoundsOfTheQuad) {
   TestDir dir;
-  Scene s = loadGltf(
-      quadWithLight({{"type", "point"}, {"intensity", 50}}).writeGltf(dir / "q.gltf").string());
+  Scene s = loadGltf(quadWithLight({{"type", "point"}, {"intensity", 50}}).writeGltf(dir / "q.gltf").string());
   json j = sceneInfoJson(s);
   EXPECT_EQ(j["triangles"], 2);
   EXPECT_EQ(j["vertices"], 4);
@@ -317,8 +307,7 @@ TEST(SceneHash, IsDeterministicAndSeesEveryChange) {
 }
 
 TEST(SceneHash, MatchesTheFips180ExampleForAbc) {
-  EXPECT_EQ(sha256Hex("abc", 3),
-            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(sha256Hex("abc", 3), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }
 
 }  // namespace

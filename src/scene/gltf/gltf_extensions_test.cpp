@@ -57,8 +57,8 @@ TEST(GltfModes, StripsAndFansLoadAsTriangleListsAndPointsAloneAreRefused) {
     GltfBuilder b;
     b.quad();
     // The quad's 4 vertices (0,0) (1,0) (1,1) (0,1) as a strip 0 1 3 2 and as a fan 0 1 2 3.
-    const int idx = b.accessor(b.view(mode == 5 ? std::vector<uint16_t>{0, 1, 3, 2} : std::vector<uint16_t>{0, 1, 2, 3}),
-                               kU16, "SCALAR", 4);
+    const int idx = b.accessor(
+        b.view(mode == 5 ? std::vector<uint16_t>{0, 1, 3, 2} : std::vector<uint16_t>{0, 1, 2, 3}), kU16, "SCALAR", 4);
     b.doc["meshes"][0]["primitives"][0]["indices"] = idx;
     b.doc["meshes"][0]["primitives"][0]["mode"] = mode;
     b.scene({b.node({{"mesh", 0}})});

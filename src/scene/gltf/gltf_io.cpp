@@ -87,8 +87,7 @@ nlohmann::json rawDocument(std::span<const uint8_t> bytes, bool binary) {
 // sizes the buffer by seeking to the end, which on a directory (a URI such as "textures/") gives
 // 2^63 - 1 on ext4: it threw bad_alloc, out of the loader as an internal error (found by
 // fuzz_gltf). A FIFO or device would block or read nothing; the URI must name a file.
-bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                     void* userData) {
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* userData) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) {
     if (err) *err += "not a regular file (a directory?)";
@@ -110,8 +109,7 @@ nlohmann::json rawLightsJson(const nlohmann::json& doc) {
 // The effects the scene calls for: scenes[s].extras.effects of the scene that is loaded, checked
 // against the effects schema (effects/effects.h) with the file and key path in every message; and
 // its ambient term, scenes[s].extras.ambient (scene/ambient_json.h).
-void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path,
-                      Scene& scene) {
+void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path, Scene& scene) {
   if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || model.scenes.empty()) return;
   const size_t s = static_cast<size_t>(model.defaultScene >= 0 ? model.defaultScene : 0);
   if (s >= doc["scenes"].size()) return;
@@ -155,17 +153,15 @@ Scene Loader::load(GltfLoadWarnings& warnings) {
   return std::move(scene_);
 }
 
-void Loader::fail(const std::string& field, const std::string& problem,
-                  const std::string& fix) const {
+void Loader::fail(const std::string& field, const std::string& problem, const std::string& fix) const {
   throw InputError(path_ + ": " + field + ": " + problem + "; " + fix);
 }
 
-size_t Loader::checkIndex(int index, size_t size, const std::string& field,
-                          const std::string& arrayName) const {
+size_t Loader::checkIndex(int index, size_t size, const std::string& field, const std::string& arrayName) const {
   if (index < 0 || static_cast<size_t>(index) >= size)
     fail(field,
-         "index " + std::to_string(index) + " does not exist (" + arrayName + " has " +
-             std::to_string(size) + " elements)",
+         "index " + std::to_string(index) + " does not exist (" + arrayName + " has " + std::to_string(size) +
+             " elements)",
          "point it at an existing element of " + arrayName);
   return static_cast<size_t>(index);
 }
@@ -174,20 +170,18 @@ void Loader::loadNodes() {
   std::vector<int> roots;
   if (!model_.scenes.empty()) {
     int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
-    const tinygltf::Scene& gscene =
-        model_.scenes[checkIndex(s, model_.scenes.size(), "scene", "scenes")];
+    const tinygltf::Scene& gscene = model_.scenes[checkIndex(s, model_.scenes.size(), "scene", "scenes")];
     roots = gscene.nodes;
     scene_.name = gscene.name;
     for (size_t r = 0; r < roots.size(); ++r)
-      checkIndex(roots[r], model_.nodes.size(),
-                 "scenes[" + std::to_string(s) + "].nodes[" + std::to_string(r) + "]", "nodes");
+      checkIndex(roots[r], model_.nodes.size(), "scenes[" + std::to_string(s) + "].nodes[" + std::to_string(r) + "]",
+                 "nodes");
   } else {  // no scene: every node that is nobody's child
     std::vector<uint8_t> isChild(model_.nodes.size(), 0);
     for (size_t n = 0; n < model_.nodes.size(); ++n)
       for (size_t c = 0; c < model_.nodes[n].children.size(); ++c)
         isChild[checkIndex(model_.nodes[n].children[c], model_.nodes.size(),
-                           "nodes[" + std::to_string(n) + "].children[" + std::to_string(c) + "]",
-                           "nodes")] = 1;
+                           "nodes[" + std::to_string(n) + "].children[" + std::to_string(c) + "]", "nodes")] = 1;
     for (size_t n = 0; n < model_.nodes.size(); ++n)
       if (!isChild[n]) roots.push_back(static_cast<int>(n));
   }
@@ -199,14 +193,12 @@ glm::dmat4 Loader::localTransform(const tinygltf::Node& node, const std::string&
   glm::dmat4 local(1.0);
   if (!node.matrix.empty()) {
     if (node.matrix.size() != 16)
-      fail(field + ".matrix", "has " + std::to_string(node.matrix.size()) + " numbers",
-           "give it 16 (column-major)");
+      fail(field + ".matrix", "has " + std::to_string(node.matrix.size()) + " numbers", "give it 16 (column-major)");
     local = glm::make_mat4(node.matrix.data());  // glTF and glm are both column-major
   } else {
     auto need = [&](const std::vector<double>& v, size_t n, const char* name) {
       if (!v.empty() && v.size() != n)
-        fail(field + "." + name, "has " + std::to_string(v.size()) + " numbers",
-             "give it " + std::to_string(n));
+        fail(field + "." + name, "has " + std::to_string(v.size()) + " numbers", "give it " + std::to_string(n));
       return !v.empty();
     };
     glm::dmat4 t(1.0), r(1.0), s(1.0);
@@ -214,16 +206,13 @@ glm::dmat4 Loader::localTransform(const tinygltf::Node& node, const std::string&
       t = glm::translate(glm::dmat4(1.0), glm::make_vec3(node.translation.data()));
     if (need(node.rotation, 4,
              "rotation"))  // glTF stores x, y, z, w; glm's constructor takes w first
-      r = glm::mat4_cast(
-          glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
-    if (need(node.scale, 3, "scale"))
-      s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
+      r = glm::mat4_cast(glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]));
+    if (need(node.scale, 3, "scale")) s = glm::scale(glm::dmat4(1.0), glm::make_vec3(node.scale.data()));
     local = t * r * s;
   }
   for (int c = 0; c < 4; ++c)
     for (int k = 0; k < 4; ++k)
-      if (!std::isfinite(local[c][k]))
-        fail(field, "the transform is not finite", "write finite matrix/TRS numbers");
+      if (!std::isfinite(local[c][k])) fail(field, "the transform is not finite", "write finite matrix/TRS numbers");
   return local;
 }
 
@@ -241,19 +230,17 @@ void Loader::visitNode(int nodeIndex, const glm::dmat4& parent, int depth) {
          "scale the node transforms down so that a float holds them");
   if (node.mesh >= 0) {
     Instance inst;
-    inst.mesh = static_cast<uint32_t>(
-        checkIndex(node.mesh, model_.meshes.size(), field + ".mesh", "meshes"));
+    inst.mesh = static_cast<uint32_t>(checkIndex(node.mesh, model_.meshes.size(), field + ".mesh", "meshes"));
     inst.transform = glm::mat4(world);
     scene_.instances.push_back(inst);
   }
-  if (node.camera >= 0)
-    addCamera(checkIndex(node.camera, model_.cameras.size(), field + ".camera", "cameras"), world);
+  if (node.camera >= 0) addCamera(checkIndex(node.camera, model_.cameras.size(), field + ".camera", "cameras"), world);
   if (auto it = node.extensions.find(kLightsExtension); it != node.extensions.end()) {
     const std::string lightField = field + ".extensions." + kLightsExtension + ".light";
     if (!it->second.IsObject() || !it->second.Get("light").IsNumber())
       fail(lightField, "missing or not an integer", "write {\"light\": <index>}");
-    size_t l = checkIndex(it->second.Get("light").GetNumberAsInt(), model_.lights.size(),
-                          lightField, std::string("extensions.") + kLightsExtension + ".lights");
+    size_t l = checkIndex(it->second.Get("light").GetNumberAsInt(), model_.lights.size(), lightField,
+                          std::string("extensions.") + kLightsExtension + ".lights");
     addLight(l, world);
   }
   onPath_[n] = 1;
@@ -299,8 +286,7 @@ void Loader::addCamera(size_t c, const glm::dmat4& world) {
   }
   const tinygltf::PerspectiveCamera& p = cam.perspective;
   if (!(p.yfov > 0.0 && p.yfov < glm::pi<double>()))
-    fail(field + ".perspective.yfov", "is " + num(p.yfov),
-         "give a field of view in (0, pi) radians");
+    fail(field + ".perspective.yfov", "is " + num(p.yfov), "give a field of view in (0, pi) radians");
   if (!(p.znear > 0.0 && fitsFloat(p.znear)))
     fail(field + ".perspective.znear", "is " + num(p.znear), "give a positive near distance");
   if (p.zfar != 0.0 && !(p.zfar > p.znear && fitsFloat(p.zfar)))  // tinygltf: 0 = absent
@@ -319,11 +305,9 @@ void Loader::addCamera(size_t c, const glm::dmat4& world) {
 
 void Loader::addLight(size_t l, const glm::dmat4& world) {
   const tinygltf::Light& light = model_.lights[l];
-  const std::string field =
-      std::string("extensions.") + kLightsExtension + ".lights[" + std::to_string(l) + "]";
+  const std::string field = std::string("extensions.") + kLightsExtension + ".lights[" + std::to_string(l) + "]";
   const nlohmann::json* raw =
-      rawLights_.is_array() && l < rawLights_.size() && rawLights_[l].is_object() ? &rawLights_[l]
-                                                                                  : nullptr;
+      rawLights_.is_array() && l < rawLights_.size() && rawLights_[l].is_object() ? &rawLights_[l] : nullptr;
   Light out;
   out.name = light.name;
   if (light.type == "point")
@@ -333,12 +317,10 @@ void Loader::addLight(size_t l, const glm::dmat4& world) {
   else if (light.type == "directional")
     out.type = LightType::Directional;
   else
-    fail(field + ".type", "'" + light.type + "' is not a punctual light type",
-         "use point, spot or directional");
+    fail(field + ".type", "'" + light.type + "' is not a punctual light type", "use point, spot or directional");
   if (!light.color.empty()) {
     if (light.color.size() != 3)
-      fail(field + ".color", "has " + std::to_string(light.color.size()) + " numbers",
-           "give it 3 (linear RGB)");
+      fail(field + ".color", "has " + std::to_string(light.color.size()) + " numbers", "give it 3 (linear RGB)");
     for (double component : light.color)
       if (!fitsFloat(component))
         fail(field + ".color", "has " + num(component), "give linear RGB factors below 3.4e38");
@@ -363,8 +345,7 @@ void Loader::addLight(size_t l, const glm::dmat4& world) {
   if (out.type == LightType::Spot) {
     const double inner = light.spot.innerConeAngle, outer = light.spot.outerConeAngle;
     if (!(inner >= 0.0 && inner < outer && outer <= glm::half_pi<double>()))
-      fail(field + ".spot",
-           "cone angles inner " + num(inner) + ", outer " + num(outer) + " are invalid",
+      fail(field + ".spot", "cone angles inner " + num(inner) + ", outer " + num(outer) + " are invalid",
            "use 0 <= innerConeAngle < outerConeAngle <= pi/2");
     out.innerConeAngle = static_cast<float>(inner);
     out.outerConeAngle = static_cast<float>(outer);
@@ -399,17 +380,15 @@ Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings) {
   {
     std::ifstream in(path, std::ios::binary);
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof())
-      throw InputError(path + ": cannot read the file; check its permissions");
+    if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file; check its permissions");
   }
   // The base directory tinygltf's own file loaders use: all before the last '/' or '\'.
   const size_t slash = path.find_last_of("/\\");
-  return loadGltfFromMemory(bytes, path, slash == std::string::npos ? "" : path.substr(0, slash),
-                            warnings);
+  return loadGltfFromMemory(bytes, path, slash == std::string::npos ? "" : path.substr(0, slash), warnings);
 }
 
-Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path,
-                         const std::string& baseDir, GltfLoadWarnings* warnings) {
+Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path, const std::string& baseDir,
+                         GltfLoadWarnings* warnings) {
   if (bytes.size() > std::numeric_limits<uint32_t>::max())  // tinygltf takes 32-bit sizes
     throw InputError(path + ": is larger than 4 GiB, more than glTF can hold; split the scene");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
@@ -418,8 +397,8 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
   tinygltf::TinyGLTF gltf;
   tinygltf::Model model;
   gltf.SetImageLoader(gltf_detail::checkedImageLoader, &model);
-  gltf.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readRegularFile,
-                       &tinygltf::WriteWholeFile, nullptr});
+  gltf.SetFsCallbacks(
+      {&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readRegularFile, &tinygltf::WriteWholeFile, nullptr});
   std::string err, warn;
   bool ok = false;
   if (bytes.empty())
@@ -427,16 +406,13 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
   else if (binary)
     ok = gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, baseDir);
   else
-    ok = gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                  size, baseDir);
+    ok = gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size, baseDir);
   if (!ok)
-    throw InputError(path + ": not a valid glTF 2.0 " +
-                     (binary ? "binary (.glb)" : "JSON (.gltf)") +
+    throw InputError(path + ": not a valid glTF 2.0 " + (binary ? "binary (.glb)" : "JSON (.gltf)") +
                      " file: " + oneLine(err.empty() ? warn : err) +
                      "; re-export it as glTF 2.0 or check it with the Khronos glTF validator");
   if (model.asset.version.rfind("2.", 0) != 0)
-    throw InputError(path + ": asset.version: '" + model.asset.version +
-                     "' is not 2.x; re-export it as glTF 2.0");
+    throw InputError(path + ": asset.version: '" + model.asset.version + "' is not 2.x; re-export it as glTF 2.0");
 
   GltfLoadWarnings local;
   const nlohmann::json doc = rawDocument(bytes, binary);

@@ -47,8 +47,8 @@ Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings = nullptr);
 // and calls it): `path` names the file in every message and its stem names a scene that has no
 // name; external buffer and image URIs resolve against baseDir (against the working directory
 // when empty). Throws as loadGltf.
-Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path,
-                         const std::string& baseDir, GltfLoadWarnings* warnings = nullptr);
+Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path, const std::string& baseDir,
+                         GltfLoadWarnings* warnings = nullptr);
 
 // Writes `scene` as glTF 2.0: a .glb if path ends in ".glb" (case-insensitive), else a .gltf with
 // its one buffer embedded as a base64 data URI. Every texture is embedded as PNG; every instance,

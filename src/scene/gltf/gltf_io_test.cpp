@@ -15,8 +15,7 @@ namespace {
 
 TEST(GltfLoad, ReadsAQuadWithAPointLight) {
   TestDir dir;
-  GltfBuilder b = quadWithLight(
-      {{"type", "point"}, {"intensity", 20}, {"range", 5}, {"color", {1, 0.5, 0.25}}});
+  GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 20}, {"range", 5}, {"color", {1, 0.5, 0.25}}});
   Scene s = loadGltf(b.writeGltf(dir / "quad.gltf").string());
   ASSERT_EQ(s.vertices.size(), 4u);
   EXPECT_EQ(s.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
@@ -69,8 +68,7 @@ TEST(GltfLoad, DirectionalLightHasRangeZeroAndPointsAlongNodeMinusZ) {
   int l = b.light({{"type", "directional"}, {"intensity", 3}});
   // Rotation of -90 degrees about X (quaternion x = -sin 45°, w = cos 45°) turns -Z into -Y.
   const double h = std::sqrt(0.5);
-  b.scene({b.node(
-      {{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
+  b.scene({b.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
   Scene s = loadGltf(b.writeGltf(dir / "sun.gltf").string());
   ASSERT_EQ(s.lights.size(), 1u);
   EXPECT_EQ(s.lights[0].type, LightType::Directional);
@@ -89,12 +87,9 @@ TEST(GltfLoad, ComposesTrsAndMatrixNodeTransforms) {
   int mesh = b.quad();
   // Parent: T(10,0,0) * R(90° about Y) * S(2); child: a matrix translating by (0,0,1).
   const double h = std::sqrt(0.5);
-  int child =
-      b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1}}});
-  int parent = b.node({{"translation", {10, 0, 0}},
-                       {"rotation", {0, h, 0, h}},
-                       {"scale", {2, 2, 2}},
-                       {"children", {child}}});
+  int child = b.node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1}}});
+  int parent =
+      b.node({{"translation", {10, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {2, 2, 2}}, {"children", {child}}});
   b.scene({parent});
   Scene s = loadGltf(b.writeGltf(dir / "tree.gltf").string());
   ASSERT_EQ(s.instances.size(), 1u);
@@ -150,8 +145,8 @@ TEST(GltfLoad, ReadsAnOrthographicCameraWithItsExtent) {
   // Skipped before issue 15; now rendered by 3dr and raycast (projection=orthographic).
   TestDir dir;
   GltfBuilder b;
-  b.doc["cameras"] = {{{"type", "orthographic"},
-                       {"orthographic", {{"xmag", -3.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
+  b.doc["cameras"] = {
+      {{"type", "orthographic"}, {"orthographic", {{"xmag", -3.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
   b.scene({b.node({{"camera", 0}, {"translation", {0, 1, 4}}})});
   Scene s = loadGltf(b.writeGltf(dir / "ortho.gltf").string());
   ASSERT_EQ(s.cameras.size(), 1u);
@@ -166,8 +161,8 @@ TEST(GltfLoad, ReadsAnOrthographicCameraWithItsExtent) {
 TEST(GltfLoadErrors, AnOrthographicCameraWithoutExtentNamesTheField) {
   TestDir dir;
   GltfBuilder b;
-  b.doc["cameras"] = {{{"type", "orthographic"},
-                       {"orthographic", {{"xmag", 0.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
+  b.doc["cameras"] = {
+      {{"type", "orthographic"}, {"orthographic", {{"xmag", 0.0}, {"ymag", 2.0}, {"znear", 0.0}, {"zfar", 50.0}}}}};
   b.scene({b.node({{"camera", 0}})});
   expectInputError(b.writeGltf(dir / "flat.gltf"), {"cameras[0].orthographic", "non-zero"});
 }
@@ -197,8 +192,7 @@ TEST(GltfLoadErrors, ZeroOrNegativeLightRangeNamesTheLight) {
   TestDir dir;
   for (double range : {0.0, -2.0}) {
     GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 5}, {"range", range}});
-    expectInputError(b.writeGltf(dir / "range.gltf"),
-                     {"KHR_lights_punctual.lights[0].range", "> 0"});
+    expectInputError(b.writeGltf(dir / "range.gltf"), {"KHR_lights_punctual.lights[0].range", "> 0"});
   }
 }
 

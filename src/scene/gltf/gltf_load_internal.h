@@ -20,9 +20,8 @@ namespace hb::gltf_detail {
 
 // tinygltf's image loader callback (userData = the tinygltf::Model being parsed): fails with a
 // message naming the image if its bufferView lies outside its buffer, else decodes to RGBA.
-bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err,
-                        std::string* warn, int width, int height, const unsigned char* bytes,
-                        int size, void* userData);
+bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err, std::string* warn, int width,
+                        int height, const unsigned char* bytes, int size, void* userData);
 
 // A validated accessor: `count` elements of `elementSize` bytes, `stride` apart from `data`.
 // The file's extensions against what the loader reads (gltf_extensions.cpp): one that changes
@@ -50,12 +49,10 @@ class Loader {
 
  private:
   // ---- errors (gltf_io.cpp) ----
-  [[noreturn]] void fail(const std::string& field, const std::string& problem,
-                         const std::string& fix) const;
+  [[noreturn]] void fail(const std::string& field, const std::string& problem, const std::string& fix) const;
   // Checks that `index` names an element of an array of `size` (the array `arrayName` at top
   // level) and returns it as size_t.
-  size_t checkIndex(int index, size_t size, const std::string& field,
-                    const std::string& arrayName) const;
+  size_t checkIndex(int index, size_t size, const std::string& field, const std::string& arrayName) const;
 
   // ---- accessors (gltf_accessors.cpp) ----
   // Validates accessor `index` for `field`: its type must be `type` (TINYGLTF_TYPE_*), its
@@ -63,8 +60,7 @@ class Loader {
   //   accessor.byteOffset + stride * (count - 1) + elementSize <= bufferView.byteLength,
   //   bufferView.byteOffset + bufferView.byteLength <= buffer size
   // must hold, all in 64-bit arithmetic after bounding count so nothing can overflow.
-  AccessorView accessor(int index, const std::string& field, int type,
-                        std::initializer_list<int> componentTypes) const;
+  AccessorView accessor(int index, const std::string& field, int type, std::initializer_list<int> componentTypes) const;
   // Reads float, or normalized unsigned byte/short, vectors (instantiated for N = 2 and 3).
   template <int N>
   std::vector<glm::vec<N, float>> readVectors(const AccessorView& view) const;

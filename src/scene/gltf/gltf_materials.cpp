@@ -11,17 +11,16 @@ namespace hb::gltf_detail {
 // tinygltf hands an image stored in a bufferView to its decoder without checking that the view
 // lies inside its buffer; this loader checks first (the buffers are parsed before the images),
 // then decodes with tinygltf's stb loader, which expands every image to RGBA.
-bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err,
-                        std::string* warn, int width, int height, const unsigned char* bytes,
-                        int size, void* userData) {
+bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err, std::string* warn, int width,
+                        int height, const unsigned char* bytes, int size, void* userData) {
   const auto* model = static_cast<const tinygltf::Model*>(userData);
   if (image->bufferView >= 0) {
     const tinygltf::BufferView& view = model->bufferViews[static_cast<size_t>(image->bufferView)];
     const tinygltf::Buffer& buffer = model->buffers[static_cast<size_t>(view.buffer)];
     if (static_cast<uint64_t>(view.byteOffset) + view.byteLength > buffer.data.size()) {
       *err += "images[" + std::to_string(imageIndex) + "].bufferView: bufferViews[" +
-              std::to_string(image->bufferView) + "] ends past the end of buffers[" +
-              std::to_string(view.buffer) + "] (" + std::to_string(buffer.data.size()) + " bytes)";
+              std::to_string(image->bufferView) + "] ends past the end of buffers[" + std::to_string(view.buffer) +
+              "] (" + std::to_string(buffer.data.size()) + " bytes)";
       return false;
     }
   }
@@ -38,11 +37,10 @@ void Loader::loadTextures() {
     size_t i = checkIndex(tex.source, model_.images.size(), field, "images");
     const tinygltf::Image& image = model_.images[i];
     const std::string imageField = "images[" + std::to_string(i) + "]";
-    const size_t pixels = static_cast<size_t>(std::max(image.width, 0)) *
-                          static_cast<size_t>(std::max(image.height, 0));
+    const size_t pixels =
+        static_cast<size_t>(std::max(image.width, 0)) * static_cast<size_t>(std::max(image.height, 0));
     const size_t bytesPerChannel = image.bits == 16 ? 2 : 1;
-    if (pixels == 0 || image.component < 1 || image.component > 4 ||
-        (image.bits != 8 && image.bits != 16) ||
+    if (pixels == 0 || image.component < 1 || image.component > 4 || (image.bits != 8 && image.bits != 16) ||
         image.image.size() < pixels * image.component * bytesPerChannel)
       fail(imageField, "image '" + image.uri.substr(0, 64) + "' was not found or not decoded",
            "put the image file next to the .gltf or embed it as PNG/JPEG");
@@ -86,8 +84,8 @@ void Loader::loadMaterials() {
     Material out;
     out.name = mat.name;
     if (pbr.baseColorFactor.size() != 4)
-      fail(field + ".baseColorFactor",
-           "has " + std::to_string(pbr.baseColorFactor.size()) + " numbers", "give it 4 (RGBA)");
+      fail(field + ".baseColorFactor", "has " + std::to_string(pbr.baseColorFactor.size()) + " numbers",
+           "give it 4 (RGBA)");
     for (int c = 0; c < 4; ++c) out.baseColorFactor[c] = static_cast<float>(pbr.baseColorFactor[c]);
     out.metallicFactor = static_cast<float>(pbr.metallicFactor);
     out.roughnessFactor = static_cast<float>(pbr.roughnessFactor);
@@ -114,8 +112,7 @@ uint32_t Loader::defaultMaterial() {
 
 void Loader::markSrgbTextures() {
   for (const Material& m : scene_.materials)
-    if (m.baseColorTexture >= 0)
-      scene_.textures[static_cast<size_t>(m.baseColorTexture)].srgb = true;
+    if (m.baseColorTexture >= 0) scene_.textures[static_cast<size_t>(m.baseColorTexture)].srgb = true;
 }
 
 }  // namespace hb::gltf_detail

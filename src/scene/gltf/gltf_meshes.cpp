@@ -1,6 +1,6 @@
-// glTF meshes: TRIANGLES primitives (and strips and fans, as triangle lists) appended to the scene's shared vertex and index arrays,
-// with computed normals and sequential indices where the file has none (Loader members
-// declared in gltf_load_internal.h).
+// glTF meshes: TRIANGLES primitives (and strips and fans, as triangle lists) appended to the scene's shared vertex and
+// index arrays, with computed normals and sequential indices where the file has none (Loader members declared in
+// gltf_load_internal.h).
 #include <cmath>
 #include <limits>
 
@@ -54,8 +54,7 @@ void Loader::loadMesh(int meshIndex) {
   Mesh out;
   out.name = mesh.name;
   for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-    const std::string field =
-        "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
+    const std::string field = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(p) + "]";
     const tinygltf::Primitive& prim = mesh.primitives[p];
     if (!drawsTriangles(prim.mode)) {
       if (warnings_->skippedPrimitives++ == 0)
@@ -73,54 +72,48 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
     return it == prim.attributes.end() ? -1 : it->second;
   };
   const int positionAccessor = attribute("POSITION");
-  if (positionAccessor < 0)
-    fail(field + ".attributes", "has no POSITION", "give every primitive a POSITION accessor");
+  if (positionAccessor < 0) fail(field + ".attributes", "has no POSITION", "give every primitive a POSITION accessor");
   const std::string positionField = field + ".attributes.POSITION";
-  std::vector<glm::vec3> positions = readVectors<3>(accessor(
-      positionAccessor, positionField, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+  std::vector<glm::vec3> positions =
+      readVectors<3>(accessor(positionAccessor, positionField, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
   for (size_t i = 0; i < positions.size(); ++i)
-    if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) ||
-        !std::isfinite(positions[i].z))
+    if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
       fail(positionField, "vertex " + std::to_string(i) + " is not finite (NaN or Inf)",
            "re-export the mesh with finite positions");
   const size_t vertexCount = positions.size();
 
   std::vector<glm::vec3> normals;
   if (int a = attribute("NORMAL"); a >= 0) {
-    normals = readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3,
-                                      {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+    normals =
+        readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
     if (normals.size() != vertexCount)
       fail(field + ".attributes.NORMAL",
-           "count " + std::to_string(normals.size()) + " differs from POSITION's " +
-               std::to_string(vertexCount),
+           "count " + std::to_string(normals.size()) + " differs from POSITION's " + std::to_string(vertexCount),
            "give every attribute of a primitive the same count");
   }
   std::vector<glm::vec2> uvs;
   if (int a = attribute("TEXCOORD_0"); a >= 0) {
     // The spec allows normalized unsigned byte/short texture coordinates besides float.
-    uvs = readVectors<2>(
-        accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
-                 {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
+    uvs = readVectors<2>(accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
+                                  {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
     if (uvs.size() != vertexCount)
       fail(field + ".attributes.TEXCOORD_0",
-           "count " + std::to_string(uvs.size()) + " differs from POSITION's " +
-               std::to_string(vertexCount),
+           "count " + std::to_string(uvs.size()) + " differs from POSITION's " + std::to_string(vertexCount),
            "give every attribute of a primitive the same count");
   }
 
   std::vector<uint32_t> indices;
   const std::string indicesField = field + ".indices";
   if (prim.indices >= 0) {
-    indices = readIndices(
-        accessor(prim.indices, indicesField, TINYGLTF_TYPE_SCALAR,
-                 {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                  TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}));
+    indices = readIndices(accessor(prim.indices, indicesField, TINYGLTF_TYPE_SCALAR,
+                                   {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}));
     for (size_t i = 0; i < indices.size(); ++i)
       if (indices[i] >= vertexCount)
         fail(indicesField,
-             "index " + std::to_string(i) + " is " + std::to_string(indices[i]) +
-                 " but the primitive has only " + std::to_string(vertexCount) + " vertices",
+             "index " + std::to_string(i) + " is " + std::to_string(indices[i]) + " but the primitive has only " +
+                 std::to_string(vertexCount) + " vertices",
              "fix the index buffer or the POSITION accessor's count");
   } else {
     indices.resize(vertexCount);
@@ -146,10 +139,10 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
   out.indexCount = static_cast<uint32_t>(indices.size());
   out.vertexOffset = static_cast<uint32_t>(scene_.vertices.size());
   out.vertexCount = static_cast<uint32_t>(vertexCount);
-  out.material = prim.material >= 0
-                     ? static_cast<uint32_t>(checkIndex(prim.material, model_.materials.size(),
-                                                        field + ".material", "materials"))
-                     : defaultMaterial();
+  out.material =
+      prim.material >= 0
+          ? static_cast<uint32_t>(checkIndex(prim.material, model_.materials.size(), field + ".material", "materials"))
+          : defaultMaterial();
   for (size_t i = 0; i < vertexCount; ++i)
     scene_.vertices.push_back({positions[i], normals[i], uvs.empty() ? glm::vec2(0.0f) : uvs[i]});
   scene_.indices.insert(scene_.indices.end(), indices.begin(), indices.end());

@@ -28,8 +28,8 @@ struct TestDir {
   fs::path path;
   TestDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path = fs::temp_directory_path() / ("hb_gltf_io_" + std::string(info->test_suite_name()) + "_" +
-                                        info->name() + "_" + std::to_string(getpid()));
+    path = fs::temp_directory_path() /
+           ("hb_gltf_io_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" + std::to_string(getpid()));
     fs::remove_all(path);
     fs::create_directories(path);
   }
@@ -52,8 +52,7 @@ struct GltfBuilder {
     size_t offset = bin.size();
     bin.resize(offset + data.size() * sizeof(T));
     std::memcpy(bin.data() + offset, data.data(), data.size() * sizeof(T));
-    doc["bufferViews"].push_back(
-        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * sizeof(T)}});
+    doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", data.size() * sizeof(T)}});
     return static_cast<int>(doc["bufferViews"].size() - 1);
   }
   int accessor(int view, int componentType, const char* type, size_t count) {
@@ -67,10 +66,8 @@ struct GltfBuilder {
   // A unit quad in the z = 0 plane facing +z, indices as u16, with normals and texcoords unless
   // told otherwise. Returns the mesh index.
   int quad(bool withNormals = true, int material = -1) {
-    json prim = {
-        {"attributes", {{"POSITION", floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
-    if (withNormals)
-      prim["attributes"]["NORMAL"] = floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
+    json prim = {{"attributes", {{"POSITION", floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3)}}}};
+    if (withNormals) prim["attributes"]["NORMAL"] = floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
     prim["attributes"]["TEXCOORD_0"] = floats({0, 0, 1, 0, 1, 1, 0, 1}, "VEC2", 2);
     prim["indices"] = accessor(view(std::vector<uint16_t>{0, 1, 2, 0, 2, 3}), kU16, "SCALAR", 6);
     if (material >= 0) prim["material"] = material;
@@ -99,10 +96,8 @@ struct GltfBuilder {
       fs::path binPath = path;
       binPath.replace_extension(".bin");
       std::ofstream(binPath, std::ios::binary)
-          .write(reinterpret_cast<const char*>(bin.data()),
-                 static_cast<std::streamsize>(bin.size()));
-      d["buffers"] =
-          json::array({{{"uri", binPath.filename().string()}, {"byteLength", bin.size()}}});
+          .write(reinterpret_cast<const char*>(bin.data()), static_cast<std::streamsize>(bin.size()));
+      d["buffers"] = json::array({{{"uri", binPath.filename().string()}, {"byteLength", bin.size()}}});
     }
     std::ofstream(path) << d.dump(1);
     return path;
@@ -116,9 +111,7 @@ struct GltfBuilder {
     while (text.size() % 4) text += ' ';
     std::vector<uint8_t> body = bin;
     while (body.size() % 4) body.push_back(0);
-    auto u32 = [](std::ofstream& out, uint32_t v) {
-      out.write(reinterpret_cast<const char*>(&v), 4);
-    };
+    auto u32 = [](std::ofstream& out, uint32_t v) { out.write(reinterpret_cast<const char*>(&v), 4); };
     std::ofstream out(path, std::ios::binary);
     out.write("glTF", 4);
     u32(out, 2);
@@ -128,8 +121,7 @@ struct GltfBuilder {
     out.write(text.data(), static_cast<std::streamsize>(text.size()));
     u32(out, static_cast<uint32_t>(body.size()));
     u32(out, 0x004E4942u);  // "BIN\0"
-    out.write(reinterpret_cast<const char*>(body.data()),
-              static_cast<std::streamsize>(body.size()));
+    out.write(reinterpret_cast<const char*>(body.data()), static_cast<std::streamsize>(body.size()));
     return path;
   }
 };
@@ -137,16 +129,14 @@ struct GltfBuilder {
 // The quad at the origin and a point light one node away: the file most tests start from.
 inline GltfBuilder quadWithLight(json light) {
   GltfBuilder b;
-  b.doc["materials"] = {
-      {{"name", "red"},
-       {"pbrMetallicRoughness",
-        {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.5}}},
-       {"doubleSided", true}}};
+  b.doc["materials"] = {{{"name", "red"},
+                         {"pbrMetallicRoughness",
+                          {{"baseColorFactor", {1, 0, 0, 1}}, {"metallicFactor", 0.25}, {"roughnessFactor", 0.5}}},
+                         {"doubleSided", true}}};
   int mesh = b.quad(true, 0);
   int l = b.light(std::move(light));
   b.scene({b.node({{"mesh", mesh}}),
-           b.node({{"translation", {1, 2, 3}},
-                   {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
+           b.node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", l}}}}}})});
   return b;
 }
 

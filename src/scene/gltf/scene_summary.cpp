@@ -5,20 +5,17 @@
 #include <limits>
 #include <sstream>
 
-#include "scene/gltf/gltf_io.h"
 #include "base/sha256.h"
+#include "scene/gltf/gltf_io.h"
 
 namespace hb {
 namespace {
 
 const char* lightTypeName(LightType type) {
   switch (type) {
-    case LightType::Point:
-      return "point";
-    case LightType::Spot:
-      return "spot";
-    case LightType::Directional:
-      return "directional";
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+    case LightType::Directional: return "directional";
   }
   return "unknown";
 }
@@ -110,9 +107,7 @@ nlohmann::json sceneInfoJson(const Scene& scene) {
     glm::vec3 lo, hi;
     scene.bounds(lo, hi);
     const glm::vec3 size = hi - lo;
-    j["bounds"] = {{"min", {lo.x, lo.y, lo.z}},
-                   {"max", {hi.x, hi.y, hi.z}},
-                   {"size_m", {size.x, size.y, size.z}}};
+    j["bounds"] = {{"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}, {"size_m", {size.x, size.y, size.z}}};
   } else {
     j["bounds"] = nullptr;
   }
@@ -129,18 +124,15 @@ std::string sceneInfoText(const Scene& scene) {
       << "materials  " << scene.materials.size() << ", textures " << scene.textures.size() << "\n"
       << "cameras    " << scene.cameras.size() << "\n";
   const nlohmann::json& lights = j["lights"];
-  out << "lights     " << scene.lights.size() << " (point " << lights["point"].get<size_t>()
-      << ", spot " << lights["spot"].get<size_t>() << ", directional "
-      << lights["directional"].get<size_t>() << ")";
+  out << "lights     " << scene.lights.size() << " (point " << lights["point"].get<size_t>() << ", spot "
+      << lights["spot"].get<size_t>() << ", directional " << lights["directional"].get<size_t>() << ")";
   if (!lights["range_min"].is_null())
-    out << ", range " << lights["range_min"].get<float>() << " .. "
-        << lights["range_max"].get<float>() << " m, " << lights["ranges_from_eq41"].get<size_t>()
-        << " from eq. 4.1";
+    out << ", range " << lights["range_min"].get<float>() << " .. " << lights["range_max"].get<float>() << " m, "
+        << lights["ranges_from_eq41"].get<size_t>() << " from eq. 4.1";
   out << "\n";
   for (const Light& l : scene.lights) {
     out << "  " << lightTypeName(l.type) << " '" << l.name << "' intensity " << l.intensity;
-    if (l.type != LightType::Directional)
-      out << " range " << l.range << " m" << (l.rangeFromEq41 ? " (eq. 4.1)" : "");
+    if (l.type != LightType::Directional) out << " range " << l.range << " m" << (l.rangeFromEq41 ? " (eq. 4.1)" : "");
     out << (l.castShadows ? "" : " no shadows") << "\n";
   }
   out << "effects    " << (scene.effects.is_null() ? std::string("(none: the defaults apply)") : scene.effects.dump())
@@ -150,8 +142,7 @@ std::string sceneInfoText(const Scene& scene) {
   } else {
     auto v3 = [](const nlohmann::json& a) {
       std::ostringstream s;
-      s << "(" << a[0].get<float>() << ", " << a[1].get<float>() << ", " << a[2].get<float>()
-        << ")";
+      s << "(" << a[0].get<float>() << ", " << a[1].get<float>() << ", " << a[2].get<float>() << ")";
       return s.str();
     };
     out << "bounds     " << v3(j["bounds"]["min"]) << " .. " << v3(j["bounds"]["max"]) << "\n"
