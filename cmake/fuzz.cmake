@@ -8,12 +8,16 @@ if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
                       "-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ (see scripts/fuzz.sh)")
 endif()
 
+# From src/effects/: the plan and registry, each effect's schema (<name>/*_effect.cpp) and the list
+# of built-in effects; their frame hooks are stand-ins (tests/fuzz/effect_hook_stubs.cpp).
 file(GLOB_RECURSE FUZZ_CORE_SOURCES CONFIGURE_DEPENDS
-     ${CMAKE_SOURCE_DIR}/src/base/*.cpp ${CMAKE_SOURCE_DIR}/src/scene/*.cpp
-     ${CMAKE_SOURCE_DIR}/src/effects/*.cpp ${CMAKE_SOURCE_DIR}/src/config/*.cpp)
+     ${CMAKE_SOURCE_DIR}/src/base/*.cpp ${CMAKE_SOURCE_DIR}/src/scene/*.cpp ${CMAKE_SOURCE_DIR}/src/config/*.cpp)
+file(GLOB FUZZ_EFFECT_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/effects/*.cpp
+     ${CMAKE_SOURCE_DIR}/src/effects/*/*_effect.cpp ${CMAKE_SOURCE_DIR}/src/effects/builtin/*.cpp)
+list(APPEND FUZZ_CORE_SOURCES ${FUZZ_EFFECT_SOURCES})
 list(FILTER FUZZ_CORE_SOURCES EXCLUDE REGEX "_test\\.cpp$")
 add_library(hybridfuzzcore STATIC ${FUZZ_CORE_SOURCES}
-            ${CMAKE_SOURCE_DIR}/tests/fuzz/tinygltf_impl.cpp)
+            ${CMAKE_SOURCE_DIR}/tests/fuzz/tinygltf_impl.cpp ${CMAKE_SOURCE_DIR}/tests/fuzz/effect_hook_stubs.cpp)
 add_dependencies(hybridfuzzcore git_rev)
 # The same include paths, definitions and warnings as hybridcore (and -Werror with it).
 target_include_directories(hybridfuzzcore

@@ -34,6 +34,13 @@ Scene boxScene(glm::dvec3 lo, glm::dvec3 hi) {
 
 class LdmGpuTest : public testing::GpuTest {};
 
+// "hardware, max64": a build method and list layout as a trace line names them.
+std::string buildAndListName(LdmBuildMethod method, LdmList list) {
+  return std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") + (list == LdmList::Max64 ? ", max64"
+                                                                                 : list == LdmList::Cas ? ", cas"
+                                                                                                        : ", sbuffer");
+}
+
 // A box [-1, 1] x [-0.5, 0.5] x [-0.25, 0.75] in a sphere of radius 2 at the origin, seen along
 // each axis both ways and along a diagonal. Along an axis, a pixel whose line passes inside the
 // box's cross-section (by more than the rasterizer's rounding of the edge, 1e-3 px here) holds
@@ -45,10 +52,7 @@ TEST_F(LdmGpuTest, ABoxSeenAlongEachAxisHasItsTwoFacesInEveryPixelInsideAndNothi
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
     for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
-      SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-                   (list == LdmList::Max64 ? ", max64"
-                    : list == LdmList::Cas ? ", cas"
-                                           : ", sbuffer"));
+      SCOPED_TRACE(buildAndListName(method, list));
       const double radius = 2.0;
       const uint32_t R = 64;
       // dir, right, up (right × up = −dir: a right-handed view looking along dir).
@@ -185,10 +189,7 @@ TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
   GpuScene gpuScene(*ctx, scene);
   for (const LdmBuildMethod method : {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d})
     for (const LdmList list : {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer}) {
-      SCOPED_TRACE(std::string(method == LdmBuildMethod::Hardware ? "hardware" : "3dr") +
-                   (list == LdmList::Max64 ? ", max64"
-                    : list == LdmList::Cas ? ", cas"
-                                           : ", sbuffer"));
+      SCOPED_TRACE(buildAndListName(method, list));
       const uint32_t R = 32, capacity = 500;
       std::vector<gpu::LdmMap> maps = {mapOf({0, 0, -1}, {1, 0, 0}, {0, 1, 0}, glm::dvec3(0), 2.0),
                                        mapOf({0.6, 0, -0.8}, {0.8, 0, 0.6}, {0, 1, 0}, glm::dvec3(0), 2.0)};

@@ -14,7 +14,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <glm/gtc/packing.hpp>
 #include <nlohmann/json.hpp>
 
 #include "analysis/effect_report.h"
@@ -181,17 +180,6 @@ class TintEffectTest : public testing::GpuTest {
   fs::path dir;
 };
 
-std::vector<float> halfImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout) {
-  const std::vector<uint8_t> bytes = readbackImage(ctx, image, layout, 8);
-  std::vector<float> out(bytes.size() / 2);
-  for (size_t i = 0; i < out.size(); ++i) {
-    uint16_t h;
-    std::memcpy(&h, bytes.data() + 2 * i, 2);
-    out[i] = glm::unpackHalf1x16(h);
-  }
-  return out;
-}
-
 TEST_F(TintEffectTest, RunsAfterShadingAndAddsRedInProportionToTheListLength) {
   const Scene scene = makeAtrium({});
   RenderSettings rs = testing::settingsWithEffects(96, 54, {{"shadows", false}, {"tint", true}});
@@ -205,7 +193,7 @@ TEST_F(TintEffectTest, RunsAfterShadingAndAddsRedInProportionToTheListLength) {
   const auto* part = r.part<TintPart>(kTintPass);
   ASSERT_NE(part, nullptr);
 
-  const std::vector<float> shaded = halfImage(*ctx, part->shaded(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+  const std::vector<float> shaded = readbackHalfImage(*ctx, part->shaded(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
   const std::vector<float> tinted = r.readColor();  // the frame's colour is now the tint's
   const CullingReadback lists = r.readCulling();
   ASSERT_EQ(shaded.size(), tinted.size());

@@ -4,10 +4,7 @@
 // shader is the shadow pass's (shadows.rmiss.glsl: payload 1 = nothing hit).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_tracing : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 layout(constant_id = 2) const uint METHOD = kAoRayTraced;
 
 #include "ao_common.glsl.inc"

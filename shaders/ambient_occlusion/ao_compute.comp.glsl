@@ -2,10 +2,7 @@
 // Ambient occlusion by the methods that need no ray tracer (ao_common.glsl.inc): layered depth maps
 // (METHOD = kAoLdm) and screen-space HBAO (kAoHbao).
 #extension GL_GOOGLE_include_directive : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 layout(constant_id = 2) const uint METHOD = kAoLdm;
 layout(local_size_x = 8, local_size_y = 8) in;
 

@@ -3,10 +3,7 @@
 // or kAoReference): the same rays as ao.rgen.glsl on devices with VK_KHR_ray_query.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_query : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 layout(constant_id = 2) const uint METHOD = kAoRayTraced;
 layout(local_size_x = 8, local_size_y = 8) in;
 

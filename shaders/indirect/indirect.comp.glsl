@@ -4,10 +4,7 @@
 // 64 threads a group over a 2D grid of groups (index = (y·groupsX + x)·64 + local).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_query : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 layout(constant_id = 2) const uint METHOD = kIndirectLdm;
 layout(local_size_x = 64) in;
 

@@ -5,10 +5,7 @@
 // indirect.rchit.glsl as (t bits, triangle id); the miss shader sets the id to ~0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_tracing : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 layout(constant_id = 2) const uint METHOD = kIndirectLdm;
 
 #include "indirect_common.glsl.inc"

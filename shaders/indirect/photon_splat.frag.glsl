@@ -6,10 +6,7 @@
 // a = √|du·(dv × n)|. Only surfaces facing the way the photon's landing surface faces receive it.
 // Additive blending sums the photons (Eq. 5's sum) into the RGBA32F irradiance target.
 #extension GL_GOOGLE_include_directive : require
-#include "shared/gpu_types.h"
-
-layout(constant_id = 0) const uint NORMALS = 0;
-layout(constant_id = 1) const uint WORLD_POS = 0;
+#include "surface_constants.glsl.inc"
 
 #include "surface.glsl.inc"
 

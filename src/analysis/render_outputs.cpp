@@ -99,6 +99,36 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
           {"against_ray_cast", toJson(exact)}};
 }
 
+// Culling statistics against the CPU reference of the same method and the exact test, with the
+// lights-per-tile heatmap (render.json "culling").
+static void reportCulling(EffectReport& r) {
+  const CullingReadback& cr = r.culling;
+  const RenderSettings& s = r.renderer.settings();
+  // Culling statistics against the CPU reference of the same method and the exact test.
+  r.cullingInputs.capacity = cr.capacity;
+  CullingAnalysis ca = analyzeCulling(r.cullingInputs, cr);
+  r.lap("culling reference");
+  r.run["culling"] = ca.json;
+  // What the GPU allocated for the lists (the statistics' memory_bytes is the thesis's formula).
+  r.run["culling"]["light_lists"] = toString(cr.lists);
+  r.run["culling"]["list_memory_bytes"] = r.renderer.listMemoryBytes();
+  if (cr.lists != LightLists::Tile) r.run["culling"]["memory_bytes"] = r.renderer.listMemoryBytes();
+  r.write("lights_per_tile.png", ca.heatmap,
+          {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %% "
+                "(reaching no pixel %.1f %%), false negatives %llu%s",
+                (unsigned long long)ca.stats.tiles, ca.stats.meanLightsPerTile, ca.stats.maxLightsPerTile,
+                (unsigned long long)ca.stats.overflowTiles, 100.0 * ca.stats.falsePositiveRate,
+                100.0 * ca.stats.uselessRate, (unsigned long long)ca.stats.falseNegatives,
+                s.depthSlices ? (", " + std::to_string(ca.stats.slicedAway) + " cut by " +
+                                 std::to_string(s.depthSlices) + " depth slices")
+                                    .c_str()
+                              : "");
+  r.summary.push_back(line);
+}
+
 RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& renderer, const Scene& scene,
                                  const VariantParams& params, const std::string& dir, bool writeImages,
                                  const ReferenceFrame* reference) {
@@ -205,34 +235,10 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   lap("readbacks and images");
   // The light lists, read back once (the masks of thousands of lights at 4K are megabytes).
   const CullingReadback cr = perspective && renderer.hasCulling() ? renderer.readCulling() : CullingReadback{};
-  if (perspective && renderer.hasCulling()) {
-    // Culling statistics against the CPU reference of the same method and the exact test.
-    ci.capacity = cr.capacity;
-    CullingAnalysis ca = analyzeCulling(ci, cr);
-    lap("culling reference");
-    j["culling"] = ca.json;
-    // What the GPU allocated for the lists (the statistics' memory_bytes is the thesis's formula).
-    j["culling"]["light_lists"] = toString(cr.lists);
-    j["culling"]["list_memory_bytes"] = renderer.listMemoryBytes();
-    if (cr.lists != LightLists::Tile) j["culling"]["memory_bytes"] = renderer.listMemoryBytes();
-    write("lights_per_tile.png", ca.heatmap,
-          {{"Description", "lights per tile (thesis colours, red = every light of the scene)"}});
-    char line[256];
-    std::snprintf(line, sizeof line,
-                  "culling: %llu tiles, %.2f lights/tile (max %u), %llu overflowing, false positives %.1f %% "
-                  "(reaching no pixel %.1f %%), false negatives %llu%s",
-                  (unsigned long long)ca.stats.tiles, ca.stats.meanLightsPerTile, ca.stats.maxLightsPerTile,
-                  (unsigned long long)ca.stats.overflowTiles, 100.0 * ca.stats.falsePositiveRate,
-                  100.0 * ca.stats.uselessRate, (unsigned long long)ca.stats.falseNegatives,
-                  s.depthSlices ? (", " + std::to_string(ca.stats.slicedAway) + " cut by " +
-                                   std::to_string(s.depthSlices) + " depth slices")
-                                      .c_str()
-                                : "");
-    out.summary.push_back(line);
-  }
   // The effects' own reports, in effect order (effects/effect.h EffectDef::report).
   EffectReport report{ctx,         renderer, scene, params, reference, writeImages, j,          accuracy,
                       out.summary, write,    lap,   depth,  cr,        ci,          perspective};
+  if (perspective && renderer.hasCulling()) reportCulling(report);
   for (const EffectDef* def : allEffects())
     if (def->report && renderer.plan().runs(def->name)) def->report(report);
   {

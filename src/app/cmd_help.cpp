@@ -98,59 +98,11 @@ Table paramsTable() {
   return t;
 }
 
-// What an effect's validator says about `value` given as its setting `setting` (empty: as the
-// effect's whole value), without the "help: path: " prefix; "" when it accepts the value.
-std::string validatorSays(const EffectDef& e, const std::string& setting, const nlohmann::ordered_json& value) {
-  const json_reader::Where where{"help", ""};
-  const nlohmann::ordered_json probe = setting.empty() ? value : nlohmann::ordered_json{{setting, value}};
-  try {
-    e.validate(probe, where);
-  } catch (const InputError& error) {
-    std::string message = error.what();
-    const std::string prefix = setting.empty() ? "help: " : "help: " + setting + ": ";
-    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-    return message;
-  }
-  return "";
-}
-
-// An effect's settings with what each accepts. EffectDef holds only a validator, so they are read
-// from its answers: an unknown key lists the settings, and a wrong type and an out-of-range value
-// name what a setting accepts. {} when the effect takes no object (true or false only).
+// An effect's settings and what each accepts, from its schema (EffectDef::settings, which its
+// validator reads; src/effects/builtin/effects_test.cpp holds the two to each other).
 std::vector<std::pair<std::string, std::string>> effectSettings(const EffectDef& e) {
   std::vector<std::pair<std::string, std::string>> settings;
-  // A key no effect could have and no did-you-mean would match.
-  const std::string unknown = validatorSays(e, "", {{"~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~~", 0}});
-  const std::string allowedMarker = "(allowed: ";
-  const size_t at = unknown.find(allowedMarker);
-  if (at == std::string::npos || unknown.back() != ')') return settings;
-  std::string list = unknown.substr(at + allowedMarker.size());
-  list.pop_back();
-  std::stringstream names(list);
-  for (std::string name; std::getline(names, name, ',');) {
-    if (!name.empty() && name[0] == ' ') name.erase(0, 1);
-    // A wrong type names the kind of value ("expected an integer, got {}").
-    std::string accepts = validatorSays(e, name, nlohmann::ordered_json::object());
-    const size_t got = accepts.rfind(", got ");
-    if (got != std::string::npos) accepts = accepts.substr(0, got);
-    if (accepts.rfind("expected ", 0) == 0) accepts = accepts.substr(9);
-    // A huge value, else a hugely negative one, names the range ("... is out of range 1..2048",
-    // "... is out of range: must be > 0").
-    if (accepts == "an integer" || accepts == "a number") {
-      const bool integer = accepts == "an integer";
-      for (double sign : {1.0, -1.0}) {
-        const std::string says = validatorSays(
-            e, name, integer ? nlohmann::ordered_json(int64_t(sign) << 62) : nlohmann::ordered_json(sign * 1e300));
-        const std::string marker = "is out of range";
-        const size_t r = says.find(marker);
-        if (r == std::string::npos) continue;
-        const std::string range = says.substr(r + marker.size());  // " 1..2048" or ": must be > 0"
-        accepts += range.rfind(": ", 0) == 0 ? ", " + range.substr(2) : " in" + range;
-        break;
-      }
-    }
-    settings.push_back({name, accepts});
-  }
+  for (const EffectSetting& s : e.settings) settings.push_back({s.name, s.accepts});
   return settings;
 }
 
@@ -169,9 +121,10 @@ Table effectsTable() {
 }
 
 Table effectSettingsTable() {
-  Table t{{"Effect", "Setting", "Accepts"}, {}};
+  Table t{{"Effect", "Setting", "Accepts", "Default", "Description"}, {}};
   for (const EffectDef* e : allEffects())
-    for (const auto& [name, accepts] : effectSettings(*e)) t.rows.push_back({e->name, name, accepts});
+    for (const EffectSetting& s : e->settings)
+      t.rows.push_back({e->name, s.name, s.accepts, s.defaultValue, s.description});
   return t;
 }
 
@@ -245,7 +198,11 @@ nlohmann::ordered_json effectsJson() {
   nlohmann::ordered_json list = nlohmann::ordered_json::array();
   for (const EffectDef* e : allEffects()) {
     nlohmann::ordered_json settings = nlohmann::ordered_json::array();
-    for (const auto& [name, accepts] : effectSettings(*e)) settings.push_back({{"name", name}, {"accepts", accepts}});
+    for (const EffectSetting& s : e->settings)
+      settings.push_back({{"name", s.name},
+                          {"accepts", s.accepts},
+                          {"default", nlohmann::ordered_json::parse(s.defaultValue)},
+                          {"description", s.description}});
     list.push_back({{"name", e->name},
                     {"default", e->defaultValue},
                     {"settings", settings},

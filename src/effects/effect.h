@@ -34,6 +34,15 @@ const char* toString(FrameResource r);
 // effects that shading composes), or after shading (effects on the shaded image).
 enum class FramePhase : uint32_t { BeforeShading, AfterShading };
 
+// One setting of an effect's object form ({"method": "ldm", "directions": 64}): the validator
+// accepts exactly these keys (validateEffectValue), and `hybridbench help effects` prints them.
+struct EffectSetting {
+  const char* name;
+  const char* accepts;       // what the validator accepts: "ldm | raytraced | reference", "1..2048"
+  const char* defaultValue;  // as JSON: "64", "\"ldm\"", "null"
+  const char* description;
+};
+
 struct EffectDef {
   const char* name;     // the key in "effects" / "extras.effects", render.json and results.json
   const char* summary;  // one line: what it simulates and how
@@ -67,7 +76,14 @@ struct EffectDef {
   // Its table from a results file, Markdown ("" when the file has no rows for it): `sweep`
   // writes it into tables.md and `tables` prints it.
   std::string (*table)(const nlohmann::json& results) = nullptr;
+  // Its settings when its value may be an object; empty: true or false only.
+  std::vector<EffectSetting> settings = {};
 };
+
+// The shape every effect value has: true, false, or an object of `def.settings` (unknown keys get a
+// did-you-mean). Returns true for an object, whose settings the effect then reads; throws
+// InputError naming where.prefix() and the fix.
+bool validateEffectValue(const EffectDef& def, const nlohmann::ordered_json& value, const json_reader::Where& where);
 
 // An effect's value asks for it unless it is false (true, or an object of its settings).
 inline bool isCalledFor(const nlohmann::json& value) { return !(value.is_boolean() && !value.get<bool>()); }

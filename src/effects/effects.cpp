@@ -73,6 +73,21 @@ const char* toString(EffectSource source) {
   return "?";
 }
 
+bool validateEffectValue(const EffectDef& def, const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  if (value.is_boolean()) return false;
+  std::vector<std::string_view> names;
+  std::string list;
+  for (const EffectSetting& s : def.settings) {
+    names.push_back(s.name);
+    list += (list.empty() ? "" : ", ") + std::string(s.name);
+  }
+  if (names.empty()) json_reader::readBool(value, where);  // names what it expects
+  if (!value.is_object())
+    where.fail("expected true, false or an object of settings (" + list + "), got " + json_reader::describe(value));
+  json_reader::requireObjectWithKeys(value, where, names);
+  return true;
+}
+
 static std::vector<std::string_view> effectNames() {
   std::vector<std::string_view> names;
   for (const EffectDef* e : allEffects()) names.push_back(e->name);

@@ -18,4 +18,21 @@ SurfaceInputs surfaceInputs(const FrameBuilder& f) {
   return s;
 }
 
+SurfaceBindings surfaceBindings(const FrameBuilder& f, const SurfaceInputs& surface) {
+  const FrameResources& r = f.resources;
+  return {&r.requireBuffer(res::kFrameConstants),
+          &r.requireImage(res::kDepth),
+          r.sampler(res::kPointSampler),
+          r.tlas(res::kTlas),
+          surface.hitIds,
+          surface.hitRays,
+          surface.hitTriangles};
+}
+
+std::vector<std::string> surfaceReads(const SurfaceInputs& surface) {
+  std::vector<std::string> reads = {res::kFrameConstants, res::kDepth};
+  if (surface.hitIds) reads.insert(reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
+  return reads;
+}
+
 }  // namespace hb

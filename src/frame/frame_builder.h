@@ -74,4 +74,20 @@ struct SurfaceInputs {
 // Throws InputError when world_pos=hit asks for ids this frame's primary visibility does not give.
 SurfaceInputs surfaceInputs(const FrameBuilder& frame);
 
+// The frame resources a per-pixel pass binds to meet its surface and trace from it.
+struct SurfaceBindings {
+  const Buffer* frameConstants = nullptr;
+  const Image* depth = nullptr;  // DEPTH_READ_ONLY_OPTIMAL
+  VkSampler sampler = VK_NULL_HANDLE;
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;  // the ray tracer's scene, or null
+  // As SurfaceInputs: 3D rasterization's visibility buffer, rays and world triangles, or null.
+  const Buffer* hitIds = nullptr;
+  const Buffer* hitRays = nullptr;
+  const Buffer* hitTriangles = nullptr;
+};
+SurfaceBindings surfaceBindings(const FrameBuilder& frame, const SurfaceInputs& surface);
+// The frame resources a pass on that surface reads: the constants, the depth, and the visibility
+// buffer with its rays and triangles where the primary gives them.
+std::vector<std::string> surfaceReads(const SurfaceInputs& surface);
+
 }  // namespace hb

@@ -298,24 +298,8 @@ std::pair<uint32_t, uint32_t> CullingReadback::pixelSlice(uint32_t tile, uint32_
   return {from, to};
 }
 
-template <typename T>
-static std::vector<T> readImageAs(const VulkanContext& ctx, const Image& img, uint32_t bytesPerPixel) {
-  std::vector<uint8_t> bytes = readbackImage(ctx, img, VK_IMAGE_LAYOUT_GENERAL, bytesPerPixel);
-  std::vector<T> out(bytes.size() / sizeof(T));
-  std::memcpy(out.data(), bytes.data(), bytes.size());
-  return out;
-}
-
 std::vector<float> Renderer::readColor() const {
-  std::vector<uint8_t> bytes =
-      readbackImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor), 8);
-  std::vector<float> out(bytes.size() / 2);
-  for (size_t i = 0; i < out.size(); ++i) {
-    uint16_t h;
-    std::memcpy(&h, bytes.data() + 2 * i, 2);
-    out[i] = glm::unpackHalf1x16(h);
-  }
-  return out;
+  return readbackHalfImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor));
 }
 
 std::vector<float> Renderer::readRefNormals() const {

@@ -1,5 +1,9 @@
 #include "gpu/vk_resources.h"
 
+#include <cstring>
+
+#include <glm/gtc/packing.hpp>
+
 #include <utility>
 
 #include <atomic>
@@ -221,6 +225,17 @@ std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buff
       "a buffer readback");
   std::vector<uint8_t> out(buffer.size());
   std::memcpy(out.data(), staging.mapped(), buffer.size());
+  return out;
+}
+
+std::vector<float> readbackHalfImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout) {
+  const std::vector<uint8_t> bytes = readbackImage(ctx, image, layout, 8);
+  std::vector<float> out(bytes.size() / 2);
+  for (size_t i = 0; i < out.size(); ++i) {
+    uint16_t h;
+    std::memcpy(&h, bytes.data() + 2 * i, 2);
+    out[i] = glm::unpackHalf1x16(h);
+  }
   return out;
 }
 

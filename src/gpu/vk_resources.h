@@ -99,5 +99,7 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
 std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout,
                                    uint32_t bytesPerPixel);
 std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buffer);
+// An RGBA16F image read back as floats (4 per pixel).
+std::vector<float> readbackHalfImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout);
 
 }  // namespace hb

@@ -27,10 +27,8 @@ constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao"};
 AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
   AoSettings s;
-  if (value.is_boolean()) return s;
-  requireObjectWithKeys(
-      value, where,
-      {"method", "directions", "ldm_resolution", "d_max", "bias", "ldm_list", "ldm_build", "samples", "steps"});
+  if (!validateEffectValue(ambientOcclusionEffect(), value, where))
+    return s;  // true, false or an object of its settings
   if (value.contains("method"))
     s.method = AoMethod(
         readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2], kMethods[3]}));
@@ -47,29 +45,21 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
   return s;
 }
 
-void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
-  if (value.is_boolean()) return;
-  if (!value.is_object())
-    where.fail(
-        "expected true, false or an object of settings (method, directions, ldm_resolution, d_max, bias, "
-        "ldm_list, ldm_build, samples, steps), got " +
-        json_reader::describe(value));
-  read(value, where);
-}
+void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) { read(value, where); }
 
-std::vector<FrameResource> needsOf(const nlohmann::json& value) {
+std::vector<FrameResource> aoNeedsOf(const nlohmann::json& value) {
   const AoMethod m = aoSettingsOf(value).method;
   if (m == AoMethod::Ldm) return {FrameResource::Depth, FrameResource::LayeredDepthMaps};
   if (m == AoMethod::Hbao) return {FrameResource::Depth};
   return {FrameResource::Depth, FrameResource::AccelerationStructures};
 }
 
-std::vector<const char*> passesOf(const nlohmann::json& value) {
+std::vector<const char*> aoPassesOf(const nlohmann::json& value) {
   if (aoSettingsOf(value).method == AoMethod::Ldm) return {kLdmBuildPass, kAmbientOcclusionPass};
   return {kAmbientOcclusionPass};
 }
 
-std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
+std::string aoCannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
   if (!scene.ambient)
     return "the scene has no ambient term (add extras.ambient to the glTF scene or \"ambient\" to the config)";
   if (!(scene.ambient->intensity > 0.0f)) return "the scene's ambient intensity is 0";
@@ -78,14 +68,15 @@ std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
 
 }  // namespace
 
-void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
-                         std::string& build) {
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, LdmList& list,
+                         LdmBuildMethod& build) {
   using namespace json_reader;
+  static constexpr LdmList kLists[] = {LdmList::Max64, LdmList::Cas, LdmList::Sbuffer};
+  static constexpr LdmBuildMethod kBuilds[] = {LdmBuildMethod::Hardware, LdmBuildMethod::Raster3d};
   if (value.contains("ldm_list"))
-    list = std::vector<std::string>{
-        "max64", "cas", "sbuffer"}[readChoice(value["ldm_list"], where.key("ldm_list"), {"max64", "cas", "sbuffer"})];
+    list = kLists[readChoice(value["ldm_list"], where.key("ldm_list"), {"max64", "cas", "sbuffer"})];
   if (value.contains("ldm_build"))
-    build = readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"}) == 0 ? "hardware" : "3dr";
+    build = kBuilds[readChoice(value["ldm_build"], where.key("ldm_build"), {"hardware", "3dr"})];
 }
 
 void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples) {
@@ -106,12 +97,19 @@ nlohmann::json AoSettings::toJson() const {
                       {"ldm_resolution", ldmResolution},
                       {"d_max", dMax ? nlohmann::json(*dMax) : nlohmann::json()},
                       {"bias", bias},
-                      {"ldm_list", ldmList},
-                      {"ldm_build", ldmBuild}};
+                      {"ldm_list", hb::toString(ldmList)},
+                      {"ldm_build", hb::toString(ldmBuild)}};
   if (method == AoMethod::Reference) j["samples"] = samples;
   if (method == AoMethod::Hbao) j["steps"] = steps;
   return j;
 }
+
+const EffectSetting kLdmListSetting{
+    "ldm_list", "max64 | cas | sbuffer", "\"max64\"",
+    "how the lists are built: 64-bit atomicMax, the paper's compare-and-swap, or count-scan-fill-sort"};
+const EffectSetting kLdmBuildSetting{
+    "ldm_build", "hardware | 3dr", "\"hardware\"",
+    "one instanced draw over the N maps, or compute 3D rasterization per (triangle, map)"};
 
 const EffectDef& ambientOcclusionEffect() {
   static const EffectDef def{
@@ -123,12 +121,26 @@ const EffectDef& ambientOcclusionEffect() {
       .validate = validate,
       .needs = {FrameResource::Depth},
       .passes = {kLdmBuildPass, kAmbientOcclusionPass},
-      .cannotAct = cannotAct,
-      .needsOf = needsOf,
-      .passesOf = passesOf,
+      .cannotAct = aoCannotAct,
+      .needsOf = aoNeedsOf,
+      .passesOf = aoPassesOf,
       .build = buildAmbientOcclusion,
       .report = reportAmbientOcclusion,
       .table = aoTableMarkdown,
+      .settings =
+          {
+              {"method", "ldm | raytraced | reference | hbao", "\"ldm\"",
+               "layered depth maps along N directions; the same N directions ray traced; cosine-weighted Monte "
+               "Carlo (the converged reference); screen-space HBAO"},
+              {"directions", "1..2048", "64", "N, the LDM directions (each traced both ways)"},
+              {"ldm_resolution", "8..4096", "128", "R: each map is R x R over the scene's bounding sphere"},
+              {"d_max", "a number > 0, or null", "null", "obscurance: occluders farther than this (m) do not count"},
+              {"bias", "a number > 0", "1", "scale of the derived slope-scaled LDM bias"},
+              kLdmListSetting,
+              kLdmBuildSetting,
+              {"samples", "a square in 16..65536", "1024", "reference rays per pixel (side x side strata)"},
+              {"steps", "1..1024", "32", "hbao samples per screen direction"},
+          },
   };
   return def;
 }

@@ -24,6 +24,7 @@
 #include <string>
 
 #include "effects/effect.h"
+#include "effects/ldm_settings.h"
 
 namespace hb {
 
@@ -36,8 +37,8 @@ struct AoSettings {
   uint32_t ldmResolution = 128;
   std::optional<double> dMax;
   double bias = 1.0;
-  std::string ldmList = "max64";
-  std::string ldmBuild = "hardware";
+  LdmList ldmList = LdmList::Max64;
+  LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
   uint32_t samples = 1024;
   uint32_t steps = 32;
   nlohmann::json toJson() const;
@@ -51,8 +52,10 @@ void reportAmbientOcclusion(EffectReport& report);  // ao_report.cpp
 
 // The settings the LDM effects share (ambient occlusion, indirect light), read where `value` has
 // them: ldm_list, ldm_build, and samples (a square 16..65536: the strata are side x side).
-void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, std::string& list,
-                         std::string& build);
+void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, LdmList& list,
+                         LdmBuildMethod& build);
+// The LDM settings' schema entries (EffectDef::settings), the same for both LDM effects.
+extern const EffectSetting kLdmListSetting, kLdmBuildSetting;
 void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples);
 
 }  // namespace hb

@@ -17,21 +17,11 @@ AoPart::AoPart(FrameBuilder& f) {
   as.ao = aoSettingsOf(f.value);
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
-  const FrameResources& r = f.resources;
-  AoInputs ai{&r.requireBuffer(res::kFrameConstants),
-              &r.requireImage(res::kDepth),
-              r.sampler(res::kPointSampler),
-              r.tlas(res::kTlas),
-              surface.hitIds,
-              surface.hitRays,
-              surface.hitTriangles};
+  const AoInputs ai = surfaceBindings(f, surface);
   ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
-  std::vector<std::string> surfaceReads = {res::kFrameConstants, res::kDepth};
-  if (surface.hitIds)
-    surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   if (ao_->buildsLdms()) {
     f.resources.publish("ambient_occlusion.ldm", ao_->ldm()->links(), "u64 or u32 list nodes",
                         "counted per frame + 5 %");
@@ -44,9 +34,9 @@ AoPart::AoPart(FrameBuilder& f) {
   }
   FramePass pass;
   pass.name = kAmbientOcclusionPass;
-  pass.reads = surfaceReads;
+  pass.reads = surfaceReads(surface);
   if (ao_->buildsLdms()) pass.reads.push_back("ambient_occlusion.ldm");
-  if (r.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
+  if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
   pass.writes = {res::kAmbientOcclusion};
   pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordAo(cmd); };
   passes_.push_back(std::move(pass));

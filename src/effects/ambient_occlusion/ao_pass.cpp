@@ -73,9 +73,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   }
   if (ldm_) {
     c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
-    c.ldmList = ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
-                : ldm_->list() == LdmList::Cas ? gpu::kLdmListCas
-                                               : gpu::kLdmListSbuffer;
+    c.ldmList = uint32_t(ldm_->list());  // LdmList's values are the shaders' kLdmList*
     c.ldmCapacity = ldm_->nodeCapacity();
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);

@@ -15,6 +15,7 @@
 
 #include "config/config.h"
 #include "effects/ambient_occlusion/ao_effect.h"
+#include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
@@ -24,17 +25,9 @@
 
 namespace hb {
 
-struct AoInputs {
-  const Buffer* frameConstants = nullptr;
-  const Image* depth = nullptr;  // DEPTH_READ_ONLY_OPTIMAL
-  VkSampler sampler = VK_NULL_HANDLE;
-  // The ray tracer's scene (null: only ldm can run, and computeWith cannot).
-  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
-  // As ShadowInputs: 3D rasterization's visibility buffer, rays and world triangles, or null.
-  const Buffer* hitIds = nullptr;
-  const Buffer* hitRays = nullptr;
-  const Buffer* hitTriangles = nullptr;
-};
+// The frame's surface and ray tracer (frame_builder.h); tlas null: only ldm can run, and
+// computeWith cannot.
+using AoInputs = SurfaceBindings;
 
 struct AoPassSettings {
   AoSettings ao;

@@ -4,6 +4,10 @@
 
 #include "base/input_error_of.h"
 #include "effects/ambient_occlusion/ao_effect.h"
+#include "effects/indirect/indirect_effect.h"
+
+#include <charconv>
+#include <string>
 
 namespace hb {
 namespace {
@@ -174,6 +178,58 @@ TEST(Effects, SetNamesAnEffectByItsNameOrUnderEffects) {
   EXPECT_TRUE(isEffectSet("effects.bloom=true"));  // and fails in parseEffectSet, naming it
   EXPECT_FALSE(isEffectSet("tile_size=8"));
   EXPECT_EQ(parseEffectSet("effects.shadows=true").object, (nlohmann::json{{"shadows", true}}));
+}
+
+// The schema `help effects` prints (EffectDef::settings) and the validator that reads the values
+// are one: each setting's default is what the effect uses when the setting is left out, each
+// choice and both ends of each range are accepted, and one step beyond each end or an unknown
+// choice is refused.
+bool accepts(const EffectDef& e, const std::string& setting, const nlohmann::ordered_json& value) {
+  try {
+    e.validate(nlohmann::ordered_json{{setting, value}}, {"test", "effects"});
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
+TEST(Effects, EachSettingOfTheSchemaIsWhatTheValidatorAcceptsWithItsDefault) {
+  size_t checked = 0;
+  for (const EffectDef* e : allEffects()) {
+    // The settings an effect uses when its value is `true`, as its results write them.
+    nlohmann::json defaults;
+    if (std::string(e->name) == "ambient_occlusion") defaults = aoSettingsOf(true).toJson();
+    if (std::string(e->name) == "indirect") defaults = indirectSettingsOf(true).toJson();
+    for (const EffectSetting& s : e->settings) {
+      const nlohmann::ordered_json def = nlohmann::ordered_json::parse(s.defaultValue);
+      EXPECT_TRUE(def.is_null() || accepts(*e, s.name, def))
+          << e->name << "." << s.name << " default " << s.defaultValue;
+      if (defaults.contains(s.name)) {
+        EXPECT_EQ(nlohmann::json(def), defaults[s.name]) << e->name << "." << s.name;
+      }
+      const std::string a = s.accepts;
+      if (const size_t dots = a.find(".."); dots != std::string::npos && a.find(' ') == std::string::npos) {
+        int64_t lo = 0, hi = 0;
+        std::from_chars(a.data(), a.data() + dots, lo);
+        std::from_chars(a.data() + dots + 2, a.data() + a.size(), hi);
+        EXPECT_TRUE(accepts(*e, s.name, lo) && accepts(*e, s.name, hi)) << e->name << "." << s.name << " " << a;
+        EXPECT_FALSE(accepts(*e, s.name, lo - 1)) << e->name << "." << s.name << " " << a;
+        EXPECT_FALSE(accepts(*e, s.name, hi + 1)) << e->name << "." << s.name << " " << a;
+        ++checked;
+      } else if (a.find(" | ") != std::string::npos) {
+        for (size_t at = 0; at <= a.size();) {
+          const size_t bar = a.find(" | ", at);
+          const std::string choice = a.substr(at, bar == std::string::npos ? std::string::npos : bar - at);
+          EXPECT_TRUE(accepts(*e, s.name, choice)) << e->name << "." << s.name << " " << choice;
+          at = bar == std::string::npos ? a.size() + 1 : bar + 3;
+        }
+        EXPECT_FALSE(accepts(*e, s.name, "no-such-choice")) << e->name << "." << s.name;
+        ++checked;
+      }
+    }
+    EXPECT_FALSE(accepts(*e, "no_such_setting", 1)) << e->name;
+  }
+  EXPECT_GE(checked, 10u);  // ranges and choices of ambient occlusion and indirect light
 }
 
 }  // namespace

@@ -22,9 +22,7 @@ namespace {
 IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
   IndirectSettings s;
-  if (value.is_boolean()) return s;
-  requireObjectWithKeys(
-      value, where, {"method", "directions", "ldm_resolution", "photons", "bias", "ldm_list", "ldm_build", "samples"});
+  if (!validateEffectValue(indirectEffect(), value, where)) return s;  // true, false or an object of its settings
   if (value.contains("method"))
     s.method = IndirectMethod(readChoice(value["method"], where.key("method"), {"ldm", "raytraced", "reference"}));
   if (value.contains("directions"))
@@ -38,15 +36,7 @@ IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Wh
   return s;
 }
 
-void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) {
-  if (value.is_boolean()) return;
-  if (!value.is_object())
-    where.fail(
-        "expected true, false or an object of settings (method, directions, ldm_resolution, photons, bias, "
-        "ldm_list, ldm_build, samples), got " +
-        json_reader::describe(value));
-  read(value, where);
-}
+void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) { read(value, where); }
 
 // Every method meets the primary photons' (or the gathered rays') surfaces through the ray tracer.
 std::vector<FrameResource> needsOf(const nlohmann::json& value) {
@@ -91,8 +81,8 @@ nlohmann::json IndirectSettings::toJson() const {
   if (method == IndirectMethod::Ldm) {
     j["ldm_resolution"] = ldmResolution;
     j["bias"] = bias;
-    j["ldm_list"] = ldmList;
-    j["ldm_build"] = ldmBuild;
+    j["ldm_list"] = hb::toString(ldmList);
+    j["ldm_build"] = hb::toString(ldmBuild);
   }
   return j;
 }
@@ -114,6 +104,19 @@ const EffectDef& indirectEffect() {
       .build = buildIndirect,
       .report = reportIndirect,
       .table = indirectTableMarkdown,
+      .settings =
+          {
+              {"method", "ldm | raytraced | reference", "\"ldm\"",
+               "split photons traced through layered depth maps; the same photons ray traced; the gathered single "
+               "bounce (the reference)"},
+              {"directions", "1..2048", "64", "N, the split directions"},
+              {"ldm_resolution", "8..4096", "128", "R of each map"},
+              {"photons", "1..1024", "16", "primary photons per face side (a point light emits 6 x photons^2)"},
+              {"bias", "a number > 0", "1", "scale of the derived LDM bias"},
+              kLdmListSetting,
+              kLdmBuildSetting,
+              {"samples", "a square in 16..65536", "256", "reference rays per pixel"},
+          },
   };
   return def;
 }

@@ -27,6 +27,7 @@
 #include <string>
 
 #include "effects/effect.h"
+#include "effects/ldm_settings.h"
 
 namespace hb {
 
@@ -39,8 +40,8 @@ struct IndirectSettings {
   uint32_t ldmResolution = 128;
   uint32_t photons = 16;
   double bias = 1.0;
-  std::string ldmList = "max64";
-  std::string ldmBuild = "hardware";
+  LdmList ldmList = LdmList::Max64;
+  LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
   uint32_t samples = 256;
   nlohmann::json toJson() const;
 };

@@ -14,21 +14,10 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.worldPos = surface.worldPos;  // the surface as ambient occlusion takes it
   is.normals = surface.normals;
   is.rayQuery = f.settings.backend != RtBackend::Pipeline && f.ctx.info().rayQuery;  // backend=pipeline: every ray pass
-  const FrameResources& r = f.resources;
-  IndirectInputs ii{&r.requireBuffer(res::kFrameConstants),
-                    &r.requireBuffer(res::kLights),
-                    &r.requireImage(res::kDepth),
-                    r.sampler(res::kPointSampler),
-                    r.tlas(res::kTlas),
-                    surface.hitIds,
-                    surface.hitRays,
-                    surface.hitTriangles};
+  const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
-  std::vector<std::string> surfaceReads = {res::kFrameConstants, res::kDepth, res::kTlas};
-  if (surface.hitIds)
-    surfaceReads.insert(surfaceReads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   auto add = [&](const char* name, std::vector<std::string> reads, std::vector<std::string> writes,
                  void (IndirectPass::*record)(VkCommandBuffer) const) {
     FramePass pass;
@@ -38,7 +27,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     pass.record = [this, record](VkCommandBuffer cmd, const PassFrame&) { (indirect_.get()->*record)(cmd); };
     passes_.push_back(std::move(pass));
   };
-  std::vector<std::string> traceReads = surfaceReads;
+  std::vector<std::string> traceReads = surfaceReads(surface);
+  traceReads.push_back(res::kTlas);
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
     f.resources.publish("indirect.ldm", indirect_->ldm()->links(), "u64 or u32 list nodes", "counted per frame + 5 %");

@@ -148,10 +148,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   c.directions = s.directions;
   c.resolution = s.ldmResolution;
   c.mapPixels = ldm_ ? ldm_->mapCount() * s.ldmResolution * s.ldmResolution : 0;
-  c.ldmList = !ldm_                            ? 0u
-              : ldm_->list() == LdmList::Max64 ? gpu::kLdmListMax64
-              : ldm_->list() == LdmList::Cas   ? gpu::kLdmListCas
-                                               : gpu::kLdmListSbuffer;
+  c.ldmList = ldm_ ? uint32_t(ldm_->list()) : 0u;  // LdmList's values are the shaders' kLdmList*
   c.ldmCapacity = ldm_ ? ldm_->nodeCapacity() : 0;
   c.maxListSteps = ldm_ ? ldm_->nodeCapacity() : 1;
   c.biasScale = float(s.bias);

@@ -17,6 +17,7 @@
 
 #include "config/config.h"
 #include "effects/indirect/indirect_effect.h"
+#include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
 #include "gpu/gpu_textures.h"
 #include "gpu/rt_pipeline.h"
@@ -26,16 +27,10 @@
 
 namespace hb {
 
-struct IndirectInputs {
-  const Buffer* frameConstants = nullptr;
+// The frame's surface and ray tracer (frame_builder.h; the tracer is required: every method meets
+// surfaces by ray) and the scene's lights.
+struct IndirectInputs : SurfaceBindings {
   const Buffer* lights = nullptr;
-  const Image* depth = nullptr;  // DEPTH_READ_ONLY_OPTIMAL
-  VkSampler sampler = VK_NULL_HANDLE;
-  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;  // required: every method meets surfaces by ray
-  // As AoInputs: 3D rasterization's visibility buffer, rays and world triangles, or null.
-  const Buffer* hitIds = nullptr;
-  const Buffer* hitRays = nullptr;
-  const Buffer* hitTriangles = nullptr;
 };
 
 struct IndirectPassSettings {

@@ -262,10 +262,8 @@ std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec
 
 std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                                             const std::vector<glm::dvec3>& dirs, uint32_t resolution,
-                                            const std::string& build, const std::string& list, const char* effect) {
+                                            LdmBuildMethod method, LdmList kind, const char* effect) {
   std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, resolution);
-  const LdmBuildMethod method = build == "3dr" ? LdmBuildMethod::Raster3d : LdmBuildMethod::Hardware;
-  const LdmList kind = list == "cas" ? LdmList::Cas : list == "sbuffer" ? LdmList::Sbuffer : LdmList::Max64;
   uint64_t fragments = 0;
   {
     LdmBuild counting(ctx, gpuScene, scene, maps, resolution, 1, method, kind);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <vector>
+#include "effects/ldm_settings.h"
 
 #include "gpu/gpu_scene.h"
 #include "gpu/vk_pipeline.h"
@@ -26,9 +27,6 @@ struct LdmCounters {
   uint64_t casRetries = 0;  // cas: compare-and-swaps another insertion won (then retried)
   uint64_t fp64Edges = 0;   // 3dr build: edge values within their rounding bound, decided in double
 };
-
-enum class LdmBuildMethod { Hardware, Raster3d };
-enum class LdmList { Max64, Cas, Sbuffer };  // ldm_insert.glsl.inc, ldm_sbuffer.comp.glsl
 
 class LdmBuild {
  public:
@@ -89,6 +87,6 @@ std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec
 // "cas" | "sbuffer". Throws InputError when the fragments outgrow 32-bit node ids.
 std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                                             const std::vector<glm::dvec3>& dirs, uint32_t resolution,
-                                            const std::string& build, const std::string& list, const char* effect);
+                                            LdmBuildMethod build, LdmList list, const char* effect);
 
 }  // namespace hb
