@@ -60,8 +60,12 @@ def main():
     a, b = results_of(a_dir), results_of(b_dir)
     with_images = os.path.isdir(a_dir) and os.path.isdir(b_dir)
     problems, added = [], set()
-    if len(a["runs"]) != len(b["runs"]):
-        problems.append(f"runs: {len(a['runs'])} -> {len(b['runs'])}")
+    # Runs are matched by name: a run only one file has (a sweep cut short) is listed, not compared.
+    b_by_name = {r["name"]: r for r in b["runs"]}
+    a_names = {r["name"] for r in a["runs"]}
+    only_a = [r["name"] for r in a["runs"] if r["name"] not in b_by_name]
+    only_b = [r["name"] for r in b["runs"] if r["name"] not in a_names]
+    problems += [f"run only in A: {n}" for n in only_a]
     print(f"# Same outputs: {a_dir} against {b_dir}\n")
     print(f"A: git {a['context'].get('tool', {}).get('git', '?')}, "
           f"B: git {b['context'].get('tool', {}).get('git', '?')}; "
@@ -69,7 +73,10 @@ def main():
     print("Every field but times (" + ", ".join(sorted(TIMING)) + "), run by run:\n")
     print("| run | differing fields |")
     print("|---|---:|")
-    for ra, rb in zip(a["runs"], b["runs"]):
+    for ra in a["runs"]:
+        if ra["name"] not in b_by_name:
+            continue
+        rb = b_by_name[ra["name"]]
         out = []
         diff(ra, rb, ra["name"], out, added)
         problems += out
@@ -95,6 +102,8 @@ def main():
     if added:
         print("\nFields B has that A has not (new keys; not a change of what A computed): " +
               ", ".join(sorted(added)))
+    if only_b:
+        print("\nRuns only B has (A's sweep did not finish them; not compared): " + ", ".join(only_b))
     for p in problems:
         print(f"- {p}")
     print("\nVerdict: " + ("SAME" if not problems and not bad_images else "DIFFERENT"))
