@@ -14,8 +14,6 @@ enum class LdmBuildMethod : uint32_t { Hardware, Raster3d };  // "hardware" | "3
 enum class LdmList : uint32_t { Max64 = gpu::kLdmListMax64, Cas = gpu::kLdmListCas, Sbuffer = gpu::kLdmListSbuffer };
 
 inline const char* toString(LdmBuildMethod m) { return m == LdmBuildMethod::Hardware ? "hardware" : "3dr"; }
-inline const char* toString(LdmList l) {
-  return l == LdmList::Max64 ? "max64" : l == LdmList::Cas ? "cas" : "sbuffer";
-}
+inline const char* toString(LdmList l) { return l == LdmList::Max64 ? "max64" : l == LdmList::Cas ? "cas" : "sbuffer"; }
 
 }  // namespace hb
