@@ -4,15 +4,16 @@
 // zbin: the depth-sorted lights (after zbin_sort.comp.glsl), so indices stay sorted indices.
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
+#include "shared/bindings.h"
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = 6) readonly buffer SortedLights { GpuLight sortedLights[]; };
-layout(set = 0, binding = 9) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
+layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = kCullLights) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = kCullSortedLights) readonly buffer SortedLights { GpuLight sortedLights[]; };
+layout(set = 0, binding = kCullViewLights) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
 // The range spheres alone (xyz, range; directional: +inf), what every tile reads first.
-layout(set = 0, binding = 10) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
+layout(set = 0, binding = kCullViewSpheres) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 void main() {

@@ -3,11 +3,12 @@
 // camera/resolution/tile size (culling.glsl.inc mirrors cull_ref.h op for op).
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
+#include "shared/bindings.h"
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 2) writeonly buffer Frustums { TileFrustum frustums[]; };
+layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = kCullFrustums) writeonly buffer Frustums { TileFrustum frustums[]; };
 
 void main() {
   uint tile = gl_GlobalInvocationID.x;

@@ -5,11 +5,12 @@
 // extents staged through shared memory.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
+#include "shared/bindings.h"
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 4) buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = 8) readonly buffer Extents { uvec2 extents[]; };
+layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = kCullIndices) buffer Indices { uint lightIndices[]; };
+layout(set = 0, binding = kCullExtents) readonly buffer Extents { uvec2 extents[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uvec2 sExtent[256];

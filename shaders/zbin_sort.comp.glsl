@@ -7,13 +7,14 @@
 // sorted light's bin extent [lo, hi] (zbinExtent).
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
+#include "shared/bindings.h"
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = 1) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = 6) writeonly buffer SortedLights { GpuLight sortedLights[]; };
-layout(set = 0, binding = 7) writeonly buffer Order { uint order[]; };           // sorted -> scene index
-layout(set = 0, binding = 8) writeonly buffer Extents { uvec2 extents[]; };      // per sorted light: bins [lo, hi]
+layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = kCullLights) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = kCullSortedLights) writeonly buffer SortedLights { GpuLight sortedLights[]; };
+layout(set = 0, binding = kCullOrder) writeonly buffer Order { uint order[]; };           // sorted -> scene index
+layout(set = 0, binding = kCullExtents) writeonly buffer Extents { uvec2 extents[]; };      // per sorted light: bins [lo, hi]
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared float sKey[kMaxLights];
