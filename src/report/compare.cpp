@@ -10,6 +10,7 @@
 
 #include "base/errors.h"
 #include "config/config.h"
+#include "effects/effects.h"
 #include "report/stats.h"
 
 namespace hb {
@@ -20,9 +21,14 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Passes in frame order (docs/frame.md "The frame"); others follow alphabetically.
-const std::vector<std::string> kPassOrder = {"depth_prepass", "tile_frustums", "light_culling",
-                                             "shadows",       "shading",       "analysis"};
+// A pass's place in frame order (effects/effects.h framePassOrder: the base frame's passes and
+// every effect's), a sub-pass ("raster3d.tiles") right after its pass; passes the frame no longer
+// has come last.
+size_t passRank(const std::vector<std::string>& order, const std::string& p) {
+  const std::string pass = p.substr(0, p.find('.'));
+  const size_t at = size_t(std::find(order.begin(), order.end(), pass) - order.begin());
+  return 2 * at + (pass == p ? 0 : 1);
+}
 
 // The value at a dotted path, or null where any step is missing (never throws).
 json valueAt(const json& root, const std::vector<std::string>& path) {
@@ -169,10 +175,8 @@ std::vector<std::string> passesInFrameOrder(const json& passesA, const json& pas
   }
   for (const std::string& k : keysOf(passesB))
     if (!passesA.is_object() || !passesA.contains(k)) warnings.push_back(variant + ": pass '" + k + "' only in B");
-  auto rank = [](const std::string& p) {
-    auto it = std::find(kPassOrder.begin(), kPassOrder.end(), p);
-    return static_cast<size_t>(it - kPassOrder.begin());
-  };
+  const std::vector<std::string> order = framePassOrder();
+  auto rank = [&](const std::string& p) { return passRank(order, p); };
   std::stable_sort(common.begin(), common.end(),
                    [&](const std::string& x, const std::string& y) { return rank(x) < rank(y); });
   return common;  // keys come alphabetically from json, so ties in rank stay alphabetical
