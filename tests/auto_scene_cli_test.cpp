@@ -62,7 +62,7 @@ TEST_F(AutoScene, AGltfWithNoCameraAndNoLightsRendersWithAutomaticOnesAndSaysSo)
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   ASSERT_TRUE(j.is_object());
   EXPECT_NE(r.err.find("has no camera: automatic camera"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("has no lights: 10 automatic point light(s)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("has no lights: 10 automatic point lights"), std::string::npos) << r.err;
   EXPECT_EQ(j["camera"]["source"], "auto");
   EXPECT_EQ(j["lights"]["source"], "auto");
   EXPECT_EQ(j["lights"]["count"], 10);

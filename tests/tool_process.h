@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -71,7 +72,10 @@ class ToolTest : public ::testing::Test {
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, outPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&actions, 2, errPath().c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    std::vector<std::string> argv{HYBRIDBENCH_BINARY};
+    // HYBRIDBENCH_TEST_BINARY runs the tests against another build, e.g. an older revision's, to
+    // see a test fail where the behaviour it checks is missing.
+    const char* other = std::getenv("HYBRIDBENCH_TEST_BINARY");
+    std::vector<std::string> argv{other && *other ? other : HYBRIDBENCH_BINARY};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
     for (auto& a : argv) cargv.push_back(a.data());

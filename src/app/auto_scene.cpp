@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "base/splitmix64.h"
+#include "base/text_format.h"
 #include "reference/bvh.h"
 #include "scene/camera.h"
 
@@ -181,7 +182,7 @@ std::vector<std::string> completeScene(Scene& scene, const AutoRequest& request)
     scene.lightsSource = "auto";
     lines.push_back(name +
                     (request.lightCount ? " light_count=" + std::to_string(count) : std::string(" has no lights")) +
-                    ": " + std::to_string(count) + " automatic point light(s), " + std::to_string(made.interior) +
+                    ": " + countOf(count, "automatic point light") + ", " + std::to_string(made.interior) +
                     " in free space inside its bounds and " + std::to_string(made.shell) +
                     " on a sphere round them (README \"Bring your own glTF\")");
   }

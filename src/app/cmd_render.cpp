@@ -7,9 +7,13 @@
 #include "analysis/render_outputs.h"
 #include "app/auto_scene.h"
 #include "app/commands.h"
+#include "app/out_dir.h"
+#include "app/run_context.h"
 #include "app/scene_setup.h"
 #include "base/errors.h"
 #include "base/image_io.h"
+#include "base/input_file.h"
+#include "base/text_format.h"
 #include "config/config.h"
 #include "frame/renderer.h"
 #include "gpu/vk_context.h"
@@ -20,6 +24,9 @@ namespace hb {
 
 int cmdRender(const RenderOptions& options) {
   if (options.out.empty()) throw InputError("render: --out DIR is required (the directory the images and JSON go to)");
+  // Earlier results in --out are refused before anything else (--force moves them aside below).
+  if (!options.force) prepareOutDir(options.out, "render.json", Existing::Refuse, "render", false);
+  requireOutputFolder(options.out, "render --out");
   // Parameters: the config's defaults (or the built-in ones), then --size, then each --set.
   Config config;
   bool haveConfig = !options.config.empty();
@@ -93,11 +100,16 @@ int cmdRender(const RenderOptions& options) {
 
   std::vector<DeviceInfo> devices = enumerateDevices();
   uint32_t deviceIndex = resolveDevice(devices, options.device);
+  if (options.force) {  // after every other check: a refused run moves nothing
+    const std::string aside = prepareOutDir(options.out, "render.json", Existing::Replace, "render", false);
+    if (!aside.empty())
+      std::printf("--force: moved the earlier files in %s to %s/\n", options.out.c_str(), aside.c_str());
+  }
   std::filesystem::create_directories(options.out);
   VulkanContext ctx(deviceIndex);
   std::printf("device: %s (%s)\n", ctx.info().name.c_str(), ctx.info().driverInfo.c_str());
-  std::printf("scene: %s, %llu triangles, %zu lights, %ux%u\n", scene.name.c_str(),
-              (unsigned long long)scene.triangleCount(), scene.lights.size(), settings.width, settings.height);
+  std::printf("scene: %s, %s, %s, %ux%u\n", scene.name.c_str(), countOf(scene.triangleCount(), "triangle").c_str(),
+              countOf(scene.lights.size(), "light").c_str(), settings.width, settings.height);
   std::fflush(stdout);
   Renderer renderer(ctx, scene, settings);
   renderer.renderFrame(false);                       // warm: pipelines and caches
@@ -109,6 +121,10 @@ int cmdRender(const RenderOptions& options) {
   report["timing_ms"] = nlohmann::json::object();
   for (const auto& [pass, ms] : timing.passMs) report["timing_ms"][pass] = ms;
   report["timing_ms"]["frame"] = timing.frameMs;
+  report["frame_minus_passes_ms"] = frameMinusPassesMs(timing.frameMs, timing.passMs);
+  nlohmann::json context = runContext(ctx, scene);
+  context["resolution"] = {settings.width, settings.height};
+  report["context"] = context;
   report["params"] = toJson(params);
   report["camera"] = {{"source", scene.cameraSource}, {"name", scene.cameras.front().name}};
   report["lights"] = {{"source", scene.lightsSource}, {"count", scene.lights.size()}};
@@ -120,7 +136,11 @@ int cmdRender(const RenderOptions& options) {
   std::filesystem::rename(jsonPath.string() + ".tmp", jsonPath);
 
   for (const auto& [pass, ms] : timing.passMs) std::printf("%-20s %9.3f ms\n", pass.c_str(), ms);
-  std::printf("%-16s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
+  std::printf("%-20s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
+  std::printf("%-20s %9.3f ms (barriers and gaps between passes)\n", "frame - passes",
+              frameMinusPassesMs(timing.frameMs, timing.passMs));
+  if (context.contains("timing_caveat"))
+    std::printf("caveat: %s\n", context["timing_caveat"].get<std::string>().c_str());
   for (const EffectState& e : renderer.plan().effects)
     std::printf("effect %s: %s (%s%s%s)\n", e.name.c_str(),
                 e.runs        ? "runs"

@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "base/errors.h"
+#include "base/text_format.h"
 #include "effects/effects.h"
 #include "scene/atrium.h"
 #include "scene/gltf/gltf_io.h"
@@ -30,8 +31,8 @@ int cmdSceneExport(const std::string& name, const std::string& out, bool noCamer
   if (noCamera) scene.cameras.clear();
   if (noLights) scene.lights.clear();
   exportGltf(scene, out);
-  std::printf("wrote %s (%llu triangles, %zu lights)\n", out.c_str(), (unsigned long long)scene.triangleCount(),
-              scene.lights.size());
+  std::printf("wrote %s (%s, %s)\n", out.c_str(), countOf(scene.triangleCount(), "triangle").c_str(),
+              countOf(scene.lights.size(), "light").c_str());
   return kExitOk;
 }
 

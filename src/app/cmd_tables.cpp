@@ -1,11 +1,13 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "base/errors.h"
+#include "base/input_file.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
 #include "report/compare.h"
@@ -14,33 +16,61 @@
 
 namespace hb {
 
+static const char* kResultsHint = "pass a results.json written by 'hybridbench sweep'";
+
 static nlohmann::json readResults(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw InputError(path + ": cannot open; pass a results.json written by 'hybridbench sweep'");
+  const std::string text = readInputText(path, kResultsHint);
   try {
-    return nlohmann::json::parse(f);
+    return nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {  // parse_error, and out_of_range for 1e999
-    throw InputError(path + ": not valid JSON (" + std::string(e.what()) +
-                     "); pass a results.json written by 'hybridbench sweep'");
+    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); " + kResultsHint);
   }
 }
 
-int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format) {
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates) {
   HB_ASSERT(!resultsPaths.empty());
-  nlohmann::json results = readResults(resultsPaths[0]);
-  for (size_t i = 1; i < resultsPaths.size(); ++i) {
-    const nlohmann::json more = readResults(resultsPaths[i]);
-    const auto deviceName = [](const nlohmann::json& r) {
-      const nlohmann::json& d = results::at(results::at(r, "context"), "device");
-      return results::at(d, "name").is_string() ? results::at(d, "name").get<std::string>() : std::string("?");
-    };
-    if (deviceName(more) != deviceName(results))
-      throw InputError(resultsPaths[i] + ": measured on \"" + deviceName(more) + "\", " + resultsPaths[0] + " on \"" +
-                       deviceName(results) +
+  std::vector<nlohmann::json> files;
+  for (const std::string& path : resultsPaths) {
+    files.push_back(readResults(path));
+    results::requireResultsFile(files.back(), path);
+  }
+  nlohmann::json results = files[0];
+  const auto deviceName = [](const nlohmann::json& r) {
+    const nlohmann::json& d = results::at(results::at(r, "context"), "device");
+    return results::at(d, "name").is_string() ? results::at(d, "name").get<std::string>() : std::string("?");
+  };
+  for (size_t i = 1; i < files.size(); ++i) {
+    if (deviceName(files[i]) != deviceName(results))
+      throw InputError(resultsPaths[i] + ": measured on \"" + deviceName(files[i]) + "\", " + resultsPaths[0] +
+                       " on \"" + deviceName(results) +
                        "\"; tables read several files only from one kind of device (use "
                        "'hybridbench compare' across devices)");
-    results::requireResultsFile(more);
-    for (const nlohmann::json& run : more["runs"]) results["runs"].push_back(run);
+  }
+  // Several files: one study's runs, one after another. A variant in two files would be read twice
+  // (the tables take a variant's first run), so it is refused unless asked for; then every row is
+  // named with its file.
+  std::map<std::string, std::string> fileOf;  // variant -> first file holding it
+  bool duplicates = false;
+  for (size_t i = 0; i < files.size(); ++i)
+    for (const nlohmann::json& run : files[i]["runs"]) {
+      const std::string name = run.value("name", std::string());
+      const auto [it, fresh] = fileOf.emplace(name, resultsPaths[i]);
+      if (fresh) continue;
+      if (!allowDuplicates)
+        throw InputError(resultsPaths[i] + ": variant \"" + name + "\" is also in " + it->second +
+                         "; tables would read only the first; pass each file alone, or --allow-duplicates to list "
+                         "both with their files named");
+      duplicates = true;
+    }
+  for (size_t i = 1; i < files.size(); ++i)
+    for (const nlohmann::json& run : files[i]["runs"]) results["runs"].push_back(run);
+  if (duplicates) {  // every run named with its file: "name [path]"
+    size_t at = 0;
+    for (size_t i = 0; i < files.size(); ++i)
+      for (size_t k = 0; k < files[i]["runs"].size(); ++k, ++at) {
+        nlohmann::json& run = results["runs"][at];
+        run["name"] = run.value("name", std::string()) + " [" + resultsPaths[i] + "]";
+      }
   }
   if (format == "csv") {
     std::cout << thesisTablesCsv(results);
@@ -51,11 +81,18 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     std::cout << allTablesMarkdown(results);
     std::cout << "\n" << accuracyReportMarkdown(results);
   }
+  // The Markdown says it in its text; a CSV or SVG cannot, so the console does.
+  if (format != "md")
+    for (const std::string& caveat : results::timingCaveats(results))
+      std::fprintf(stderr, "caveat: %s\n", caveat.c_str());
   return kExitOk;
 }
 
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format) {
-  CompareReport report = compareResults(readResults(a), readResults(b), options);
+  const nlohmann::json ja = readResults(a), jb = readResults(b);
+  results::requireResultsFile(ja, a);
+  results::requireResultsFile(jb, b);
+  CompareReport report = compareResults(ja, jb, options);
   if (format == "json")
     std::cout << toJson(report).dump(2) << "\n";
   else if (format == "junit")

@@ -19,12 +19,14 @@ struct RenderOptions {
   std::string device;             // index or name substring
   std::vector<std::string> sets;  // key=value overrides
   std::string out;                // output directory (required)
+  bool force = false;             // out holds a render.json: move the folder's files aside first
 };
 int cmdRender(const RenderOptions& options);
 
 // Several files: their runs one after another under the first file's context (a study whose runs
 // did not fit one sweep); refused unless every file was measured on a device of the same name.
-int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format);
+// A variant in two files is refused unless allowDuplicates; then each row's name carries its file.
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates = false);
 // format: md (a Markdown table), json or junit (formatCompareJunit).
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
 

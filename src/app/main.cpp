@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--device", render.device, "device index or name substring");
   renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)")->allow_extra_args(false);
   renderCmd->add_option("--out", render.out, "output directory")->required();
+  renderCmd->add_flag("--force", render.force,
+                      "--out holds a render: move its files to --out/previous-<time>/ and write afresh");
 
   SweepOptions sweep;
   bool noImages = false;
@@ -39,12 +41,20 @@ int main(int argc, char** argv) {
                        "device index, name substring, a comma-separated list of them (0,1), or all; several sweep "
                        "concurrently, one folder each");
   sweepCmd->add_option("--out", sweep.out, "results directory (default out/<config>-<device>-<time>-<git>)");
-  sweepCmd->add_flag("--resume", sweep.resume, "skip variants already finished in --out");
+  sweepCmd->add_flag("--resume", sweep.resume, "continue the sweep in --out: skip the variants it finished");
+  sweepCmd->add_flag("--force", sweep.force,
+                     "--out holds results: move them to --out/previous-<time>/ and start afresh");
   sweepCmd->add_option("--frames", sweep.frames, "measured frames per variant (overrides the config)")
       ->check(CLI::Range(1, 1000000));
   sweepCmd->add_option("--warmup", sweep.warmup, "warm-up frames per variant (overrides the config)")
       ->check(CLI::Range(0, 100000));
   sweepCmd->add_flag("--no-images", noImages, "write no per-variant images");
+  sweepCmd->add_option("--scene", sweep.scene, "built-in scene name or .gltf/.glb path (instead of the config's)");
+  sweepCmd->add_option("--size", sweep.size, "resolution WxH of every variant, e.g. 1280x720");
+  sweepCmd->add_option("--set", sweep.sets, "parameter or effect for every variant, key=value (repeatable)")
+      ->allow_extra_args(false);
+  sweepCmd->add_flag("--dry-run", sweep.dryRun,
+                     "print the variants with their parameters, the frame count and a time estimate; run nothing");
 
   std::vector<std::string> tablesPaths;
   std::string tablesFormat = "md";
@@ -58,6 +68,9 @@ int main(int argc, char** argv) {
       ->add_option("--format", tablesFormat,
                    "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
       ->check(CLI::IsMember({"md", "csv", "svg"}));
+  bool tablesAllowDuplicates = false;
+  tablesCmd->add_flag("--allow-duplicates", tablesAllowDuplicates,
+                      "read files that hold the same variant; every row is then named with its file");
 
   std::string compareA, compareB;
   CompareOptions compareOpts;
@@ -127,7 +140,7 @@ int main(int argc, char** argv) {
       sweep.images = !noImages;
       return cmdSweep(sweep);
     }
-    if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat);
+    if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates);
     if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);

@@ -8,11 +8,15 @@
 #include <sstream>
 #include <thread>
 
+#include "app/commands.h"
+#include "app/out_dir.h"
+#include "app/scene_setup.h"
 #include "app/sweep_console.h"
 #include "app/sweep_device.h"
 #include "app/sweep_results.h"
 #include "base/errors.h"
 #include "base/version.h"
+#include "config/config_overrides.h"
 #include "gpu/vk_context.h"
 
 namespace hb {
@@ -22,8 +26,20 @@ namespace fs = std::filesystem;
 int cmdSweep(const SweepOptions& options) {
   if (options.resume && options.out.empty())
     throw InputError("sweep --resume needs --out DIR: the directory of the interrupted sweep");
+  if (options.resume && options.force)
+    throw InputError(
+        "sweep: --resume and --force contradict each other (--resume continues the results in --out, "
+        "--force moves them aside); give one");
   if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
-  Config config = options.config.empty() ? embeddedDefaultConfig() : loadConfig(options.config);
+  ConfigOverrides overrides;
+  overrides.scene = options.scene;
+  overrides.sets = options.sets;
+  if (!options.size.empty()) {
+    uint32_t w = 0, h = 0;
+    parseSize(options.size, w, h, "--size");
+    overrides.resolution = std::array<uint32_t, 2>{w, h};
+  }
+  Config config = loadConfigWith(options.config, overrides);
   std::vector<DeviceInfo> devices = enumerateDevices();
   // "all", a comma-separated list ("0,1"; a device may be named twice: two sweeps on one GPU at
   // once), or one index or name substring.
@@ -58,6 +74,26 @@ int cmdSweep(const SweepOptions& options) {
     else
       dirs.push_back(chosen.size() > 1 ? (fs::path(options.out) / tag).string() : options.out);
   }
+  // A glTF scene is loaded once here, before anything is printed, created or moved aside: a scene
+  // that is refused costs one line and nothing else (built-in scenes are made by code).
+  if (!config.sceneIsBuiltin() && !config.sceneIsHardCase()) {
+    SceneCache probe;
+    (void)probe.get(config, config.defaults);
+  }
+  // Earlier results in a folder are never lost without a word: refused unless --resume or --force
+  // says what to do with them (every folder checked before any is touched).
+  for (const std::string& dir : dirs)
+    prepareOutDir(dir, "results.json", options.resume || options.force ? Existing::Resume : Existing::Refuse, "sweep",
+                  true);
+  if (options.dryRun) {
+    for (size_t k = 0; k < chosen.size(); ++k) printDryRun(options, config, chosen[k], dirs[k]);
+    return kExitOk;
+  }
+  if (options.force)
+    for (const std::string& dir : dirs) {
+      const std::string aside = prepareOutDir(dir, "results.json", Existing::Replace, "sweep", true);
+      if (!aside.empty()) std::printf("--force: moved the earlier results in %s to %s/\n", dir.c_str(), aside.c_str());
+    }
   if (chosen.size() == 1) return sweepOneDevice(options, config, chosen[0], dirs[0], Console(), {});
 
   // Several devices: one thread (own Vulkan instance, device and queue) per device, all at once.

@@ -38,16 +38,18 @@ Progress::Progress(size_t total, const Console& console)
 
 void Progress::update(size_t done, const std::string& what) {
   double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  double eta = done ? elapsed / double(done) * double(total_ - done) : 0.0;
+  // No estimate before the first variant finished: "eta --", not a made-up 0 s.
+  const std::string eta = done ? format("%.0fs", elapsed / double(done) * double(total_ - done))
+                               : std::string(done == total_ ? "0s" : "--");
   if (!tty_) {
-    console_.print(format("[%zu/%zu] %s (elapsed %.0fs, eta %.0fs)\n", done, total_, what.c_str(), elapsed, eta));
+    console_.print(format("[%zu/%zu] %s (elapsed %.0fs, eta %s)\n", done, total_, what.c_str(), elapsed, eta.c_str()));
     return;
   }
   {
     const int width = 28;
     int filled = total_ ? int(width * done / total_) : width;
-    std::printf("\r[%s%s] %zu/%zu  %-44.44s  elapsed %4.0fs  eta %4.0fs", std::string(filled, '#').c_str(),
-                std::string(width - filled, '.').c_str(), done, total_, what.c_str(), elapsed, eta);
+    std::printf("\r[%s%s] %zu/%zu  %-44.44s  elapsed %4.0fs  eta %5s", std::string(filled, '#').c_str(),
+                std::string(width - filled, '.').c_str(), done, total_, what.c_str(), elapsed, eta.c_str());
     if (done == total_) std::printf("\n");
   }
   std::fflush(stdout);

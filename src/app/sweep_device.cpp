@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <sys/utsname.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +13,7 @@
 #include <map>
 
 #include "analysis/render_outputs.h"
+#include "app/run_context.h"
 #include "app/scene_setup.h"
 #include "app/sweep_results.h"
 #include "base/errors.h"
@@ -33,41 +33,6 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 
 namespace {
-
-json hostJson() {
-  json h;
-  char name[256] = {};
-  gethostname(name, sizeof name - 1);
-  h["hostname"] = name;
-  struct utsname u {};
-  if (uname(&u) == 0) h["os"] = std::string(u.sysname) + " " + u.release + " " + u.machine;
-  std::ifstream cpu("/proc/cpuinfo");
-  for (std::string line; std::getline(cpu, line);)
-    if (line.rfind("model name", 0) == 0) {
-      h["cpu"] = line.substr(line.find(':') + 2);
-      break;
-    }
-  h["cores"] = sysconf(_SC_NPROCESSORS_ONLN);
-  std::time_t now = std::time(nullptr);
-  char date[64];
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-  h["date"] = date;
-  return h;
-}
-
-json deviceJson(const DeviceInfo& d, const std::string& backend) {
-  return {{"name", d.name},
-          {"vendor", d.vendor},
-          {"vendor_id", d.vendorId},
-          {"device_id", d.deviceId},
-          {"uuid", d.uuid},
-          {"type", d.type},
-          {"driver", d.driverName + " " + d.driverVersion + " (" + d.driverInfo + ")"},
-          {"api_version", d.apiVersion},
-          {"rt_backend", backend},
-          {"timestamp_period_ns", d.timestampPeriodNs},
-          {"timestamp_valid_bits", d.timestampValidBits}};
-}
 
 volatile std::sig_atomic_t gInterrupted = 0;
 void onSignal(int) { gInterrupted = 1; }
@@ -153,7 +118,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     const std::vector<double> first = shadows->rayBench(renderer.timer(), 1);
     constexpr double kRayBenchBudgetMs = 2000.0;
     const uint32_t reps =
-        cpu ? 2u : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3), 3.0, 30.0));
+        cpu ? 3u : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3), 3.0, 30.0));
     shadows->rayBench(renderer.timer(), cpu ? 0 : reps - 1);
     rb = shadows->rayBench(renderer.timer(), reps);
   }
@@ -168,15 +133,15 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   Summary fs_ = summarize(frameMs);
   run["frame_ms"] = toJson(fs_, frameMs);
   run["passes"] = json::object();
-  double sumOfMedians = 0;
+  std::vector<std::pair<std::string, double>> medians;
   for (const std::string& pass : passOrder) {
     Summary s = summarize(passMs[pass]);
     run["passes"][pass] = toJson(s, passMs[pass]);
-    sumOfMedians += s.median;
+    medians.emplace_back(pass, s.median);
   }
   run["pass_order"] = passOrder;
   // What the frame spends outside the timed passes (barriers, gaps between passes).
-  run["frame_minus_passes_ms"] = fs_.median - sumOfMedians;
+  run["frame_minus_passes_ms"] = frameMinusPassesMs(fs_.median, medians);
   run["memory_bytes"] = memory;
   // Ray throughput: the analysis frame's own rays re-traced alone, against the shadow pass.
   if (!rb.empty() && run.contains("rays") && passMs.count("shadows")) {
@@ -201,36 +166,87 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
 
 }  // namespace
 
+Config configForDevice(Config config, const SweepOptions& options, const DeviceInfo& device) {
+  // --frames/--warmup win over the config and over a CPU device's lower counts; the note says which.
+  CpuFrameOverrides given;
+  if (options.frames > 0) given.measured = config.measuredFrames = uint32_t(options.frames);
+  if (options.warmup >= 0) given.warmup = config.warmupFrames = uint32_t(options.warmup);
+  if (device.type == "cpu") config = lowerForCpuDevice(config, given);
+  return config;
+}
+
+void printDryRun(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
+  config = configForDevice(config, options, device);
+  const std::vector<Variant> variants = expandVariants(config);
+  std::printf("dry run: nothing is written (to %s or anywhere); a few frames render for the estimate\n",
+              outDir.c_str());
+  std::printf("sweep %s on %s: %s, %u warm-up + %u measured frames each\n", config.name.c_str(), device.name.c_str(),
+              countOf(variants.size(), "variant").c_str(), config.warmupFrames, config.measuredFrames);
+  if (device.type == "cpu") std::printf("note: %s\n", config.notes.back().c_str());
+  std::printf("scene: %s\n", config.scene.c_str());
+  const json defaults = toJson(config.defaults);
+  std::printf("defaults: %s\n", defaults.dump().c_str());
+  for (size_t i = 0; i < variants.size(); ++i) {
+    json diff = json::object();  // what this variant sets beyond the defaults
+    const json params = toJson(variants[i].params);
+    for (auto it = params.begin(); it != params.end(); ++it)
+      if (!defaults.contains(it.key()) || defaults[it.key()] != it.value()) diff[it.key()] = it.value();
+    std::printf("%4zu. %s: %s\n", i + 1, variants[i].name.c_str(),
+                diff.empty() ? "(the defaults)" : diff.dump().c_str());
+  }
+  const uint64_t frames = uint64_t(variants.size()) * (config.warmupFrames + config.measuredFrames + 1);
+  std::printf("frames: %llu (%zu x (%u + %u + 1 analysis))\n", (unsigned long long)frames, variants.size(),
+              config.warmupFrames, config.measuredFrames);
+  // The estimate: a few frames of the first variant on this device, scaled by each variant's pixel
+  // count; a GPU warms up for at least 0.5 s a variant (runVariant). Analysis frames (CPU-side
+  // references, seconds each) are not in it.
+  try {
+    VulkanContext ctx(device.index);
+    SceneCache scenes;
+    const Variant& first = variants.front();
+    const Scene& scene = scenes.get(config, first.params);
+    Renderer renderer(ctx, scene, renderSettingsFor(first.params, effectsRequestFor(config)));
+    renderer.renderFrame(false);
+    constexpr int kProbeFrames = 3;
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < kProbeFrames; ++i) renderer.renderFrame(false);
+    const double frameS =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / kProbeFrames;
+    const double pixels0 = double(first.params.resolution[0]) * first.params.resolution[1];
+    double total = 0;
+    for (const Variant& v : variants) {
+      const double scale = double(v.params.resolution[0]) * v.params.resolution[1] / pixels0;
+      double warm = config.warmupFrames * frameS * scale;
+      if (device.type != "cpu" && config.warmupFrames > 0) warm = std::max(warm, 0.5);
+      total += warm + (config.measuredFrames + 1) * frameS * scale;
+    }
+    std::printf(
+        "estimate: ~%.1f s of rendering (%.1f ms a frame for the first variant here, scaled by each variant's pixel "
+        "count), plus each variant's analysis (seconds on a CPU device), which this does not estimate\n",
+        total, frameS * 1e3);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    std::printf("estimate: unavailable (the first variant did not render: %s)\n", e.what());
+  }
+}
+
 int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
                    const Console& console, const std::vector<std::string>& concurrent,
                    const std::vector<std::string>& sharing) {
   VulkanContext ctx(device.index);
-  if (device.type == "cpu") {
-    config = lowerForCpuDevice(config);
-    console.print("note: " + config.notes.back() + "\n");
-  }
-  if (options.frames > 0) config.measuredFrames = uint32_t(options.frames);
-  if (options.warmup >= 0) config.warmupFrames = uint32_t(options.warmup);
+  config = configForDevice(config, options, device);
   std::vector<Variant> variants = expandVariants(config);
-  fs::create_directories(outDir);
-  const std::string resultsPath = (fs::path(outDir) / "results.json").string();
-
-  // The scene of the config's defaults names the results file's scene (variants may scale it).
+  // The scene of the config's defaults names the results file's scene (variants may scale it). It
+  // loads before anything is printed or created: a scene refused is one line and no folder.
   SceneCache scenes;
   const Scene& baseScene = scenes.get(config, config.defaults);
+  if (device.type == "cpu") console.print("note: " + config.notes.back() + "\n");
+  fs::create_directories(outDir);
+  const std::string resultsPath = (fs::path(outDir) / "results.json").string();
   json results;
   results["schema_version"] = 1;
-  json context;
-  context["tool"] = {{"name", "hybridbench"}, {"version", toolVersion()}, {"git", gitRevision()}};
-  context["host"] = hostJson();
-  const std::string backend = ctx.info().rayQuery ? "rayquery" : ctx.info().rayTracingPipeline ? "pipeline" : "none";
-  context["device"] = deviceJson(ctx.info(), backend);
-  context["scene"] = {{"name", baseScene.name},
-                      {"sha256", sceneSha256(baseScene)},
-                      {"triangles", baseScene.triangleCount()},
-                      {"lights", baseScene.lights.size()},
-                      {"camera_source", baseScene.cameraSource},
-                      {"lights_source", baseScene.lightsSource}};
+  json context = runContext(ctx, baseScene);
   context["resolution"] = variants.front().params.resolution;
   context["config"] = toJson(config);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
@@ -240,13 +256,6 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     context["timing_caveat_shared_device"] =
         "this device also ran the sweep(s) of " + joinNames(sharing) +
         " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
-  context["timing_source"] =
-      "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
-  if (ctx.info().type == "cpu")
-    context["timing_caveat"] =
-        "CPU implementation (lavapipe): its timestamps do not bracket compute and ray-tracing work (those passes read "
-        "~0.01 ms while the frame takes hundreds of ms), so per-pass times, shadow-pass shares and "
-        "raybench.shadow_pass_fraction_of_peak are not meaningful here; frame times, counts and accuracy are.";
   results["context"] = context;
   results["runs"] = json::array();
 

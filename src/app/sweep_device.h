@@ -19,6 +19,14 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
                    const Console& console, const std::vector<std::string>& concurrent,
                    const std::vector<std::string>& sharing = {});
 
+// The config as it runs on `device`: options' frame counts, then lowered for a CPU device.
+Config configForDevice(Config config, const SweepOptions& options, const DeviceInfo& device);
+
+// sweep --dry-run: the variants with their effective parameters (each one's difference from the
+// defaults), the frame count and a time estimate from a few frames of the first variant; renders
+// nothing else and writes nothing.
+void printDryRun(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir);
+
 // SIGINT and SIGTERM from now on only set the flag that sweepInterrupted() reads: the sweeps stop
 // after their current frame and keep what they finished.
 void catchSweepInterrupts();

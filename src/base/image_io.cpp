@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "base/input_file.h"
 
 namespace hb {
 
@@ -78,9 +79,7 @@ std::vector<uint8_t> textChunkData(const std::string& key, const std::string& va
 }
 
 std::vector<uint8_t> readFileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot open PNG '" + path.string() + "': check that the file exists and is readable");
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  return readInputBytes(path, "give the path of a PNG file");
 }
 
 void stbAppend(void* context, void* data, int size) {

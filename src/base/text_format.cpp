@@ -14,6 +14,18 @@ std::string format(const char* fmt, ...) {
   return buf;
 }
 
+std::string countOf(unsigned long long n, const std::string& singular, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural.empty() ? singular + "s" : plural);
+}
+
+std::string formatNear1(double v) {
+  for (int digits = 3; digits < 9; ++digits) {
+    const std::string text = format("%.*f", digits, v);
+    if (v == 1.0 || (text != format("%.*f", digits, 1.0) && text != format("%.*f", digits, -1.0))) return text;
+  }
+  return format("%.9f", v);
+}
+
 std::string escapeXml(const std::string& s) {
   std::string out;
   for (char ch : s) {

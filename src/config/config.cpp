@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/input_file.h"
 #include "config/config_reader.h"
 #include "effects/effects.h"
 #include "scene/ambient_json.h"
@@ -422,13 +423,8 @@ Config parseConfig(const nlohmann::json& doc, const std::string& sourceName) {
 }
 
 Config loadConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(path +
-                     ": cannot open the config file; give the path of a config JSON file (e.g. configs/thesis.json)");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parseDocument(parseText(text.str(), path), path);
+  const std::string text = readInputText(path, "give the path of a config JSON file (e.g. configs/thesis.json)");
+  return parseDocument(parseText(text, path), path);
 }
 
 std::vector<Variant> expandVariants(const Config& c) {
@@ -484,12 +480,12 @@ Config embeddedDefaultConfig() {
   return parseDocument(parseText(std::string(text), source), source);
 }
 
-Config lowerForCpuDevice(Config c) {
+Config lowerForCpuDevice(Config c, const CpuFrameOverrides& given) {
   std::vector<Variant> before = expandVariants(c);
   uint32_t warmup = c.warmupFrames, measured = c.measuredFrames;
   c.resolutionCap = {kCpuMaxWidth, kCpuMaxHeight};
-  c.warmupFrames = std::min(c.warmupFrames, kCpuWarmup);
-  c.measuredFrames = std::min(c.measuredFrames, kCpuMeasured);
+  c.warmupFrames = given.warmup ? *given.warmup : std::min(c.warmupFrames, kCpuWarmup);
+  c.measuredFrames = given.measured ? *given.measured : std::min(c.measuredFrames, kCpuMeasured);
   c.defaults.resolution = capResolution(c.defaults.resolution, c.resolutionCap);
   std::vector<Variant> after = expandVariants(c);
 
@@ -501,9 +497,13 @@ Config lowerForCpuDevice(Config c) {
       resolutions.insert("resolution " + label(before[i].params.resolution) + " -> " +
                          label(after[i].params.resolution));
   changes.assign(resolutions.begin(), resolutions.end());
-  if (warmup != c.warmupFrames)
+  if (given.warmup)
+    changes.push_back("warmup " + std::to_string(c.warmupFrames) + " (--warmup)");
+  else if (warmup != c.warmupFrames)
     changes.push_back("warmup " + std::to_string(warmup) + " -> " + std::to_string(c.warmupFrames));
-  if (measured != c.measuredFrames)
+  if (given.measured)
+    changes.push_back("measured frames " + std::to_string(c.measuredFrames) + " (--frames)");
+  else if (measured != c.measuredFrames)
     changes.push_back("measured frames " + std::to_string(measured) + " -> " + std::to_string(c.measuredFrames));
 
   // Ambient occlusion's and the indirect light's sizes scale a CPU device's work as much as the

@@ -243,9 +243,12 @@ std::vector<Variant> expandVariants(const Config& config);
 nlohmann::json toJson(const Config& config);
 nlohmann::json toJson(const VariantParams& params);
 
+// Every key --set takes: the parameters (help params), the effects (help effects) and camera.
+std::vector<std::string> setKeys();
 // Applies one command-line "--set key=value" to params, with the validation and messages of a
 // config file. The value is JSON if it parses as JSON, else a bare string ("improved"); resolution
-// also takes "1920x1080". Throws InputError naming the argument.
+// also takes "1920x1080". Throws InputError naming the argument; a key that is no parameter is
+// refused with a did-you-mean over setKeys() (an effect or camera is the caller's to apply first).
 void applySetOverride(VariantParams& params, const std::string& keyEqualsValue);
 
 // Checks that params fit the config's scene (light_count/triangle_scale only for the atrium with
@@ -259,7 +262,12 @@ Config embeddedDefaultConfig();
 // For CPU devices (lavapipe): caps every resolution to fit 480x270 (aspect kept, integer divisor),
 // warmup to 2 and measured frames to 5, and adds a note saying so to config.notes. Variant names
 // are unchanged so runs stay comparable by name with GPU runs.
-Config lowerForCpuDevice(Config config);
+// The frame counts the user gave on the command line (sweep --frames/--warmup) are kept as given
+// and the note says so: "measured frames 12 (--frames)".
+struct CpuFrameOverrides {
+  std::optional<uint32_t> warmup, measured;
+};
+Config lowerForCpuDevice(Config config, const CpuFrameOverrides& given = {});
 
 // The scene camera for an explicit pose (precondition: spec.explicitPose).
 Camera cameraFromSpec(const CameraSpec& spec);

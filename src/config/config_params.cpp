@@ -1,4 +1,5 @@
 // VariantParams: reading one parameter strictly, writing them back, and --set key=value.
+#include <algorithm>
 #include <charconv>
 
 #include "base/errors.h"
@@ -381,15 +382,28 @@ nlohmann::json toJson(const VariantParams& p) {
   return j;
 }
 
+std::vector<std::string> setKeys() {
+  std::vector<std::string> keys(config_reader::paramKeys().begin(), config_reader::paramKeys().end());
+  for (const EffectDef* e : allEffects()) keys.push_back(e->name);
+  keys.push_back("camera");
+  return keys;
+}
+
 void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) {
   Where where{"--set " + keyEqualsValue, ""};
+  const std::vector<std::string> keys = setKeys();
+  const std::vector<std::string_view> keyViews(keys.begin(), keys.end());
   size_t eq = keyEqualsValue.find('=');
   if (eq == std::string::npos || eq == 0) {
-    std::string keys;
-    for (std::string_view k : config_reader::paramKeys()) keys += (keys.empty() ? "" : ", ") + std::string(k);
-    where.fail("expected key=value, e.g. --set tile_size=16 (keys: " + keys + ")");
+    std::string list;
+    for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
+    where.fail("expected key=value, e.g. --set tile_size=16 (keys: " + list + ")");
   }
   std::string key = keyEqualsValue.substr(0, eq);
+  // Not a parameter: one line with a did-you-mean over every key --set takes (parameters, effects,
+  // camera), the same schema `help params` and `help effects` print.
+  const auto& params_ = config_reader::paramKeys();
+  if (std::find(params_.begin(), params_.end(), key) == params_.end()) failUnknownKey(key, where, keyViews);
   std::string text = keyEqualsValue.substr(eq + 1);
 
   // A value is JSON when it parses as JSON (16, true, [640,360]); otherwise a bare word (improved).

@@ -373,7 +373,7 @@ TEST(ConfigErrors, AKeyGivenTwiceIsRefusedWithItsPath) {
 
 TEST(ConfigErrors, MissingFileSaysSo) {
   std::string e = inputErrorOf([] { loadConfig("/nonexistent/x.json"); });
-  EXPECT_EQ(e.rfind("/nonexistent/x.json: cannot open the config file", 0), 0u) << e;
+  EXPECT_EQ(e.rfind("/nonexistent/x.json: no such file; give the path of a config JSON file", 0), 0u) << e;
 }
 
 TEST(ConfigLoading, CommentsAreAllowedInFiles) {

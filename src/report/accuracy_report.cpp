@@ -172,6 +172,7 @@ std::string accuracyReportMarkdown(const json& results) {
 
   std::string out = "## Accuracy vs frame time — " + escapeCell(sweepName(results)) + "\n\n" +
                     escapeCell(contextLine(results)) + "\n\n";
+  for (const std::string& caveat : timingCaveats(results)) out += "Caveat: " + caveat + "\n\n";
   out +=
       "| Run | Frame (ms, median) | Rays traced | Ray efficiency | Culling FP rate | Lights reaching no "
       "pixel | False negatives | Normal error (°) | Normal image error | World-pos error";
@@ -200,8 +201,10 @@ std::string accuracyReportMarkdown(const json& results) {
     const json& acc = at(run, "accuracy");
     const json& sm = at(acc, "shadow_mismatches");
     out += cell(p.frameMs, "%.3f") + " | " + cell(numberAt(rays, "traced"), "%.0f") + " | " +
-           cell(numberAt(rays, "efficiency"), "%.3f") + " | " + cell(numberAt(cull, "false_positive_rate"), "%.3f") +
-           " | " + cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
+           (std::isfinite(numberAt(rays, "efficiency")) ? formatNear1(numberAt(rays, "efficiency"))
+                                                        : cell(numberAt(rays, "efficiency"), "%.3f")) +
+           " | " + cell(numberAt(cull, "false_positive_rate"), "%.3f") + " | " +
+           cell(numberAt(cull, "geometry_false_positive_rate"), "%.3f") + " | " +
            cell(numberAt(cull, "false_negatives"), "%.0f") + " | " +
            cell(numberAt(acc, "normal_angular_error_deg"), "%.2f") + " | " +
            cell(numberAt(acc, "normal_image_error"), "%.4g") + " | " +

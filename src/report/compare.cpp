@@ -11,6 +11,7 @@
 #include "base/errors.h"
 #include "config/config.h"
 #include "effects/effects.h"
+#include "report/results_json.h"
 #include "report/stats.h"
 
 namespace hb {
@@ -130,8 +131,10 @@ std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   return "same";
 }
 
+// untimed: a side was measured on a CPU device, whose per-pass times mean nothing: those rows get
+// "not timed" (no verdict, never a regression); the frame row keeps its verdict.
 CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta, const Timing& tb,
-                          const CompareOptions& o, std::vector<std::string>& warnings) {
+                          const CompareOptions& o, bool untimed, std::vector<std::string>& warnings) {
   CompareRow r;
   r.variant = variant;
   r.pass = pass;
@@ -152,9 +155,10 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
   if (pass == "frame" && (r.nA < kFewSamplesWarning || r.nB < kFewSamplesWarning))
     warnings.push_back(
         format("%s: only %zu (A) and %zu (B) frame samples; fewer than %zu leaves "
-               "the U test little power, measure more frames",
+               "the U test little power: measure more frames (sweep --frames N; a CPU device measures 5 "
+               "unless --frames says otherwise)",
                variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
-  r.verdict = verdictFor(r, o);
+  r.verdict = untimed && pass != "frame" ? "not timed" : verdictFor(r, o);
   return r;
 }
 
@@ -212,6 +216,14 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
   report.thresholdPct = options.thresholdPct;
   report.alpha = options.alpha;
   checkComparable(a, b, options, report.warnings);
+  for (const auto& [side, r] : {std::pair<const char*, const json*>{"A", &a}, {"B", &b}})
+    for (const std::string& caveat : results::timingCaveats(*r))
+      report.caveats.push_back(std::string(side) + ": " + caveat);
+  const bool untimed = results::measuredOnCpu(a) || results::measuredOnCpu(b);
+  if (untimed)
+    report.caveats.push_back(
+        "per-pass rows measured on a CPU device are \"not timed\": no verdict, never a regression; its frame times "
+        "follow the host's load, so an A/A pair on a busy machine can differ beyond the threshold");
 
   double logRatioSum = 0;
   size_t logRatioCount = 0;
@@ -230,7 +242,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
       continue;
     }
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
-                                      timingOf(runB->value("frame_ms", json())), options, report.warnings);
+                                      timingOf(runB->value("frame_ms", json())), options, untimed, report.warnings);
     if (frame.verdict == "slower") report.regression = true;
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
@@ -240,8 +252,8 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json passesA = runA.value("passes", json::object());
     const json passesB = runB->value("passes", json::object());
     for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
-      report.rows.push_back(
-          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, report.warnings));
+      report.rows.push_back(compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options,
+                                           untimed, report.warnings));
   }
   for (const json& runB : b["runs"]) {
     const std::string name = runB.value("name", std::string());
@@ -255,6 +267,8 @@ std::string formatCompare(const CompareReport& r) {
   const double confidencePct = 100 * (1 - r.alpha);
   std::string out = format("A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g\n\n", r.deviceA.c_str(), r.deviceB.c_str(),
                            r.thresholdPct, r.alpha);
+  for (const std::string& caveat : r.caveats) out += "caveat: " + caveat + "\n";
+  if (!r.caveats.empty()) out += "\n";
   out += format(
       "| variant | pass | A median (ms) | B median (ms) | B/A | %.4g %% CI of B/A | p | "
       "verdict |\n",
@@ -279,7 +293,7 @@ std::string formatCompareJunit(const CompareReport& r) {
   size_t failures = 0, skipped = 0;
   for (const CompareRow& row : r.rows) {
     failures += row.verdict == "slower";
-    skipped += row.verdict == "too noisy";
+    skipped += row.verdict == "too noisy" || row.verdict == "not timed";
   }
   const std::string counts =
       format("tests=\"%zu\" failures=\"%zu\" errors=\"0\" skipped=\"%zu\"", r.rows.size(), failures, skipped);
@@ -302,8 +316,8 @@ std::string formatCompareJunit(const CompareReport& r) {
            "\" time=\"" + format("%.6f", std::isfinite(row.medianB) ? row.medianB / 1000.0 : 0.0) + "\"";
     if (row.verdict == "slower") {
       out += ">\n      <failure type=\"slower\" message=\"" + escapeXml("slower: " + what) + "\"/>\n    </testcase>\n";
-    } else if (row.verdict == "too noisy") {
-      out += ">\n      <skipped message=\"" + escapeXml("too noisy: " + what) + "\"/>\n    </testcase>\n";
+    } else if (row.verdict == "too noisy" || row.verdict == "not timed") {
+      out += ">\n      <skipped message=\"" + escapeXml(row.verdict + ": " + what) + "\"/>\n    </testcase>\n";
     } else {
       out += ">\n      <system-out>" + escapeXml(row.verdict + ": " + what) + "</system-out>\n    </testcase>\n";
     }
@@ -328,14 +342,9 @@ json toJson(const CompareReport& r) {
                     {"ci_high", numOrNull(row.ciHigh)},
                     {"p", numOrNull(row.p)},
                     {"verdict", row.verdict}});
-  return {{"device_a", r.deviceA},
-          {"device_b", r.deviceB},
-          {"threshold_pct", r.thresholdPct},
-          {"alpha", r.alpha},
-          {"rows", rows},
-          {"geomean_ratio", numOrNull(r.geomeanRatio)},
-          {"warnings", r.warnings},
-          {"regression", r.regression}};
+  return {{"device_a", r.deviceA},  {"device_b", r.deviceB}, {"threshold_pct", r.thresholdPct},
+          {"alpha", r.alpha},       {"rows", rows},          {"geomean_ratio", numOrNull(r.geomeanRatio)},
+          {"warnings", r.warnings}, {"caveats", r.caveats},  {"regression", r.regression}};
 }
 
 }  // namespace hb

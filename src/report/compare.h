@@ -35,7 +35,9 @@ struct CompareRow {
   double ratio = 0;              // medianB / medianA (> 1: B is slower)
   double ciLow = 0, ciHigh = 0;  // ratioInterval(A, B, alpha): NaN without samples
   double p = 1;                  // Mann-Whitney two-sided; NaN without samples
-  std::string verdict;           // "faster" | "slower" | "same" | "too noisy"
+  // "faster" | "slower" | "same" | "too noisy", or "not timed": a pass (not the frame) measured
+  // on a CPU device on either side, whose per-pass times mean nothing (results' timing_caveat).
+  std::string verdict;
 };
 
 struct CompareReport {
@@ -44,6 +46,8 @@ struct CompareReport {
   std::vector<CompareRow> rows;  // per matched variant: "frame" first, then passes in frame order
   double geomeanRatio = 0;       // geometric mean of the frame-level ratios (NaN when none)
   std::vector<std::string> warnings;
+  // What a side's times cannot be used for ("A: <caveat>"), from its context (timingCaveats).
+  std::vector<std::string> caveats;
   bool regression = false;  // any frame-level row is "slower"
 };
 

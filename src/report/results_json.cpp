@@ -37,11 +37,36 @@ double passMedianMs(const json& run, const char* pass) {
 
 std::string numberCell(double v, const char* fmt) { return std::isnan(v) ? std::string("—") : format(fmt, v); }
 
-void requireResultsFile(const json& r) {
+void requireResultsFile(const json& r) { requireResultsFile(r, "results"); }
+
+void requireResultsFile(const json& r, const std::string& source) {
+  if (r.is_object() && r.contains("passes_run") && !r.contains("runs"))
+    throw InputError(source +
+                     ": is a render.json (one frame from 'hybridbench render'), not a results file; pass the "
+                     "results.json a 'hybridbench sweep' writes");
   if (!r.is_object() || at(r, "schema_version") != 1 || !at(r, "runs").is_array())
-    throw InputError(
-        "results: not a schema_version 1 results file with a 'runs' array; pass a "
-        "results.json written by 'hybridbench sweep'");
+    throw InputError(source +
+                     ": not a schema_version 1 results file with a 'runs' array; pass a "
+                     "results.json written by 'hybridbench sweep'");
+}
+
+std::vector<std::string> timingCaveats(const json& r) {
+  std::vector<std::string> out;
+  const json& context = at(r, "context");
+  for (const char* key : {"timing_caveat", "timing_caveat_shared_device"})
+    if (at(context, key).is_string()) out.push_back(at(context, key).get<std::string>());
+  // Files written before the caveat was recorded: the device type still says it.
+  const json& type = at(at(context, "device"), "type");
+  if (out.empty() && type.is_string() && type.get<std::string>() == "cpu")
+    out.push_back(
+        "measured on a CPU implementation of Vulkan: its per-pass times are not meaningful (its timestamps do not "
+        "bracket compute and ray-tracing work); frame times, counts and accuracy are");
+  return out;
+}
+
+bool measuredOnCpu(const json& r) {
+  const json& type = at(at(at(r, "context"), "device"), "type");
+  return (type.is_string() && type.get<std::string>() == "cpu") || at(at(r, "context"), "timing_caveat").is_string();
 }
 
 std::string escapeCell(std::string s) {

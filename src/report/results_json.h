@@ -2,6 +2,7 @@
 // turn a missing or mistyped field into null/NaN ("—" in a report, never an invented number).
 #pragma once
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +22,14 @@ double passMedianMs(const json& run, const char* pass);
 std::string numberCell(double v, const char* fmt);
 // Throws InputError unless r is a schema_version 1 results file with a runs array.
 void requireResultsFile(const json& r);
+// The same, naming the file (source) in the message; a render.json is told apart.
+void requireResultsFile(const json& r, const std::string& source);
+// What the file's context says its times cannot be used for (context.timing_caveat, a CPU
+// device's; context.timing_caveat_shared_device, a device two sweeps shared), each one line; a CPU
+// device's file written before the caveat was recorded gets the same caveat from its device type.
+std::vector<std::string> timingCaveats(const json& r);
+// Measured on a CPU device (lavapipe): per-pass times mean nothing there (docs/results-format.md).
+bool measuredOnCpu(const json& r);
 // A Markdown table cell: '|' escaped, newlines as spaces.
 std::string escapeCell(std::string s);
 // A CSV field, quoted (RFC 4180) when it holds a comma, quote or newline.

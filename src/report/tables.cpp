@@ -171,14 +171,13 @@ std::string thesisTablesMarkdown(const json& results) {
   out +=
       "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
       "of the frame).\n";
-  if (results.contains("context") && results["context"].contains("timing_caveat") &&
-      results["context"]["timing_caveat"].is_string())
-    out += "\nCaveat: " + results["context"]["timing_caveat"].get<std::string>() + "\n";
+  for (const std::string& caveat : timingCaveats(results)) out += "\nCaveat: " + caveat + "\n";
   std::vector<std::string> notes;
   auto extraCells = [&](const ThesisRow& r) {
     if (!r.note.empty()) notes.push_back(r.table + " " + r.label + ": " + r.note);
-    return " | " + num(r.raysTraced, "%.0f") + " | " + num(r.efficiency, "%.3f") + " | " + shareCell(r.shadowShare) +
-           " | " + bytes(r.memoryBytes) + " |\n";
+    return " | " + num(r.raysTraced, "%.0f") + " | " +
+           (std::isfinite(r.efficiency) ? formatNear1(r.efficiency) : num(r.efficiency, "%.3f")) + " | " +
+           shareCell(r.shadowShare) + " | " + bytes(r.memoryBytes) + " |\n";
   };
   auto diffCell = [](const ThesisRow& r) {
     return r.status != "ok" ? std::string() : std::isfinite(r.diffPct) ? format("%.2f", r.diffPct) : std::string("n/a");

@@ -13,6 +13,7 @@
 #include "analysis/render_outputs.h"
 #include "base/errors.h"
 #include "base/parallel.h"
+#include "base/text_format.h"
 #include "effects/shadows/shadows_effect.h"
 #include "effects/shadows/shadows_part.h"
 #include "reference/bvh.h"
@@ -200,10 +201,11 @@ void reportShadows(EffectReport& r) {
   char line[256];
   std::snprintf(line, sizeof line,
                 "rays: %llu candidates, %llu culled by tile, %llu by normal, %llu traced; oracle %llu "
-                "(efficiency %.3f); accounting %s",
+                "(efficiency %s%s); accounting %s",
                 (unsigned long long)acc.candidates, (unsigned long long)acc.culledByTile,
                 (unsigned long long)acc.culledByNormal, (unsigned long long)acc.traced,
-                (unsigned long long)oracle.total, rayEfficiency(oracle.total, acc.traced),
+                (unsigned long long)oracle.total, formatNear1(rayEfficiency(oracle.total, acc.traced)).c_str(),
+                acc.traced < oracle.total ? ", > 1: fewer rays traced than the oracle needs, the culler's misses" : "",
                 acc.addsUp() ? "adds up" : "DOES NOT ADD UP");
   r.summary.push_back(line);
 

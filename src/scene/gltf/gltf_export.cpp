@@ -290,6 +290,9 @@ void exportGltf(const Scene& scene, const std::string& path) {
   std::error_code ec;
   if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
     throw InputError(path + ": the directory " + parent.string() + " does not exist; create it first");
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a folder, not a file; give the file to write, e.g. " +
+                     (std::filesystem::path(path) / "scene.gltf").string());
   const tinygltf::Model model = Exporter(scene).build();
   tinygltf::TinyGLTF writer;
   const bool glb = endsWithGlb(path);

@@ -19,9 +19,11 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/input_file.h"
 #include "effects/effects.h"
 #include "scene/ambient_json.h"
 #include "scene/gltf/gltf_load_internal.h"
+#include "scene/gltf/gltf_structure.h"
 
 namespace hb {
 namespace {
@@ -146,11 +148,29 @@ Scene Loader::load(GltfLoadWarnings& warnings) {
                                 " primitive(s) of points or lines (they draw no surface), first " +
                                 firstSkippedPrimitive_);
   }
+  if (scene_.triangleCount() == 0) refuseEmptyScene();
   if (warnings.skippedCameras > 0)
     warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedCameras) +
                                 " camera node(s) that are neither perspective nor orthographic, first " +
                                 firstSkippedCamera_);
   return std::move(scene_);
+}
+
+// Nothing to draw: says why, at the glTF path where it shows (checked before any message is printed
+// or folder created, so a refused scene leaves nothing behind).
+void Loader::refuseEmptyScene() const {
+  if (model_.scenes.empty() && model_.nodes.empty())
+    fail("scenes", "the file holds no scene and no nodes, so nothing to draw",
+         "export the scene itself (its scenes and nodes), not only its meshes or materials");
+  if (!model_.scenes.empty()) {
+    const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    const std::string at = "scenes[" + std::to_string(s) + "]";
+    if (model_.scenes[static_cast<size_t>(s)].nodes.empty())
+      fail(at + ".nodes", "the scene has no nodes, so nothing to draw", "list the scene's root nodes in it");
+    fail(at, "none of its nodes (nor their children) has a mesh of triangles", "give a node of the scene a mesh");
+  }
+  fail("nodes", "the file has no scenes and none of its root nodes (nor their children) has a mesh of triangles",
+       "give a node a mesh, and list the root nodes in a scene");
 }
 
 void Loader::fail(const std::string& field, const std::string& problem, const std::string& fix) const {
@@ -373,15 +393,8 @@ void Loader::addLight(size_t l, const glm::dmat4& world) {
 }  // namespace gltf_detail
 
 Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path + ": file not found (or not a regular file); check the path");
-  std::vector<uint8_t> bytes;
-  {
-    std::ifstream in(path, std::ios::binary);
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) throw InputError(path + ": cannot read the file; check its permissions");
-  }
+  const std::vector<uint8_t> bytes =
+      readInputBytes(path, "give a .gltf or .glb file, or a built-in scene name (hybridbench scene list)");
   // The base directory tinygltf's own file loaders use: all before the last '/' or '\'.
   const size_t slash = path.find_last_of("/\\");
   return loadGltfFromMemory(bytes, path, slash == std::string::npos ? "" : path.substr(0, slash), warnings);
@@ -393,6 +406,10 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
     throw InputError(path + ": is larger than 4 GiB, more than glTF can hold; split the scene");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   const auto size = static_cast<unsigned int>(bytes.size());
+
+  // The fields' JSON types first: tinygltf would skip a field of the wrong type without a word.
+  const nlohmann::json doc = rawDocument(bytes, binary);
+  gltf_detail::checkGltfStructure(doc, path);
 
   tinygltf::TinyGLTF gltf;
   tinygltf::Model model;
@@ -415,7 +432,6 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
     throw InputError(path + ": asset.version: '" + model.asset.version + "' is not 2.x; re-export it as glTF 2.0");
 
   GltfLoadWarnings local;
-  const nlohmann::json doc = rawDocument(bytes, binary);
   const nlohmann::json rawLights = rawLightsJson(doc);
   Scene scene = gltf_detail::Loader(path, model, rawLights).load(warnings ? *warnings : local);
   readSceneEffects(doc, model, path, scene);

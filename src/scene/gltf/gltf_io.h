@@ -35,12 +35,13 @@ struct GltfLoadWarnings {
 // as does one line naming the optional extensions the loader ignores. Extensions it cannot read
 // (Draco, meshopt, quantized attributes, KTX2/WebP/AVIF textures, any unknown required one) are
 // refused by name (gltf_extensions.cpp).
-// Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file,
-// malformed JSON or not glTF, an index that points past its array, an accessor that does not fit
-// its bufferView or buffer, an unsupported component type or accessor type, a vertex index past
-// the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node
-// graph, an extension it cannot read, a number in a transform, camera or light that a float cannot
-// hold (beyond 3.4e38), a camera node with no inverse, an external URI that is not a regular file.
+// Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file (or
+// a folder), malformed JSON or not glTF, a field of the wrong JSON type (gltf_structure.h), a file
+// with nothing to draw (no scene and no nodes, a scene without nodes, no node with a mesh), an index that points past
+// its array, an accessor that does not fit its bufferView or buffer, an unsupported component type or accessor type, a
+// vertex index past the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node graph,
+// an extension it cannot read, a number in a transform, camera or light that a float cannot hold (beyond 3.4e38), a
+// camera node with no inverse, an external URI that is not a regular file.
 Scene loadGltf(const std::string& path, GltfLoadWarnings* warnings = nullptr);
 
 // loadGltf on a file's bytes already in memory (the fuzz targets' entry; loadGltf reads the file

@@ -50,6 +50,9 @@ class Loader {
  private:
   // ---- errors (gltf_io.cpp) ----
   [[noreturn]] void fail(const std::string& field, const std::string& problem, const std::string& fix) const;
+  // A scene with no triangles: an InputError naming why (no scenes or nodes, a scene without
+  // nodes, nodes without meshes).
+  [[noreturn]] void refuseEmptyScene() const;
   // Checks that `index` names an element of an array of `size` (the array `arrayName` at top
   // level) and returns it as size_t.
   size_t checkIndex(int index, size_t size, const std::string& field, const std::string& arrayName) const;

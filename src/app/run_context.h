@@ -1,0 +1,25 @@
+// What made a result: tool and revision, host, device and driver, scene, and what its times cannot
+// be used for. results.json (sweep) and render.json (render) carry it as "context"
+// (docs/results-format.md).
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/vk_context.h"
+#include "scene/scene.h"
+
+namespace hb {
+
+// context: tool {name, version, git}, host, device (deviceJson), scene {name, sha256, triangles,
+// lights, camera_source, lights_source}, timing_source, and timing_caveat on a CPU device.
+nlohmann::json runContext(const VulkanContext& ctx, const Scene& scene);
+
+// The caveat a CPU device's times carry (lavapipe: per-pass times mean nothing).
+extern const char* const kCpuTimingCaveat;
+
+// Frame median minus the sum of the passes' medians (barriers, gaps between passes); sub-pass
+// entries ("raster3d.tiles") lie inside their pass and are not added again.
+double frameMinusPassesMs(double frameMs, const std::vector<std::pair<std::string, double>>& passMs);
+
+}  // namespace hb
