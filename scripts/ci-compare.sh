@@ -8,10 +8,12 @@
 # so a baseline alone is enough. Writes OUTDIR (default out/ci-compare) with the new results.json,
 # compare.md (a Markdown table for the job summary; appended to $GITHUB_STEP_SUMMARY when set) and
 # compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower).
-# Exit: 0 no regression, 1 a frame time slower than the baseline beyond the threshold
-# (hybridbench compare's verdict), 2 bad input (missing baseline, config or device).
+# Exit: 0 no regression, 1 a frame or pass time slower than the baseline beyond the threshold
+# (hybridbench compare --gate all: a pass gates too, unless its median is under --min-ms on both
+# sides), 2 bad input (missing baseline, config or device).
 # HYBRIDBENCH (default: hybridbench on PATH, else build/hybridbench), SWEEP_ARGS (e.g. "--frames
-# 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3") may be set.
+# 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3", or "--gate frame" to gate on frames
+# only) may be set.
 set -uo pipefail
 
 if [ $# -lt 1 ] || [ $# -gt 3 ]; then
@@ -38,14 +40,20 @@ if [ -z "$config" ]; then
     "$baseline" "$config" || { echo "ci-compare: '$baseline' holds no context.config; pass CONFIG" >&2; exit 2; }
 fi
 
+# Every pass gates unless COMPARE_ARGS names its own gate.
+case " ${COMPARE_ARGS:-} " in
+  *" --gate "*) gate=() ;;
+  *) gate=(--gate all) ;;
+esac
+
 echo "ci-compare: sweeping $config on this machine's GPU into $out/sweep"
 rm -rf "$out/sweep"
 # shellcheck disable=SC2086  # SWEEP_ARGS is a list of options
 "$hb" sweep "$config" --no-images --out "$out/sweep" ${SWEEP_ARGS:-} || exit 2
 
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-"$hb" compare "$baseline" "$out/sweep/results.json" --format junit ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
-"$hb" compare "$baseline" "$out/sweep/results.json" --format md ${COMPARE_ARGS:-} > "$out/compare.md"
+"$hb" compare "$baseline" "$out/sweep/results.json" --format junit "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
+"$hb" compare "$baseline" "$out/sweep/results.json" --format md "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
 status=$?
 cat "$out/compare.md"
 if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/compare.md" >> "$GITHUB_STEP_SUMMARY"; fi

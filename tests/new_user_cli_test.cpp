@@ -91,10 +91,11 @@ TEST_F(NewUser, SweepIntoAFolderWithResultsIsRefusedAndForceMovesThemAside) {
   const fs::path out = dir / "s5";
   ASSERT_EQ(sweep(out).exitCode, 0);
   const std::string first = readFile(out / "results.json");
-  expectRefused({"sweep", tinyConfig().string(), "--no-images", "--out", out.string(), "--frames", "2"},
-                {out.string(), "already holds results", "results.json with 2 run(s)", "--resume", "--force",
-                 "fresh folder"});
-  expectRefused({"sweep", tinyConfig().string(), "--out", out.string(), "--resume", "--force"}, {"--resume", "--force"});
+  expectRefused(
+      {"sweep", tinyConfig().string(), "--no-images", "--out", out.string(), "--frames", "2"},
+      {out.string(), "already holds results", "results.json with 2 run(s)", "--resume", "--force", "fresh folder"});
+  expectRefused({"sweep", tinyConfig().string(), "--out", out.string(), "--resume", "--force"},
+                {"--resume", "--force"});
   const RunResult forced = sweep(out, {"--frames", "2", "--force"});
   ASSERT_EQ(forced.exitCode, 0) << forced.err;
   std::vector<fs::path> aside;
@@ -241,9 +242,8 @@ TEST_F(NewUser, EmptyAndMalformedScenesAreRefusedNamingTheFileAndTheGltfPath) {
   });
   const fs::path noNodes = gltfWith(scenes, "no-nodes.gltf", [](json& d) { d["scenes"][0]["nodes"] = json::array(); });
   const fs::path noMesh = gltfWith(scenes, "no-mesh.gltf", [](json& d) { d["nodes"][0].erase("mesh"); });
-  const fs::path object = gltfWith(scenes, "primitives-object.gltf", [](json& d) {
-    d["meshes"][0]["primitives"] = d["meshes"][0]["primitives"][0];
-  });
+  const fs::path object = gltfWith(scenes, "primitives-object.gltf",
+                                   [](json& d) { d["meshes"][0]["primitives"] = d["meshes"][0]["primitives"][0]; });
   const fs::path out = dir / "out";
   expectRefused(render(out, {}, noScene.string()), {noScene.string(), "scenes:", "no scene and no nodes"});
   expectRefused(render(out, {}, noNodes.string()), {noNodes.string(), "scenes[0].nodes:", "no nodes"});
@@ -339,9 +339,9 @@ TEST_F(NewUser, SmallThings) {
 
 TEST_F(NewUser, SweepTakesSetSceneAndSizeAndDryRunWritesNothing) {
   const fs::path out = dir / "s";
-  const std::vector<std::string> args{"sweep", tinyConfig().string(), "--scene", "cube", "--size", "48x32", "--set",
-                                      "normal_culling=naive", "--set", "shadows=true", "--no-images", "--out",
-                                      out.string()};
+  const std::vector<std::string> args{
+      "sweep", tinyConfig().string(), "--scene",     "cube",  "--size",    "48x32", "--set", "normal_culling=naive",
+      "--set", "shadows=true",        "--no-images", "--out", out.string()};
   std::vector<std::string> dry = args;
   dry.push_back("--dry-run");
   const auto before = snapshot(dir);

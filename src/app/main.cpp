@@ -83,6 +83,12 @@ int main(int argc, char** argv) {
                          "slower beyond this many percent is a regression (default 5)");
   compareCmd->add_option("--alpha", compareOpts.alpha, "significance level of the Mann-Whitney U test (default 0.05)");
   compareCmd->add_flag("--force", compareOpts.force, "compare even when scenes or configs differ");
+  std::string compareGate = "frame";
+  compareCmd
+      ->add_option("--gate", compareGate, "which slower rows are a regression (exit 1): frame (default), passes or all")
+      ->check(CLI::IsMember({"frame", "passes", "all"}));
+  compareCmd->add_option("--min-ms", compareOpts.minMs,
+                         "a pass under this median (ms) on both sides is reported but does not gate (default 0.02)");
   compareCmd->add_flag("--json", compareJson, "machine-readable report (the same as --format json)");
   compareCmd
       ->add_option("--format", compareFormat,
@@ -141,6 +147,11 @@ int main(int argc, char** argv) {
       return cmdSweep(sweep);
     }
     if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates);
+    if (*compareCmd) {
+      compareOpts.gate = compareGate == "all"      ? CompareGate::All
+                         : compareGate == "passes" ? CompareGate::Passes
+                                                   : CompareGate::Frame;
+    }
     if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);

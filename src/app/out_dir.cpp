@@ -41,7 +41,8 @@ std::string prepareOutDir(const fs::path& dir, const std::string& marker, Existi
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::gmtime(&now));
   fs::path aside = dir / (std::string("previous-") + stamp);
-  for (int k = 2; fs::exists(aside, ec); ++k) aside = dir / (std::string("previous-") + stamp + "-" + std::to_string(k));
+  for (int k = 2; fs::exists(aside, ec); ++k)
+    aside = dir / (std::string("previous-") + stamp + "-" + std::to_string(k));
   std::vector<fs::path> entries;
   for (const fs::directory_entry& e : fs::directory_iterator(dir))
     if (e.path().filename().string().rfind("previous-", 0) != 0) entries.push_back(e.path());

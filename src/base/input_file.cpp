@@ -41,7 +41,8 @@ void requireOutputFolder(const fs::path& path, const std::string& flag) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (fs::exists(st) && !fs::is_directory(st))
-    throw InputError(flag + " " + path.string() + ": is a file, not a folder; name a folder to write into (it is "
+    throw InputError(flag + " " + path.string() +
+                     ": is a file, not a folder; name a folder to write into (it is "
                      "created if missing)");
 }
 

@@ -56,8 +56,9 @@ void setEffect(Json& doc, const std::string& set) {
 
 Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
   const std::string source = path.empty() ? "thesis.json (embedded)" : path;
-  const std::string text = path.empty() ? std::string(embeddedDefaultConfigText())
-                                        : readInputText(path, "give the path of a config JSON file (e.g. configs/thesis.json)");
+  const std::string text = path.empty()
+                               ? std::string(embeddedDefaultConfigText())
+                               : readInputText(path, "give the path of a config JSON file (e.g. configs/thesis.json)");
   Json doc = json_reader::parseText(text, source);
   if (!o.any()) return parseConfig(doc, source);
   if (!doc.is_object()) return parseConfig(doc, source);  // the parser says what is wrong
@@ -65,7 +66,7 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
   if (!o.scene.empty()) {
     std::filesystem::path p(o.scene);
     const bool file = p.has_extension() && (p.extension() == ".gltf" || p.extension() == ".glb" ||
-                                             p.extension() == ".GLTF" || p.extension() == ".GLB");
+                                            p.extension() == ".GLTF" || p.extension() == ".GLB");
     doc["scene"] = file && p.is_relative() ? std::filesystem::absolute(p).lexically_normal().string() : o.scene;
     if (o.scene != "atrium") doc.erase("scene_params");
   }
@@ -78,8 +79,9 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
     }
     if (set.rfind("camera=", 0) == 0) {
       if (set != "camera=auto")
-        throw InputError(flag + ": the only camera setting is camera=auto (a camera framing the scene's bounds); "
-                                "pick another of the scene's cameras with a config's \"camera\": {\"index\": N}");
+        throw InputError(flag +
+                         ": the only camera setting is camera=auto (a camera framing the scene's bounds); "
+                         "pick another of the scene's cameras with a config's \"camera\": {\"index\": N}");
       doc["camera"] = "auto";
       continue;
     }

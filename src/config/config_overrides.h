@@ -14,9 +14,9 @@
 namespace hb {
 
 struct ConfigOverrides {
-  std::string scene;                                   // built-in name or .gltf/.glb path ("": the config's)
-  std::optional<std::array<uint32_t, 2>> resolution;   // --size
-  std::vector<std::string> sets;                       // --set key=value, in order
+  std::string scene;                                  // built-in name or .gltf/.glb path ("": the config's)
+  std::optional<std::array<uint32_t, 2>> resolution;  // --size
+  std::vector<std::string> sets;                      // --set key=value, in order
   bool any() const { return !scene.empty() || resolution || !sets.empty(); }
 };
 

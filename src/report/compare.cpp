@@ -149,6 +149,7 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
   if (r.nA > 0 && r.nB > 0) {
     r.p = mannWhitneyU(ta.samples, tb.samples).p;
     const RatioInterval ci = ratioInterval(ta.samples, tb.samples, o.alpha);
+    if (std::isfinite(ci.estimate)) r.ratio = ci.estimate;  // the interval's own estimator
     r.ciLow = ci.low;
     r.ciHigh = ci.high;
   }
@@ -159,6 +160,9 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
                "unless --frames says otherwise)",
                variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
   r.verdict = untimed && pass != "frame" ? "not timed" : verdictFor(r, o);
+  const bool frame = pass == "frame";
+  const bool tiny = r.medianA < o.minMs && r.medianB < o.minMs;  // false for NaN
+  r.gates = r.verdict == "slower" && (frame ? o.gate != CompareGate::Passes : o.gate != CompareGate::Frame && !tiny);
   return r;
 }
 
@@ -203,11 +207,22 @@ json numOrNull(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 }  // namespace
 
+const char* toString(CompareGate gate) {
+  switch (gate) {
+    case CompareGate::Frame: return "frame";
+    case CompareGate::Passes: return "passes";
+    case CompareGate::All: return "all";
+  }
+  return "?";
+}
+
 CompareReport compareResults(const json& a, const json& b, const CompareOptions& options) {
   requireResultsFile(a, "A");
   requireResultsFile(b, "B");
   if (!(options.alpha > 0 && options.alpha < 1))
     throw InputError(format("--alpha %g is outside (0, 1); use e.g. 0.05", options.alpha));
+  if (!(options.minMs >= 0))
+    throw InputError(format("--min-ms %g must be a time in ms >= 0, e.g. 0.02", options.minMs));
   if (!(options.thresholdPct >= 0))
     throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5", options.thresholdPct));
   CompareReport report;
@@ -243,7 +258,6 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     }
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
                                       timingOf(runB->value("frame_ms", json())), options, untimed, report.warnings);
-    if (frame.verdict == "slower") report.regression = true;
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
       ++logRatioCount;
@@ -260,17 +274,26 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     if (!findRun(a["runs"], name)) report.warnings.push_back("variant '" + name + "' only in B");
   }
   report.geomeanRatio = logRatioCount ? std::exp(logRatioSum / static_cast<double>(logRatioCount)) : kNaN;
+  report.gate = options.gate;
+  report.minMs = options.minMs;
+  for (const CompareRow& row : report.rows)
+    if (row.gates)
+      report.failures.push_back(format("%s: %s B/A %s [%s, %s]", row.variant.c_str(), row.pass.c_str(),
+                                       num(row.ratio, "%.3f").c_str(), num(row.ciLow, "%.3f").c_str(),
+                                       num(row.ciHigh, "%.3f").c_str()));
+  report.regression = !report.failures.empty();
   return report;
 }
 
 std::string formatCompare(const CompareReport& r) {
   const double confidencePct = 100 * (1 - r.alpha);
-  std::string out = format("A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g\n\n", r.deviceA.c_str(), r.deviceB.c_str(),
-                           r.thresholdPct, r.alpha);
+  std::string out = format(
+      "A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g, gate %s (passes under %.4g ms on both sides do not gate)\n\n",
+      r.deviceA.c_str(), r.deviceB.c_str(), r.thresholdPct, r.alpha, toString(r.gate), r.minMs);
   for (const std::string& caveat : r.caveats) out += "caveat: " + caveat + "\n";
   if (!r.caveats.empty()) out += "\n";
   out += format(
-      "| variant | pass | A median (ms) | B median (ms) | B/A | %.4g %% CI of B/A | p | "
+      "| variant | pass | A median (ms) | B median (ms) | B/A (Hodges-Lehmann) | %.4g %% CI of B/A | p | "
       "verdict |\n",
       confidencePct);
   out += "|---|---|---:|---:|---:|---|---:|---|\n";
@@ -278,10 +301,14 @@ std::string formatCompare(const CompareReport& r) {
     const std::string p = !std::isfinite(row.p) ? "n/a" : row.p < 1e-4 ? "<0.0001" : format("%.4f", row.p);
     out += "| " + row.variant + " | " + row.pass + " | " + num(row.medianA, "%.3f") + " | " + num(row.medianB, "%.3f") +
            " | " + num(row.ratio, "%.3f") + " | [" + num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "] | " +
-           p + " | " + row.verdict + " |\n";
+           p + " | " + row.verdict + (row.gates ? " (gates)" : "") + " |\n";
   }
   out += "\ngeometric mean of frame-time ratios B/A: " + num(r.geomeanRatio, "%.4f") + "\n";
-  out += std::string("regression (a frame time slower beyond the threshold): ") + (r.regression ? "yes" : "no") + "\n";
+  const char* gated = r.gate == CompareGate::Frame    ? "a frame time"
+                      : r.gate == CompareGate::Passes ? "a pass time"
+                                                      : "a frame or pass time";
+  out += format("regression (%s slower beyond the threshold): %s\n", gated, r.regression ? "yes" : "no");
+  for (const std::string& f : r.failures) out += "- slower: " + f + "\n";
   if (!r.warnings.empty()) {
     out += "\nwarnings:\n";
     for (const std::string& w : r.warnings) out += "- " + w + "\n";
@@ -292,7 +319,7 @@ std::string formatCompare(const CompareReport& r) {
 std::string formatCompareJunit(const CompareReport& r) {
   size_t failures = 0, skipped = 0;
   for (const CompareRow& row : r.rows) {
-    failures += row.verdict == "slower";
+    failures += row.gates;
     skipped += row.verdict == "too noisy" || row.verdict == "not timed";
   }
   const std::string counts =
@@ -305,6 +332,8 @@ std::string formatCompareJunit(const CompareReport& r) {
   out += "      <property name=\"device_b\" value=\"" + escapeXml(r.deviceB) + "\"/>\n";
   out += format("      <property name=\"threshold_pct\" value=\"%.4g\"/>\n", r.thresholdPct);
   out += format("      <property name=\"alpha\" value=\"%.4g\"/>\n", r.alpha);
+  out += format("      <property name=\"gate\" value=\"%s\"/>\n", toString(r.gate));
+  out += format("      <property name=\"min_ms\" value=\"%.4g\"/>\n", r.minMs);
   out += "      <property name=\"geomean_frame_ratio\" value=\"" + num(r.geomeanRatio, "%.4f") + "\"/>\n";
   out += "    </properties>\n";
   for (const CompareRow& row : r.rows) {
@@ -314,12 +343,16 @@ std::string formatCompareJunit(const CompareReport& r) {
     // time: B's median in seconds (JUnit's unit), 0 when missing.
     out += "    <testcase classname=\"" + escapeXml("hybridbench." + row.variant) + "\" name=\"" + escapeXml(row.pass) +
            "\" time=\"" + format("%.6f", std::isfinite(row.medianB) ? row.medianB / 1000.0 : 0.0) + "\"";
-    if (row.verdict == "slower") {
+    if (row.gates) {
       out += ">\n      <failure type=\"slower\" message=\"" + escapeXml("slower: " + what) + "\"/>\n    </testcase>\n";
     } else if (row.verdict == "too noisy" || row.verdict == "not timed") {
       out += ">\n      <skipped message=\"" + escapeXml(row.verdict + ": " + what) + "\"/>\n    </testcase>\n";
     } else {
-      out += ">\n      <system-out>" + escapeXml(row.verdict + ": " + what) + "</system-out>\n    </testcase>\n";
+      const std::string verdict = row.verdict == "slower"
+                                      ? "slower, not gated (gate " + std::string(toString(r.gate)) + ", or under the " +
+                                            format("%.4g", r.minMs) + " ms floor)"
+                                      : row.verdict;
+      out += ">\n      <system-out>" + escapeXml(verdict + ": " + what) + "</system-out>\n    </testcase>\n";
     }
   }
   out += "  </testsuite>\n</testsuites>\n";
@@ -341,10 +374,12 @@ json toJson(const CompareReport& r) {
                     {"ci_low", numOrNull(row.ciLow)},
                     {"ci_high", numOrNull(row.ciHigh)},
                     {"p", numOrNull(row.p)},
-                    {"verdict", row.verdict}});
-  return {{"device_a", r.deviceA},  {"device_b", r.deviceB}, {"threshold_pct", r.thresholdPct},
-          {"alpha", r.alpha},       {"rows", rows},          {"geomean_ratio", numOrNull(r.geomeanRatio)},
-          {"warnings", r.warnings}, {"caveats", r.caveats},  {"regression", r.regression}};
+                    {"verdict", row.verdict},
+                    {"gates", row.gates}});
+  return {{"device_a", r.deviceA},  {"device_b", r.deviceB},  {"threshold_pct", r.thresholdPct},
+          {"alpha", r.alpha},       {"rows", rows},           {"geomean_ratio", numOrNull(r.geomeanRatio)},
+          {"warnings", r.warnings}, {"caveats", r.caveats},   {"gate", toString(r.gate)},
+          {"min_ms", r.minMs},      {"failures", r.failures}, {"regression", r.regression}};
 }
 
 }  // namespace hb

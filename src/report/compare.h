@@ -1,6 +1,7 @@
 // Comparison of two results files (two GPUs, two builds): per variant and per pass, the ratio of
 // medians B/A with a confidence interval, a two-sided Mann-Whitney U test and a verdict; a
-// regression flag for CI (exit code 1 when any frame-level verdict is "slower").
+// regression flag for CI (exit code 1 when a row the gate counts is "slower": the frames by
+// default, the passes too with --gate all).
 #pragma once
 #include <cstddef>
 #include <string>
@@ -10,10 +11,19 @@
 
 namespace hb {
 
+// Which "slower" rows make a regression (exit 1): the frames only, the passes only, or both.
+enum class CompareGate { Frame, Passes, All };
+const char* toString(CompareGate gate);
+
 struct CompareOptions {
   double thresholdPct = 5;  // a ratio within 1 ± threshold/100 is "same" even when significant
   double alpha = 0.05;      // significance level of the test; the CI is at 1 - alpha
   bool force = false;       // compare even when the scenes or configs differ (warns instead)
+  CompareGate gate = CompareGate::Frame;
+  // A pass whose median is under this on both sides is reported but never gates: 0.02 ms is
+  // 20 timestamp ticks of a 1 ns timer and a few hundred GPU cycles, where a 5 % change is 1 us
+  // and scheduling jitter of that size is common.
+  double minMs = 0.02;
 };
 
 // Below kMinSamplesForVerdict samples on a side, or with a CV above kMaxQuietCv, a result that is
@@ -32,12 +42,16 @@ struct CompareRow {
   size_t nA = 0, nB = 0;  // samples per side
   double medianA = 0, medianB = 0;
   double cvA = 0, cvB = 0;
-  double ratio = 0;              // medianB / medianA (> 1: B is slower)
-  double ciLow = 0, ciHigh = 0;  // ratioInterval(A, B, alpha): NaN without samples
+  // B/A (> 1: B is slower): the Hodges-Lehmann estimate of the ratio (exp of the median of
+  // the pairwise log b_j - log a_i), the estimator of the interval beside it and of the U test;
+  // medianB / medianA where a side has no samples.
+  double ratio = 0;
+  double ciLow = 0, ciHigh = 0;  // ratioInterval(A, B, alpha), around `ratio`: NaN without samples
   double p = 1;                  // Mann-Whitney two-sided; NaN without samples
   // "faster" | "slower" | "same" | "too noisy", or "not timed": a pass (not the frame) measured
   // on a CPU device on either side, whose per-pass times mean nothing (results' timing_caveat).
   std::string verdict;
+  bool gates = false;  // "slower" and counted by the gate: a regression
 };
 
 struct CompareReport {
@@ -48,7 +62,11 @@ struct CompareReport {
   std::vector<std::string> warnings;
   // What a side's times cannot be used for ("A: <caveat>"), from its context (timingCaveats).
   std::vector<std::string> caveats;
-  bool regression = false;  // any frame-level row is "slower"
+  CompareGate gate = CompareGate::Frame;
+  double minMs = 0.02;
+  bool regression = false;  // any row gates
+  // One line per row that gates: "<variant>: <pass> B/A 1.087 [1.080, 1.094]".
+  std::vector<std::string> failures;
 };
 
 // Compares results file b against a (docs/results-format.md, schema_version 1).

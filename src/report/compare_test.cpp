@@ -93,9 +93,15 @@ TEST(CompareResults, TwentyPercentSlowerIsARegression) {
 TEST(CompareResults, JunitReportHasATestCasePerRowAndAFailurePerSlowdown) {
   const json a = makeResults("abc", 1, 30, 1.0), slow = makeResults("abc", 2, 30, 1.2),
              same = makeResults("abc", 2, 30, 1.0);
-  const CompareReport r = compareResults(a, slow, {});
+  CompareOptions all;
+  all.gate = CompareGate::All;  // a failure per slower row, passes included
+  const CompareReport r = compareResults(a, slow, all);
   const std::string xml = formatCompareJunit(r);
   EXPECT_EQ(testing::xmlProblem(xml), "") << xml;
+  // The default gate (frames): only the two frame rows fail; the slower passes say so as output.
+  const std::string frames = formatCompareJunit(compareResults(a, slow, {}));
+  EXPECT_NE(frames.find("tests=\"6\" failures=\"2\""), std::string::npos) << frames;
+  EXPECT_NE(frames.find("slower, not gated (gate frame"), std::string::npos) << frames;
   auto count = [&](const std::string& text, const std::string& what) {
     size_t n = 0;
     for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -210,7 +216,8 @@ TEST(FormatCompare, MarkdownTableHasOneLinePerRowAndTheVerdict) {
   const json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.2);
   const CompareReport r = compareResults(a, b, {});
   const std::string text = formatCompare(r);
-  EXPECT_NE(text.find("| variant | pass | A median (ms) | B median (ms) | B/A | 95 % CI of B/A"), std::string::npos)
+  EXPECT_NE(text.find("| variant | pass | A median (ms) | B median (ms) | B/A (Hodges-Lehmann) | 95 % CI of B/A"),
+            std::string::npos)
       << text;
   size_t tableLines = 0;
   for (size_t pos = 0; (pos = text.find("\n| ", pos)) != std::string::npos; ++pos) ++tableLines;
@@ -230,6 +237,45 @@ TEST(CompareToJson, CarriesRowsAndTheRegressionFlag) {
   for (const char* key : {"variant", "pass", "median_a", "median_b", "ratio", "ci_low", "ci_high", "p", "verdict"})
     EXPECT_TRUE(j["rows"][0].contains(key)) << key;
   EXPECT_EQ(j["rows"][0]["verdict"], "slower");
+}
+
+}  // namespace
+}  // namespace hb
+
+namespace hb {
+namespace {
+
+// A pass 20 % slower under an unchanged frame: only a gate that sees passes calls it a
+// regression, and a pass under the floor on both sides never gates.
+TEST(CompareGateUnit, APassSlowerUnderAnUnchangedFrameGatesOnlyWithPassesOrAll) {
+  const json a = makeResults("abc", 1, 30, 1.0);
+  json b = a;
+  for (json& run : b["runs"])
+    for (json& x : run["passes"]["shadows"]["samples"]) x = x.get<double>() * 1.2;
+  for (json& run : b["runs"])
+    run["passes"]["shadows"]["median"] = run["passes"]["shadows"]["median"].get<double>() * 1.2;
+  CompareOptions o;
+  EXPECT_FALSE(compareResults(a, b, o).regression);
+  o.gate = CompareGate::All;
+  const CompareReport all = compareResults(a, b, o);
+  EXPECT_TRUE(all.regression);
+  ASSERT_EQ(all.failures.size(), 2u);  // the shadows pass of both variants
+  for (const CompareRow& row : all.rows) EXPECT_EQ(row.gates, row.pass == "shadows") << row.variant << row.pass;
+  o.gate = CompareGate::Passes;
+  EXPECT_TRUE(compareResults(a, b, o).regression);
+  o.minMs = 1e6;  // every pass under the floor
+  EXPECT_FALSE(compareResults(a, b, o).regression);
+}
+
+// B/A is the estimator of its interval: it lies inside it on every row, scaled or not.
+TEST(CompareGateUnit, TheRatioLiesInsideItsOwnInterval) {
+  for (double scale : {1.0, 1.03, 1.2}) {
+    const CompareReport r = compareResults(makeResults("abc", 1, 30, 1.0), makeResults("abc", 2, 30, scale), {});
+    for (const CompareRow& row : r.rows) {
+      EXPECT_LE(row.ciLow, row.ratio) << scale << " " << row.variant << " " << row.pass;
+      EXPECT_GE(row.ciHigh, row.ratio) << scale << " " << row.variant << " " << row.pass;
+    }
+  }
 }
 
 }  // namespace

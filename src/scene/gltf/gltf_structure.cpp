@@ -153,7 +153,8 @@ void checkGltfStructure(const json& doc, const std::string& path) {
     c.object(a, at, "sparse", [](const json&, const std::string&) {});
   });
   c.objects(doc, "", "bufferViews", [&](const json& b, const std::string& at) {
-    for (const char* k : {"buffer", "byteOffset", "byteLength", "byteStride", "target"}) c.field(b, at, k, Kind::Integer);
+    for (const char* k : {"buffer", "byteOffset", "byteLength", "byteStride", "target"})
+      c.field(b, at, k, Kind::Integer);
   });
   c.objects(doc, "", "buffers", [&](const json& b, const std::string& at) {
     c.field(b, at, "byteLength", Kind::Integer);

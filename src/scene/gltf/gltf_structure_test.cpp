@@ -32,12 +32,17 @@ TEST(GltfStructure, AWrongTypeNamesItsGltfPath) {
   EXPECT_EQ(with([](json& d) { d["meshes"][0]["primitives"] = d["meshes"][0]["primitives"][0]; }),
             "f.gltf: meshes[0].primitives: expected an array, got an object; fix the exporter's output (the Khronos "
             "glTF validator shows every such error)");
-  EXPECT_NE(with([](json& d) { d["nodes"][0]["translation"] = {0, 1}; }).find("nodes[0].translation: expected an array of 3 numbers"),
+  EXPECT_NE(with([](json& d) {
+              d["nodes"][0]["translation"] = {0, 1};
+            }).find("nodes[0].translation: expected an array of 3 numbers"),
             std::string::npos);
-  EXPECT_NE(with([](json& d) { d["accessors"][0]["count"] = "3"; }).find("accessors[0].count: expected a non-negative integer, got the string \"3\""),
+  EXPECT_NE(with([](json& d) {
+              d["accessors"][0]["count"] = "3";
+            }).find("accessors[0].count: expected a non-negative integer, got the string \"3\""),
             std::string::npos);
-  EXPECT_NE(with([](json& d) { d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = -1; })
-                .find("meshes[0].primitives[0].attributes.POSITION: expected an accessor index, got -1"),
+  EXPECT_NE(with([](json& d) {
+              d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = -1;
+            }).find("meshes[0].primitives[0].attributes.POSITION: expected an accessor index, got -1"),
             std::string::npos);
   EXPECT_NE(with([](json& d) { d["scenes"][0]["nodes"] = 0; }).find("scenes[0].nodes: expected an array, got 0"),
             std::string::npos);

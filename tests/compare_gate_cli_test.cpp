@@ -1,0 +1,92 @@
+// compare's gate on committed H100 files (results/h100/): the thesis sweep at 02f03e1 against the
+// same config at 2b33675, where forward shading became ~8.7 % and light culling ~24 % slower while
+// the frame moved 3.6 %, under the 5 % threshold. Gating on frames misses it; --gate all names
+// both passes and nothing else, and an A/A pair of 2b33675 (the same machine ten minutes apart)
+// passes every gate.
+#include <algorithm>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tool_process.h"
+
+#ifndef HYBRIDBENCH_SOURCE_DIR
+#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using hb::testing::RunResult;
+using nlohmann::json;
+
+const fs::path kResults = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100";
+const std::string k02f03e1 = (kResults / "thesis/results.json").string();
+const std::string k2b33675 = (kResults / "thesis-2b33675/results.json").string();
+const std::string k2b33675Repeat = (kResults / "thesis-2b33675/results-repeat.json").string();
+
+class CompareGate : public hb::testing::ToolTest {};
+
+TEST_F(CompareGate, FramesAloneMissTheShadingAndCullingRegressionThatAllCatches) {
+  const RunResult frame = run({"compare", k02f03e1, k2b33675});
+  EXPECT_EQ(frame.exitCode, 0) << frame.out << frame.err;
+
+  const RunResult all = run({"compare", k02f03e1, k2b33675, "--gate", "all", "--json"});
+  EXPECT_EQ(all.exitCode, 1) << all.err;
+  const json report = json::parse(all.out, nullptr, false);
+  ASSERT_TRUE(report.is_object()) << all.out;
+  std::set<std::string> gated;
+  for (const json& row : report["rows"])
+    if (row["gates"].get<bool>()) {
+      gated.insert(row["pass"].get<std::string>());
+      // Each gating row is significant, beyond the threshold, and its interval holds its ratio.
+      EXPECT_LT(row["p"].get<double>(), 0.05) << row.dump();
+      EXPECT_GT(row["ratio"].get<double>(), 1.05) << row.dump();
+      EXPECT_LE(row["ci_low"].get<double>(), row["ratio"].get<double>()) << row.dump();
+      EXPECT_GE(row["ci_high"].get<double>(), row["ratio"].get<double>()) << row.dump();
+    }
+  EXPECT_EQ(gated, (std::set<std::string>{"light_culling", "shading"})) << all.out;
+  EXPECT_FALSE(report["failures"].empty());
+
+  // JUnit: each gating pass is a failure naming its ratio and interval.
+  const RunResult junit = run({"compare", k02f03e1, k2b33675, "--gate", "all", "--format", "junit"});
+  EXPECT_EQ(junit.exitCode, 1);
+  EXPECT_NE(junit.out.find("name=\"shading\""), std::string::npos);
+  EXPECT_NE(junit.out.find("<failure type=\"slower\" message=\"slower: B/A 1.08"), std::string::npos) << junit.out;
+
+  // A floor above the passes' medians takes them out of the gate: light culling is ~0.05 ms.
+  const RunResult floor = run({"compare", k02f03e1, k2b33675, "--gate", "passes", "--min-ms", "0.1", "--json"});
+  const json f = json::parse(floor.out, nullptr, false);
+  ASSERT_TRUE(f.is_object()) << floor.out;
+  for (const json& row : f["rows"])
+    if (row["gates"].get<bool>()) {
+      EXPECT_EQ(row["pass"], "shading") << row.dump();
+    }
+}
+
+TEST_F(CompareGate, AnAaPairPassesEveryGateAndEveryRatioLiesInItsInterval) {
+  const RunResult r = run({"compare", k2b33675, k2b33675Repeat, "--gate", "all", "--json"});
+  EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+  const json report = json::parse(r.out, nullptr, false);
+  ASSERT_TRUE(report.is_object()) << r.out;
+  for (const json& row : report["rows"]) {
+    EXPECT_FALSE(row["gates"].get<bool>()) << row.dump();
+    EXPECT_LE(row["ci_low"].get<double>(), row["ratio"].get<double>()) << row.dump();
+    EXPECT_GE(row["ci_high"].get<double>(), row["ratio"].get<double>()) << row.dump();
+  }
+}
+
+TEST_F(CompareGate, ABadGateOrFloorIsOneLine) {
+  const RunResult g = run({"compare", k2b33675, k2b33675Repeat, "--gate", "some"});
+  EXPECT_EQ(g.exitCode, 2);
+  EXPECT_NE(g.err.find("--gate"), std::string::npos) << g.err;
+  const RunResult m = run({"compare", k2b33675, k2b33675Repeat, "--min-ms", "-1"});
+  EXPECT_EQ(m.exitCode, 2);
+  EXPECT_NE(m.err.find("--min-ms -1"), std::string::npos) << m.err;
+  EXPECT_EQ(std::count(m.err.begin(), m.err.end(), '\n'), 1) << m.err;
+}
+
+}  // namespace
