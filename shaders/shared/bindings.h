@@ -23,4 +23,30 @@
 #define kCullViewSpheres 10u  // the same, range spheres only
 #define kCullBindingCount 11u
 
+// Shading (frame/passes/shading.cpp): bindings 0-7 are the same in both shading passes
+// (shading_bindings.glsl.inc); each pass's own follow from 8, the bindless textures last.
+#define kShadeFrame 0u         // uniform FrameConstants
+#define kShadeLights 1u        // GpuLight per scene light
+#define kShadeGrid 2u          // LightGridEntry per tile (USE_GRID)
+#define kShadeIndices 3u       // the tiles' light lists or masks (USE_GRID)
+#define kShadeVisibility 4u    // the shadow pass's visibility words (SHADOWS)
+#define kShadeMaterials 5u     // GpuMaterial per material
+#define kShadeVertices 6u      // the scene's vertices, 8 floats each
+#define kShadeSceneIndices 7u  // the scene's triangle indices
+// shading.frag.glsl (forward: the scene drawn again against the prepass depth)
+#define kShadeFragVisibilityIds 8u  // ID_MATCH: (id, t bits) per pixel
+#define kShadeFragAo 9u             // ambient occlusion per pixel (frame.ambient.w = 1)
+#define kShadeFragIndirect 10u      // the indirect light image (INDIRECT = 1)
+#define kShadeFragTextures 11u      // bindless sampled textures: the last binding
+// shading_visbuffer.comp.glsl (from the visibility buffer, in compute)
+#define kShadeVbVisibilityIds 8u   // (id, t bits) per pixel
+#define kShadeVbRays 9u            // uniform Raster3dConstants: the pixels' rays
+#define kShadeVbDraws 10u          // GpuDraw per draw
+#define kShadeVbTriangleDraws 11u  // draw-order triangle -> its draw
+#define kShadeVbColor 12u          // the colour target, written
+#define kShadeVbRefNormal 13u      // the reference normal target (analysis), written
+#define kShadeVbAo 14u             // ambient occlusion per pixel (frame.ambient.w = 1)
+#define kShadeVbIndirect 15u       // the indirect light image (INDIRECT = 1)
+#define kShadeVbTextures 16u       // bindless sampled textures: the last binding
+
 #endif
