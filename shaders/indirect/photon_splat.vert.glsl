@@ -8,8 +8,9 @@
 // sum deterministic.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
+#include "shared/bindings.h"
 
-layout(set = 0, binding = 0) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = kSurfaceFrame) uniform Frame { FrameConstants frame; };
 layout(set = 0, binding = 17) readonly buffer Photons { Photon photons[]; };
 layout(location = 0) flat out uint outPhoton;
 

@@ -49,4 +49,17 @@
 #define kShadeVbIndirect 15u       // the indirect light image (INDIRECT = 1)
 #define kShadeVbTextures 16u       // bindless sampled textures: the last binding
 
+// Surfaces: what the shared includes declare (surface.glsl.inc, depth_texel.glsl.inc,
+// ldm_trace.glsl.inc) and the ray tracer's `tlas`, at the same numbers in every set that has them:
+// the shadow pass (effects/shadows/shadow_pass.cpp), ambient occlusion
+// (effects/ambient_occlusion/ao_pass.cpp) and the indirect light with its photon splat
+// (effects/indirect/indirect_pass.cpp). Each effect's own bindings fill the numbers between.
+#define kSurfaceFrame 0u          // uniform FrameConstants
+#define kSurfaceDepth 4u          // the depth, sampled
+#define kSurfaceTlas 5u           // the scene's top-level acceleration structure
+#define kSurfaceHitIds 11u        // 3D rasterization's (id, t bits) per pixel (world_pos=hit, normals=geometric)
+#define kSurfaceHitRays 12u       // uniform Raster3dConstants: its rays
+#define kSurfaceHitTriangles 13u  // its world triangles, 3 vec4 each
+#define kSurfaceLdmMaps 15u       // the layered depth maps' LdmMap per direction (AO, indirect light)
+
 #endif
