@@ -62,4 +62,25 @@
 #define kSurfaceHitTriangles 13u  // its world triangles, 3 vec4 each
 #define kSurfaceLdmMaps 15u       // the layered depth maps' LdmMap per direction (AO, indirect light)
 
+// Shadows (effects/shadows/shadow_pass.cpp): shadows_common.glsl.inc, with the kSurface* bindings.
+#define kShadowLights 1u      // GpuLight per scene light
+#define kShadowGrid 2u        // LightGridEntry per tile
+#define kShadowIndices 3u     // the tiles' light lists or masks
+#define kShadowVisibility 6u  // the visibility words, written (shading reads them at kShadeVisibility)
+#define kShadowAccounting 7u  // analysis: the per-pixel ray accounting image
+#define kShadowNormals 8u     // analysis: the normal image
+#define kShadowPositions 9u   // analysis: the world positions (raybench reads them at kRaybenchPositions)
+#define kShadowTraced 10u     // analysis: as visibility, bit = ray traced (raybench: kRaybenchTraced)
+
+// Ray throughput benchmark (effects/shadows/raybench_pass.cpp): raybench_common.glsl.inc, its own set.
+#define kRaybenchFrame 0u       // uniform FrameConstants
+#define kRaybenchLights 1u      // GpuLight per scene light
+#define kRaybenchGrid 2u        // LightGridEntry per tile
+#define kRaybenchIndices 3u     // the tiles' light lists or masks
+#define kRaybenchPositions 4u   // the shadow pass's world positions (kShadowPositions)
+#define kRaybenchTraced 5u      // the shadow pass's traced-ray words (kShadowTraced)
+#define kRaybenchTlas 6u        // the scene's top-level acceleration structure
+#define kRaybenchResult 7u      // written, keeps the rays alive
+#define kRaybenchVisibility 8u  // the shadow pass's visibility (zbin: the pixels' bin ranges)
+
 #endif

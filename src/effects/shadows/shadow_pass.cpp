@@ -32,16 +32,16 @@ VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, 
 
 std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
   return {{kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {kShadowLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {kShadowGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {kShadowIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
           {kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {kShadowVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {kShadowAccounting, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {kShadowNormals, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {kShadowPositions, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {kShadowTraced, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {kSurfaceHitIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
           {kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
           {kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
@@ -95,9 +95,9 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
     throw InputError("backend=pipeline: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
   sets_.writeBuffer(0, kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
-  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
-  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeBuffer(0, kShadowLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, kShadowGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, kShadowIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
   sets_.writeImage(0, kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
   sets_.writeAccelerationStructure(0, kSurfaceTlas, in.tlas);
@@ -113,11 +113,12 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
                     (in.hitRays ? in.hitRays : in.frameConstants)->handle());
   sets_.writeBuffer(0, kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.hitTriangles ? in.hitTriangles : in.lights)->handle());
-  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
-  sets_.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
+  sets_.writeBuffer(0, kShadowVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
+  sets_.writeBuffer(0, kShadowTraced, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
   const Image* images[3] = {&accounting_, &normals_, &positions_};
+  const uint32_t imageBindings[3] = {kShadowAccounting, kShadowNormals, kShadowPositions};
   for (uint32_t i = 0; i < 3; ++i)
-    sets_.writeImage(0, 7 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
+    sets_.writeImage(0, imageBindings[i], VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
   analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
