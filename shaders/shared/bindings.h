@@ -83,4 +83,10 @@
 #define kRaybenchResult 7u      // written, keeps the rays alive
 #define kRaybenchVisibility 8u  // the shadow pass's visibility (zbin: the pixels' bin ranges)
 
+// Ambient occlusion (effects/ambient_occlusion/ao_pass.cpp): ao_common.glsl.inc, with the kSurface*
+// bindings (kSurfaceTlas only where the frame has a ray tracer).
+#define kAoDirections 14u  // the N directions, vec4 each
+#define kAoOut 17u         // AO per pixel, written
+#define kAoParams 18u      // uniform AoConstants
+
 #endif

@@ -20,10 +20,10 @@ std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
                             {kSurfaceHitIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
                             {kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {kAoDirections, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {kSurfaceLdmMaps, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+                            {kAoOut, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {kAoParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
   if (tlas) b.push_back({kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
   return b;
 }
@@ -106,11 +106,11 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                       (in.hitRays ? in.hitRays : in.frameConstants)->handle());
     sets->writeBuffer(0, kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
-    sets->writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
+    sets->writeBuffer(0, kAoDirections, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
     sets->writeBuffer(0, kSurfaceLdmMaps, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-    sets->writeBuffer(0, 17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-    sets->writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+    sets->writeBuffer(0, kAoOut, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
+    sets->writeBuffer(0, kAoParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
     return sets;
   };
   sets_ = makeSets(output_);
