@@ -89,4 +89,20 @@
 #define kAoOut 17u         // AO per pixel, written
 #define kAoParams 18u      // uniform AoConstants
 
+// Indirect light and its photon splat (effects/indirect/indirect_pass.cpp): indirect_common.glsl.inc,
+// indirect.rchit.glsl and photon_splat.*.glsl share one set, with the kSurface* bindings.
+#define kIndirectLights 1u          // GpuLight per scene light
+#define kIndirectVertices 6u        // the scene's vertices, 8 floats each
+#define kIndirectSceneIndices 7u    // the scene's triangle indices
+#define kIndirectMaterials 8u       // GpuMaterial per material
+#define kIndirectDraws 9u           // GpuDraw per draw
+#define kIndirectTriangleDraws 10u  // draw-order triangle -> its draw
+#define kIndirectDirections 14u     // the N split directions, vec4 each
+#define kIndirectIdBase 16u         // instance/geometry -> first draw-order triangle id
+#define kIndirectPhotons 17u        // Photon per slot: written by the trace, read by the splat
+#define kIndirectParams 18u         // uniform IndirectConstants
+#define kIndirectFaces 19u          // PhotonFace per emitting image plane
+#define kIndirectIrradiance 20u     // the irradiance image (reference), written
+#define kIndirectTextures 21u       // bindless sampled textures: the last binding
+
 #endif

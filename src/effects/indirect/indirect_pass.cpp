@@ -174,20 +174,27 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
                                               VK_SHADER_STAGE_MISS_BIT_KHR);
   const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   bindings_ = {{kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace},
+               {kIndirectLights, sb, trace},
                {kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
-               {kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace}};
-  for (uint32_t b : {6u, 7u, 8u, 9u, 10u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({kSurfaceHitIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  bindings_.push_back({kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all});
-  bindings_.push_back({kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  for (uint32_t b : {14u, kSurfaceLdmMaps, 16u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  bindings_.push_back({18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace});
-  bindings_.push_back({19, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace});
-  bindings_.push_back({21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true});
+               {kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace},
+               {kIndirectVertices, sb, trace},
+               {kIndirectSceneIndices, sb, trace},
+               {kIndirectMaterials, sb, trace},
+               {kIndirectDraws, sb, trace},
+               {kIndirectTriangleDraws, sb, trace},
+               {kSurfaceHitIds, sb, all},
+               {kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {kSurfaceHitTriangles, sb, all},
+               {kIndirectDirections, sb, trace},
+               {kSurfaceLdmMaps, sb, trace},
+               {kIndirectIdBase, sb, trace},
+               {kIndirectPhotons, sb, all},
+               {kIndirectParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
+               {kIndirectFaces, sb, trace},
+               {kIndirectIrradiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
+               {kIndirectTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
@@ -237,29 +244,29 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   DescriptorSets& d = *sets;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   d.writeBuffer(0, kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  d.writeBuffer(0, 1, sb, in_.lights->handle());
+  d.writeBuffer(0, kIndirectLights, sb, in_.lights->handle());
   d.writeImage(0, kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
   d.writeAccelerationStructure(0, kSurfaceTlas, in_.tlas);
-  d.writeBuffer(0, 6, sb, gpuScene_.vertices().handle());
-  d.writeBuffer(0, 7, sb, gpuScene_.indices().handle());
-  d.writeBuffer(0, 8, sb, textures_->materials().handle());
-  d.writeBuffer(0, 9, sb, draws_.handle());
-  d.writeBuffer(0, 10, sb, triangleDraw_.handle());
+  d.writeBuffer(0, kIndirectVertices, sb, gpuScene_.vertices().handle());
+  d.writeBuffer(0, kIndirectSceneIndices, sb, gpuScene_.indices().handle());
+  d.writeBuffer(0, kIndirectMaterials, sb, textures_->materials().handle());
+  d.writeBuffer(0, kIndirectDraws, sb, draws_.handle());
+  d.writeBuffer(0, kIndirectTriangleDraws, sb, triangleDraw_.handle());
   // Without hits the kSurfaceHit* bindings are never read; any buffer of the right type will do.
   d.writeBuffer(0, kSurfaceHitIds, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
   d.writeBuffer(0, kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
                 (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
   d.writeBuffer(0, kSurfaceHitTriangles, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
-  d.writeBuffer(0, 14, sb, directions_.handle());
+  d.writeBuffer(0, kIndirectDirections, sb, directions_.handle());
   d.writeBuffer(0, kSurfaceLdmMaps, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-  d.writeBuffer(0, 16, sb, idBase_.handle());
-  d.writeBuffer(0, 17, sb, (withPhotons ? t.photons : placeholder_).handle());
-  d.writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
-  d.writeBuffer(0, 19, sb, faces_.handle());
-  d.writeImage(0, 20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(), VK_IMAGE_LAYOUT_GENERAL);
+  d.writeBuffer(0, kIndirectIdBase, sb, idBase_.handle());
+  d.writeBuffer(0, kIndirectPhotons, sb, (withPhotons ? t.photons : placeholder_).handle());
+  d.writeBuffer(0, kIndirectParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+  d.writeBuffer(0, kIndirectFaces, sb, faces_.handle());
+  d.writeImage(0, kIndirectIrradiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(), VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_->images().size(); ++i)
-    d.writeImage(0, 21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
+    d.writeImage(0, kIndirectTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler(), i);
   t.sets = std::move(sets);
   return t;
