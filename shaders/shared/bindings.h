@@ -105,4 +105,12 @@
 #define kIndirectIrradiance 20u     // the irradiance image (reference), written
 #define kIndirectTextures 21u       // bindless sampled textures: the last binding
 
+// Layered depth maps' build (frame/passes/ldm_build.cpp): the build's set (ldm_build.vert/frag for
+// the hardware build, ldm_build_3dr.comp) and the sbuffer list's scan set (ldm_sbuffer.comp: 1-3).
+#define kLdmMaps 0u          // LdmMap per map (hardware: vertex stage)
+#define kLdmLinksAddress 1u  // uniform: the links buffer's device address (lo, hi)
+#define kLdmCounters 2u      // the node pool's and the lists' counters
+#define kLdmTriangles 3u     // ldm_build=3dr: the world triangles, 3 vec4 each
+#define kLdmBlockSums 3u     // the scan set: per block of 4096 counts its sum
+
 #endif
