@@ -113,4 +113,31 @@
 #define kLdmTriangles 3u     // ldm_build=3dr: the world triangles, 3 vec4 each
 #define kLdmBlockSums 3u     // the scan set: per block of 4096 counts its sum
 
+// 3D rasterization (frame/passes/raster3d.cpp): raster3d_common.glsl.inc (raster3d.comp,
+// raster3d_tiles.comp, raster3d_scan.comp) share one set; raster3d_resolve.comp has its own.
+#define kR3dConstants 0u   // uniform Raster3dConstants
+#define kR3dTriangles 1u   // the world triangles, 3 vec4 each
+#define kR3dVisibility 2u  // (t bits << 32 | id) per pixel
+#define kR3dItems 3u       // the work items' count and list
+#define kR3dCounters 4u    // analysis counters (kR3dCounterCount)
+#define kR3dCoverage 5u    // analysis: covering triangles per pixel
+#define kR3dTested 6u      // analysis: pixel tests per pixel
+#define kR3dBins 7u        // 3dr-binned: per screen tile count, first entry, fill cursor
+#define kR3dBinList 8u     // 3dr-binned: the tiles' lists
+#define kR3dBindingCount 9u
+#define kR3dResolveConstants 0u   // raster3d_resolve.comp: uniform Raster3dConstants
+#define kR3dResolveVisibility 1u  // the visibility buffer, read
+#define kR3dResolveDepth 2u       // the depth per pixel, written (copied into the depth image)
+#define kR3dResolveBindingCount 3u
+
+// Primary visibility by ray casting (frame/passes/raster3d.cpp): primary_raycast.glsl.inc
+// (primary_raycast.comp, .rgen, .rchit) share one set; then raster3d_resolve.comp as above.
+#define kCastConstants 0u   // uniform Raster3dConstants
+#define kCastVisibility 1u  // (t bits << 32 | id) per pixel, written
+#define kCastIdBase 2u      // instance/geometry -> first draw-order triangle id
+#define kCastTlas 3u        // the scene's top-level acceleration structure
+#define kCastCounters 4u    // analysis counters (kR3dCounterCount)
+#define kCastCoverage 5u    // analysis: 1 where the pixel's ray hit
+#define kCastBindingCount 6u
+
 #endif
