@@ -18,8 +18,8 @@ layout(constant_id = 3) const uint LIST = kLdmListMax64;
 layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
 layout(push_constant) uniform Push { DrawConstants draw; };
 
-layout(set = 0, binding = kLdmLinksAddress) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
-layout(set = 0, binding = kLdmCounters) buffer Counters { uint counters[]; };
+layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
+layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
 
 #include "ldm_insert.glsl.inc"
 

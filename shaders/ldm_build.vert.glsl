@@ -11,7 +11,7 @@
 
 layout(location = 0) in vec3 inPosition;
 layout(push_constant) uniform Push { DrawConstants draw; };
-layout(set = 0, binding = kLdmMaps) readonly buffer Maps { LdmMap maps[]; };
+layout(set = 0, binding = HB_LDM_MAPS) readonly buffer Maps { LdmMap maps[]; };
 
 layout(location = 0) flat out uint outMap;
 layout(location = 1) out float outDepth;

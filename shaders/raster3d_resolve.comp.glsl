@@ -9,9 +9,9 @@
 #include "shared/bindings.h"
 
 layout(local_size_x = 64) in;
-layout(set = 0, binding = kR3dResolveConstants) uniform Constants { Raster3dConstants r3; };
-layout(set = 0, binding = kR3dResolveVisibility) readonly buffer Visibility { uint64_t vis[]; };
-layout(set = 0, binding = kR3dResolveDepth) writeonly buffer Depth { float depth[]; };
+layout(set = 0, binding = HB_R3D_RESOLVE_CONSTANTS) uniform Constants { Raster3dConstants r3; };
+layout(set = 0, binding = HB_R3D_RESOLVE_VISIBILITY) readonly buffer Visibility { uint64_t vis[]; };
+layout(set = 0, binding = HB_R3D_RESOLVE_DEPTH) writeonly buffer Depth { float depth[]; };
 
 void main() {
   const uint pixel = gl_GlobalInvocationID.x;

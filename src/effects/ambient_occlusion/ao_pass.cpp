@@ -15,16 +15,16 @@ namespace hb {
 namespace {
 
 std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
-  std::vector<Binding> b = {{kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-                            {kSurfaceHitIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {kAoDirections, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {kSurfaceLdmMaps, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {kAoOut, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {kAoParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
-  if (tlas) b.push_back({kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
+  std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+                            {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  if (tlas) b.push_back({HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
   return b;
 }
 
@@ -95,22 +95,22 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
   auto makeSets = [&](const Buffer& out) {
     auto sets = std::make_unique<DescriptorSets>(ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE));
-    sets->writeBuffer(0, kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-    sets->writeImage(0, kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+    sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+    sets->writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                      VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-    if (tlas_) sets->writeAccelerationStructure(0, kSurfaceTlas, tlas_);
-    // Without hits the kSurfaceHit* bindings are never read; any buffer of the right type will do.
-    sets->writeBuffer(0, kSurfaceHitIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    if (tlas_) sets->writeAccelerationStructure(0, HB_SURFACE_TLAS, tlas_);
+    // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
+    sets->writeBuffer(0, HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitIds ? *in.hitIds : placeholder_).handle());
-    sets->writeBuffer(0, kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+    sets->writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
                       (in.hitRays ? in.hitRays : in.frameConstants)->handle());
-    sets->writeBuffer(0, kSurfaceHitTriangles, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    sets->writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
-    sets->writeBuffer(0, kAoDirections, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
-    sets->writeBuffer(0, kSurfaceLdmMaps, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    sets->writeBuffer(0, HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
+    sets->writeBuffer(0, HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-    sets->writeBuffer(0, kAoOut, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-    sets->writeBuffer(0, kAoParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+    sets->writeBuffer(0, HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
+    sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
     return sets;
   };
   sets_ = makeSets(output_);

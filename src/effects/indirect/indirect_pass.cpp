@@ -175,26 +175,26 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                                               VK_SHADER_STAGE_MISS_BIT_KHR);
   const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  bindings_ = {{kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {kIndirectLights, sb, trace},
-               {kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
-               {kSurfaceTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace},
-               {kIndirectVertices, sb, trace},
-               {kIndirectSceneIndices, sb, trace},
-               {kIndirectMaterials, sb, trace},
-               {kIndirectDraws, sb, trace},
-               {kIndirectTriangleDraws, sb, trace},
-               {kSurfaceHitIds, sb, all},
-               {kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {kSurfaceHitTriangles, sb, all},
-               {kIndirectDirections, sb, trace},
-               {kSurfaceLdmMaps, sb, trace},
-               {kIndirectIdBase, sb, trace},
-               {kIndirectPhotons, sb, all},
-               {kIndirectParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
-               {kIndirectFaces, sb, trace},
-               {kIndirectIrradiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
-               {kIndirectTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
+  bindings_ = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {HB_INDIRECT_LIGHTS, sb, trace},
+               {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
+               {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace},
+               {HB_INDIRECT_VERTICES, sb, trace},
+               {HB_INDIRECT_SCENE_INDICES, sb, trace},
+               {HB_INDIRECT_MATERIALS, sb, trace},
+               {HB_INDIRECT_DRAWS, sb, trace},
+               {HB_INDIRECT_TRIANGLE_DRAWS, sb, trace},
+               {HB_SURFACE_HIT_IDS, sb, all},
+               {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {HB_SURFACE_HIT_TRIANGLES, sb, all},
+               {HB_INDIRECT_DIRECTIONS, sb, trace},
+               {HB_SURFACE_LDM_MAPS, sb, trace},
+               {HB_INDIRECT_ID_BASE, sb, trace},
+               {HB_INDIRECT_PHOTONS, sb, all},
+               {HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
+               {HB_INDIRECT_FACES, sb, trace},
+               {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
+               {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
@@ -243,30 +243,31 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   auto sets = std::make_unique<DescriptorSets>(ctx_, bindings_, 1, uint32_t(textures_->images().size()));
   DescriptorSets& d = *sets;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  d.writeBuffer(0, kSurfaceFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  d.writeBuffer(0, kIndirectLights, sb, in_.lights->handle());
-  d.writeImage(0, kSurfaceDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
+  d.writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  d.writeBuffer(0, HB_INDIRECT_LIGHTS, sb, in_.lights->handle());
+  d.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  d.writeAccelerationStructure(0, kSurfaceTlas, in_.tlas);
-  d.writeBuffer(0, kIndirectVertices, sb, gpuScene_.vertices().handle());
-  d.writeBuffer(0, kIndirectSceneIndices, sb, gpuScene_.indices().handle());
-  d.writeBuffer(0, kIndirectMaterials, sb, textures_->materials().handle());
-  d.writeBuffer(0, kIndirectDraws, sb, draws_.handle());
-  d.writeBuffer(0, kIndirectTriangleDraws, sb, triangleDraw_.handle());
-  // Without hits the kSurfaceHit* bindings are never read; any buffer of the right type will do.
-  d.writeBuffer(0, kSurfaceHitIds, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
-  d.writeBuffer(0, kSurfaceHitRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+  d.writeAccelerationStructure(0, HB_SURFACE_TLAS, in_.tlas);
+  d.writeBuffer(0, HB_INDIRECT_VERTICES, sb, gpuScene_.vertices().handle());
+  d.writeBuffer(0, HB_INDIRECT_SCENE_INDICES, sb, gpuScene_.indices().handle());
+  d.writeBuffer(0, HB_INDIRECT_MATERIALS, sb, textures_->materials().handle());
+  d.writeBuffer(0, HB_INDIRECT_DRAWS, sb, draws_.handle());
+  d.writeBuffer(0, HB_INDIRECT_TRIANGLE_DRAWS, sb, triangleDraw_.handle());
+  // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
+  d.writeBuffer(0, HB_SURFACE_HIT_IDS, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
+  d.writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
                 (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
-  d.writeBuffer(0, kSurfaceHitTriangles, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
-  d.writeBuffer(0, kIndirectDirections, sb, directions_.handle());
-  d.writeBuffer(0, kSurfaceLdmMaps, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-  d.writeBuffer(0, kIndirectIdBase, sb, idBase_.handle());
-  d.writeBuffer(0, kIndirectPhotons, sb, (withPhotons ? t.photons : placeholder_).handle());
-  d.writeBuffer(0, kIndirectParams, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
-  d.writeBuffer(0, kIndirectFaces, sb, faces_.handle());
-  d.writeImage(0, kIndirectIrradiance, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(), VK_IMAGE_LAYOUT_GENERAL);
+  d.writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_DIRECTIONS, sb, directions_.handle());
+  d.writeBuffer(0, HB_SURFACE_LDM_MAPS, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_ID_BASE, sb, idBase_.handle());
+  d.writeBuffer(0, HB_INDIRECT_PHOTONS, sb, (withPhotons ? t.photons : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+  d.writeBuffer(0, HB_INDIRECT_FACES, sb, faces_.handle());
+  d.writeImage(0, HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(),
+               VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_->images().size(); ++i)
-    d.writeImage(0, kIndirectTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
+    d.writeImage(0, HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler(), i);
   t.sets = std::move(sets);
   return t;

@@ -16,27 +16,27 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
               const VkShaderStageFlags st = backend == ShadowBackend::RayQuery
                                                 ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                                                 : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
-              return std::vector<Binding>{{kRaybenchFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
-                                          {kRaybenchLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {kRaybenchGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {kRaybenchIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {kRaybenchPositions, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {kRaybenchTraced, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {kRaybenchTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
-                                          {kRaybenchResult, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {kRaybenchVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
+              return std::vector<Binding>{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
+                                          {HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
+                                          {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
             }()),
       compute_(ctx) {
-  sets_.writeBuffer(0, kRaybenchFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, kRaybenchLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
-  sets_.writeBuffer(0, kRaybenchGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
-  sets_.writeBuffer(0, kRaybenchIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
-  sets_.writeImage(0, kRaybenchPositions, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
+  sets_.writeBuffer(0, HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
                    VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, kRaybenchTraced, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
-  sets_.writeAccelerationStructure(0, kRaybenchTlas, in.tlas);
-  sets_.writeImage(0, kRaybenchResult, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, kRaybenchVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
+  sets_.writeAccelerationStructure(0, HB_RAYBENCH_TLAS, in.tlas);
+  sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
   const SpecConstants spec{{shadows.settings().listMode}};
   if (backend == ShadowBackend::RayQuery) {
     compute_.createLayout({sets_.layout()}, 0);

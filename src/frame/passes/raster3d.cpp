@@ -91,8 +91,8 @@ std::vector<Binding> storageBindings(uint32_t count, uint32_t constants, VkShade
   return b;
 }
 std::vector<Binding> castBindings(VkShaderStageFlags stages) {
-  std::vector<Binding> b = storageBindings(kCastBindingCount, kCastConstants, stages);
-  b[kCastTlas] = {kCastTlas, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  std::vector<Binding> b = storageBindings(HB_CAST_BINDING_COUNT, HB_CAST_CONSTANTS, stages);
+  b[HB_CAST_TLAS] = {HB_CAST_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
   return b;
 }
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
@@ -111,8 +111,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       width_(width),
       height_(height),
       triangleCount_(uint32_t(scene.triangleCount())),
-      rasterSets_(ctx, storageBindings(kR3dBindingCount, kR3dConstants, VK_SHADER_STAGE_COMPUTE_BIT)),
-      resolveSets_(ctx, storageBindings(kR3dResolveBindingCount, kR3dResolveConstants, VK_SHADER_STAGE_COMPUTE_BIT)),
+      rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
+      resolveSets_(
+          ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
   if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
     throw DeviceError("device \"" + ctx.info().name +
@@ -132,9 +133,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
-  resolveSets_.writeBuffer(0, kR3dResolveConstants, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-  resolveSets_.writeBuffer(0, kR3dResolveVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-  resolveSets_.writeBuffer(0, kR3dResolveDepth, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");
 
@@ -147,12 +148,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
     castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
-    castSets_->writeBuffer(0, kCastConstants, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-    castSets_->writeBuffer(0, kCastVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-    castSets_->writeBuffer(0, kCastIdBase, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
-    castSets_->writeAccelerationStructure(0, kCastTlas, rayCast.tlas);
-    castSets_->writeBuffer(0, kCastCounters, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-    castSets_->writeBuffer(0, kCastCoverage, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
+    castSets_->writeBuffer(0, HB_CAST_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+    castSets_->writeBuffer(0, HB_CAST_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+    castSets_->writeBuffer(0, HB_CAST_ID_BASE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
+    castSets_->writeAccelerationStructure(0, HB_CAST_TLAS, rayCast.tlas);
+    castSets_->writeBuffer(0, HB_CAST_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+    castSets_->writeBuffer(0, HB_CAST_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
     if (rayCast.rayQuery) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
@@ -178,13 +179,13 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   const std::pair<uint32_t, const Buffer*> bufs[] = {
-      {kR3dConstants, &constants_}, {kR3dTriangles, &triangles_}, {kR3dVisibility, &vis_},
-      {kR3dItems, &big_},           {kR3dCounters, &counters_},   {kR3dCoverage, &coverage_},
-      {kR3dTested, &tested_},       {kR3dBins, &bins_},           {kR3dBinList, &binList_}};
+      {HB_R3D_CONSTANTS, &constants_}, {HB_R3D_TRIANGLES, &triangles_}, {HB_R3D_VISIBILITY, &vis_},
+      {HB_R3D_ITEMS, &big_},           {HB_R3D_COUNTERS, &counters_},   {HB_R3D_COVERAGE, &coverage_},
+      {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_}};
   for (const auto& [b, buf] : bufs)
-    rasterSets_.writeBuffer(0, b,
-                            b == kR3dConstants ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                            buf->handle());
+    rasterSets_.writeBuffer(
+        0, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        buf->handle());
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
   const std::vector<std::pair<const char*, uint32_t>> stages =

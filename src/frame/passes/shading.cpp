@@ -16,18 +16,18 @@ namespace hb {
 namespace {
 std::vector<Binding> shadingBindings() {
   const VkShaderStageFlags fs = VK_SHADER_STAGE_FRAGMENT_BIT;
-  return {{kShadeFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
-          {kShadeLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeMaterials, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeVertices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeSceneIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeFragVisibilityIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeFragAo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {kShadeFragIndirect, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
-          {kShadeFragTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
+          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
+          {HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
 
@@ -51,30 +51,30 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
       dummyVisibility_(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
       sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
       layout_(ctx) {
-  sets_.writeBuffer(0, kShadeFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, kShadeLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
   // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
-  sets_.writeBuffer(0, kShadeGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
-  sets_.writeBuffer(0, kShadeIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  sets_.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
+  sets_.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.indices ? in.indices : in.lights)->handle());
-  sets_.writeBuffer(0, kShadeVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  sets_.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.visibility ? in.visibility : &dummyVisibility_)->handle());
-  sets_.writeBuffer(0, kShadeMaterials, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  sets_.writeBuffer(0, kShadeVertices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  sets_.writeBuffer(0, kShadeSceneIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  // Without a visibility buffer kShadeFragVisibilityIds is never read (ID_MATCH = 0); any buffer
+  sets_.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  sets_.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  sets_.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  // Without a visibility buffer HB_SHADE_FRAG_VISIBILITY_IDS is never read (ID_MATCH = 0); any buffer
   // will do.
-  sets_.writeBuffer(0, kShadeFragVisibilityIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  sets_.writeBuffer(0, HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.visibilityIds ? in.visibilityIds : &scene.indices())->handle());
-  // Without ambient occlusion kShadeFragAo is never read (frame.ambient.w = 0); any buffer will do.
-  sets_.writeBuffer(0, kShadeFragAo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  // Without ambient occlusion HB_SHADE_FRAG_AO is never read (frame.ambient.w = 0); any buffer will do.
+  sets_.writeBuffer(0, HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.ambientOcclusion ? in.ambientOcclusion : &scene.indices())->handle());
-  // Without indirect light kShadeFragIndirect is never read (INDIRECT = 0); the 1x1 R32_UINT image
+  // Without indirect light HB_SHADE_FRAG_INDIRECT is never read (INDIRECT = 0); the 1x1 R32_UINT image
   // stands in only where the format matches, so a 1x1 RGBA32F one does.
-  sets_.writeImage(0, kShadeFragIndirect, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+  sets_.writeImage(0, HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                    (in.indirect ? in.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, kShadeFragTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    sets_.writeImage(0, HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
@@ -140,23 +140,23 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
 namespace {
 std::vector<Binding> visbufferBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  return {{kShadeFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-          {kShadeLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeMaterials, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVertices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeSceneIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVbVisibilityIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVbRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-          {kShadeVbDraws, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVbTriangleDraws, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVbColor, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {kShadeVbRefNormal, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {kShadeVbAo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {kShadeVbIndirect, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {kShadeVbTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true}};
+  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+          {HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true}};
 }
 }  // namespace
 
@@ -170,28 +170,29 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   vbSets_ = std::make_unique<DescriptorSets>(ctx, visbufferBindings(), 1, uint32_t(textures_.images().size()));
   DescriptorSets& v = *vbSets_;
-  v.writeBuffer(0, kShadeFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  v.writeBuffer(0, kShadeLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
-  v.writeBuffer(0, kShadeGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
-  v.writeBuffer(0, kShadeIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  v.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  v.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
+  v.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
+  v.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 (in_.indices ? in_.indices : in_.lights)->handle());
-  v.writeBuffer(0, kShadeVisibility, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  v.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
-  v.writeBuffer(0, kShadeMaterials, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  v.writeBuffer(0, kShadeVertices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  v.writeBuffer(0, kShadeSceneIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  v.writeBuffer(0, kShadeVbVisibilityIds, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
-  v.writeBuffer(0, kShadeVbRays, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
-  v.writeBuffer(0, kShadeVbDraws, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
-  v.writeBuffer(0, kShadeVbTriangleDraws, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
-  v.writeImage(0, kShadeVbColor, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeImage(0, kShadeVbRefNormal, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeBuffer(0, kShadeVbAo, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  v.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  v.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  v.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  v.writeBuffer(0, HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
+  v.writeBuffer(0, HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
+  v.writeBuffer(0, HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
+  v.writeBuffer(0, HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
+  v.writeImage(0, HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  v.writeImage(0, HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(),
+               VK_IMAGE_LAYOUT_GENERAL);
+  v.writeBuffer(0, HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
-  v.writeImage(0, kShadeVbIndirect, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+  v.writeImage(0, HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                (in_.indirect ? in_.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    v.writeImage(0, kShadeVbTextures, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    v.writeImage(0, HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
