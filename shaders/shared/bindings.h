@@ -1,6 +1,8 @@
 // Descriptor bindings (set 0) of the passes, each written once here and used by the pass's shaders
-// (layout(binding = HB_...)) and its C++ (the set layout and the descriptor writes). A pass moves
-// its bindings here as it is next touched; docs/contributing.md "Adding an effect or a pass".
+// (layout(binding = HB_...)) and its C++ (the set layout and the descriptor writes). Every pass's
+// bindings are here, a block per pass naming its C++ file; a new pass adds its block
+// (docs/contributing.md "Adding an effect or a pass"). The one number written elsewhere too is
+// HB_INDIRECT_ID_BASE in indirect.rchit.glsl, which includes nothing (it says why).
 //
 // Macros, not HB_CONST constants: glslang emits every global constant of a shader, used or not,
 // so a `const uint` whose value the shader does not otherwise hold adds an OpConstant to its
