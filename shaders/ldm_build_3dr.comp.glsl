@@ -15,6 +15,7 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
+#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
@@ -23,10 +24,10 @@ layout(constant_id = 3) const uint LIST = kLdmListMax64;
 layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0) readonly buffer Maps { LdmMap maps[]; };
-layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
-layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
-layout(set = 0, binding = 3) readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, world space
+layout(set = 0, binding = HB_LDM_MAPS) readonly buffer Maps { LdmMap maps[]; };
+layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
+layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
+layout(set = 0, binding = HB_LDM_TRIANGLES) readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, world space
 layout(push_constant) uniform Push { uint triangleCount; };
 
 #include "ldm_insert.glsl.inc"

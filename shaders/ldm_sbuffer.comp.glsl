@@ -9,6 +9,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
+#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint STAGE = 0;
 layout(constant_id = 1) const uint PIXELS = 1;
@@ -16,9 +17,9 @@ layout(constant_id = 2) const uint NODE_CAPACITY = 1;
 layout(local_size_x_id = 3) in;  // 256 (stages 0, 2, 3) or 1024 (stage 1)
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Words { uint words[]; };
-layout(set = 0, binding = 1) uniform LinksAddress { uvec2 linksAddress; };
-layout(set = 0, binding = 2) buffer Counters { uint counters[]; };
-layout(set = 0, binding = 3) buffer BlockSums { uint blockSums[]; };
+layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };
+layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
+layout(set = 0, binding = HB_LDM_BLOCK_SUMS) buffer BlockSums { uint blockSums[]; };
 
 const uint kPerThread = 16u, kBlock = 256u * kPerThread;
 shared uint sScan[1024];

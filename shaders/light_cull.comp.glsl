@@ -11,18 +11,18 @@ layout(constant_id = 1) const uint CULLING = 1;  // 0: every tile gets every lig
 layout(constant_id = 2) const uint AABB = 0;     // 1: Turanzkij's AABB test on top of the planes
 layout(constant_id = 3) const uint SLICES = 0;   // 2..32: the 2.5D slab test (cull_ref.h); 0 off
 // kList*: tile writes the capped index list, bitmask and zbin the tile's mask words (zbin: over the
-// depth-sorted lights of kCullSortedLights).
+// depth-sorted lights of HB_CULL_SORTED_LIGHTS).
 layout(constant_id = 4) const uint LIST_MODE = 0;
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
-layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = kCullLights) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = kCullFrustums) readonly buffer Frustums { TileFrustum frustums[]; };
-layout(set = 0, binding = kCullGrid) writeonly buffer Grid { LightGridEntry grid[]; };
-layout(set = 0, binding = kCullIndices) writeonly buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = kCullDepth) uniform sampler2D depthTex;
-layout(set = 0, binding = kCullViewLights) readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
-layout(set = 0, binding = kCullViewSpheres) readonly buffer ViewSpheres { vec4 viewSpheres[]; };       // the same, spheres only
+layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = HB_CULL_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = HB_CULL_FRUSTUMS) readonly buffer Frustums { TileFrustum frustums[]; };
+layout(set = 0, binding = HB_CULL_GRID) writeonly buffer Grid { LightGridEntry grid[]; };
+layout(set = 0, binding = HB_CULL_INDICES) writeonly buffer Indices { uint lightIndices[]; };
+layout(set = 0, binding = HB_CULL_DEPTH) uniform sampler2D depthTex;
+layout(set = 0, binding = HB_CULL_VIEW_LIGHTS) readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
+layout(set = 0, binding = HB_CULL_VIEW_SPHERES) readonly buffer ViewSpheres { vec4 viewSpheres[]; };       // the same, spheres only
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uint sMinDepthBits;  // positive floats order like their bit patterns

@@ -8,12 +8,12 @@
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
 
-layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = kCullLights) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = kCullSortedLights) readonly buffer SortedLights { GpuLight sortedLights[]; };
-layout(set = 0, binding = kCullViewLights) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
+layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = HB_CULL_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
+layout(set = 0, binding = HB_CULL_SORTED_LIGHTS) readonly buffer SortedLights { GpuLight sortedLights[]; };
+layout(set = 0, binding = HB_CULL_VIEW_LIGHTS) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
 // The range spheres alone (xyz, range; directional: +inf), what every tile reads first.
-layout(set = 0, binding = kCullViewSpheres) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
+layout(set = 0, binding = HB_CULL_VIEW_SPHERES) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 void main() {

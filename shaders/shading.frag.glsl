@@ -16,15 +16,15 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 // 1: primary visibility came from 3D rasterization (frame/passes/raster3d.h): the depth test
 // is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
 layout(constant_id = 4) const uint ID_MATCH = 0;
-layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (binding 10)
+layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (HB_SHADE_FRAG_INDIRECT)
 
 layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
 
 #include "shading_bindings.glsl.inc"
-layout(set = 0, binding = 10, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
-layout(set = 0, binding = 11) uniform sampler2D textures[];  // bindless: the last binding
-layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
-layout(set = 0, binding = 9) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+layout(set = 0, binding = HB_SHADE_FRAG_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+layout(set = 0, binding = HB_SHADE_FRAG_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = HB_SHADE_FRAG_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
+layout(set = 0, binding = HB_SHADE_FRAG_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"

@@ -14,21 +14,21 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;
 layout(constant_id = 2) const uint SHADOWS = 1;
 layout(constant_id = 3) const uint ANALYSIS = 0;
-layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (binding 15)
+layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (HB_SHADE_VB_INDIRECT)
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
 
 #include "shading_bindings.glsl.inc"
-layout(set = 0, binding = 8) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
-layout(set = 0, binding = 9) uniform Rays { Raster3dConstants rays; };
-layout(set = 0, binding = 10) readonly buffer Draws { GpuDraw draws[]; };
-layout(set = 0, binding = 11) readonly buffer TriangleDraws { uint triangleDraw[]; };
-layout(set = 0, binding = 12, rgba16f) uniform writeonly image2D colorImage;
-layout(set = 0, binding = 13, rgba32f) uniform writeonly image2D refNormalImage;
-layout(set = 0, binding = 14) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-layout(set = 0, binding = 15, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
-layout(set = 0, binding = 16) uniform sampler2D textures[];  // bindless: the last binding
+layout(set = 0, binding = HB_SHADE_VB_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
+layout(set = 0, binding = HB_SHADE_VB_RAYS) uniform Rays { Raster3dConstants rays; };
+layout(set = 0, binding = HB_SHADE_VB_DRAWS) readonly buffer Draws { GpuDraw draws[]; };
+layout(set = 0, binding = HB_SHADE_VB_TRIANGLE_DRAWS) readonly buffer TriangleDraws { uint triangleDraw[]; };
+layout(set = 0, binding = HB_SHADE_VB_COLOR, rgba16f) uniform writeonly image2D colorImage;
+layout(set = 0, binding = HB_SHADE_VB_REF_NORMAL, rgba32f) uniform writeonly image2D refNormalImage;
+layout(set = 0, binding = HB_SHADE_VB_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+layout(set = 0, binding = HB_SHADE_VB_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+layout(set = 0, binding = HB_SHADE_VB_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"
 #include "camera_ray.glsl.inc"

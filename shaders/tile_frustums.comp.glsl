@@ -7,8 +7,8 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = kCullFrustums) writeonly buffer Frustums { TileFrustum frustums[]; };
+layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = HB_CULL_FRUSTUMS) writeonly buffer Frustums { TileFrustum frustums[]; };
 
 void main() {
   uint tile = gl_GlobalInvocationID.x;

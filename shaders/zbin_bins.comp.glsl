@@ -8,9 +8,9 @@
 #include "shared/bindings.h"
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = kCullFrame) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = kCullIndices) buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = kCullExtents) readonly buffer Extents { uvec2 extents[]; };
+layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = HB_CULL_INDICES) buffer Indices { uint lightIndices[]; };
+layout(set = 0, binding = HB_CULL_EXTENTS) readonly buffer Extents { uvec2 extents[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uvec2 sExtent[256];

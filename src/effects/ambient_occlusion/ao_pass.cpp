@@ -7,6 +7,7 @@
 #include "base/errors.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
+#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -14,13 +15,16 @@ namespace hb {
 namespace {
 
 std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
-  std::vector<Binding> b = {
-      {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},  {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-      {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-      {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-      {15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}, {17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-      {18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
-  if (tlas) b.push_back({5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
+  std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+                            {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+  if (tlas) b.push_back({HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
   return b;
 }
 
@@ -91,20 +95,22 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
   auto makeSets = [&](const Buffer& out) {
     auto sets = std::make_unique<DescriptorSets>(ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE));
-    sets->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-    sets->writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+    sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+    sets->writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                      VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-    if (tlas_) sets->writeAccelerationStructure(0, 5, tlas_);
-    // Without hits bindings 11-13 are never read; any buffer of the right type will do.
-    sets->writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? *in.hitIds : placeholder_).handle());
-    sets->writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+    if (tlas_) sets->writeAccelerationStructure(0, HB_SURFACE_TLAS, tlas_);
+    // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
+    sets->writeBuffer(0, HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      (in.hitIds ? *in.hitIds : placeholder_).handle());
+    sets->writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
                       (in.hitRays ? in.hitRays : in.frameConstants)->handle());
-    sets->writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+    sets->writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
-    sets->writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
-    sets->writeBuffer(0, 15, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-    sets->writeBuffer(0, 17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-    sets->writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+    sets->writeBuffer(0, HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
+    sets->writeBuffer(0, HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
+    sets->writeBuffer(0, HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
+    sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
     return sets;
   };
   sets_ = makeSets(output_);

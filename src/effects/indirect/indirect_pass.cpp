@@ -9,6 +9,7 @@
 #include "gpu/raster_pipeline.h"
 #include "reference/eq_partition.h"
 #include "reference/photon_ref.h"
+#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -173,20 +174,27 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
                                               VK_SHADER_STAGE_MISS_BIT_KHR);
   const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  bindings_ = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace},
-               {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
-               {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace}};
-  for (uint32_t b : {6u, 7u, 8u, 9u, 10u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  bindings_.push_back({12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all});
-  bindings_.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  for (uint32_t b : {14u, 15u, 16u}) bindings_.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({17, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, all});
-  bindings_.push_back({18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace});
-  bindings_.push_back({19, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, trace});
-  bindings_.push_back({20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace});
-  bindings_.push_back({21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true});
+  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  bindings_ = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {HB_INDIRECT_LIGHTS, sb, trace},
+               {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
+               {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace},
+               {HB_INDIRECT_VERTICES, sb, trace},
+               {HB_INDIRECT_SCENE_INDICES, sb, trace},
+               {HB_INDIRECT_MATERIALS, sb, trace},
+               {HB_INDIRECT_DRAWS, sb, trace},
+               {HB_INDIRECT_TRIANGLE_DRAWS, sb, trace},
+               {HB_SURFACE_HIT_IDS, sb, all},
+               {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
+               {HB_SURFACE_HIT_TRIANGLES, sb, all},
+               {HB_INDIRECT_DIRECTIONS, sb, trace},
+               {HB_SURFACE_LDM_MAPS, sb, trace},
+               {HB_INDIRECT_ID_BASE, sb, trace},
+               {HB_INDIRECT_PHOTONS, sb, all},
+               {HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
+               {HB_INDIRECT_FACES, sb, trace},
+               {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
+               {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
@@ -235,29 +243,31 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   auto sets = std::make_unique<DescriptorSets>(ctx_, bindings_, 1, uint32_t(textures_->images().size()));
   DescriptorSets& d = *sets;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  d.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  d.writeBuffer(0, 1, sb, in_.lights->handle());
-  d.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
+  d.writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  d.writeBuffer(0, HB_INDIRECT_LIGHTS, sb, in_.lights->handle());
+  d.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  d.writeAccelerationStructure(0, 5, in_.tlas);
-  d.writeBuffer(0, 6, sb, gpuScene_.vertices().handle());
-  d.writeBuffer(0, 7, sb, gpuScene_.indices().handle());
-  d.writeBuffer(0, 8, sb, textures_->materials().handle());
-  d.writeBuffer(0, 9, sb, draws_.handle());
-  d.writeBuffer(0, 10, sb, triangleDraw_.handle());
-  // Without hits bindings 11-13 are never read; any buffer of the right type will do.
-  d.writeBuffer(0, 11, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
-  d.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
-  d.writeBuffer(0, 13, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
-  d.writeBuffer(0, 14, sb, directions_.handle());
-  d.writeBuffer(0, 15, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-  d.writeBuffer(0, 16, sb, idBase_.handle());
-  d.writeBuffer(0, 17, sb, (withPhotons ? t.photons : placeholder_).handle());
-  d.writeBuffer(0, 18, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
-  d.writeBuffer(0, 19, sb, faces_.handle());
-  d.writeImage(0, 20, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(), VK_IMAGE_LAYOUT_GENERAL);
+  d.writeAccelerationStructure(0, HB_SURFACE_TLAS, in_.tlas);
+  d.writeBuffer(0, HB_INDIRECT_VERTICES, sb, gpuScene_.vertices().handle());
+  d.writeBuffer(0, HB_INDIRECT_SCENE_INDICES, sb, gpuScene_.indices().handle());
+  d.writeBuffer(0, HB_INDIRECT_MATERIALS, sb, textures_->materials().handle());
+  d.writeBuffer(0, HB_INDIRECT_DRAWS, sb, draws_.handle());
+  d.writeBuffer(0, HB_INDIRECT_TRIANGLE_DRAWS, sb, triangleDraw_.handle());
+  // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
+  d.writeBuffer(0, HB_SURFACE_HIT_IDS, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
+  d.writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
+  d.writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_DIRECTIONS, sb, directions_.handle());
+  d.writeBuffer(0, HB_SURFACE_LDM_MAPS, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_ID_BASE, sb, idBase_.handle());
+  d.writeBuffer(0, HB_INDIRECT_PHOTONS, sb, (withPhotons ? t.photons : placeholder_).handle());
+  d.writeBuffer(0, HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+  d.writeBuffer(0, HB_INDIRECT_FACES, sb, faces_.handle());
+  d.writeImage(0, HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(),
+               VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_->images().size(); ++i)
-    d.writeImage(0, 21, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
+    d.writeImage(0, HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler(), i);
   t.sets = std::move(sets);
   return t;

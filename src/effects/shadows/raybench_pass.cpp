@@ -1,5 +1,7 @@
 #include "effects/shadows/raybench_pass.h"
 
+#include "shared/bindings.h"
+
 namespace hb {
 
 RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
@@ -14,26 +16,27 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
               const VkShaderStageFlags st = backend == ShadowBackend::RayQuery
                                                 ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                                                 : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
-              return std::vector<Binding>{{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
-                                          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {6, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
-                                          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
+              return std::vector<Binding>{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
+                                          {HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                          {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
+                                          {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                          {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
             }()),
       compute_(ctx) {
-  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
-  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
-  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
-  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
-  sets_.writeAccelerationStructure(0, 6, in.tlas);
-  sets_.writeImage(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
+                   VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
+  sets_.writeAccelerationStructure(0, HB_RAYBENCH_TLAS, in.tlas);
+  sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
   const SpecConstants spec{{shadows.settings().listMode}};
   if (backend == ShadowBackend::RayQuery) {
     compute_.createLayout({sets_.layout()}, 0);

@@ -4,6 +4,7 @@
 
 #include "base/errors.h"
 #include "gpu/rt_pipeline.h"
+#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -30,20 +31,20 @@ VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, 
 }
 
 std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
-  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-          {5, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {7, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {8, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-          {13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
+  return {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {HB_SHADOW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SHADOW_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+          {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
+          {HB_SHADOW_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SHADOW_ACCOUNTING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {HB_SHADOW_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {HB_SHADOW_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+          {HB_SHADOW_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+          {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+          {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
 }
 
 VkShaderStageFlags stagesFor(ShadowBackend b) {
@@ -93,28 +94,31 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   if (settings.backend == ShadowBackend::Pipeline && !ctx.info().rayTracingPipeline)
     throw InputError("backend=pipeline: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
-  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
-  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
-  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
-  sets_.writeImage(0, 4, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
+  sets_.writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, HB_SHADOW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, HB_SHADOW_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
+  sets_.writeBuffer(0, HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
+  sets_.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-  sets_.writeAccelerationStructure(0, 5, in.tlas);
+  sets_.writeAccelerationStructure(0, HB_SURFACE_TLAS, in.tlas);
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
     throw InputError(
         "world_pos=hit and normal_culling=geometric need the triangle ids of a computed primary "
         "visibility: set primary=3dr, 3dr-binned, 2dr or raycast");
-  // Without them bindings 11-13 are never read; any buffer of the right type will do.
-  sets_.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.hitIds ? in.hitIds : in.lights)->handle());
-  sets_.writeBuffer(0, 12, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (in.hitRays ? in.hitRays : in.frameConstants)->handle());
-  sets_.writeBuffer(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  // Without them the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
+  sets_.writeBuffer(0, HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.hitIds ? in.hitIds : in.lights)->handle());
+  sets_.writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+                    (in.hitRays ? in.hitRays : in.frameConstants)->handle());
+  sets_.writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.hitTriangles ? in.hitTriangles : in.lights)->handle());
-  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
-  sets_.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
+  sets_.writeBuffer(0, HB_SHADOW_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, visibility_.handle());
+  sets_.writeBuffer(0, HB_SHADOW_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, traced_.handle());
   const Image* images[3] = {&accounting_, &normals_, &positions_};
+  const uint32_t imageBindings[3] = {HB_SHADOW_ACCOUNTING, HB_SHADOW_NORMALS, HB_SHADOW_POSITIONS};
   for (uint32_t i = 0; i < 3; ++i)
-    sets_.writeImage(0, 7 + i, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
+    sets_.writeImage(0, imageBindings[i], VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
   analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {

@@ -7,6 +7,7 @@
 #include "base/errors.h"
 #include "gpu/raster_pipeline.h"
 #include "reference/ldm_ref.h"
+#include "shared/bindings.h"
 
 namespace hb {
 
@@ -14,14 +15,14 @@ namespace {
 std::vector<Binding> bindingsFor(LdmBuildMethod method) {
   if (method == LdmBuildMethod::Raster3d) {
     const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    return {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+    return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+            {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+            {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+            {HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
   }
-  return {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
-          {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}};
+  return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
+          {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
+          {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}};
 }
 }  // namespace
 
@@ -59,11 +60,11 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     throw InputError("device \"" + ctx.info().name +
                      "\" has no fp64 in shaders, which ldm_build=3dr needs at shared "
                      "vertices: use ldm_build=hardware");
-  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
+  sets_.writeBuffer(0, HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
   const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
   linksAddress_ = uploadBuffer(ctx, &address, sizeof address, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
-  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+  sets_.writeBuffer(0, HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
+  sets_.writeBuffer(0, HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
   const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64
                           : list == LdmList::Cas ? gpu::kLdmListCas
@@ -80,7 +81,7 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     if (tris.empty()) tris.emplace_back(0.0f);
     triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                               MemClass::Geometry);
-    sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
+    sets_.writeBuffer(0, HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
   }
   auto makeBuild = [&](Pipeline& p, uint32_t phase) {
     if (method == LdmBuildMethod::Raster3d) {
@@ -113,12 +114,13 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   blockSums_ = Buffer(ctx, std::max<uint32_t>(blocks, 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                       MemClass::Other);
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  scanSets_ = std::make_unique<DescriptorSets>(ctx, std::vector<Binding>{{1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-                                                                         {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                                                                         {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}});
-  scanSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
-  scanSets_->writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-  scanSets_->writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, blockSums_.handle());
+  scanSets_ = std::make_unique<DescriptorSets>(
+      ctx, std::vector<Binding>{{HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+                                {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+                                {HB_LDM_BLOCK_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}});
+  scanSets_->writeBuffer(0, HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
+  scanSets_->writeBuffer(0, HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+  scanSets_->writeBuffer(0, HB_LDM_BLOCK_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, blockSums_.handle());
   for (uint32_t stage = 0; stage < 4; ++stage) {
     scan_[stage] = std::make_unique<Pipeline>(ctx);
     scan_[stage]->createLayout({scanSets_->layout()}, 0);

@@ -21,9 +21,9 @@ std::vector<Binding> cullingBindings() {
   // Every binding of the set is a storage buffer but the frame constants and the sampled depth.
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
   std::vector<Binding> b;
-  for (uint32_t i = 0; i < gpu::kCullBindingCount; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b[gpu::kCullFrame].type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-  b[gpu::kCullDepth].type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  for (uint32_t i = 0; i < HB_CULL_BINDING_COUNT; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
+  b[HB_CULL_FRAME].type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+  b[HB_CULL_DEPTH].type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   return b;
 }
 }  // namespace
@@ -73,18 +73,18 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
                      std::to_string(settings.zbinFar) + ")");
   if (settings.depthSlices == 1 || settings.depthSlices > 32)
     throw InputError("depth_slices " + std::to_string(settings.depthSlices) + " is not 0 (off) or 2..32");
-  sets_.writeBuffer(0, gpu::kCullFrame, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
-  sets_.writeBuffer(0, gpu::kCullLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lights.handle());
-  sets_.writeBuffer(0, gpu::kCullFrustums, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frustums_.handle());
-  sets_.writeBuffer(0, gpu::kCullGrid, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_.handle());
-  sets_.writeBuffer(0, gpu::kCullIndices, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, indices_.handle());
-  sets_.writeImage(0, gpu::kCullDepth, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth.view(),
+  sets_.writeBuffer(0, HB_CULL_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
+  sets_.writeBuffer(0, HB_CULL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lights.handle());
+  sets_.writeBuffer(0, HB_CULL_FRUSTUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frustums_.handle());
+  sets_.writeBuffer(0, HB_CULL_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_.handle());
+  sets_.writeBuffer(0, HB_CULL_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, indices_.handle());
+  sets_.writeImage(0, HB_CULL_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth.view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, sampler);
-  sets_.writeBuffer(0, gpu::kCullSortedLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sortedLights_.handle());
-  sets_.writeBuffer(0, gpu::kCullOrder, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
-  sets_.writeBuffer(0, gpu::kCullExtents, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
-  sets_.writeBuffer(0, gpu::kCullViewLights, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewLights_.handle());
-  sets_.writeBuffer(0, gpu::kCullViewSpheres, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewSpheres_.handle());
+  sets_.writeBuffer(0, HB_CULL_SORTED_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sortedLights_.handle());
+  sets_.writeBuffer(0, HB_CULL_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
+  sets_.writeBuffer(0, HB_CULL_EXTENTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
+  sets_.writeBuffer(0, HB_CULL_VIEW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewLights_.handle());
+  sets_.writeBuffer(0, HB_CULL_VIEW_SPHERES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewSpheres_.handle());
   frustumPipeline_.createLayout({sets_.layout()}, 4);
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);

@@ -10,6 +10,7 @@
 #include "base/errors.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
+#include "shared/bindings.h"
 
 namespace hb {
 
@@ -82,14 +83,16 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
 }
 
 namespace {
-std::vector<Binding> storageBindings(uint32_t count, VkShaderStageFlags stages) {
-  std::vector<Binding> b{{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
-  for (uint32_t i = 1; i < count; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+// Bindings [0, count): storage buffers but the uniform constants.
+std::vector<Binding> storageBindings(uint32_t count, uint32_t constants, VkShaderStageFlags stages) {
+  std::vector<Binding> b;
+  for (uint32_t i = 0; i < count; ++i)
+    b.push_back({i, i == constants ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
   return b;
 }
 std::vector<Binding> castBindings(VkShaderStageFlags stages) {
-  std::vector<Binding> b = storageBindings(6, stages);
-  b[3] = {3, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  std::vector<Binding> b = storageBindings(HB_CAST_BINDING_COUNT, HB_CAST_CONSTANTS, stages);
+  b[HB_CAST_TLAS] = {HB_CAST_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
   return b;
 }
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
@@ -108,8 +111,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       width_(width),
       height_(height),
       triangleCount_(uint32_t(scene.triangleCount())),
-      rasterSets_(ctx, storageBindings(9, VK_SHADER_STAGE_COMPUTE_BIT)),
-      resolveSets_(ctx, storageBindings(3, VK_SHADER_STAGE_COMPUTE_BIT)),
+      rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
+      resolveSets_(
+          ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
   if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
     throw DeviceError("device \"" + ctx.info().name +
@@ -129,9 +133,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
-  resolveSets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-  resolveSets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-  resolveSets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");
 
@@ -144,12 +148,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
     castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
-    castSets_->writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-    castSets_->writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-    castSets_->writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
-    castSets_->writeAccelerationStructure(0, 3, rayCast.tlas);
-    castSets_->writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-    castSets_->writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
+    castSets_->writeBuffer(0, HB_CAST_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
+    castSets_->writeBuffer(0, HB_CAST_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+    castSets_->writeBuffer(0, HB_CAST_ID_BASE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
+    castSets_->writeAccelerationStructure(0, HB_CAST_TLAS, rayCast.tlas);
+    castSets_->writeBuffer(0, HB_CAST_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+    castSets_->writeBuffer(0, HB_CAST_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
     if (rayCast.rayQuery) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
@@ -174,10 +178,14 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   const bool binned = mode == PrimaryMethod::Raster3dBinned;
   bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
-  const Buffer* bufs[] = {&constants_, &triangles_, &vis_, &big_, &counters_, &coverage_, &tested_, &bins_, &binList_};
-  for (uint32_t b = 0; b < 9; ++b)
-    rasterSets_.writeBuffer(0, b, b == 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                            bufs[b]->handle());
+  const std::pair<uint32_t, const Buffer*> bufs[] = {
+      {HB_R3D_CONSTANTS, &constants_}, {HB_R3D_TRIANGLES, &triangles_}, {HB_R3D_VISIBILITY, &vis_},
+      {HB_R3D_ITEMS, &big_},           {HB_R3D_COUNTERS, &counters_},   {HB_R3D_COVERAGE, &coverage_},
+      {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_}};
+  for (const auto& [b, buf] : bufs)
+    rasterSets_.writeBuffer(
+        0, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+        buf->handle());
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
   const std::vector<std::pair<const char*, uint32_t>> stages =

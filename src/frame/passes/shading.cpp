@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "frame/passes/depth_prepass.h"
 #include "gpu/raster_pipeline.h"
+#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -15,18 +16,18 @@ namespace hb {
 namespace {
 std::vector<Binding> shadingBindings() {
   const VkShaderStageFlags fs = VK_SHADER_STAGE_FRAGMENT_BIT;
-  return {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
-          {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
-          {11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
+  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
+          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
+          {HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
+          {HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
 
@@ -50,28 +51,30 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
       dummyVisibility_(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
       sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
       layout_(ctx) {
-  sets_.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  sets_.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
+  sets_.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
   // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
-  sets_.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
-  sets_.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.indices ? in.indices : in.lights)->handle());
-  sets_.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  sets_.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
+  sets_.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.indices ? in.indices : in.lights)->handle());
+  sets_.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.visibility ? in.visibility : &dummyVisibility_)->handle());
-  sets_.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  sets_.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  sets_.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  // Without a visibility buffer binding 8 is never read (ID_MATCH = 0); any buffer will do.
-  sets_.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  sets_.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  sets_.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  sets_.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  // Without a visibility buffer HB_SHADE_FRAG_VISIBILITY_IDS is never read (ID_MATCH = 0); any buffer
+  // will do.
+  sets_.writeBuffer(0, HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.visibilityIds ? in.visibilityIds : &scene.indices())->handle());
-  // Without ambient occlusion binding 9 is never read (frame.ambient.w = 0); any buffer will do.
-  sets_.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  // Without ambient occlusion HB_SHADE_FRAG_AO is never read (frame.ambient.w = 0); any buffer will do.
+  sets_.writeBuffer(0, HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                     (in.ambientOcclusion ? in.ambientOcclusion : &scene.indices())->handle());
-  // Without indirect light binding 10 is never read (INDIRECT = 0); the 1x1 R32_UINT image stands
-  // in only where the format matches, so a 1x1 RGBA32F one does.
-  sets_.writeImage(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (in.indirect ? in.indirect : &dummyIndirect_)->view(),
-                   VK_IMAGE_LAYOUT_GENERAL);
+  // Without indirect light HB_SHADE_FRAG_INDIRECT is never read (INDIRECT = 0); the 1x1 R32_UINT image
+  // stands in only where the format matches, so a 1x1 RGBA32F one does.
+  sets_.writeImage(0, HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                   (in.indirect ? in.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, 11, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    sets_.writeImage(0, HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
   if (in.visbuffer) {
@@ -137,21 +140,23 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
 namespace {
 std::vector<Binding> visbufferBindings() {
   const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  std::vector<Binding> b = {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-                            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                            {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                            {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                            {4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
-  for (uint32_t i = 5; i <= 8; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b.push_back({9, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs});
-  b.push_back({10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b.push_back({11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b.push_back({12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
-  b.push_back({13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
-  b.push_back({14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b.push_back({15, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs});
-  b.push_back({16, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true});
-  return b;
+  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
+          {HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+          {HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true}};
 }
 }  // namespace
 
@@ -165,27 +170,29 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   vbSets_ = std::make_unique<DescriptorSets>(ctx, visbufferBindings(), 1, uint32_t(textures_.images().size()));
   DescriptorSets& v = *vbSets_;
-  v.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  v.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
-  v.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
-  v.writeBuffer(0, 3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.indices ? in_.indices : in_.lights)->handle());
-  v.writeBuffer(0, 4, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+  v.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
+  v.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
+  v.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
+  v.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                (in_.indices ? in_.indices : in_.lights)->handle());
+  v.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                 (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
-  v.writeBuffer(0, 5, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  v.writeBuffer(0, 6, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  v.writeBuffer(0, 7, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  v.writeBuffer(0, 8, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
-  v.writeBuffer(0, 9, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
-  v.writeBuffer(0, 10, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
-  v.writeBuffer(0, 11, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
-  v.writeImage(0, 12, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeImage(0, 13, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeBuffer(0, 14, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
-  v.writeImage(0, 15, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, (in_.indirect ? in_.indirect : &dummyIndirect_)->view(),
+  v.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
+  v.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
+  v.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
+  v.writeBuffer(0, HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
+  v.writeBuffer(0, HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
+  v.writeBuffer(0, HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
+  v.writeBuffer(0, HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
+  v.writeImage(0, HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
+  v.writeImage(0, HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(),
                VK_IMAGE_LAYOUT_GENERAL);
+  v.writeBuffer(0, HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
+  v.writeImage(0, HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+               (in_.indirect ? in_.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    v.writeImage(0, 16, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
+    v.writeImage(0, HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
