@@ -13,6 +13,10 @@ layout(constant_id = 3) const uint SLICES = 0;   // 2..32: the 2.5D slab test (c
 // kList*: tile writes the capped index list, bitmask and zbin the tile's mask words (zbin: over the
 // depth-sorted lights of HB_CULL_SORTED_LIGHTS).
 layout(constant_id = 4) const uint LIST_MODE = 0;
+// 1: few lights (frame/passes/light_culling.h kInlineViewMaxLights): each tile puts them in view
+// space itself, as before light_view.comp existed, which saves that pass and its barrier; the
+// same toViewLight on the same operands, so the same decisions. Not with zbin (sorted lights).
+layout(constant_id = 5) const uint INLINE_VIEW = 0;
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
 layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
@@ -124,11 +128,20 @@ void main() {
     planes[4] = nearPlane(sZNear);
     planes[5] = farPlane(sZFar);
     for (uint i = local; i < lightCount; i += groupSize) {
-      const vec4 sphere = viewSpheres[i];
+      GpuViewLight viewLight;
+      vec4 sphere;
+      if (INLINE_VIEW == 1) {
+        viewLight = toViewLight(lights[i], frame.view);
+        sphere = vec4(viewLight.positionRange.xyz,
+                      viewLight.type == kLightDirectional ? uintBitsToFloat(0x7F800000u) : viewLight.positionRange.w);
+      } else {
+        sphere = viewSpheres[i];
+      }
       bool keep = true;
       for (int p = 0; p < 6; ++p) keep = keep && !sphereOutsidePlane(planes[p], sphere.xyz, sphere.w);
       if (AABB == 1) keep = keep && sphereOverlapsAabb(sAabbMin, sAabbMax, sphere.xyz, sphere.w);
-      if (keep && lightTouchesTile(viewLights[i], sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask))
+      if (keep && INLINE_VIEW == 0) viewLight = viewLights[i];  // after the sphere: 48 bytes only where it passes
+      if (keep && lightTouchesTile(viewLight, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask))
         atomicOr(sKept[i / 32], 1u << (i % 32));
     }
   }

@@ -19,6 +19,10 @@ layout(constant_id = 4) const uint ID_MATCH = 0;
 layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (HB_SHADE_FRAG_INDIRECT)
 
 layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
+// What a frame does not use costs it nothing (frame/passes/shading.h ShadingInputs):
+layout(constant_id = 7) const uint AMBIENT = 0;      // 1: ambient occlusion runs (the ambient term)
+layout(constant_id = 8) const uint ONE_WORD = 1;     // 1: at most 32 lights a pixel, one visibility word
+layout(constant_id = 9) const uint PERSPECTIVE = 1;  // 1: a perspective view, v = the eye minus the point
 
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = HB_SHADE_FRAG_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
@@ -28,6 +32,12 @@ layout(set = 0, binding = HB_SHADE_FRAG_AO) readonly buffer AmbientOcclusion { f
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"
+
+// ... towards the viewer (camera_ray.glsl.inc; a perspective view without its orthographic branch).
+vec3 shadeDirect(ivec2 p, vec3 worldPos, vec3 n, vec3 base, float metallic, float roughness) {
+  const vec3 v = PERSPECTIVE == 1 ? normalize(frame.cameraPos.xyz - worldPos) : towardsViewer(frame, worldPos);
+  return shadeDirectView(p, worldPos, v, n, base, metallic, roughness);
+}
 
 layout(location = 0) in vec3 inWorldPos;
 layout(location = 1) in vec3 inNormal;

@@ -18,6 +18,8 @@ layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
+layout(constant_id = 6) const uint AMBIENT = 0;     // 1: ambient occlusion runs (the ambient term)
+layout(constant_id = 7) const uint ONE_WORD = 1;    // 1: at most 32 lights a pixel, one visibility word
 
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = HB_SHADE_VB_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel

@@ -133,6 +133,11 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
                    r.buffer(res::kVisibilityRays),
                    r.buffer(res::kAmbientOcclusion),
                    r.image(res::kIndirectIrradiance)};
+  // What this frame does not use is specialised away (shading.h): the shadow pass's words per
+  // pixel (tile lists hold at most 32 lights; masks and z-bins one bit per scene light), the view.
+  const uint32_t listMode = lists ? f.constants.lists.x : gpu::kListTile;
+  in.visibilityWords = lists && listMode == gpu::kListTile ? 1u : (f.constants.lightCount + 31u) / 32u;
+  in.perspective = f.proj[3][3] != 1.0f;
   shading_ = std::make_unique<ShadingPass>(f.ctx, f.gpuScene, s.width, s.height, in);
   f.resources.publish(res::kColor, shading_->color(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
   f.resources.publish(res::kRefNormals, shading_->refNormals(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);

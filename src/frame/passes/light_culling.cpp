@@ -89,10 +89,12 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   frustumPipeline_.createCompute("tile_frustums.comp");
   cullPipeline_.createLayout({sets_.layout()}, 4);
   // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test,
-  // 3 depth slices, 4 list form.
+  // 3 depth slices, 4 list form, 5 lights put in view space by each tile (few lights).
+  inlineView_ =
+      settings.lightCulling && settings.lists != LightLists::Zbin && settings.lightCount <= kInlineViewMaxLights;
   cullPipeline_.createCompute("light_cull.comp",
                               {{settings.tileSize, settings.lightCulling ? 1u : 0u, settings.aabb ? 1u : 0u,
-                                settings.depthSlices, listModeOf(settings.lists)}});
+                                settings.depthSlices, listModeOf(settings.lists), inlineView_ ? 1u : 0u}});
   viewPipeline_.createLayout({sets_.layout()}, 4);
   viewPipeline_.createCompute("light_view.comp", {{listModeOf(settings.lists)}});
   if (settings.lists == LightLists::Zbin) {
@@ -148,7 +150,7 @@ void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const
     computeToCompute();
     dispatch(cmd, binPipeline_, lightCount, gpu::kZBins / 256);
   }
-  if (settings_.lightCulling) {  // the lights in view space, then every tile tests them
+  if (settings_.lightCulling && !inlineView_) {  // the lights in view space, then every tile tests them
     dispatch(cmd, viewPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 63) / 64));
     computeToCompute();
   }

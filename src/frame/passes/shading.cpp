@@ -106,7 +106,8 @@ ShadingPass::~ShadingPass() {
 VkPipeline ShadingPass::createPipeline(bool analysis) {
   ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
-                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode}};
+                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode, in_.ambientOcclusion ? 1u : 0u,
+                      in_.visibilityWords <= 1 ? 1u : 0u, in_.perspective ? 1u : 0u}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -198,8 +199,9 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
     p->createLayout({v.layout()}, 0);
-    p->createCompute("shading_visbuffer.comp", {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis,
-                                                 in_.indirect ? 1u : 0u, in_.listMode}});
+    p->createCompute("shading_visbuffer.comp",
+                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u,
+                       in_.listMode, in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u}});
   }
 }
 

@@ -37,6 +37,11 @@ struct ShadingInputs {
   // The indirect light's irradiance (IndirectPass::irradiance, RGBA32F, GENERAL layout), or null:
   // added as albedo·(1 − metallic)/π·E.
   const Image* indirect = nullptr;
+  // Visibility words per pixel the shadow pass writes (1 for tile lists or at most 32 lights):
+  // with 1 the word is read once before the light walk (a specialisation constant).
+  uint32_t visibilityWords = 1;
+  // A perspective view: the view vector needs no orthographic branch (a specialisation constant).
+  bool perspective = true;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
