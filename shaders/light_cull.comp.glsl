@@ -128,18 +128,18 @@ void main() {
     planes[4] = nearPlane(sZNear);
     planes[5] = farPlane(sZFar);
     for (uint i = local; i < lightCount; i += groupSize) {
+      // Few lights (INLINE_VIEW): the full test alone, on the light put in view space here, as
+      // before the sphere-first test (which repeats part of the full one, a cost only many lights
+      // repay). Many: the range sphere first, the rest of the light only where it passes.
       GpuViewLight viewLight;
-      vec4 sphere;
+      bool keep = true;
       if (INLINE_VIEW == 1) {
         viewLight = toViewLight(lights[i], frame.view);
-        sphere = vec4(viewLight.positionRange.xyz,
-                      viewLight.type == kLightDirectional ? uintBitsToFloat(0x7F800000u) : viewLight.positionRange.w);
       } else {
-        sphere = viewSpheres[i];
+        const vec4 sphere = viewSpheres[i];
+        for (int p = 0; p < 6; ++p) keep = keep && !sphereOutsidePlane(planes[p], sphere.xyz, sphere.w);
+        if (AABB == 1) keep = keep && sphereOverlapsAabb(sAabbMin, sAabbMax, sphere.xyz, sphere.w);
       }
-      bool keep = true;
-      for (int p = 0; p < 6; ++p) keep = keep && !sphereOutsidePlane(planes[p], sphere.xyz, sphere.w);
-      if (AABB == 1) keep = keep && sphereOverlapsAabb(sAabbMin, sAabbMax, sphere.xyz, sphere.w);
       if (keep && INLINE_VIEW == 0) viewLight = viewLights[i];  // after the sphere: 48 bytes only where it passes
       if (keep && lightTouchesTile(viewLight, sFrustum, sZNear, sZFar, sAabbMin, sAabbMax, AABB == 1, SLICES, sSliceScale, sDepthMask))
         atomicOr(sKept[i / 32], 1u << (i % 32));

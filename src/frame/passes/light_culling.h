@@ -43,7 +43,8 @@ struct CullingOutputs {
 
 // Up to this many lights, each tile puts the lights in view space itself instead of reading
 // light_view.comp's output: at the thesis's 10 lights that pass and its barrier cost more than the
-// transforms they save (H100, issue #30: light culling 0.046 ms before light_view, 0.057 ms after).
+// transforms they save (H100, issue #30, results/h100/bisect-30: the sphere-first test of 4b3dc94
+// made 10 lights cost 0.057 ms where they had cost 0.046).
 // Beyond it (many lights) light_view runs once per frame, and each tile reads range spheres first.
 constexpr uint32_t kInlineViewMaxLights = 32;
 
