@@ -41,10 +41,9 @@ struct CullingOutputs {
   uint32_t tilesX = 0, tilesY = 0;
 };
 
-// Up to this many lights, each tile puts the lights in view space itself instead of reading
-// light_view.comp's output: at the thesis's 10 lights that pass and its barrier cost more than the
-// transforms they save (H100, issue #30, results/h100/bisect-30: the sphere-first test of 4b3dc94
-// made 10 lights cost 0.057 ms where they had cost 0.046).
+// Up to this many lights, each tile puts the lights in view space itself and runs the full test
+// alone: at the thesis's 10 lights the sphere-first test (4b3dc94), which repeats part of the full
+// one, and the light_view pass cost more than they save (issue #30, results/h100/bisect-30).
 // Beyond it (many lights) light_view runs once per frame, and each tile reads range spheres first.
 constexpr uint32_t kInlineViewMaxLights = 32;
 
