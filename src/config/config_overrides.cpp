@@ -37,7 +37,9 @@ void setEverywhere(Json& doc, const std::string& key, const Json& value, const s
 
 void setEffect(Json& doc, const std::string& set) {
   const EffectsLayer layer = parseEffectSet(set);  // checks it: "--set shadows=maybe: ..."
-  for (const auto& [effect, value] : layer.object.items()) {
+  for (auto it = layer.object.begin(); it != layer.object.end(); ++it) {
+    const std::string effect = it.key();  // named: clang cannot capture structured bindings
+    const nlohmann::json value = it.value();
     if (!doc.contains("effects") || !doc["effects"].is_object()) doc["effects"] = Json::object();
     doc["effects"][effect] = Json(value);
     auto inParams = [&](Json& params) {
