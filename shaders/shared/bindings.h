@@ -143,4 +143,9 @@
 #define HB_CAST_COVERAGE 5u    // analysis: 1 where the pixel's ray hit
 #define HB_CAST_BINDING_COUNT 6u
 
+// The device's own ceilings (gpu/peaks.cpp): peaks/peaks.comp and peaks/peaks_atomic64.comp.
+#define HB_PEAKS_SRC 0u  // the buffer read (read, copy)
+#define HB_PEAKS_DST 1u  // the buffer written (write, copy, atomics, the sink of read and FMA)
+#define HB_PEAKS_BINDING_COUNT 2u
+
 #endif

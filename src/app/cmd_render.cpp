@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -16,7 +17,9 @@
 #include "base/text_format.h"
 #include "config/config.h"
 #include "frame/renderer.h"
+#include "gpu/peaks.h"
 #include "gpu/vk_context.h"
+#include "report/roofline.h"
 #include "scene/atrium.h"
 #include "scene/gltf/gltf_io.h"
 
@@ -124,7 +127,13 @@ int cmdRender(const RenderOptions& options) {
   report["frame_minus_passes_ms"] = frameMinusPassesMs(timing.frameMs, timing.passMs);
   nlohmann::json context = runContext(ctx, scene);
   context["resolution"] = {settings.width, settings.height};
+  bool peaksCached = false;
+  const Peaks peaks = cachedPeaks(ctx, &peaksCached);  // the device's ceilings (gpu/peaks.h)
+  context["device"]["peaks"] = toJson(peaks, ctx.info());
+  context["device"]["peaks"]["from_cache"] = peaksCached;
   report["context"] = context;
+  report["roofline"] =
+      rooflineOf(renderer, report, std::map<std::string, double>(timing.passMs.begin(), timing.passMs.end()), peaks);
   report["params"] = toJson(params);
   report["camera"] = {{"source", scene.cameraSource}, {"name", scene.cameras.front().name}};
   report["lights"] = {{"source", scene.lightsSource}, {"count", scene.lights.size()}};
@@ -139,6 +148,12 @@ int cmdRender(const RenderOptions& options) {
   std::printf("%-20s %9.3f ms (GPU timestamps, one frame after a warm-up frame)\n", "frame", timing.frameMs);
   std::printf("%-20s %9.3f ms (barriers and gaps between passes)\n", "frame - passes",
               frameMinusPassesMs(timing.frameMs, timing.passMs));
+  for (const auto& [pass, r] : report["roofline"].items())
+    std::printf(
+        "roofline %-18s %s: %s of %s%s\n", pass.c_str(), r["unit"].get<std::string>().c_str(),
+        formatRate(r["achieved_per_s"].get<double>(), r["unit"]).c_str(),
+        r["peak_per_s"].get<double>() > 0 ? formatRate(r["peak_per_s"].get<double>(), r["unit"]).c_str() : "no peak",
+        r["fraction"].is_number() ? format(" (%.1f %%)", 100 * r["fraction"].get<double>()).c_str() : "");
   if (context.contains("timing_caveat"))
     std::printf("caveat: %s\n", context["timing_caveat"].get<std::string>().c_str());
   for (const EffectState& e : renderer.plan().effects)

@@ -12,6 +12,7 @@
 #include "report/all_tables.h"
 #include "report/compare.h"
 #include "report/results_json.h"
+#include "report/roofline.h"
 #include "report/tables.h"
 
 namespace hb {
@@ -76,10 +77,13 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     std::cout << thesisTablesCsv(results);
   } else if (format == "svg") {
     std::cout << accuracyReportSvg(results);
+  } else if (format == "roofline-svg") {
+    std::cout << rooflineSvg(results);
   } else {
-    // As sweep writes them: tables.md, then accuracy.md.
+    // As sweep writes them: tables.md, then accuracy.md, then roofline.md.
     std::cout << allTablesMarkdown(results);
     std::cout << "\n" << accuracyReportMarkdown(results);
+    std::cout << "\n" << rooflineMarkdown(results);
   }
   // The Markdown says it in its text; a CSV or SVG cannot, so the console does.
   if (format != "md")

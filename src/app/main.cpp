@@ -21,6 +21,13 @@ int main(int argc, char** argv) {
   auto* devices = app.add_subcommand("devices", "list Vulkan devices and their ray-tracing support");
   devices->add_flag("--json", devicesJson, "machine-readable output");
 
+  bool peaksJson = false;
+  std::string peaksDevice;
+  auto* peaksCmd = app.add_subcommand(
+      "peaks", "measure the device's own ceilings: memory bandwidth, atomics, FP32 FMA, the rasterizer");
+  peaksCmd->add_option("--device", peaksDevice, "device index or name substring");
+  peaksCmd->add_flag("--json", peaksJson, "machine-readable output");
+
   RenderOptions render;
   auto* renderCmd = app.add_subcommand("render", "render one frame and write its images and statistics");
   renderCmd->add_option("config", render.config, "config file whose defaults apply");
@@ -66,8 +73,9 @@ int main(int argc, char** argv) {
       ->required();
   tablesCmd
       ->add_option("--format", tablesFormat,
-                   "md (thesis tables + accuracy-vs-time report), csv (thesis tables), svg (accuracy-vs-time plot)")
-      ->check(CLI::IsMember({"md", "csv", "svg"}));
+                   "md (thesis tables + accuracy-vs-time report + roofline table), csv (thesis tables), svg "
+                   "(accuracy-vs-time plot), roofline-svg (the roofline plot)")
+      ->check(CLI::IsMember({"md", "csv", "svg", "roofline-svg"}));
   bool tablesAllowDuplicates = false;
   tablesCmd->add_flag("--allow-duplicates", tablesAllowDuplicates,
                       "read files that hold the same variant; every row is then named with its file");
@@ -138,6 +146,7 @@ int main(int argc, char** argv) {
   try {
     gpuTimeoutSeconds();  // a malformed HYBRIDBENCH_GPU_TIMEOUT_S is bad input before anything is written
     if (*devices) return cmdDevices(devicesJson);
+    if (*peaksCmd) return cmdPeaks(peaksDevice, peaksJson);
     if (*renderCmd) {
       render.sceneGiven = sceneOpt->count() > 0;
       return cmdRender(render);

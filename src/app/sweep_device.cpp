@@ -22,6 +22,7 @@
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "gpu/vk_resources.h"
+#include "report/roofline.h"
 #include "report/stats.h"
 #include "report/tables.h"
 #include "scene/gltf/gltf_io.h"
@@ -71,7 +72,7 @@ class ReferenceCache {
 // Runs one variant; returns its run record (status ok) or throws.
 json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v, SceneCache& scenes,
                 ReferenceCache& references, const std::string& imageDir, bool images, uint32_t warmup,
-                uint32_t measured) {
+                uint32_t measured, const Peaks& peaks) {
   const Scene& scene = scenes.get(config, v.params);
   const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
   RenderSettings settings = renderSettingsFor(v.params, effectsRequestFor(config));
@@ -155,6 +156,9 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
                        {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
                        {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
   }
+  // Each timed pass against the device's own ceilings (report/roofline.h).
+  std::map<std::string, double> medianMs(medians.begin(), medians.end());
+  run["roofline"] = rooflineOf(renderer, run, medianMs, peaks);
   run["scene"] = {{"triangles", scene.triangleCount()},
                   {"lights", scene.lights.size()},
                   {"camera_source", scene.cameraSource},
@@ -256,6 +260,11 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     context["timing_caveat_shared_device"] =
         "this device also ran the sweep(s) of " + joinNames(sharing) +
         " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
+  // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
+  bool peaksCached = false;
+  const Peaks peaks = cachedPeaks(ctx, &peaksCached);
+  context["device"]["peaks"] = toJson(peaks, ctx.info());
+  context["device"]["peaks"]["from_cache"] = peaksCached;
   results["context"] = context;
   results["runs"] = json::array();
 
@@ -295,7 +304,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
       json run;
       try {
         run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(), options.images,
-                         config.warmupFrames, config.measuredFrames);
+                         config.warmupFrames, config.measuredFrames, peaks);
       } catch (const std::exception& e) {
         if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
         run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};

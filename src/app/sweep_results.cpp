@@ -10,6 +10,7 @@
 #include "base/errors.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
+#include "report/roofline.h"
 #include "report/tables.h"
 
 namespace hb {
@@ -97,6 +98,8 @@ void writeSweepOutputs(const std::string& dir, const json& results) {
   { writeFileAtomic((fs::path(dir) / "tables.md").string(), allTablesMarkdown(results)); }
   writeFileAtomic((fs::path(dir) / "accuracy.md").string(), accuracyReportMarkdown(results));
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
+  writeFileAtomic((fs::path(dir) / "roofline.md").string(), rooflineMarkdown(results));
+  writeFileAtomic((fs::path(dir) / "roofline.svg").string(), rooflineSvg(results));
 }
 
 }  // namespace hb

@@ -4,10 +4,54 @@
 #include <string>
 
 #include "base/errors.h"
+#include "frame/pass_work.h"
 
 namespace hb {
 
 // --- primary visibility -------------------------------------------------------------------------
+
+namespace {
+
+// What primary visibility by compute did, per sub-pass (raster3d.cpp's dispatches), from the
+// analysis frame's counters ("primary" in the run's record) and the frame's sizes. The scalar-op
+// counts are the paper's (Davidovic et al., Fig. 10: 57 per 3DR triangle setup, 12 per pixel
+// test), each at most one FMA issue slot.
+std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json& a, double pixels, double tiles,
+                                  bool cast, bool binned) {
+  const double setups = figureAt(a, {"primary", "triangle_setups"});
+  const double triangles = figureAt(a, {"primary", "triangles"});
+  const double tested = figureAt(a, {"primary", "pixels_tested"});
+  const double atomics = figureAt(a, {"primary", "atomics"});
+  const double entries = figureAt(a, {"primary", "list_entries"});
+  // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; the depth is then
+  // copied into the depth image (4 B read + 4 B written).
+  const WorkItem resolve = derived("bytes", 20 * pixels, "8 B visibility read + 4 B depth written + 4 + 4 B copied");
+  std::vector<PassWork> w;
+  if (cast) {
+    w.push_back({name, {derived("rays", pixels, "one primary ray per pixel"), resolve}});
+  } else {
+    const WorkItem setupOps = counted("fma", 57 * setups, "triangle setups x 57 scalar ops (paper Fig. 10)");
+    const WorkItem setupBytes = derived("bytes", 48 * triangles, "3 indices + 3 positions read a triangle");
+    const WorkItem testOps = counted("fma", 12 * tested, "pixel tests x 12 scalar ops (paper Fig. 10)");
+    const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");
+    w.push_back({name,
+                 {counted("fma", 57 * setups + 12 * tested, "setups x 57 + pixel tests x 12 (paper Fig. 10)"),
+                  visAtomics, derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve")}});
+    w.push_back({name + ".triangles", {setupOps, setupBytes}});
+    if (binned) {
+      const WorkItem listAtomics = counted("atomics", entries, "one atomicAdd per (triangle, tile) list entry");
+      w.push_back({name + ".count", {listAtomics}});
+      w.push_back(
+          {name + ".scan", {derived("bytes", 12 * tiles, "per 8x8 tile its count read, offset and cursor written")}});
+      w.push_back({name + ".fill", {listAtomics, derived("bytes", 4 * entries, "each list entry written")}});
+    }
+    w.push_back({name + ".tiles", {testOps, visAtomics}});
+  }
+  w.push_back({name + ".resolve", {resolve}});
+  return w;
+}
+
+}  // namespace
 
 PrimaryPart::PrimaryPart(FrameBuilder& f) {
   const Image& depth = f.resources.requireImage(res::kDepth);
@@ -35,6 +79,16 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
                    VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
                        VK_ACCESS_2_TRANSFER_READ_BIT);
     };
+    const double triangles = double(f.scene.triangleCount());
+    const double pixels = double(f.settings.width) * f.settings.height;
+    pass.work = [name = pass.name, triangles, pixels](const nlohmann::json&) {
+      return std::vector<PassWork>{
+          {name,
+           {derived("triangles", triangles, "every scene triangle drawn once"),
+            derived("fragments", pixels, "one per pixel (overdraw not counted)"),
+            derived("bytes", 12 * triangles + 4 * pixels,
+                    "the index buffer read and the depth written once (vertex fetches not counted)")}}};
+    };
   } else {
     RayCastInputs cast;
     if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
@@ -47,6 +101,11 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
       pass.reads = {res::kSceneVertices, res::kSceneIndices};
     pass.writes.insert(pass.writes.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
     pass.subPasses = raster3d_->subPasses();
+    pass.work = [name = pass.name, pixels = double(f.settings.width) * f.settings.height,
+                 tiles = double(raster3d_->screenTiles()), cast = f.settings.primary == PrimaryMethod::RayCast,
+                 binned = f.settings.primary == PrimaryMethod::Raster3dBinned](const nlohmann::json& a) {
+      return primaryWork(name, a, pixels, tiles, cast, binned);
+    };
     // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
     pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {
       raster3d_->record(cmd, depth, frame.analysis, frame.timer);
@@ -102,6 +161,12 @@ LightListsPart::LightListsPart(FrameBuilder& f) {
   pass.reads = {res::kFrameConstants, res::kLights, res::kDepth};
   pass.writes = {res::kListLights, res::kListGrid, res::kListIndices};
   pass.record = [this, lightCount](VkCommandBuffer cmd, const PassFrame&) { culling_->recordCulling(cmd, lightCount); };
+  pass.work = [this, pixels = double(s.width) * s.height, lights = double(lightCount)](const nlohmann::json&) {
+    const double bytes = 4 * pixels + lights * sizeof(gpu::GpuLight) + double(culling_->memoryBytes());
+    return std::vector<PassWork>{
+        {kLightCullingPass,
+         {derived("bytes", bytes, "the depth and the lights read once, the grid and lists written once")}}};
+  };
   pass.after = [](VkCommandBuffer cmd) {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
@@ -151,6 +216,19 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
     if (r.has(optional)) pass.reads.push_back(optional);
   if (!lists) pass.reads.push_back(res::kLights);
   pass.writes = {res::kColor, res::kRefNormals};
+  // Per pixel: depth (or the visibility buffer's 8 B), the shadow pass's words, the colour
+  // (RGBA16F) written; the lists, materials and textures are not counted.
+  const bool visbuffer = s.shading == ShadingMethod::Visbuffer;
+  const double perPixel =
+      (visbuffer ? 8.0 : 4.0) + 4.0 * (r.has(res::kShadowVisibility) ? in.visibilityWords : 0) + 8.0;
+  pass.work = [visbuffer, perPixel, pixels = double(s.width) * s.height](const nlohmann::json&) {
+    PassWork w{
+        kShadingPass,
+        {derived("bytes", perPixel * pixels,
+                 "per pixel its depth or visibility, shadow words and colour (lists and textures not counted)")}};
+    if (!visbuffer) w.items.push_back(derived("fragments", pixels, "one per pixel (the EQUAL depth test)"));
+    return std::vector<PassWork>{w};
+  };
   const glm::mat4 viewProj = f.proj * f.view;
   pass.record = [this, viewProj](VkCommandBuffer cmd, const PassFrame& frame) {
     shading_->record(cmd, viewProj, frame.analysis);

@@ -29,6 +29,22 @@ struct PassFrame {
   GpuTimer* timer = nullptr;  // for sub-passes (FramePass::subPasses); open: the pass's own interval
 };
 
+// The work of one timed entry (a pass or one of its sub-passes) in the analysis frame, in the units
+// of what could bound it (report/roofline.h divides it by the entry's time and the device's peak).
+// unit: "bytes" (DRAM traffic), "atomics", "atomics64", "fma" (FMA issue slots), "triangles" and
+// "fragments" (the hardware rasterizer), "rays". source says how the amount was found: "counted"
+// (a GPU counter of the analysis frame, as the run's record reports it) or "derived: <how>" (from
+// sizes; a lower bound unless it says otherwise).
+struct WorkItem {
+  std::string unit;
+  double amount = 0;
+  std::string source;
+};
+struct PassWork {
+  std::string entry;  // the timer entry: the pass's name or a sub-pass's ("raster3d.tiles")
+  std::vector<WorkItem> items;
+};
+
 struct FramePass {
   std::string name;                    // the plan's name of the pass and its timer entry
   std::vector<std::string> reads;      // frame resources it reads (FrameResources names)
@@ -39,6 +55,10 @@ struct FramePass {
   std::function<void(VkCommandBuffer)> before;
   std::function<void(VkCommandBuffer, const PassFrame&)> record;
   std::function<void(VkCommandBuffer)> after;
+  // The work of the pass and of each of its sub-passes, after an analysis frame; `analysis` is the
+  // run's record of that frame (render.json's fields: "rays", "primary", "ambient_occlusion", ...),
+  // where the counted figures are. Every timed entry has one (tests/roofline_test.cpp).
+  std::function<std::vector<PassWork>(const nlohmann::json& analysis)> work;
 };
 
 // A named resource of the frame: who owns it (a part, or the Renderer), its format and size in

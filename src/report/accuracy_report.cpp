@@ -157,12 +157,27 @@ AccuracyFront accuracyFront(const json& results) {
   return front;
 }
 
+// "shadows 97.1 % (rays)": the longest top-level pass with a roofline fraction, or "—".
+static std::string longestPassFraction(const json& run) {
+  const json& roofline = at(run, "roofline");
+  if (!roofline.is_object()) return kDash;
+  std::string best;
+  double bestMs = -1;
+  for (const auto& [pass, r] : roofline.items())
+    if (pass.find('.') == std::string::npos && r.value("fraction", json()).is_number() && r.value("ms", 0.0) > bestMs) {
+      bestMs = r.value("ms", 0.0);
+      best = pass + format(" %.1f %% (", 100 * r["fraction"].get<double>()) + r.value("unit", "") + ")";
+    }
+  return best.empty() ? kDash : best;
+}
+
 std::string accuracyReportMarkdown(const json& results) {
   const AccuracyFront front = accuracyFront(results);
   const json& runs = results["runs"];
 
-  bool anyImage = false, anyShadow = false, anyAo = false, anyIndirect = false;
+  bool anyImage = false, anyShadow = false, anyAo = false, anyIndirect = false, anyRoofline = false;
   for (const json& run : runs) {
+    anyRoofline = anyRoofline || at(run, "roofline").is_object();
     const json& acc = at(run, "accuracy");
     anyAo = anyAo || at(at(run, "ambient_occlusion"), "vs_reference").is_object();
     anyIndirect = anyIndirect || at(at(run, "indirect"), "vs_reference").is_object();
@@ -181,13 +196,15 @@ std::string accuracyReportMarkdown(const json& results) {
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
   if (anyAo) out += " | AO error (MAE vs reference)", rule += "|--:";
   if (anyIndirect) out += " | Indirect error (relMSE vs reference)", rule += "|--:";
+  if (anyRoofline) out += " | Fraction of the limit", rule += "|--:";
   out += " | Pareto |\n" + rule + "|:-:|\n";
 
   std::vector<const AccuracyPoint*> failed;
   for (size_t i = 0; i < runs.size(); ++i) {
     const json& run = runs[i];
     const AccuracyPoint& p = front.points[i];
-    const int extra = (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 1 : 0) + (anyIndirect ? 1 : 0);
+    const int extra =
+        (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 1 : 0) + (anyIndirect ? 1 : 0) + (anyRoofline ? 1 : 0);
     out += "| " + escapeCell(p.name) + " | ";
     if (!p.ok) {
       failed.push_back(&p);
@@ -214,6 +231,7 @@ std::string accuracyReportMarkdown(const json& results) {
       out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " + cell(numberAt(sm, "wrongly_lit"), "%.0f");
     if (anyAo) out += " | " + cell(numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae"), "%.4f");
     if (anyIndirect) out += " | " + cell(numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse"), "%.4f");
+    if (anyRoofline) out += " | " + escapeCell(longestPassFraction(run));
     const bool placed = std::isfinite(p.frameMs) && std::isfinite(p.error);
     out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
   }
@@ -227,7 +245,11 @@ std::string accuracyReportMarkdown(const json& results) {
          "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
          "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
          "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
-         "variant reconstructs no normals).\n";
+         "variant reconstructs no normals)." +
+         std::string(anyRoofline ? " Fraction of the limit: the frame's longest pass with a measured peak, its "
+                                   "achieved rate over the device's peak for its bound (roofline.md)."
+                                 : "") +
+         "\n";
   if (!failed.empty()) {
     out += "\nFailed runs (not on the front):\n";
     for (const AccuracyPoint* p : failed) out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";

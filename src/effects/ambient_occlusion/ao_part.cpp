@@ -5,6 +5,7 @@
 #include "base/errors.h"
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "frame/base_parts.h"
+#include "frame/pass_work.h"
 
 namespace hb {
 
@@ -30,6 +31,9 @@ AoPart::AoPart(FrameBuilder& f) {
     build.reads = {res::kSceneVertices, res::kSceneIndices};
     build.writes = {"ambient_occlusion.ldm"};
     build.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordBuild(cmd); };
+    build.work = [triangles = double(f.scene.triangleCount())](const nlohmann::json& a) {
+      return std::vector<PassWork>{{kLdmBuildPass, ldmBuildWork(a["ambient_occlusion"], triangles)}};
+    };
     passes_.push_back(std::move(build));
   }
   FramePass pass;
@@ -39,6 +43,23 @@ AoPart::AoPart(FrameBuilder& f) {
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
   pass.writes = {res::kAmbientOcclusion};
   pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordAo(cmd); };
+  pass.work = [pixels = double(f.settings.width) * f.settings.height](const nlohmann::json& a) {
+    const nlohmann::json& ao = a.contains("ambient_occlusion") ? a["ambient_occlusion"] : nlohmann::json::object();
+    const double directions = figureAt(ao, {"directions"});
+    const double lit = pixels - figureAt(ao, {"pixels_sky"}) - figureAt(ao, {"pixels_without_normal"});
+    const std::string method = ao.value("method", "");
+    WorkItem item;
+    if (method == "raytraced")
+      item = derived("rays", lit * directions, "one ray per direction per pixel with a surface");
+    else if (method == "hbao")
+      item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 4,
+                     "a 4 B depth texel per step per direction per pixel (most from cache)");
+    else if (method == "reference")
+      item = derived("rays", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
+    else
+      item = derived("bytes", lit * directions * 8, "at least one 8 B list node read per direction per pixel");
+    return std::vector<PassWork>{{kAmbientOcclusionPass, {item}}};
+  };
   passes_.push_back(std::move(pass));
 }
 

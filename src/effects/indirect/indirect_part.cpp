@@ -4,6 +4,7 @@
 
 #include "effects/indirect/indirect_effect.h"
 #include "frame/base_parts.h"
+#include "frame/pass_work.h"
 
 namespace hb {
 
@@ -18,6 +19,26 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
+  const double pixels = double(f.settings.width) * f.settings.height;
+  const double triangles = double(f.scene.triangleCount());
+  // What each pass did, from the analysis frame's "indirect" record and the frame's sizes.
+  auto workOf = [pixels, triangles](const std::string& name, const nlohmann::json& a) {
+    const nlohmann::json& in = a.contains("indirect") ? a["indirect"] : nlohmann::json::object();
+    const double slots = figureAt(in, {"split_photons", "slots"});
+    std::vector<WorkItem> items;
+    if (name == kIndirectLdmBuildPass)
+      items = ldmBuildWork(in, triangles);
+    else if (name == kPhotonTracePass && in.value("method", "") == "ldm")
+      items = {derived("bytes", 8 * slots, "at least one 8 B list node read per photon slot")};
+    else if (name == kPhotonTracePass)
+      items = {derived("rays", slots, "one ray per photon slot")};
+    else if (name == kPhotonSplatPass)
+      items = {derived("triangles", 2 * slots, "one quad (two triangles) per photon slot"),
+               derived("bytes", 16 * pixels + 64 * slots, "RGBA32F target written once, a 64 B photon read per slot")};
+    else
+      items = {derived("rays", pixels * figureAt(in, {"directions"}), "one gather ray per direction per pixel")};
+    return std::vector<PassWork>{{name, items}};
+  };
   auto add = [&](const char* name, std::vector<std::string> reads, std::vector<std::string> writes,
                  void (IndirectPass::*record)(VkCommandBuffer) const) {
     FramePass pass;
@@ -25,6 +46,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     pass.reads = std::move(reads);
     pass.writes = std::move(writes);
     pass.record = [this, record](VkCommandBuffer cmd, const PassFrame&) { (indirect_.get()->*record)(cmd); };
+    pass.work = [workOf, name = std::string(name)](const nlohmann::json& a) { return workOf(name, a); };
     passes_.push_back(std::move(pass));
   };
   std::vector<std::string> traceReads = surfaceReads(surface);

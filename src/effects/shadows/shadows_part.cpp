@@ -6,6 +6,7 @@
 #include "base/errors.h"
 #include "effects/shadows/shadows_effect.h"
 #include "frame/base_parts.h"
+#include "frame/pass_work.h"
 
 namespace hb {
 
@@ -52,6 +53,10 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
     pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
   pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { shadows_->record(cmd, frame.analysis); };
+  pass.work = [](const nlohmann::json& a) {
+    return std::vector<PassWork>{
+        {kShadowsPass, {counted("rays", figureAt(a, {"rays", "traced"}), "shadow rays traced (rays.traced)")}}};
+  };
   pass.after = [](VkCommandBuffer cmd) {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
                   VK_ACCESS_2_SHADER_WRITE_BIT,

@@ -71,6 +71,7 @@ class Raster3dPass {
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
   const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
   uint32_t triangleCount() const { return triangleCount_; }
+  uint32_t screenTiles() const { return screenTiles_; }  // 8 x 8-pixel tiles (3dr-binned's bins)
 
   // Readbacks (after an analysis frame).
   std::vector<uint64_t> readVisibility() const;

@@ -1,0 +1,52 @@
+// `hybridbench peaks`: the device's own ceilings (gpu/peaks.h), printed as a table or as JSON, and
+// written to the cache that sweeps and renders read (context.device.peaks).
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "app/commands.h"
+#include "base/errors.h"
+#include "base/text_format.h"
+#include "gpu/peaks.h"
+
+namespace hb {
+
+int cmdPeaks(const std::string& device, bool json) {
+  const std::vector<DeviceInfo> devices = enumerateDevices();
+  const uint32_t index = resolveDevice(devices, device.empty() ? "0" : device);
+  VulkanContext ctx(index);
+  if (!json) std::fprintf(stderr, "peaks: measuring on %s ...\n", ctx.info().name.c_str());
+  const Peaks peaks = measurePeaks(ctx);
+  const nlohmann::json j = toJson(peaks, ctx.info());
+  // The cache (gpu/peaks.h cachedPeaks) takes the fresh figures, so later sweeps use them.
+  const std::string path = peaksCachePath(ctx.info());
+  bool cached = false;
+  if (!path.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
+    std::ofstream out(path);
+    if (out) {
+      out << j.dump(2) << "\n";
+      cached = bool(out);
+    }
+  }
+  if (json) {
+    std::cout << j.dump(2) << "\n";
+  } else {
+    std::printf("%s (%s), %s\n", ctx.info().name.c_str(), j["driver"].get<std::string>().c_str(), peaks.timing.c_str());
+    std::printf("| figure | rate | median ms | what one repetition does |\n|---|---|---|---|\n");
+    for (const Peak& p : peaks.figures)
+      std::printf("| %s | %s | %.4g | %s |\n", p.key.c_str(), formatRate(p.perSecond, p.unit).c_str(),
+                  j["figures"][p.key]["ms"]["median"].get<double>(), p.description.c_str());
+    if (ctx.info().type == "cpu") std::printf("note: a CPU device: the figures are the host's, small but real\n");
+    if (cached) std::printf("cached in %s (sweeps and renders on this device and driver read it)\n", path.c_str());
+  }
+  if (ctx.validationMessages()) {
+    std::fprintf(stderr, "hybridbench: %u validation message(s)\n", ctx.validationMessages());
+    return kExitDeviceFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace hb

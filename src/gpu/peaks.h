@@ -1,0 +1,54 @@
+// The device's own ceilings (`hybridbench peaks`, docs/usage.md "peaks"): microbenchmarks of
+// memory bandwidth, atomics, FP32 FMA and the hardware rasterizer, each the median of repeated
+// timed dispatches. A pass's roofline (report/roofline.h) divides what it achieved by these.
+//
+// Timing: GPU timestamps around each repetition on a GPU; on a CPU device (lavapipe, whose
+// timestamps do not bracket compute work) the host's clock around the submission, which includes
+// the submission itself: the figures are small but real.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/vk_context.h"
+
+namespace hb {
+
+struct Peak {
+  std::string key;          // "memory_read", "atomic_add_distinct", ...
+  std::string unit;         // what is counted: "bytes", "atomics", "fma", "triangles", "fragments"
+  double perSecond = 0;     // median rate
+  double work = 0;          // units per repetition
+  std::vector<double> ms;   // each repetition's time
+  std::string description;  // what one repetition does, in words
+};
+
+struct Peaks {
+  std::vector<Peak> figures;
+  std::string timing;  // "gpu timestamps" or "host clock (CPU device)"
+  // The rate for a unit a pass counts (report/roofline.cpp): bytes -> the highest of read, write
+  // and copy; atomics -> distinct 32-bit adds; atomics64 -> atomicMin on 64 bits; fma; triangles;
+  // fragments. 0 where nothing measured it.
+  double rateFor(const std::string& unit) const;
+};
+
+// Measures every figure on ctx's device (a few seconds on a GPU, about a second on lavapipe).
+// Figures the device cannot run (64-bit atomics) are left out.
+Peaks measurePeaks(const VulkanContext& ctx);
+
+// {"version", "timing", "figures": {key: {unit, per_s, work, ms: {median, min, max, samples}, description}}}
+nlohmann::json toJson(const Peaks& peaks, const DeviceInfo& device);
+Peaks peaksFromJson(const nlohmann::json& j);
+
+// The peaks of ctx's device from the cache, keyed by device UUID and driver version (and the
+// microbenchmarks' version); measured and cached when absent. The cache folder is
+// HYBRIDBENCH_PEAKS_CACHE, else $XDG_CACHE_HOME/hybridbench/peaks, else ~/.cache/hybridbench/peaks;
+// a cache that cannot be written is skipped (the figures are still returned). *fromCache says which.
+Peaks cachedPeaks(const VulkanContext& ctx, bool* fromCache = nullptr);
+std::string peaksCachePath(const DeviceInfo& device);
+
+// "2.91 TB/s", "61.2 G fma/s", "1.05 G triangles/s": a rate in the unit a peak or pass counts.
+std::string formatRate(double perSecond, const std::string& unit);
+
+}  // namespace hb

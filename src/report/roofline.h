@@ -1,0 +1,42 @@
+// A roofline for every timed pass (docs/results-format.md "roofline"): the work a pass did in the
+// analysis frame (FramePass::work), divided by its median time, against the device's own peak for
+// that unit (gpu/peaks.h). A pass whose work has several units (bytes and triangles, say) is bound
+// by the one closest to its peak: that one is its `bound`, the others are listed under `loads`.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "frame/frame_pass.h"
+#include "gpu/peaks.h"
+
+namespace hb {
+
+// The peak per second of each unit: the device's peaks, and for "rays" the rate of the frame's own
+// shadow rays traced alone (raybench) where the run has it (0: none).
+std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS);
+
+// {entry: {bound, work, unit, ms, achieved_per_s, peak_per_s, fraction, source, loads: [...]}} for
+// every entry of `works` that has a time in medianMs. fraction is null where no peak was measured
+// for any of the entry's units (then bound is its first unit).
+nlohmann::json rooflineJson(const std::vector<PassWork>& works, const std::map<std::string, double>& medianMs,
+                            const std::map<std::string, double>& peaks);
+
+class Renderer;
+// The roofline of a run: the work every pass of the renderer declares (FramePass::work) for the
+// analysis frame recorded in `run`, against `peaks` and the run's raybench rate for rays.
+nlohmann::json rooflineOf(const Renderer& renderer, const nlohmann::json& run,
+                          const std::map<std::string, double>& medianMs, const Peaks& peaks);
+
+// Every timed entry of a run's "passes" without a roofline entry (empty: all have one).
+std::vector<std::string> entriesWithoutRoofline(const nlohmann::json& run);
+
+// The roofline of every run of a results file: a Markdown table (variant, pass, bound, achieved,
+// peak, fraction, source) and an SVG (achieved against peak on log axes, one point per pass and
+// variant, the diagonal = 100 % of the peak).
+std::string rooflineMarkdown(const nlohmann::json& results);
+std::string rooflineSvg(const nlohmann::json& results);
+
+}  // namespace hb

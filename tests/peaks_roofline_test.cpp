@@ -1,0 +1,163 @@
+// `hybridbench peaks` and the roofline every timed pass carries (docs/usage.md "peaks",
+// docs/results-format.md "roofline"), end to end through the built tool on the device present
+// (lavapipe in CI, where the figures are the host's: small but real).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tool_process.h"
+
+#ifndef HYBRIDBENCH_SOURCE_DIR
+#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using hb::testing::readFile;
+using hb::testing::RunResult;
+using nlohmann::json;
+
+class Peaks : public hb::testing::ToolTest {
+ protected:
+  void SetUp() override {
+    ToolTest::SetUp();
+    // A cache of this test's own: what `peaks` writes and a sweep then reads.
+    setenv("HYBRIDBENCH_PEAKS_CACHE", (dir / "cache").c_str(), 1);
+  }
+  void TearDown() override {
+    unsetenv("HYBRIDBENCH_PEAKS_CACHE");
+    ToolTest::TearDown();
+  }
+};
+
+// Every figure the microbenchmarks measure on any device (atomic_min_u64 where the device has
+// 64-bit buffer atomics, as lavapipe and the NVIDIA GPUs do).
+const std::vector<std::string> kFigures = {"memory_read",         "memory_write",         "memory_copy",
+                                           "atomic_add_distinct", "atomic_add_contended", "fma_fp32",
+                                           "raster_triangles",    "raster_fill",          "atomic_min_u64"};
+
+void expectPeaksShape(const json& p) {
+  EXPECT_EQ(p.value("version", 0), 1);
+  for (const char* key : {"device", "uuid", "driver", "timing"})
+    EXPECT_TRUE(p.contains(key) && p[key].is_string() && !p[key].get<std::string>().empty()) << key;
+  ASSERT_TRUE(p.contains("figures") && p["figures"].is_object());
+  std::set<std::string> keys;
+  for (const auto& [key, f] : p["figures"].items()) {
+    SCOPED_TRACE(key);
+    keys.insert(key);
+    EXPECT_FALSE(f.value("unit", "").empty());
+    EXPECT_FALSE(f.value("description", "").empty());
+    // Every figure positive and finite, and its rate the work over the median time.
+    const double perS = f.value("per_s", 0.0), work = f.value("work", 0.0);
+    EXPECT_TRUE(std::isfinite(perS) && perS > 0) << perS;
+    EXPECT_GT(work, 0);
+    ASSERT_TRUE(f.contains("ms") && f["ms"].is_object());
+    const double median = f["ms"].value("median", 0.0);
+    EXPECT_GT(median, 0);
+    EXPECT_LE(f["ms"].value("min", 0.0), median);
+    EXPECT_GE(f["ms"].value("max", 0.0), median);
+    EXPECT_GE(f["ms"]["samples"].size(), 3u);
+    EXPECT_NEAR(perS, work / (median * 1e-3), 1e-9 * perS);
+  }
+  for (const std::string& k : kFigures) EXPECT_TRUE(keys.count(k)) << "no figure " << k;
+}
+
+TEST_F(Peaks, JsonHasEveryFigurePositiveAndTheTableTheSame) {
+  const RunResult r = run({"peaks", "--json"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(r.err.find("validation"), std::string::npos) << r.err;
+  const json p = json::parse(r.out, nullptr, false);
+  ASSERT_FALSE(p.is_discarded()) << r.out;
+  expectPeaksShape(p);
+  // The cache holds what was printed.
+  std::vector<fs::path> cached;
+  for (const auto& e : fs::directory_iterator(dir / "cache")) cached.push_back(e.path());
+  ASSERT_EQ(cached.size(), 1u);
+  EXPECT_EQ(json::parse(readFile(cached[0])), p);
+
+  const RunResult table = run({"peaks"});
+  ASSERT_EQ(table.exitCode, 0) << table.err;
+  for (const std::string& k : kFigures) EXPECT_NE(table.out.find("| " + k + " |"), std::string::npos) << k;
+}
+
+TEST_F(Peaks, BadDeviceIsOneLineExit2) {
+  const RunResult r = run({"peaks", "--device", "99"});
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.err.find("--device 99"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// Every timed entry (pass and sub-pass) of every variant has a roofline entry whose figures are
+// consistent: achieved = work / ms, fraction = achieved / peak, bound the highest fraction of
+// its loads. The fixture runs one variant of each kind of pass the four measured sweeps have
+// (thesis, 3d-rasterization, layered-depth-maps, many-lights).
+TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
+  const fs::path config = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/roofline-every-pass.json";
+  const fs::path out = dir / "out";
+  const RunResult r = run({"sweep", config.string(), "--out", out.string(), "--no-images"});
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const json results = json::parse(readFile(out / "results.json"));
+  const json& peaks = results["context"]["device"]["peaks"];
+  expectPeaksShape(peaks);
+  std::set<std::string> entriesSeen;
+  for (const json& run : results["runs"]) {
+    SCOPED_TRACE(run.value("name", ""));
+    ASSERT_EQ(run.value("status", ""), "ok") << run.dump();
+    ASSERT_TRUE(run.contains("roofline"));
+    for (const auto& [entry, t] : run["passes"].items()) {
+      SCOPED_TRACE(entry);
+      entriesSeen.insert(entry);
+      ASSERT_TRUE(run["roofline"].contains(entry)) << "no roofline for a timed pass";
+      const json& rl = run["roofline"][entry];
+      for (const char* key : {"bound", "unit", "source"}) EXPECT_TRUE(rl[key].is_string()) << key;
+      EXPECT_EQ(rl["ms"].get<double>(), t["median"].get<double>());
+      EXPECT_GE(rl["work"].get<double>(), 0);
+      ASSERT_FALSE(rl["loads"].empty());
+      double best = -1;
+      for (const json& load : rl["loads"]) {
+        const double achieved = load["achieved_per_s"].get<double>();
+        if (rl["ms"].get<double>() > 0) {
+          EXPECT_NEAR(achieved, load["work"].get<double>() / (rl["ms"].get<double>() * 1e-3), 1e-9 * achieved);
+        }
+        if (load["fraction"].is_number()) {
+          EXPECT_NEAR(load["fraction"].get<double>(), achieved / load["peak_per_s"].get<double>(),
+                      1e-12 * load["fraction"].get<double>());
+          best = std::max(best, load["fraction"].get<double>());
+        }
+        const std::string source = load["source"].get<std::string>();
+        EXPECT_TRUE(source.rfind("counted: ", 0) == 0 || source.rfind("derived: ", 0) == 0) << source;
+      }
+      if (best >= 0) {
+        EXPECT_EQ(rl["fraction"].get<double>(), best);
+      }
+    }
+    // The work the analysis counted is the work the roofline divides: rays traced by the shadow pass.
+    if (run["roofline"].contains("shadows")) {
+      EXPECT_EQ(run["roofline"]["shadows"]["work"].get<double>(), run["rays"]["traced"].get<double>());
+    }
+  }
+  // Each kind of pass and sub-pass ran at least once.
+  for (const char* e :
+       {"depth_prepass", "light_culling", "shadows", "shading", "raster3d", "raster3d.triangles", "raster3d.count",
+        "raster3d.scan", "raster3d.fill", "raster3d.tiles", "raster3d.resolve", "raycast", "raycast.resolve",
+        "ldm_build", "ambient_occlusion", "indirect_ldm_build", "photon_trace", "photon_splat"})
+    EXPECT_TRUE(entriesSeen.count(e)) << e;
+  // The roofline table and plot are written beside the results, and the accuracy report names
+  // the fraction of the limit.
+  const std::string md = readFile(out / "roofline.md");
+  EXPECT_NE(md.find("| Variant | Pass | ms | Bound |"), std::string::npos) << md;
+  EXPECT_NE(readFile(out / "roofline.svg").find("<circle"), std::string::npos);
+  EXPECT_NE(readFile(out / "accuracy.md").find("Fraction of the limit"), std::string::npos);
+  const RunResult tables = run({"tables", (out / "results.json").string()});
+  ASSERT_EQ(tables.exitCode, 0) << tables.err;
+  EXPECT_NE(tables.out.find(md.substr(0, md.find('\n'))), std::string::npos);
+}
+
+}  // namespace
