@@ -144,8 +144,10 @@
 #define HB_CAST_BINDING_COUNT 6u
 
 // The device's own ceilings (gpu/peaks.cpp): peaks/peaks.comp and peaks/peaks_atomic64.comp.
-#define HB_PEAKS_SRC 0u  // the buffer read (read, copy)
-#define HB_PEAKS_DST 1u  // the buffer written (write, copy, atomics, the sink of read and FMA)
-#define HB_PEAKS_BINDING_COUNT 2u
+#define HB_PEAKS_SRC 0u     // the buffer read (read, copy)
+#define HB_PEAKS_DST 1u     // the buffer written (write, copy, atomics, the sink of read and FMA)
+#define HB_PEAKS_TLAS 2u    // peaks_rays.rgen: the scene's top-level acceleration structure
+#define HB_PEAKS_PARAMS 3u  // peaks_rays.rgen: uniform camera and bounds
+#define HB_PEAKS_BINDING_COUNT 4u
 
 #endif

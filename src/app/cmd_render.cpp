@@ -128,7 +128,8 @@ int cmdRender(const RenderOptions& options) {
   nlohmann::json context = runContext(ctx, scene);
   context["resolution"] = {settings.width, settings.height};
   bool peaksCached = false;
-  const Peaks peaks = cachedPeaks(ctx, &peaksCached);  // the device's ceilings (gpu/peaks.h)
+  Peaks peaks = cachedPeaks(ctx, &peaksCached);  // the device's ceilings (gpu/peaks.h)
+  addRayPeaks(ctx, scene, peaks);
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
   report["context"] = context;

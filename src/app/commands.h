@@ -11,8 +11,9 @@ namespace hb {
 
 int cmdDevices(bool json);
 // The device's own ceilings (gpu/peaks.h): measured afresh, printed (a table, or JSON with json),
-// and written to the peaks cache. device: index or name substring (empty: device 0).
-int cmdPeaks(const std::string& device, bool json);
+// and written to the peaks cache (without the ray rates, which are measured on `scene`: a built-in
+// name or a glTF path). device: index or name substring (empty: device 0).
+int cmdPeaks(const std::string& device, const std::string& scene, bool json);
 
 struct RenderOptions {
   std::string config;             // optional config file; its defaults apply

@@ -22,10 +22,12 @@ int main(int argc, char** argv) {
   devices->add_flag("--json", devicesJson, "machine-readable output");
 
   bool peaksJson = false;
-  std::string peaksDevice;
+  std::string peaksDevice, peaksScene = "atrium";
   auto* peaksCmd = app.add_subcommand(
       "peaks", "measure the device's own ceilings: memory bandwidth, atomics, FP32 FMA, the rasterizer");
   peaksCmd->add_option("--device", peaksDevice, "device index or name substring");
+  peaksCmd->add_option("--scene", peaksScene,
+                       "built-in scene name or .gltf/.glb path whose TLAS the ray rates use (default atrium)");
   peaksCmd->add_flag("--json", peaksJson, "machine-readable output");
 
   RenderOptions render;
@@ -146,7 +148,7 @@ int main(int argc, char** argv) {
   try {
     gpuTimeoutSeconds();  // a malformed HYBRIDBENCH_GPU_TIMEOUT_S is bad input before anything is written
     if (*devices) return cmdDevices(devicesJson);
-    if (*peaksCmd) return cmdPeaks(peaksDevice, peaksJson);
+    if (*peaksCmd) return cmdPeaks(peaksDevice, peaksScene, peaksJson);
     if (*renderCmd) {
       render.sceneGiven = sceneOpt->count() > 0;
       return cmdRender(render);

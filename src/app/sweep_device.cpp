@@ -262,7 +262,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
         " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
   // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
   bool peaksCached = false;
-  const Peaks peaks = cachedPeaks(ctx, &peaksCached);
+  Peaks peaks = cachedPeaks(ctx, &peaksCached);
+  addRayPeaks(ctx, baseScene, peaks);  // the scene's own: never cached
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
   results["context"] = context;

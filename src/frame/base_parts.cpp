@@ -28,7 +28,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   const WorkItem resolve = derived("bytes", 20 * pixels, "8 B visibility read + 4 B depth written + 4 + 4 B copied");
   std::vector<PassWork> w;
   if (cast) {
-    w.push_back({name, {derived("rays", pixels, "one primary ray per pixel"), resolve}});
+    w.push_back({name, {derived("rays_coherent", pixels, "one primary ray per pixel"), resolve}});
   } else {
     const WorkItem setupOps = counted("fma", 57 * setups, "triangle setups x 57 scalar ops (paper Fig. 10)");
     const WorkItem setupBytes = derived("bytes", 48 * triangles, "3 indices + 3 positions read a triangle");

@@ -32,7 +32,9 @@ struct PassFrame {
 // The work of one timed entry (a pass or one of its sub-passes) in the analysis frame, in the units
 // of what could bound it (report/roofline.h divides it by the entry's time and the device's peak).
 // unit: "bytes" (DRAM traffic), "atomics", "atomics64", "fma" (FMA issue slots), "triangles" and
-// "fragments" (the hardware rasterizer), "rays". source says how the amount was found: "counted"
+// "fragments" (the hardware rasterizer), "rays" (the frame's own shadow rays: against raybench),
+// "rays_coherent" (camera rays), "rays_random" and "rays_occlusion" (incoherent rays to the
+// closest hit, or ended by the first: gpu/peaks.h addRayPeaks). source says how the amount was found: "counted"
 // (a GPU counter of the analysis frame, as the run's record reports it) or "derived: <how>" (from
 // sizes; a lower bound unless it says otherwise).
 struct WorkItem {

@@ -10,8 +10,11 @@
 
 #include "base/errors.h"
 #include "base/text_format.h"
+#include "gpu/accel.h"
+#include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/raster_pipeline.h"
+#include "gpu/rt_pipeline.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "shared/bindings.h"
@@ -228,6 +231,62 @@ void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pea
 }
 
 }  // namespace
+
+void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks) {
+  if (!ctx.info().accelerationStructure || !ctx.info().rayTracingPipeline || scene.cameras.empty()) return;
+  const Sizes sizes = sizesFor(ctx.info());
+  const bool cpu = ctx.info().type == "cpu";
+  const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
+  GpuScene gpuScene(ctx, scene);
+  AccelerationStructures accel(ctx, gpuScene);
+  struct Params {
+    glm::vec4 eye, forward, right, up, lo, hi;
+  } params;
+  const Camera& camera = scene.cameras.front();
+  const glm::mat4 toWorld = glm::inverse(camera.view);
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  const float tanY = std::tan(0.5f * camera.yfov), aspect = float(width) / float(height);
+  params.eye = toWorld[3];
+  params.forward = glm::vec4(-glm::vec3(toWorld[2]), glm::length(hi - lo));  // w: tMax, the bounds' diagonal
+  params.right = glm::vec4(glm::vec3(toWorld[0]) * tanY * aspect, 0);
+  params.up = glm::vec4(glm::vec3(toWorld[1]) * tanY, 0);
+  params.lo = glm::vec4(lo, 0);
+  params.hi = glm::vec4(hi, 0);
+  const Buffer uniforms =
+      uploadBuffer(ctx, &params, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+  Buffer missed(ctx, size_t(width) * height * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+  DescriptorSets sets(ctx,
+                      {{HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR},
+                       {HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_SHADER_STAGE_RAYGEN_BIT_KHR},
+                       {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR}});
+  sets.writeBuffer(0, HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, missed.handle());
+  sets.writeAccelerationStructure(0, HB_PEAKS_TLAS, accel.tlas());
+  sets.writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
+  const char* keys[3] = {"rays_camera", "rays_random_closest", "rays_random_occlusion"};
+  const char* units[3] = {"rays_coherent", "rays_random", "rays_occlusion"};
+  const std::string where = " on " + scene.name + "'s TLAS (" + std::to_string(width) + "x" + std::to_string(height) +
+                            " rays, no hit shader)";
+  const char* what[3] = {"camera rays through every pixel, closest hit",
+                         "rays from random points of the scene's "
+                         "bounds in random directions, closest hit",
+                         "the same random rays as occlusion rays "
+                         "(first hit ends them)"};
+  for (uint32_t mode = 0; mode < 3; ++mode) {
+    RaygenMissPipeline p(ctx, sets.layout(), "peaks_rays.rgen", "shadows.rmiss", {{mode}});
+    VkDescriptorSet set = sets.set();
+    peaks.figures.push_back(makePeak(
+        keys[mode], units[mode], double(width) * height,
+        timeRepetitions(ctx, sizes,
+                        [&](VkCommandBuffer cmd) {
+                          vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
+                          vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0,
+                                                  1, &set, 0, nullptr);
+                          p.traceRays(cmd, width, height);
+                        }),
+        what[mode] + where));
+  }
+}
 
 double Peaks::rateFor(const std::string& unit) const {
   if (unit == "bytes") {

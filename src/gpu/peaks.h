@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gpu/vk_context.h"
+#include "scene/scene.h"
 
 namespace hb {
 
@@ -29,13 +30,19 @@ struct Peaks {
   std::string timing;  // "gpu timestamps" or "host clock (CPU device)"
   // The rate for a unit a pass counts (report/roofline.cpp): bytes -> the highest of read, write
   // and copy; atomics -> distinct 32-bit adds; atomics64 -> atomicMin on 64 bits; fma; triangles;
-  // fragments. 0 where nothing measured it.
+  // fragments; rays_coherent, rays_random, rays_occlusion (addRayPeaks). 0 where nothing measured it.
   double rateFor(const std::string& unit) const;
 };
 
 // Measures every figure on ctx's device (a few seconds on a GPU, about a second on lavapipe).
 // Figures the device cannot run (64-bit atomics) are left out.
 Peaks measurePeaks(const VulkanContext& ctx);
+
+// Adds the device's ray rates on `scene`'s TLAS, through the ray-tracing pipeline (a device
+// without one adds none): camera rays of a full-HD image (rays_coherent), random rays in the
+// scene's bounds to the closest hit (rays_random) and as occlusion rays (rays_occlusion). They
+// depend on the scene, so they are never cached; a sweep adds them for its scene.
+void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks);
 
 // {"version", "timing", "figures": {key: {unit, per_s, work, ms: {median, min, max, samples}, description}}}
 nlohmann::json toJson(const Peaks& peaks, const DeviceInfo& device);

@@ -12,7 +12,8 @@ using json = nlohmann::json;
 
 std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS) {
   std::map<std::string, double> rates;
-  for (const char* unit : {"bytes", "atomics", "atomics64", "fma", "triangles", "fragments"})
+  for (const char* unit : {"bytes", "atomics", "atomics64", "fma", "triangles", "fragments", "rays_coherent",
+                           "rays_random", "rays_occlusion"})
     rates[unit] = peaks.rateFor(unit);
   rates["rays"] = raybenchRaysPerS;
   return rates;

@@ -50,12 +50,12 @@ AoPart::AoPart(FrameBuilder& f) {
     const std::string method = ao.value("method", "");
     WorkItem item;
     if (method == "raytraced")
-      item = derived("rays", lit * directions, "one ray per direction per pixel with a surface");
+      item = derived("rays_occlusion", lit * directions, "one ray per direction per pixel with a surface");
     else if (method == "hbao")
       item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 4,
                      "a 4 B depth texel per step per direction per pixel (most from cache)");
     else if (method == "reference")
-      item = derived("rays", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
+      item = derived("rays_occlusion", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
     else
       item = derived("bytes", lit * directions * 8, "at least one 8 B list node read per direction per pixel");
     return std::vector<PassWork>{{kAmbientOcclusionPass, {item}}};

@@ -31,12 +31,12 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     else if (name == kPhotonTracePass && in.value("method", "") == "ldm")
       items = {derived("bytes", 8 * slots, "at least one 8 B list node read per photon slot")};
     else if (name == kPhotonTracePass)
-      items = {derived("rays", slots, "one ray per photon slot")};
+      items = {derived("rays_random", slots, "one ray per photon slot")};
     else if (name == kPhotonSplatPass)
       items = {derived("triangles", 2 * slots, "one quad (two triangles) per photon slot"),
                derived("bytes", 16 * pixels + 64 * slots, "RGBA32F target written once, a 64 B photon read per slot")};
     else
-      items = {derived("rays", pixels * figureAt(in, {"directions"}), "one gather ray per direction per pixel")};
+      items = {derived("rays_random", pixels * figureAt(in, {"directions"}), "one gather ray per direction per pixel")};
     return std::vector<PassWork>{{name, items}};
   };
   auto add = [&](const char* name, std::vector<std::string> reads, std::vector<std::string> writes,
