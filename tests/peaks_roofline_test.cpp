@@ -39,14 +39,14 @@ class Peaks : public hb::testing::ToolTest {
 
 // Every figure the microbenchmarks measure on any device (atomic_min_u64 where the device has
 // 64-bit buffer atomics, as lavapipe and the NVIDIA GPUs do).
-const std::vector<std::string> kFigures = {"memory_read",         "memory_write",         "memory_copy",
-                                           "atomic_add_distinct", "atomic_add_contended", "fma_fp32",
-                                           "raster_triangles",    "raster_fill",          "atomic_min_u64"};
+const std::vector<std::string> kFigures = {
+    "memory_read", "memory_write",     "memory_copy", "atomic_add_distinct", "atomic_add_contended",
+    "fma_fp32",    "raster_triangles", "raster_fill", "atomic_min_u64",      "dispatch_empty"};
 // On the scene's TLAS, through the ray-tracing pipeline (lavapipe and the NVIDIA GPUs have one).
 const std::vector<std::string> kRayFigures = {"rays_camera", "rays_random_closest", "rays_random_occlusion"};
 
 void expectPeaksShape(const json& p, bool rays) {
-  EXPECT_EQ(p.value("version", 0), 1);
+  EXPECT_EQ(p.value("version", 0), 2);
   for (const char* key : {"device", "uuid", "driver", "timing"})
     EXPECT_TRUE(p.contains(key) && p[key].is_string() && !p[key].get<std::string>().empty()) << key;
   ASSERT_TRUE(p.contains("figures") && p["figures"].is_object());
@@ -152,15 +152,18 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
     }
   }
   // Each kind of pass and sub-pass ran at least once.
-  for (const char* e :
-       {"depth_prepass", "light_culling", "shadows", "shading", "raster3d", "raster3d.triangles", "raster3d.count",
-        "raster3d.scan", "raster3d.fill", "raster3d.tiles", "raster3d.resolve", "raycast", "raycast.resolve",
-        "ldm_build", "ambient_occlusion", "indirect_ldm_build", "photon_trace", "photon_splat"})
+  for (const char* e : {"depth_prepass",  "light_culling",     "shadows",
+                        "shading",        "raster3d",          "raster3d.triangles",
+                        "raster3d.count", "raster3d.scan",     "raster3d.fill",
+                        "raster3d.tiles", "raster3d.resolve",  "raster3d.depth_copy",
+                        "raycast",        "raycast.resolve",   "raycast.depth_copy",
+                        "ldm_build",      "ambient_occlusion", "indirect_ldm_build",
+                        "photon_trace",   "photon_splat"})
     EXPECT_TRUE(entriesSeen.count(e)) << e;
   // The roofline table and plot are written beside the results, and the accuracy report names
   // the fraction of the limit.
   const std::string md = readFile(out / "roofline.md");
-  EXPECT_NE(md.find("| Variant | Pass | ms | Bound |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| Variant | Pass | ms | x empty | Bound |"), std::string::npos) << md;
   EXPECT_NE(readFile(out / "roofline.svg").find("<circle"), std::string::npos);
   EXPECT_NE(readFile(out / "accuracy.md").find("Fraction of the limit"), std::string::npos);
   const RunResult tables = run({"tables", (out / "results.json").string()});

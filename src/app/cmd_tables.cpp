@@ -83,7 +83,9 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     // As sweep writes them: tables.md, then accuracy.md, then roofline.md.
     std::cout << allTablesMarkdown(results);
     std::cout << "\n" << accuracyReportMarkdown(results);
-    std::cout << "\n" << rooflineMarkdown(results);
+    bool roofline = false;  // results from before rooflines existed print as they did
+    for (const nlohmann::json& run : results["runs"]) roofline = roofline || run.contains("roofline");
+    if (roofline) std::cout << "\n" << rooflineMarkdown(results);
   }
   // The Markdown says it in its text; a CSV or SVG cannot, so the console does.
   if (format != "md")

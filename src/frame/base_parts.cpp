@@ -25,18 +25,22 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   const double entries = figureAt(a, {"primary", "list_entries"});
   // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; the depth is then
   // copied into the depth image (4 B read + 4 B written).
-  const WorkItem resolve = derived("bytes", 20 * pixels, "8 B visibility read + 4 B depth written + 4 + 4 B copied");
+  const WorkItem resolve = derived("bytes", 12 * pixels, "8 B visibility read + 4 B depth written a pixel");
+  const WorkItem copy = derived("bytes", 8 * pixels, "4 B read + 4 B written a pixel");
   std::vector<PassWork> w;
   if (cast) {
-    w.push_back({name, {derived("rays_coherent", pixels, "one primary ray per pixel"), resolve}});
+    w.push_back({name,
+                 {derived("rays_coherent", pixels, "one primary ray per pixel"),
+                  derived("bytes", 20 * pixels, "resolve and depth copy")}});
   } else {
     const WorkItem setupOps = counted("fma", 57 * setups, "triangle setups x 57 scalar ops (paper Fig. 10)");
     const WorkItem setupBytes = derived("bytes", 48 * triangles, "3 indices + 3 positions read a triangle");
     const WorkItem testOps = counted("fma", 12 * tested, "pixel tests x 12 scalar ops (paper Fig. 10)");
     const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");
-    w.push_back({name,
-                 {counted("fma", 57 * setups + 12 * tested, "setups x 57 + pixel tests x 12 (paper Fig. 10)"),
-                  visAtomics, derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve")}});
+    w.push_back(
+        {name,
+         {counted("fma", 57 * setups + 12 * tested, "setups x 57 + pixel tests x 12 (paper Fig. 10)"), visAtomics,
+          derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")}});
     w.push_back({name + ".triangles", {setupOps, setupBytes}});
     if (binned) {
       const WorkItem listAtomics = counted("atomics", entries, "one atomicAdd per (triangle, tile) list entry");
@@ -48,6 +52,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     w.push_back({name + ".tiles", {testOps, visAtomics}});
   }
   w.push_back({name + ".resolve", {resolve}});
+  w.push_back({name + ".depth_copy", {copy}});
   return w;
 }
 

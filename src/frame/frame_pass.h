@@ -59,7 +59,7 @@ struct FramePass {
   std::function<void(VkCommandBuffer)> after;
   // The work of the pass and of each of its sub-passes, after an analysis frame; `analysis` is the
   // run's record of that frame (render.json's fields: "rays", "primary", "ambient_occlusion", ...),
-  // where the counted figures are. Every timed entry has one (tests/roofline_test.cpp).
+  // where the counted figures are. Every timed entry has one (tests/peaks_roofline_test.cpp).
   std::function<std::vector<PassWork>(const nlohmann::json& analysis)> work;
 };
 

@@ -129,14 +129,25 @@ std::string rooflineMarkdown(const json& results) {
        "(raybench). Bound: the unit whose fraction of its peak is highest.\n\n";
   const json& ctx = results.value("context", json::object());
   if (ctx.contains("timing_caveat")) s += "Caveat: " + ctx["timing_caveat"].get<std::string>() + "\n\n";
-  s += "| Variant | Pass | ms | Bound | Achieved | Peak | Fraction of the limit | Work is |\n";
-  s += "|---|---|---|---|---|---|---|---|\n";
+  // An empty dispatch between two timestamps: the floor under any timed pass. A pass within a few
+  // times of it is bound by latency (launch, barriers), whatever its bytes.
+  double emptyMs = 0;
+  const json empty = ctx.value("device", json::object())
+                         .value("peaks", json::object())
+                         .value("figures", json::object())
+                         .value("dispatch_empty", json::object());
+  if (empty.contains("ms")) emptyMs = empty["ms"].value("median", 0.0);
+  if (emptyMs > 0)
+    s += format("Empty dispatch: %.4g ms (peaks dispatch_empty); \"x empty\" is the pass's time over it.\n\n", emptyMs);
+  s += "| Variant | Pass | ms | x empty | Bound | Achieved | Peak | Fraction of the limit | Work is |\n";
+  s += "|---|---|---|---|---|---|---|---|---|\n";
   const std::vector<Point> pts = points(results);
   for (const Point& p : pts)
-    s += "| " + p.variant + " | " + p.entry + " | " + format("%.4g", p.ms) + " | " + p.unit + " | " +
+    s += "| " + p.variant + " | " + p.entry + " | " + format("%.4g", p.ms) + " | " +
+         (emptyMs > 0 ? format("%.1f", p.ms / emptyMs) : "—") + " | " + p.unit + " | " +
          formatRate(p.achieved, p.unit) + " | " + (p.peak > 0 ? formatRate(p.peak, p.unit) : "—") + " | " +
          (p.hasFraction ? format("%.1f %%", 100.0 * p.achieved / p.peak) : "—") + " | " + p.source + " |\n";
-  if (pts.empty()) s += "| (no run carries a roofline) | | | | | | | |\n";
+  if (pts.empty()) s += "| (no run carries a roofline) | | | | | | | | |\n";
   return s + "\n";
 }
 

@@ -61,7 +61,7 @@ class Raster3dPass {
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
   // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
   // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".count", ".scan", ".fill",
-  // ".tiles", ".resolve").
+  // ".tiles", ".resolve", ".depth_copy").
   void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
   PrimaryMethod mode() const { return mode_; }
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
