@@ -120,7 +120,51 @@ std::string deviceOf(const json& results) {
   return s;
 }
 
+// Vendor data-sheet figures (not measurements) for the devices this project measures on, to set
+// the measured peaks beside: NVIDIA H100 SXM5 80GB and H200 SXM data sheets (memory bandwidth;
+// FP32 67 TFLOPS = 33.5 T FMA/s).
+struct DataSheet {
+  const char* deviceName;  // as the driver names the device
+  const char* figure;      // the peaks figure it bounds
+  double perSecond;
+  const char* source;
+};
+constexpr DataSheet kDataSheets[] = {
+    {"NVIDIA H100 80GB HBM3", "memory_read", 3.35e12, "H100 SXM5 data sheet: 3.35 TB/s"},
+    {"NVIDIA H100 80GB HBM3", "memory_write", 3.35e12, "H100 SXM5 data sheet: 3.35 TB/s"},
+    {"NVIDIA H100 80GB HBM3", "memory_copy", 3.35e12, "H100 SXM5 data sheet: 3.35 TB/s"},
+    {"NVIDIA H100 80GB HBM3", "fma_fp32", 33.5e12, "H100 SXM5 data sheet: FP32 67 TFLOPS"},
+    {"NVIDIA H200", "memory_read", 4.8e12, "H200 SXM data sheet: 4.8 TB/s"},
+    {"NVIDIA H200", "memory_write", 4.8e12, "H200 SXM data sheet: 4.8 TB/s"},
+    {"NVIDIA H200", "memory_copy", 4.8e12, "H200 SXM data sheet: 4.8 TB/s"},
+    {"NVIDIA H200", "fma_fp32", 33.5e12, "H200 SXM data sheet: FP32 67 TFLOPS"},
+};
+
 }  // namespace
+
+std::string peaksMarkdown(const json& results) {
+  const json& device = results.value("context", json::object()).value("device", json::object());
+  const json peaks = device.value("peaks", json::object());
+  if (!peaks.contains("figures")) return "";
+  const std::string name = device.value("name", "");
+  std::string s =
+      "### Device peaks (hybridbench peaks)\n\n" + name + ", " + peaks.value("driver", "") + ", " +
+      peaks.value("timing", "") +
+      ".\n\n| Figure | Measured | Median ms | Data sheet | Measured / data sheet |\n|---|---|---|---|---|\n";
+  for (const auto& [key, f] : peaks["figures"].items()) {
+    const double perS = f.value("per_s", 0.0);
+    std::string sheet = "—", ratio = "—";
+    for (const DataSheet& d : kDataSheets)
+      if (name == d.deviceName && key == d.figure) {
+        sheet = d.source;
+        ratio = format("%.2f", perS / d.perSecond);
+      }
+    const double ms = f.contains("ms") ? f["ms"].value("median", 0.0) : 0.0;
+    s += "| " + key + " | " + formatRate(perS, f.value("unit", "")) + " | " + format("%.4g", ms) + " | " + sheet +
+         " | " + ratio + " |\n";
+  }
+  return s + "\n";
+}
 
 std::string rooflineMarkdown(const json& results) {
   std::string s = "## Roofline: how close each pass runs to the device's peak\n\n";
@@ -129,6 +173,7 @@ std::string rooflineMarkdown(const json& results) {
        "(raybench). Bound: the unit whose fraction of its peak is highest.\n\n";
   const json& ctx = results.value("context", json::object());
   if (ctx.contains("timing_caveat")) s += "Caveat: " + ctx["timing_caveat"].get<std::string>() + "\n\n";
+  s += peaksMarkdown(results);
   // An empty dispatch between two timestamps: the floor under any timed pass. A pass within a few
   // times of it is bound by latency (launch, barriers), whatever its bytes.
   double emptyMs = 0;

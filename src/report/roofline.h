@@ -37,6 +37,10 @@ std::vector<std::string> entriesWithoutRoofline(const nlohmann::json& run);
 // peak, fraction, source) and an SVG (achieved against peak on log axes, one point per pass and
 // variant, the diagonal = 100 % of the peak).
 std::string rooflineMarkdown(const nlohmann::json& results);
+// The device's peaks of a results file (context.device.peaks) as a Markdown table, each beside the
+// vendor's data-sheet figure where this project knows one (memory bandwidth, FP32 on the H100 and
+// H200) and the ratio; empty when the file has no peaks.
+std::string peaksMarkdown(const nlohmann::json& results);
 std::string rooflineSvg(const nlohmann::json& results);
 
 }  // namespace hb
