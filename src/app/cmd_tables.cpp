@@ -82,12 +82,9 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
   } else if (format == "roofline-svg") {
     std::cout << rooflineSvg(results);
   } else {
-    // As sweep writes them: tables.md, then accuracy.md, then roofline.md.
+    // As sweep writes them: tables.md, then accuracy.md (the roofline: --format roofline).
     std::cout << allTablesMarkdown(results);
     std::cout << "\n" << accuracyReportMarkdown(results);
-    bool roofline = false;  // results from before rooflines existed print as they did
-    for (const nlohmann::json& run : results["runs"]) roofline = roofline || run.contains("roofline");
-    if (roofline) std::cout << "\n" << rooflineMarkdown(results);
   }
   // The Markdown says it in its text; a CSV or SVG cannot, so the console does.
   if (format != "md")
