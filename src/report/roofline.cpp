@@ -242,7 +242,10 @@ std::string rooflineSvg(const json& results) {
               0.5 * (kL + kR), kB + 42);
   s += format("<text transform=\"translate(24 %.0f) rotate(-90)\" text-anchor=\"middle\">achieved (per s)</text>\n",
               0.5 * (kT + kB));
-  const char* colors[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2"};
+  // One colour per unit: ten units at most (frame_pass.h WorkItem), ten colours.
+  constexpr const char* colors[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                    "#8c564b", "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
+  constexpr size_t kColors = sizeof colors / sizeof colors[0];
   std::vector<std::string> units;
   for (const Point& p : pts)
     if (std::find(units.begin(), units.end(), p.unit) == units.end()) units.push_back(p.unit);
@@ -251,7 +254,7 @@ std::string rooflineSvg(const json& results) {
     const size_t u = size_t(std::find(units.begin(), units.end(), p.unit) - units.begin());
     const double x = px(p.peak) + (double(i % 7) - 3.0) * 2.0;  // a little spread: equal peaks, one column
     s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\" fill-opacity=\"0.7\"><title>", x, py(p.achieved),
-                colors[u % 7]) +
+                colors[u % kColors]) +
          escapeXml(p.variant + " — " + p.entry + ": " + formatRate(p.achieved, p.unit) + " of " +
                    formatRate(p.peak, p.unit)) +
          "</title></circle>\n";
@@ -260,7 +263,7 @@ std::string rooflineSvg(const json& results) {
   double y = kT + 4;
   for (size_t u = 0; u < units.size(); ++u, y += 18)
     s += format("<circle cx=\"%.0f\" cy=\"%.0f\" r=\"5\" fill=\"%s\"/><text x=\"%.0f\" y=\"%.0f\">", kR + 24, y,
-                colors[u % 7], kR + 36, y + 4) +
+                colors[u % kColors], kR + 36, y + 4) +
          escapeXml(units[u]) + "</text>\n";
   y += 10;
   std::vector<std::string> entries;
