@@ -118,13 +118,11 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
     vkCmdFillBuffer(cmd, dst.handle(), 0, VK_WHOLE_SIZE, 0u);
   });
   const uint32_t maxGroups = ctx.properties().limits.maxComputeWorkGroupCount[0];
-  auto run = [&](uint32_t mode, uint32_t elements, uint32_t threads, uint32_t iterations) {
+  // One compute pipeline of `shader` timed over repetitions of one dispatch of `groups` workgroups.
+  auto timeDispatch = [&](const char* shader, const SpecConstants& spec, const PushConstants& pc, uint32_t groups) {
     Pipeline p(ctx);
     p.createLayout({sets.layout()}, sizeof(PushConstants));
-    p.createCompute("peaks.comp", {{mode}});
-    // Enough workgroups to fill any GPU several times over; the loops stride over the rest.
-    const uint32_t groups = std::min({(threads + 255u) / 256u, maxGroups, 65535u});
-    const PushConstants pc{elements, iterations, 0xFFFFFFFFu, 0};
+    p.createCompute(shader, spec);
     return timeRepetitions(ctx, sizes, [&](VkCommandBuffer cmd) {
       computeBarrier(cmd);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
@@ -134,26 +132,14 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
       vkCmdDispatch(cmd, groups, 1, 1);
     });
   };
+  // Enough workgroups to fill any GPU several times over; the grid-stride loops cover the rest.
+  auto groupsFor = [&](uint32_t threads) { return std::min({(threads + 255u) / 256u, maxGroups, 65535u}); };
+  auto run = [&](uint32_t mode, uint32_t elements, uint32_t threads, uint32_t iterations) {
+    return timeDispatch("peaks.comp", {{mode}}, {elements, iterations, 0xFFFFFFFFu, 0}, groupsFor(threads));
+  };
   // The floor under any timed dispatch: one workgroup that does nothing, between two timestamps.
-  {
-    Pipeline p(ctx);
-    p.createLayout({sets.layout()}, sizeof(PushConstants));
-    p.createCompute("peaks.comp", {{1u}});
-    const PushConstants pc{0, 0, 0, 0};
-    out.push_back(makePeak("dispatch_empty", "dispatches", 1.0,
-                           timeRepetitions(ctx, sizes,
-                                           [&](VkCommandBuffer cmd) {
-                                             computeBarrier(cmd);
-                                             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
-                                             VkDescriptorSet s = sets.set();
-                                             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0,
-                                                                     1, &s, 0, nullptr);
-                                             vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof pc,
-                                                                &pc);
-                                             vkCmdDispatch(cmd, 1, 1, 1);
-                                           }),
-                           "one workgroup that writes nothing: the floor under any timed dispatch"));
-  }
+  out.push_back(makePeak("dispatch_empty", "dispatches", 1.0, timeDispatch("peaks.comp", {{1u}}, {0, 0, 0, 0}, 1),
+                         "one workgroup that writes nothing: the floor under any timed dispatch"));
   const uint32_t vec4s = sizes.bufferBytes / 16u;
   const double bytes = double(sizes.bufferBytes);
   out.push_back(
@@ -172,23 +158,8 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
                          "fp32 fma, 8 independent chains a thread (one fma = 2 flops)"));
   if (ctx.info().bufferInt64Atomics) {
     const uint32_t keys = std::min(sizes.atomics, sizes.bufferBytes / 8u);
-    Pipeline p(ctx);
-    p.createLayout({sets.layout()}, sizeof(PushConstants));
-    p.createCompute("peaks_atomic64.comp");
-    const uint32_t groups = std::min({(keys + 255u) / 256u, maxGroups, 65535u});
-    const PushConstants pc{keys, 0, 0x9E3779B9u, 0};
     out.push_back(makePeak("atomic_min_u64", "atomics64", keys,
-                           timeRepetitions(ctx, sizes,
-                                           [&](VkCommandBuffer cmd) {
-                                             computeBarrier(cmd);
-                                             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
-                                             VkDescriptorSet s = sets.set();
-                                             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0,
-                                                                     1, &s, 0, nullptr);
-                                             vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof pc,
-                                                                &pc);
-                                             vkCmdDispatch(cmd, groups, 1, 1);
-                                           }),
+                           timeDispatch("peaks_atomic64.comp", {}, {keys, 0, 0x9E3779B9u, 0}, groupsFor(keys)),
                            "64-bit atomicMin, each thread to its own word (the visibility buffer's operation)"));
   }
 }
