@@ -73,15 +73,6 @@ json rooflineOf(const Renderer& renderer, const json& run, const std::map<std::s
   return rooflineJson(works, medianMs, peakRates(peaks, rays));
 }
 
-std::vector<std::string> entriesWithoutRoofline(const json& run) {
-  std::vector<std::string> missing;
-  const json roofline = run.value("roofline", json::object());
-  const json passes = run.value("passes", json::object());
-  for (const auto& [entry, summary] : passes.items())
-    if (!roofline.contains(entry)) missing.push_back(entry);
-  return missing;
-}
-
 namespace {
 
 struct Point {

@@ -30,9 +30,6 @@ class Renderer;
 nlohmann::json rooflineOf(const Renderer& renderer, const nlohmann::json& run,
                           const std::map<std::string, double>& medianMs, const Peaks& peaks);
 
-// Every timed entry of a run's "passes" without a roofline entry (empty: all have one).
-std::vector<std::string> entriesWithoutRoofline(const nlohmann::json& run);
-
 // The roofline of every run of a results file: a Markdown table (variant, pass, bound, achieved,
 // peak, fraction, source) and an SVG (achieved against peak on log axes, one point per pass and
 // variant, the diagonal = 100 % of the peak).

@@ -39,11 +39,5 @@ TEST(Roofline, AUnitWithoutAPeakHasNoFractionAndAnUntimedEntryNoRoofline) {
   EXPECT_DOUBLE_EQ(e["achieved_per_s"].get<double>(), 5e5 / 2e-3);
 }
 
-TEST(Roofline, EveryTimedEntryWithoutARooflineIsNamed) {
-  const nlohmann::json run = {{"passes", {{"a", nlohmann::json::object()}, {"b.sub", nlohmann::json::object()}}},
-                              {"roofline", {{"a", nlohmann::json::object()}}}};
-  EXPECT_EQ(entriesWithoutRoofline(run), std::vector<std::string>{"b.sub"});
-}
-
 }  // namespace
 }  // namespace hb
