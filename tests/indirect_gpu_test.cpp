@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "base/input_error_of.h"
+#include "base/numbers.h"
 #include "effects/indirect/indirect_analysis.h"
 #include "effects/indirect/indirect_part.h"
 #include "effects/shadows/shadows_part.h"
@@ -29,8 +30,6 @@
 
 namespace hb {
 namespace {
-
-constexpr double kU = 5.9604644775390625e-8;  // 2^-24, float's unit roundoff
 
 RenderSettings indirectSettings(uint32_t w, uint32_t h, const nlohmann::json& indirect) {
   return testing::settingsWithEffects(w, h, {{"shadows", false}, {"indirect", indirect}});

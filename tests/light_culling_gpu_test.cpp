@@ -94,7 +94,7 @@ Scene sceneWithCamera(glm::vec3 eye, glm::vec3 target, float znear = 0.1f) {
   return s;
 }
 
-Light pointLight(glm::vec3 p, float range) {
+Light rangedPointLight(glm::vec3 p, float range) {
   Light l;
   l.position = p;
   l.range = range;
@@ -102,7 +102,7 @@ Light pointLight(glm::vec3 p, float range) {
 }
 
 Light spotLight(glm::vec3 p, glm::vec3 dir, float range, float outer) {
-  Light l = pointLight(p, range);
+  Light l = rangedPointLight(p, range);
   l.type = LightType::Spot;
   l.direction = glm::normalize(dir);
   l.outerConeAngle = outer;
@@ -136,7 +136,7 @@ Scene randomScene(uint32_t seed) {
     const glm::vec3 randomDir = glm::vec3(u(rng), u(rng), u(rng)) - 0.5f;
     switch (i % 6) {
       case 0:
-      case 1: s.lights.push_back(pointLight(p, range)); break;
+      case 1: s.lights.push_back(rangedPointLight(p, range)); break;
       case 2: s.lights.push_back(spotLight(p, randomDir, range, 0.1f + 1.3f * u(rng))); break;
       case 3: s.lights.push_back(spotLight(p, randomDir, range, float(kPi / 2))); break;  // 90 degrees
       case 4:
@@ -218,7 +218,7 @@ TEST_F(LightCullingGpuTest, SkyOnlyTilesGetNoLights) {
   MeshBuilder mb("half");
   addQuad(mb, 0, {-20, -20, -5}, {0, -20, -5}, {0, 20, -5}, {-20, 20, -5}, {0, 0, 1});
   mb.appendTo(scene);
-  scene.lights.push_back(pointLight({0, 0, -3}, 50.0f));
+  scene.lights.push_back(rangedPointLight({0, 0, -3}, 50.0f));
   const auto r = cull(*ctx, scene, 128, 64, 16);
   expectMatchesReference(*r);
   const CullingReference& ref = r->analysis.reference;
@@ -251,7 +251,7 @@ TEST_F(LightCullingGpuTest, FortyLightsOnOneTileOverflowAndKeepTheLowestIndices)
   // view = (ndc.x/A, ndc.y/B, -1) * 4.9.
   const glm::mat4 proj = reverseZProjection(2.0f, 1.0f, 0.1f, 100.0f);
   const glm::vec3 ray((2.0f * 56.0f / 128.0f - 1.0f) / proj[0][0], (2.0f * 24.0f / 64.0f - 1.0f) / proj[1][1], -1.0f);
-  for (int i = 0; i < 40; ++i) scene.lights.push_back(pointLight(ray * 4.9f, 0.15f));  // view = world here
+  for (int i = 0; i < 40; ++i) scene.lights.push_back(rangedPointLight(ray * 4.9f, 0.15f));  // view = world here
   const auto r = cull(*ctx, scene, 128, 64, 16);
   expectMatchesReference(*r);
   const size_t tile = 1 * 8 + 3;
@@ -274,7 +274,7 @@ TEST_F(LightCullingGpuTest, LightWithRangeFromEquation41ReachesOnlyTilesWithinIt
   MeshBuilder mb("floor");
   addQuad(mb, 0, {-60, 0, -60}, {60, 0, -60}, {60, 0, 5}, {-60, 0, 5}, {0, 1, 0});
   mb.appendTo(scene);
-  Light l = pointLight({0, 0.5f, -4}, float(rangeFromIntensity(2.0)));
+  Light l = rangedPointLight({0, 0.5f, -4}, float(rangeFromIntensity(2.0)));
   l.intensity = 2.0f;
   l.rangeFromEq41 = true;
   scene.lights.push_back(l);
@@ -296,7 +296,7 @@ TEST_F(LightCullingGpuTest, CameraInsideALightsSphereLightsEveryTile) {
   MeshBuilder mb("wall");
   addQuad(mb, 0, {-20, -20, -4}, {20, -20, -4}, {20, 20, -4}, {-20, 20, -4}, {0, 0, 1});
   mb.appendTo(scene);
-  scene.lights.push_back(pointLight({1.2f, 0.9f, 1.1f}, 8.0f));             // the eye is inside; reaches the wall
+  scene.lights.push_back(rangedPointLight({1.2f, 0.9f, 1.1f}, 8.0f));       // the eye is inside; reaches the wall
   scene.lights.push_back(spotLight({1, 1, 1.5f}, {0, 0, -1}, 8.0f, 1.2f));  // behind the eye, aimed forward
   for (bool aabb : {false, true}) {
     const auto r = cull(*ctx, scene, 96, 64, 16, true, aabb);
@@ -313,7 +313,7 @@ TEST_F(LightCullingGpuTest, LightStraddlingTheNearPlaneIsKeptWhereItReachesTheSu
   MeshBuilder mb("wall");
   addQuad(mb, 0, {-5, -5, -0.4}, {5, -5, -0.4}, {5, 5, -0.4}, {-5, 5, -0.4}, {0, 0, 1});
   mb.appendTo(scene);
-  scene.lights.push_back(pointLight({0, 0, -0.1f}, 0.35f));
+  scene.lights.push_back(rangedPointLight({0, 0, -0.1f}, 0.35f));
   for (bool aabb : {false, true}) {
     const auto r = cull(*ctx, scene, 128, 64, 16, true, aabb);
     expectMatchesReference(*r);
@@ -342,8 +342,8 @@ TEST_F(LightCullingGpuTest, DepthSlicesDropALightInTheGapBetweenTwoSurfacesAndKe
   addQuad(mb, 0, {-40, -40, -20}, {40, -40, -20}, {40, 40, -20}, {-40, 40, -20}, {0, 0, 1});
   addQuad(mb, 0, {-5, -5, -2}, {-0.25, -5, -2}, {-0.25, 5, -2}, {-5, 5, -2}, {0, 0, 1});
   mb.appendTo(scene);
-  scene.lights.push_back(pointLight({0, 0, -10}, 2.0f));
-  scene.lights.push_back(pointLight({0, 0, -19}, 2.0f));
+  scene.lights.push_back(rangedPointLight({0, 0, -10}, 2.0f));
+  scene.lights.push_back(rangedPointLight({0, 0, -19}, 2.0f));
   for (uint32_t slices : {0u, 32u}) {
     const auto r = cull(*ctx, scene, 128, 64, 16, true, false, slices);
     expectMatchesReference(*r);

@@ -23,6 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using hb::testing::readFile;
+using hb::testing::readJson;
 using hb::testing::RunResult;
 using hb::testing::writeFile;
 using nlohmann::json;
@@ -82,8 +83,6 @@ class NewUser : public hb::testing::ToolTest {
     return a;
   }
 };
-
-json readJson(const fs::path& p) { return json::parse(readFile(p), nullptr, false); }
 
 // ---- 1. earlier results are never lost without a word ----------------------------------------
 

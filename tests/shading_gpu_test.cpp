@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "base/image_io.h"
+#include "base/numbers.h"
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "gpu_fixture.h"
@@ -25,11 +26,10 @@ namespace {
 
 using glm::dvec3;
 
-constexpr double kU = 1.0 / 16777216.0;  // 2^-24, float unit roundoff
 constexpr double kPi = 3.14159265358979323846;
-constexpr uint32_t kSize = 128;   // square test images
-constexpr double kHalf = 2.0;     // the ground: x, z in [-2, 2] at y = 0, facing +y
-constexpr double kOccHalf = 0.5;  // the occluder: x, z in [-0.5, 0.5] at y = kOccY, facing +y
+constexpr uint32_t kImageSize = 128;  // square test images
+constexpr double kHalf = 2.0;         // the ground: x, z in [-2, 2] at y = 0, facing +y
+constexpr double kOccHalf = 0.5;      // the occluder: x, z in [-0.5, 0.5] at y = kOccY, facing +y
 constexpr double kOccY = 1.0;
 const glm::vec3 kEye(0.0f, 2.5f, 3.0f);  // camera looking at the origin
 
@@ -146,7 +146,7 @@ struct Ray {
 // The view ray through framebuffer position (x, y) (pixel centres at +0.5), in double.
 Ray pixelRay(const Camera& cam, double x, double y) {
   const glm::dmat4 p = reverseZProjectionD(1.0, cam.yfov, cam.znear, cam.zfar);
-  const dvec3 dirView((2.0 * x / kSize - 1.0) / p[0][0], (2.0 * y / kSize - 1.0) / p[1][1], -1.0);
+  const dvec3 dirView((2.0 * x / kImageSize - 1.0) / p[0][0], (2.0 * y / kImageSize - 1.0) / p[1][1], -1.0);
   const glm::dmat4 inv = glm::inverse(glm::dmat4(cam.view));
   return {dvec3(inv[3]), dvec3(inv * glm::dvec4(dirView, 0.0))};
 }
@@ -263,11 +263,11 @@ struct Stats {
 
 // Renders `scene` and returns the linear HDR RGBA image.
 std::vector<float> renderColor(const VulkanContext& ctx, const Scene& scene, RenderSettings s = {}) {
-  s.width = s.height = kSize;
+  s.width = s.height = kImageSize;
   Renderer r(ctx, scene, s);
   r.renderFrame();
   std::vector<float> c = r.readColor();
-  EXPECT_EQ(c.size(), size_t(kSize) * kSize * 4);
+  EXPECT_EQ(c.size(), size_t(kImageSize) * kImageSize * 4);
   return c;
 }
 
@@ -278,14 +278,14 @@ Stats compareGround(const std::vector<float>& rgba, const Scene& scene, const To
   Stats st;
   const Camera& cam = scene.cameras[0];
   const dvec3 light(scene.lights[0].position);
-  ImageF gpu{kSize, kSize, 3, std::vector<float>(size_t(kSize) * kSize * 3, 0.0f)};
+  ImageF gpu{kImageSize, kImageSize, 3, std::vector<float>(size_t(kImageSize) * kImageSize * 3, 0.0f)};
   ImageF cpu = gpu;
   std::vector<size_t> checked;
-  for (uint32_t py = 0; py < kSize; ++py)
-    for (uint32_t px = 0; px < kSize; ++px) {
+  for (uint32_t py = 0; py < kImageSize; ++py)
+    for (uint32_t px = 0; px < kImageSize; ++px) {
       const PixelGeom g = pixelGeom(cam, px, py, occluder, light);
       if (!g.onGround || !select(g)) continue;
-      const size_t i = size_t(py) * kSize + px;
+      const size_t i = size_t(py) * kImageSize + px;
       const dvec3 want = expected(g.hit), t = tol.at(g, expected);
       bool ok = rgba[4 * i + 3] == 1.0f;
       for (int k = 0; k < 3; ++k) {
@@ -337,7 +337,7 @@ TEST_F(ShadingTest, PointLitPlaneMatchesTheCpuModel) {
   const std::vector<float> rgba = renderColor(*ctx, scene);
   const Stats st = compareGround(rgba, scene, Tol(*ctx), false, anyPixel, modelFor(scene, mat));
   st.print("point-lit plane");
-  EXPECT_GT(st.checked, size_t(kSize) * kSize / 4);
+  EXPECT_GT(st.checked, size_t(kImageSize) * kImageSize / 4);
   EXPECT_EQ(st.bad, 0u);
   EXPECT_LE(st.maxToneDiff, 1);
   // The sky (outside the ground) is cleared to opaque black.
@@ -359,7 +359,7 @@ TEST_F(ShadingTest, ShadowedGroundIsBlackAndTheRestIsLit) {
   shadow.print("in shadow");
   lit.print("outside shadow");
   EXPECT_GT(shadow.checked, 100u);
-  EXPECT_GT(lit.checked, size_t(kSize) * kSize / 4);
+  EXPECT_GT(lit.checked, size_t(kImageSize) * kImageSize / 4);
   EXPECT_EQ(shadow.bad, 0u);
   EXPECT_EQ(shadow.maxAbsErr, 0.0);  // exactly zero, not merely small
   EXPECT_EQ(lit.bad, 0u);
@@ -389,11 +389,11 @@ TEST_F(ShadingTest, MetalHasNoDiffuseTermAndTintedSpecular) {
   double brightest = 0;
   size_t brightestAt = 0;
   const Tol tol(*ctx);
-  for (uint32_t py = 0; py < kSize; ++py)
-    for (uint32_t px = 0; px < kSize; ++px) {
+  for (uint32_t py = 0; py < kImageSize; ++py)
+    for (uint32_t px = 0; px < kImageSize; ++px) {
       const PixelGeom g = pixelGeom(metalScene.cameras[0], px, py, false, dvec3(kLightOverGround));
       if (!g.onGround) continue;
-      const size_t i = size_t(py) * kSize + px;
+      const size_t i = size_t(py) * kImageSize + px;
       if (m[4 * i] > brightest) brightest = m[4 * i], brightestAt = i;
       const dvec3 wm = metalModel(g.hit), wd = dielModel(g.hit);
       if (!(wm.g < 0.01 * wd.g)) continue;
@@ -449,21 +449,21 @@ TEST_F(ShadingTest, CheckerTextureShowsAlternatingSquares) {
   const BaseProbe probe;
   const Tol tol(*ctx);
   size_t transitions = 0, expectedTransitions = 0, classified = 0, rows = 0;
-  for (uint32_t py = 0; py < kSize; ++py) {
+  for (uint32_t py = 0; py < kImageSize; ++py) {
     // Rows whose middle runs within 0.1 texel of a row of texel centres (v varies little along a row).
-    const PixelGeom mid = pixelGeom(scene.cameras[0], kSize / 2, py, false, dvec3(scene.lights[0].position));
+    const PixelGeom mid = pixelGeom(scene.cameras[0], kImageSize / 2, py, false, dvec3(scene.lights[0].position));
     const double vMid = (mid.hit.z + kHalf) / (2 * kHalf) * 8;
     if (!mid.onGround || std::abs(vMid - std::floor(vMid) - 0.5) > 0.1) continue;
     ++rows;
     int lastGpu = -1, lastCpu = -1;
-    for (uint32_t px = 0; px < kSize; ++px) {
+    for (uint32_t px = 0; px < kImageSize; ++px) {
       const PixelGeom g = pixelGeom(scene.cameras[0], px, py, false, dvec3(scene.lights[0].position));
       if (!g.onGround) continue;
       const double u = (g.hit.x + kHalf) / (2 * kHalf) * 8, v = (g.hit.z + kHalf) / (2 * kHalf) * 8;
       if (std::abs(u - std::floor(u) - 0.5) > 0.25 || std::abs(v - std::floor(v) - 0.5) > 0.25) continue;
       const int white = (int(std::floor(u)) + int(std::floor(v))) % 2 == 0;
       double wTol = 0;
-      const double w = probe.at(scene, g, rgba[4 * (size_t(py) * kSize + px) + 1], tol, &wTol);
+      const double w = probe.at(scene, g, rgba[4 * (size_t(py) * kImageSize + px) + 1], tol, &wTol);
       const int gpuWhite = w >= 0.625 - wTol ? 1 : w <= 0.375 + wTol ? 0 : -1;
       EXPECT_EQ(gpuWhite, white) << "pixel " << px << "," << py << " uv*8 (" << u << ", " << v << ") w " << w;
       ++classified;
@@ -496,12 +496,12 @@ TEST_F(ShadingTest, SrgbTextureIsDecodedToLinear) {
   const Tol tol(*ctx);
   double maxErr = 0;
   size_t n = 0;
-  for (uint32_t py = 0; py < kSize; py += 3)
-    for (uint32_t px = 0; px < kSize; px += 3) {
+  for (uint32_t py = 0; py < kImageSize; py += 3)
+    for (uint32_t px = 0; px < kImageSize; px += 3) {
       const PixelGeom g = pixelGeom(scene.cameras[0], px, py, false, dvec3(scene.lights[0].position));
       if (!g.onGround) continue;
       double wTol = 0;
-      const double w = probe.at(scene, g, rgba[4 * (size_t(py) * kSize + px) + 1], tol, &wTol);
+      const double w = probe.at(scene, g, rgba[4 * (size_t(py) * kImageSize + px) + 1], tol, &wTol);
       EXPECT_LT(std::abs(w - want) + wTol, halfStep) << "pixel " << px << "," << py << " w " << w;
       maxErr = std::max(maxErr, std::abs(w - want));
       ++n;
@@ -528,7 +528,7 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
   std::vector<float> reference;
   {
     RenderSettings s;
-    s.width = s.height = kSize;
+    s.width = s.height = kImageSize;
     Renderer r(*ctx, shadowed, s);
     ASSERT_NE(r.accel(), nullptr);
     r.renderFrame();
@@ -537,7 +537,7 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
   for (const Case& c : {Case{"effects.shadows = false", &shadowed, off}, Case{"castShadows = false", &noCaster, {}}}) {
     SCOPED_TRACE(c.name);
     RenderSettings s = c.settings;
-    s.width = s.height = kSize;
+    s.width = s.height = kImageSize;
     Renderer r(*ctx, *c.scene, s);
     EXPECT_EQ(r.accel(), nullptr);
     EXPECT_FALSE((shadowsOf(r) != nullptr));
@@ -558,11 +558,11 @@ TEST_F(ShadingTest, WithoutShadowsEveryLightIsVisible) {
     const Stats outside = compareGround(
         rgba, *c.scene, tol, true, [](const PixelGeom& g) { return g.lit; }, modelFor(*c.scene, mat));
     size_t identical = 0, litPixels = 0;
-    for (uint32_t py = 0; py < kSize; ++py)
-      for (uint32_t px = 0; px < kSize; ++px) {
+    for (uint32_t py = 0; py < kImageSize; ++py)
+      for (uint32_t px = 0; px < kImageSize; ++px) {
         const PixelGeom g = pixelGeom(shadowed.cameras[0], px, py, true, dvec3(kLightForShadow));
         if (!g.onGround || !g.lit) continue;
-        const size_t i = size_t(py) * kSize + px;
+        const size_t i = size_t(py) * kImageSize + px;
         ++litPixels;
         identical += rgba[4 * i] == reference[4 * i] && rgba[4 * i + 1] == reference[4 * i + 1] &&
                      rgba[4 * i + 2] == reference[4 * i + 2];

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "analysis/ray_analysis.h"
+#include "base/numbers.h"
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "gpu/gpu_lights.h"
@@ -18,11 +19,10 @@
 namespace hb {
 namespace {
 
-constexpr double kU = 1.0 / 16777216.0;  // 2^-24, float unit roundoff
 constexpr uint32_t kWidth = 320, kHeight = 180;
 constexpr NormalCulling kNormalModes[] = {NormalCulling::Off, NormalCulling::Naive, NormalCulling::Improved};
 
-struct Frame {
+struct ShadowFrame {
   RenderSettings settings;
   std::vector<float> depth;
   CullingReadback culling;
@@ -32,8 +32,8 @@ struct Frame {
   size_t pixels() const { return depth.size(); }
 };
 
-Frame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals, const std::string& backend,
-             uint32_t tileSize = 16, bool scaledTMin = false) {
+ShadowFrame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals, const std::string& backend,
+                   uint32_t tileSize = 16, bool scaledTMin = false) {
   RenderSettings s{.width = kWidth,
                    .height = kHeight,
                    .tileSize = tileSize,
@@ -43,7 +43,7 @@ Frame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals
   Renderer r(ctx, scene, s);
   EXPECT_EQ(toString(shadowsOf(r)->shadowPass().settings().backend), backend);
   r.renderFrame(true);
-  Frame f{s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj(), {}};
+  ShadowFrame f{s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj(), {}};
   f.cam = reconstructionCamera<double>(glm::dmat4(f.view), glm::dmat4(f.proj), s.width, s.height);
   return f;
 }
@@ -55,12 +55,12 @@ const Scene& sceneNamed(const std::string& name) {
   return it->second;
 }
 
-RayAccounting account(const Frame& f, const Scene& scene) {
+RayAccounting account(const ShadowFrame& f, const Scene& scene) {
   return accountRays(f.shadows, f.culling, f.depth, f.settings.width, f.settings.height, f.settings.tileSize,
                      uint32_t(scene.lights.size()));
 }
 
-ShadowComparison compare(const Frame& f, const Scene& scene, const Bvh& bvh) {
+ShadowComparison compare(const ShadowFrame& f, const Scene& scene, const Bvh& bvh) {
   // The camera position and t_min scale exactly as the renderer uploads them.
   const glm::vec4 cameraPos =
       makeFrameConstants(f.view, f.proj, f.settings.width, f.settings.height, f.settings.tileSize, 0,
@@ -71,7 +71,7 @@ ShadowComparison compare(const Frame& f, const Scene& scene, const Bvh& bvh) {
 }
 
 // Sky pixels carry nothing; everything else is finite and has w = 1.
-void expectCleanImages(const Frame& f, const std::string& what) {
+void expectCleanImages(const ShadowFrame& f, const std::string& what) {
   size_t bad = 0;
   for (size_t i = 0; i < f.pixels(); ++i) {
     const float* n = &f.shadows.normals[4 * i];
@@ -99,8 +99,8 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
   const Bvh tbvh = buildBvh(scene);
   for (NormalCulling normals : kNormalModes) {
     const std::string what = GetParam() + " normals=" + toString(normals);
-    const Frame rq = render(*ctx, scene, normals, "rayquery");
-    const Frame rt = render(*ctx, scene, normals, "pipeline");
+    const ShadowFrame rq = render(*ctx, scene, normals, "rayquery");
+    const ShadowFrame rt = render(*ctx, scene, normals, "pipeline");
     size_t visDiff = 0, accDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) {
       visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
@@ -176,8 +176,8 @@ TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
   for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
     const Scene& scene = sceneNamed(name);
     const Bvh bvh = buildBvh(scene);
-    const Frame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", 16, /*scaledTMin=*/true);
-    const Frame rt = render(*ctx, scene, NormalCulling::Improved, "pipeline", 16, /*scaledTMin=*/true);
+    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", 16, /*scaledTMin=*/true);
+    const ShadowFrame rt = render(*ctx, scene, NormalCulling::Improved, "pipeline", 16, /*scaledTMin=*/true);
     size_t visDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
     EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between rayquery and pipeline";
@@ -215,7 +215,7 @@ double planeNormalBoundRad(double r, double viewDepth, const Camera& cam) {
 }
 
 // Counts matched pixels whose reconstructed normal is further from +z than the plane bound.
-size_t pixelsBeyondPlaneBound(const Frame& f, const Scene& scene, const ReferenceSurface& ref, double* maxRatio) {
+size_t pixelsBeyondPlaneBound(const ShadowFrame& f, const Scene& scene, const ReferenceSurface& ref, double* maxRatio) {
   size_t beyond = 0;
   *maxRatio = 0;
   const glm::dvec3 eye = ref.eye;
@@ -234,7 +234,7 @@ size_t pixelsBeyondPlaneBound(const Frame& f, const Scene& scene, const Referenc
 
 TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
   const Scene& scene = sceneNamed("plane");
-  const Frame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(buildBvh(scene), f.depth, f.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
@@ -245,13 +245,13 @@ TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
 TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
   const Scene& scene = sceneNamed("depth-step");
   const Bvh bvh = buildBvh(scene);
-  const Frame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, improved.depth, improved.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
   EXPECT_EQ(pixelsBeyondPlaneBound(improved, scene, ref, &ratio), 0u) << "improved normals mixed the two sides";
   // The scene does test something: naive normals take the derivative across the step there.
-  const Frame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
+  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
   const NormalAccuracy acc = normalAccuracy(naive.shadows.normals, ref);
   EXPECT_GT(acc.maxAngleDeg, 45.0);
   std::printf("[ normals ] depth-step improved: max angle / bound = %.3g; naive max %.1f deg\n", ratio,
@@ -261,8 +261,8 @@ TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
 TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
   const Scene& scene = sceneNamed("atrium");
   const Bvh bvh = buildBvh(scene);
-  const Frame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
-  const Frame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
+  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ReferenceSurface ref = referenceSurface(bvh, naive.depth, naive.cam);
   const NormalAccuracy a = normalAccuracy(naive.shadows.normals, ref);
   const NormalAccuracy b = normalAccuracy(improved.shadows.normals, ref);
@@ -323,7 +323,7 @@ struct PositionSample {
   uint32_t x, y;
   glm::dvec3 cpu, gpu;
 };
-std::vector<PositionSample> positionSamples(const Frame& f) {
+std::vector<PositionSample> positionSamples(const ShadowFrame& f) {
   std::vector<PositionSample> samples;
   for (uint32_t y = 0; y < kHeight; ++y)
     for (uint32_t x = 0; x < kWidth; ++x) {
@@ -343,7 +343,7 @@ std::vector<PositionSample> positionSamples(const Frame& f) {
 TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
   for (const std::string& name : builtinSceneNames()) {
     if (name == "far-origin") continue;
-    const Frame f = render(*ctx, sceneNamed(name), NormalCulling::Off, "rayquery");
+    const ShadowFrame f = render(*ctx, sceneNamed(name), NormalCulling::Off, "rayquery");
     const PositionAccuracy acc = positionAccuracy(f.shadows.positions, f.depth, f.cam);
     EXPECT_EQ(acc.nonFinite, 0u) << name;
     EXPECT_LE(acc.maxRelative, 8.0 * kU) << name;
@@ -358,7 +358,7 @@ TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
 // distance, stay within the same 4·2^-23·distance bound (derivation above), and each plane has
 // its own figure, so that a precision loss at one distance cannot hide in the others' average.
 TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance) {
-  const Frame f = render(*ctx, sceneNamed("far-planes"), NormalCulling::Off, "rayquery");
+  const ShadowFrame f = render(*ctx, sceneNamed("far-planes"), NormalCulling::Off, "rayquery");
   struct PlaneFigure {
     size_t pixels = 0;
     double maxRel = 0, sumRel = 0;
@@ -395,7 +395,7 @@ TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance
 // where v is the view-space point, d = |v| and Md = inverse in double.
 TEST_F(ShadowPositions, FarFromTheOriginTheErrorFollowsTheEyeDistanceBound) {
   const Scene& scene = sceneNamed("far-origin");
-  const Frame f = render(*ctx, scene, NormalCulling::Off, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Off, "rayquery");
   const glm::dmat4 mf(glm::inverse(f.view));  // what makeFrameConstants uploads
   const glm::dmat4 md = glm::inverse(glm::dmat4(f.view));
   const glm::dvec3 t(md[3]);
@@ -455,7 +455,7 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
   Scene scene = sceneNamed("thin-gap");
   scene.lights[0].position = {1.5f, 0.15f, 0.0f};
   const Bvh tbvh = buildBvh(scene);
-  const Frame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
   const ShadowComparison cmp = compare(f, scene, buildBvh(scene));
   EXPECT_EQ(cmp.unexplained(), 0u);
   const glm::dvec3 light(scene.lights[0].position);
@@ -482,7 +482,7 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
 TEST_F(ShadowHardCases, OpenOccluderShadowsFromBehind) {
   const Scene& scene = sceneNamed("open-occluder");
   for (const char* backend : {"rayquery", "pipeline"}) {
-    const Frame f = render(*ctx, scene, NormalCulling::Improved, backend);
+    const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, backend);
     const glm::dvec3 light(scene.lights[0].position);
     int inShadow = 0;
     for (size_t i = 0; i < f.pixels(); ++i) {

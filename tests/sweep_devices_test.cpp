@@ -18,13 +18,11 @@
 namespace {
 
 namespace fs = std::filesystem;
+using hb::testing::kSweepFixture;
 using hb::testing::readFile;
+using hb::testing::readJson;
 using hb::testing::RunResult;
 using json = nlohmann::json;
-
-const fs::path kFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/sweep-tiny.json";
-
-json readJson(const fs::path& p) { return json::parse(readFile(p), nullptr, /*allow_exceptions=*/false); }
 
 class SweepDevices : public hb::testing::ToolTest {};
 
@@ -33,7 +31,7 @@ class SweepDevices : public hb::testing::ToolTest {};
 // count the same rays as each other (every count is deterministic; only times may differ).
 TEST_F(SweepDevices, SeveralDevicesSweepConcurrentlyIntoOneFolderEachWithEqualCounts) {
   const fs::path out = dir / "out";
-  const RunResult r = run({"sweep", kFixture.string(), "--device", "0,0", "--out", out.string(), "--no-images",
+  const RunResult r = run({"sweep", kSweepFixture.string(), "--device", "0,0", "--out", out.string(), "--no-images",
                            "--frames", "1", "--warmup", "0"});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("sweep on 2 devices concurrently"), std::string::npos) << r.out;
@@ -57,7 +55,7 @@ TEST_F(SweepDevices, SeveralDevicesSweepConcurrentlyIntoOneFolderEachWithEqualCo
   EXPECT_EQ(warnings, 1u) << r.err;
   EXPECT_NE(a["context"]["concurrent_with"][0].get<std::string>().rfind("1: ", 0), std::string::npos);
   ASSERT_EQ(a["runs"].size(), b["runs"].size());
-  ASSERT_EQ(a["runs"].size(), readJson(kFixture)["variants"].size());
+  ASSERT_EQ(a["runs"].size(), readJson(kSweepFixture)["variants"].size());
   for (size_t i = 0; i < a["runs"].size(); ++i) {
     const json &ra = a["runs"][i], &rb = b["runs"][i];
     ASSERT_EQ(ra.value("status", ""), "ok") << ra.dump();
@@ -73,7 +71,7 @@ TEST_F(SweepDevices, SeveralDevicesSweepConcurrentlyIntoOneFolderEachWithEqualCo
     }
   }
 
-  const RunResult bad = run({"sweep", kFixture.string(), "--device", "0,", "--out", (dir / "x").string()});
+  const RunResult bad = run({"sweep", kSweepFixture.string(), "--device", "0,", "--out", (dir / "x").string()});
   EXPECT_EQ(bad.exitCode, 2) << bad.err;
 }
 

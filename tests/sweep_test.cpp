@@ -41,15 +41,14 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-const fs::path kFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/sweep-tiny.json";
 // A child that runs longer than this is hung: the longest sweep here takes ~20 s on lavapipe.
 const std::vector<std::string> kPasses = {"depth_prepass", "light_culling", "shadows", "shading"};
 
+using hb::testing::kSweepFixture;
 using hb::testing::readFile;
+using hb::testing::readJson;
 using hb::testing::RunResult;
 using hb::testing::writeFile;
-
-json readJson(const fs::path& p) { return json::parse(readFile(p), nullptr, /*allow_exceptions=*/false); }
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -94,7 +93,7 @@ class Sweep : public hb::testing::ToolTest {
  protected:
   // The fixture config with its variants replaced, written into the scratch directory.
   fs::path configWith(const std::string& name, const json& variants) {
-    json c = readJson(kFixture);
+    json c = readJson(kSweepFixture);
     c["name"] = name;
     c["variants"] = variants;
     const fs::path p = dir / (name + ".json");
@@ -288,9 +287,9 @@ void expectCsvMatches(const std::string& csv, const json& results) {
 
 TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   const fs::path out = dir / "out";
-  const RunResult r = run({"sweep", kFixture.string(), "--out", out.string(), "--no-images"});
+  const RunResult r = run({"sweep", kSweepFixture.string(), "--out", out.string(), "--no-images"});
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  const json config = readJson(kFixture);
+  const json config = readJson(kSweepFixture);
   const json results = readJson(out / "results.json");
   ASSERT_FALSE(results.is_discarded());
 
@@ -392,7 +391,8 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
 TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) {
   const fs::path base = dir / "base";
   // 8 frames a side: a U test of 3 against 3 cannot reach p < 0.05 however far apart they are.
-  const RunResult sweep = run({"sweep", kFixture.string(), "--no-images", "--frames", "8", "--out", base.string()});
+  const RunResult sweep =
+      run({"sweep", kSweepFixture.string(), "--no-images", "--frames", "8", "--out", base.string()});
   ASSERT_EQ(sweep.exitCode, 0) << sweep.err;
   const std::string script = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scripts/ci-compare.sh";
   // lavapipe's frame times move with the machine's load: the same sweep twice on a 2-core machine
@@ -441,7 +441,7 @@ TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) 
 // Kill (SIGINT) after the first finished variant, resume and kill again (SIGTERM) after the next
 // one, then resume to the end: finished runs are never lost, changed or run twice.
 TEST_F(Sweep, InterruptedSweepKeepsFinishedRunsAndResumeCompletesIt) {
-  json variants = readJson(kFixture)["variants"];
+  json variants = readJson(kSweepFixture)["variants"];
   variants.push_back({{"name", "light culling only"}, {"params", {{"normal_culling", "off"}}}});
   variants.push_back({{"name", "32x32"}, {"params", {{"tile_size", 32}}}});
   const fs::path config = configWith("sweep-kill", variants);
@@ -523,7 +523,7 @@ TEST_F(Sweep, CompareCallsAFileTheSameAsItselfFlagsASlowdownAndRefusesAnotherSce
   const fs::path out = dir / "out";
   // 8 measured frames: compare needs >= 5 a side (kMinSamplesForVerdict) for any verdict but
   // "too noisy", and 8 a side make a complete separation significant (exact p = 2/C(16,8)).
-  const RunResult sweep = run({"sweep", kFixture.string(), "--out", out.string(), "--no-images", "--frames", "8"});
+  const RunResult sweep = run({"sweep", kSweepFixture.string(), "--out", out.string(), "--no-images", "--frames", "8"});
   ASSERT_EQ(sweep.exitCode, 0) << sweep.out << sweep.err;
   const fs::path a = out / "results.json";
   const json results = readJson(a);
@@ -591,7 +591,7 @@ TEST_F(Sweep, CompareCallsAFileTheSameAsItselfFlagsASlowdownAndRefusesAnotherSce
 // The 64-lights variant fails (only 32 per tile is implemented); the depth-sliced one, placed
 // between it and the last, runs as any other.
 TEST_F(Sweep, UnsupportedVariantIsRecordedAsAnErrorAndTheSweepGoesOn) {
-  const json fixture = readJson(kFixture);
+  const json fixture = readJson(kSweepFixture);
   const json variants = {fixture["variants"][0],
                          {{"name", "64 lights per tile"}, {"params", {{"max_lights_per_tile", 64}}}},
                          {{"name", "4 depth slices"}, {"params", {{"depth_slices", 4}}}},
@@ -666,7 +666,7 @@ TEST_F(Sweep, AmbientOcclusionVariantsCarryTheirErrorsAndPrintTheAoTable) {
 
 TEST_F(Sweep, ResumeWithoutOutIsOneLineNamingTheFlag) {
   for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"sweep", "--resume"}, {"sweep", kFixture.string(), "--resume"}}) {
+       {std::vector<std::string>{"sweep", "--resume"}, {"sweep", kSweepFixture.string(), "--resume"}}) {
     const RunResult r = run(args);
     EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -684,7 +684,7 @@ TEST_F(Sweep, ResumeRefusesResultsItCannotContinueAndKeepsThem) {
       json{{"schema_version", 1}, {"context", {{"config", {{"name", "another"}}}}}, {"runs", json::array()}}.dump(1);
   for (const std::string& text : {foreign, std::string("{\"schema_version\": 1, \"runs\": [")}) {
     writeFile(results, text);
-    const RunResult r = run({"sweep", kFixture.string(), "--out", out.string(), "--no-images", "--resume"});
+    const RunResult r = run({"sweep", kSweepFixture.string(), "--out", out.string(), "--no-images", "--resume"});
     EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find(results.string()), std::string::npos) << r.err;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #ifndef HYBRIDBENCH_BINARY
 #error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
@@ -43,6 +44,14 @@ inline std::string readFile(const fs::path& p) {
   s << f.rdbuf();
   return s.str();
 }
+
+// The file parsed as JSON; a discarded value (is_discarded()) when it is not JSON.
+inline nlohmann::json readJson(const fs::path& p) {
+  return nlohmann::json::parse(readFile(p), nullptr, /*allow_exceptions=*/false);
+}
+
+// The sweeps' smallest config (two variants on a small scene).
+inline const fs::path kSweepFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/sweep-tiny.json";
 
 inline void writeFile(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary);

@@ -1,4 +1,5 @@
 #include "analysis/culling_analysis.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +12,6 @@
 namespace hb {
 
 namespace {
-
-constexpr double kU = 0x1p-24;  // unit roundoff of float
 
 uint32_t tilesX(const CullingInputs& in) { return tileCount(in.width, in.tileSize); }
 uint32_t tilesY(const CullingInputs& in) { return tileCount(in.height, in.tileSize); }

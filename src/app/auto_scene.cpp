@@ -1,4 +1,5 @@
 #include "app/auto_scene.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <array>
@@ -14,7 +15,6 @@
 namespace hb {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kCameraYfovDeg = 60.0, kCameraAzimuthDeg = 30.0, kCameraElevationDeg = 20.0;
 constexpr double kShellRadius = 1.25, kShellRange = 2.3;             // × r

@@ -1,4 +1,5 @@
 #include "app/auto_scene.h"
+#include "base/numbers.h"
 
 #include <cmath>
 
@@ -10,8 +11,6 @@
 
 namespace hb {
 namespace {
-
-constexpr double kPi = 3.141592653589793;
 
 // One closed box [lo, hi] (outward faces, a solid) or, with `room`, the same box with every
 // triangle's winding reversed (inward faces: the walls of a room seen from inside).

@@ -7,8 +7,6 @@
 
 namespace hb {
 
-static VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
-
 AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const GpuScene& gpuScene) : ctx_(ctx) {
   HB_ASSERT(ctx.info().accelerationStructure);
   const Scene& scene = gpuScene.scene();

@@ -7,8 +7,6 @@
 
 namespace hb {
 
-static VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
-
 RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLayout layout, const std::string& raygen,
                                        const std::string& miss, const SpecConstants& spec,
                                        const std::string& closestHit)

@@ -16,6 +16,9 @@ const char* memClassName(MemClass c);
 // Bytes currently allocated per class (process-wide; contexts are used one at a time).
 std::map<std::string, uint64_t> memoryByClass();
 
+// v rounded up to a multiple of a (a > 0).
+inline VkDeviceSize alignUp(VkDeviceSize v, VkDeviceSize a) { return (v + a - 1) / a * a; }
+
 class Buffer {
  public:
   Buffer() = default;

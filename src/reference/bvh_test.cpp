@@ -1,4 +1,5 @@
 #include "reference/bvh.h"
+#include "reference/random_unit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -23,11 +24,6 @@ std::vector<BvhTriangle> cube() {
     for (int k = 0; k < 4; ++k) t.push_back({centre, v[q[k]], v[q[(k + 1) % 4]]});
   }
   return t;
-}
-
-glm::dvec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  return glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
 }
 
 // pbrt-style watertightness property. From outside: rays aimed at points of the flat interior

@@ -1,4 +1,5 @@
 #include "reference/cull_ref.h"
+#include "base/numbers.h"
 
 #include <cmath>
 #include <random>
@@ -9,9 +10,6 @@
 
 namespace hb {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kU = 0x1p-24;  // unit roundoff of float
 
 // One randomised light/tile case, camera independent: a random projection, resolution, tile size,
 // tile, depth range and light placed near the tile's frustum (so that many cases are close calls).

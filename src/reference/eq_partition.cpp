@@ -1,4 +1,5 @@
 #include "reference/eq_partition.h"
+#include "base/numbers.h"
 
 #include <cmath>
 #include <numbers>
@@ -11,8 +12,6 @@
 namespace hb {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Area of the cap of colatitude s on the unit sphere: 2π(1 - cos s) = 4π sin²(s/2); the sine
 // form has no cancellation near the pole.

@@ -1,4 +1,6 @@
 #include "reference/eq_partition.h"
+#include "base/numbers.h"
+#include "reference/random_unit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,13 +14,6 @@
 
 namespace hb {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-
-glm::dvec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  return glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-}
 
 // (2/n) Σ |m·v_i|: the LDM estimate of (1/π)∫_H cos θ dω = 1 for an unoccluded normal m.
 double openSky(const std::vector<glm::dvec3>& dirs, const glm::dvec3& m) {

@@ -17,6 +17,7 @@
 //   sum -1; qf = 0.5; the feature difference is divided by sqrt(2) before ^qf.
 //   Borders replicate the edge pixel.
 #include "reference/flip.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <array>
@@ -30,7 +31,6 @@ namespace hb {
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kQc = 0.7, kPc = 0.4, kPt = 0.95, kQf = 0.5;
 constexpr double kFeatureWidthDeg = 0.082;
 

@@ -1,4 +1,6 @@
 #include "reference/ldm_ref.h"
+#include "base/numbers.h"
+#include "reference/random_unit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,13 +18,7 @@
 namespace hb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-glm::dvec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  return glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-}
 
 Bvh bvhOf(MeshBuilder& mb) {
   Scene s;

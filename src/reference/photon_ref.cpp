@@ -1,4 +1,5 @@
 #include "reference/photon_ref.h"
+#include "base/numbers.h"
 
 #include <cmath>
 #include <numbers>
@@ -9,8 +10,6 @@
 namespace hb {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 bool isUnit(const glm::dvec3& v) { return std::abs(glm::length(v) - 1.0) <= 1e-9; }
 

@@ -1,4 +1,6 @@
 #include "reference/photon_ref.h"
+#include "base/numbers.h"
+#include "reference/random_unit.h"
 
 #include <cmath>
 #include <cstdio>
@@ -14,13 +16,7 @@
 namespace hb {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kEps = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff, 2^-53
-
-glm::dvec3 randomUnit(std::mt19937_64& rng) {
-  std::normal_distribution<double> g;
-  return glm::normalize(glm::dvec3(g(rng), g(rng), g(rng)));
-}
 
 double faceSolidAngle(const PhotonFace& face) {
   double sum = 0.0;

@@ -181,7 +181,7 @@ Raster3dView pinholeView(const Camera& camera, uint32_t width, uint32_t height) 
 }
 
 bool setupTriangle3d(const Raster3dView& view, glm::vec3 w0, glm::vec3 w1, glm::vec3 w2, Raster3dTriangle& tri,
-                     Raster3dCounters& counters) {
+                     Raster3dRefCounters& counters) {
   tri = {};
   tri.p[0] = w0 - view.eye;
   tri.p[1] = w1 - view.eye;
@@ -243,7 +243,7 @@ bool setupTriangle3d(const Raster3dView& view, glm::vec3 w0, glm::vec3 w1, glm::
 }
 
 bool coversPixel3d(const Raster3dView& view, const Raster3dTriangle& tri, uint32_t x, uint32_t y, bool fp64Fallback,
-                   float& t, glm::vec3& lambda, Raster3dCounters& counters) {
+                   float& t, glm::vec3& lambda, Raster3dRefCounters& counters) {
   const float fx = float(x), fy = float(y);  // exact: x, y <= 2^16
   glm::vec3 v(0.0f);
   bool inside = true;
@@ -337,7 +337,7 @@ Raster3dResult rasterize3d(const Raster3dView& view, std::span<const glm::vec3> 
   r.height = view.height;
   r.visibility.assign(size_t(view.width) * view.height, kNoHit);
   r.coverage.assign(size_t(view.width) * view.height, 0u);
-  Raster3dCounters& c = r.counters;
+  Raster3dRefCounters& c = r.counters;
   for (size_t k = 0; k < indices.size() / 3; ++k) {
     ++c.triangles;
     const uint32_t i0 = indices[3 * k], i1 = indices[3 * k + 1], i2 = indices[3 * k + 2];

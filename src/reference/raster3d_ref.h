@@ -66,7 +66,7 @@ struct Raster3dTriangle {
   int orientation;             // +1: wound counter-clockwise seen from the eye (N faces it), −1: clockwise
 };
 
-struct Raster3dCounters {
+struct Raster3dRefCounters {
   uint64_t triangles = 0;             // triangles given
   uint64_t degenerate = 0;            // of those, volume exactly 0 (zero area or the eye in their plane), or non-finite
   uint64_t setups = 0;                // set up with a non-empty screen box
@@ -88,19 +88,19 @@ struct Raster3dResult {
   uint32_t width = 0, height = 0;
   std::vector<uint64_t> visibility;  // per pixel (row-major): packVisibility(t, id), kNoHit = nothing
   std::vector<uint32_t> coverage;    // per pixel: triangles covering the centre, whatever their depth
-  Raster3dCounters counters;
+  Raster3dRefCounters counters;
 };
 
 // Sets up triangle (w0, w1, w2) (world space) for `view`. Returns false if it can never cover a
 // pixel: its volume is exactly 0 (zero area, or the eye in its plane) or a vertex is not finite.
 // Precondition: eye-relative coordinates below 2^40 in magnitude (asserted).
 bool setupTriangle3d(const Raster3dView& view, glm::vec3 w0, glm::vec3 w1, glm::vec3 w2, Raster3dTriangle& tri,
-                     Raster3dCounters& counters);
+                     Raster3dRefCounters& counters);
 
 // Does the triangle cover the centre of pixel (x, y)? If so, t = its view depth and lambda its
 // barycentrics λ_i = V_i / ΣV_j (paper, 3.2).
 bool coversPixel3d(const Raster3dView& view, const Raster3dTriangle& tri, uint32_t x, uint32_t y, bool fp64Fallback,
-                   float& t, glm::vec3& lambda, Raster3dCounters& counters);
+                   float& t, glm::vec3& lambda, Raster3dRefCounters& counters);
 
 // The pixel box [lo, hi] (inclusive, clamped to the image; empty if hi < lo) of every pixel whose
 // ray can hit the triangle at t >= znear/2: the bound of the projection of the part of the

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "base/numbers.h"
 #include "reference/raster3d_ref.h"
 #include "reference/raster3d_ref_test_util.h"
 
@@ -20,7 +21,6 @@ namespace {
 using raster3d_test::randomView;
 using raster3d_test::rayAt;
 
-constexpr double kU = 5.9604644775390625e-8;  // 2^-24
 double gamma(int k) { return k * kU / (1.0 - k * kU); }
 
 // Rounded after every operation, whatever the compiler's contraction setting.
@@ -46,7 +46,7 @@ glm::vec3 randomVertex(std::mt19937& rng, const Raster3dView& v) {
 TEST(Raster3dNumerics, SharedEdgeRowsAndBoundsAreBitwiseNegations) {
   std::mt19937 rng(3);
   const Raster3dView v = randomView(rng, 256, 256);
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   for (int k = 0; k < 2000; ++k) {
     const glm::vec3 a = randomVertex(rng, v), b = randomVertex(rng, v), p = randomVertex(rng, v),
                     q = randomVertex(rng, v);
@@ -65,7 +65,7 @@ TEST(Raster3dNumerics, SharedEdgeRowsAndBoundsAreBitwiseNegations) {
 TEST(Raster3dNumerics, RowsAndEdgeValuesAreRoundedAfterEveryOperation) {
   std::mt19937 rng(4);
   const Raster3dView v = randomView(rng, 256, 256);
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   int covered = 0;
   for (int k = 0; k < 2000; ++k) {
     Raster3dTriangle t;
@@ -100,7 +100,7 @@ TEST(Raster3dNumerics, FloatAndDoubleEdgeErrorsStayWithinTheDerivedBounds) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   double worstF = 0, worstD = 0;
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   for (int k = 0; k < 4000; ++k) {
     const Raster3dView v = randomView(rng, 512, 512);
     // A vertex on a pixel centre's ray puts two edges through (almost) that centre: V* ~ rounding.
@@ -210,7 +210,7 @@ TEST(Raster3dGeometry, OrientationIsPlusOneForCounterClockwiseSeenFromTheEyeAndB
   const Raster3dView v = originView();
   const std::vector<glm::vec3> p = {{0, 0, -1}, {1, 0, -1}, {0, 1, -1}};
   Raster3dTriangle t;
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   ASSERT_TRUE(setupTriangle3d(v, p[0], p[1], p[2], t, c));
   EXPECT_EQ(t.orientation, 1);
   ASSERT_TRUE(setupTriangle3d(v, p[0], p[2], p[1], t, c));
@@ -332,7 +332,7 @@ TEST(Raster3dAccuracy, IdsAndDepthsMatchTheDoubleRayCastOnARandomMesh) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   Agreement total;
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   for (int view = 0; view < 4; ++view) {
     const Raster3dView v = randomView(rng, 320, 240);
     std::vector<glm::vec3> pos;

@@ -156,8 +156,8 @@ FillStats checkFill(const PixelMesh& pm, const std::vector<uint32_t>& coverage, 
 
 struct Totals {
   FillStats fill;
-  Raster3dCounters counters;
-  void add(const FillStats& f, const Raster3dCounters& c) {
+  Raster3dRefCounters counters;
+  void add(const FillStats& f, const Raster3dRefCounters& c) {
     fill.inside += f.inside, fill.holes += f.holes, fill.doubleCovers += f.doubleCovers, fill.spill += f.spill;
     counters.edgeEvaluations += c.edgeEvaluations, counters.fallbacks += c.fallbacks;
     counters.exactEvaluations += c.exactEvaluations;
@@ -338,11 +338,11 @@ Mesh placeSphere(Mesh m, const Raster3dView& v, glm::dvec3 centre, double radius
 }
 
 // Coverage of the triangles of one orientation (as the rasterizer's setup decides it).
-std::vector<uint32_t> coverageOfFaces(const Raster3dView& v, const Mesh& m, int orientation, Raster3dCounters& c) {
+std::vector<uint32_t> coverageOfFaces(const Raster3dView& v, const Mesh& m, int orientation, Raster3dRefCounters& c) {
   Mesh part{m.positions, {}};
   for (size_t k = 0; k < m.indices.size(); k += 3) {
     Raster3dTriangle tri;
-    Raster3dCounters unused;
+    Raster3dRefCounters unused;
     if (setupTriangle3d(v, m.positions[m.indices[k]], m.positions[m.indices[k + 1]], m.positions[m.indices[k + 2]], tri,
                         unused) &&
         tri.orientation == orientation)
@@ -359,7 +359,7 @@ std::vector<uint32_t> coverageOfFaces(const Raster3dView& v, const Mesh& m, int 
 TEST(Raster3dFillRule, ClosedMeshesSeenFromOutsideCoverEveryPixelAsOftenFrontAsBack) {
   std::mt19937 rng(31);
   size_t covered = 0, mismatches = 0;
-  Raster3dCounters c;
+  Raster3dRefCounters c;
   for (int k = 0; k < 6; ++k) {
     const Raster3dView v = randomView(rng, 160, 120);
     const glm::dvec3 centre = glm::dvec3(v.eye) + 4.0 * rayAt(v, 70 + 5 * k, 60);

@@ -1,4 +1,5 @@
 #include "reference/reconstruct_ref.h"
+#include "base/numbers.h"
 
 #include <cmath>
 #include <functional>
@@ -12,7 +13,6 @@
 namespace hb {
 namespace {
 
-constexpr double kU = 0x1p-24;   // float unit roundoff
 constexpr double kUd = 0x1p-53;  // double unit roundoff
 
 struct PlaneGeom {

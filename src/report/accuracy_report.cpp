@@ -1,4 +1,5 @@
 #include "report/accuracy_report.h"
+#include "base/numbers.h"
 #include "base/text_format.h"
 #include "report/results_json.h"
 
@@ -18,7 +19,6 @@ namespace {
 
 using namespace results;  // at, numberAt, medianOf, escapeCell, csvField, requireResultsFile
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const char* const kDash = "—";
 
 bool isOk(const json& run) { return at(run, "status") == "ok"; }

@@ -1,4 +1,5 @@
 #include "report/compare.h"
+#include "base/numbers.h"
 #include "base/text_format.h"
 
 #include <algorithm>
@@ -19,8 +20,6 @@ namespace hb {
 using nlohmann::json;
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A pass's place in frame order (effects/effects.h framePassOrder: the base frame's passes and
 // every effect's), a sub-pass ("raster3d.tiles") right after its pass; passes the frame no longer

@@ -1,4 +1,5 @@
 #include "report/stats.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <bit>
@@ -11,8 +12,6 @@
 namespace hb {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::vector<double> sortedCopy(std::span<const double> v) {
   std::vector<double> s(v.begin(), v.end());

@@ -1,4 +1,5 @@
 #include "report/tables.h"
+#include "base/numbers.h"
 #include "base/text_format.h"
 #include "report/results_json.h"
 
@@ -17,8 +18,6 @@ using nlohmann::json;
 namespace {
 
 using namespace results;  // at, numberAt, medianOf, escapeCell, csvField, requireResultsFile
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct ThesisConfig {
   const char* table;

@@ -1,4 +1,5 @@
 #include "scene/atrium.h"
+#include "base/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +16,6 @@
 namespace hb {
 
 namespace {
-
-constexpr double kPi = 3.141592653589793;
 
 // ---- Layout (metres). Sponza after its node scale: 29.8 x 12.4 x 18.3 (the Crytek Sponza glTF's bounds).
 constexpr double kHalfX = 14.9, kHalfZ = 9.15, kFloorY = -0.2, kTopY = 12.2;

@@ -35,8 +35,6 @@ void forEachTriangle(const Scene& s, F&& f) {
       }
 }
 
-glm::dvec3 eyeOf(const Camera& c) { return glm::dvec3(glm::inverse(glm::dmat4(c.view))[3]); }
-
 TEST(Atrium, HasAboutAsManyTrianglesAsSponza) {
   const uint64_t n = atrium().triangleCount();
   std::printf("atrium triangles: %llu, vertices: %zu\n", (unsigned long long)n, atrium().vertices.size());

@@ -1,4 +1,5 @@
 #include "scene/hard_cases.h"
+#include "base/numbers.h"
 
 #include <random>
 
@@ -15,7 +16,6 @@ namespace hb {
 
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 constexpr uint32_t kGrey = 0;
 
 Scene baseScene(const char* name) {

@@ -26,8 +26,6 @@ uint64_t degenerateCount(const Scene& s) {
   return n;
 }
 
-glm::dvec3 eyeOf(const Camera& c) { return glm::dvec3(glm::inverse(glm::dmat4(c.view))[3]); }
-
 TEST(HardCases, EveryBuiltinSceneBuildsFiniteWithALightAndACamera) {
   for (const std::string& name : builtinSceneNames()) {
     SCOPED_TRACE(name);

@@ -101,6 +101,9 @@ struct Camera {
   float zfar = 1000.0f;  // reverse-Z: near → depth 1, far → depth 0
 };
 
+// The camera's position in world space (the inverse view's translation), in double.
+inline glm::dvec3 eyeOf(const Camera& c) { return glm::dvec3(glm::inverse(glm::dmat4(c.view))[3]); }
+
 struct Scene {
   std::string name;
   std::vector<Vertex> vertices;

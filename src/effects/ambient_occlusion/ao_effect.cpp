@@ -24,7 +24,7 @@ namespace {
 
 constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao"};
 
-AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+AoSettings readAo(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
   AoSettings s;
   if (!validateEffectValue(ambientOcclusionEffect(), value, where))
@@ -45,7 +45,7 @@ AoSettings read(const nlohmann::ordered_json& value, const json_reader::Where& w
   return s;
 }
 
-void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) { read(value, where); }
+void validateAo(const nlohmann::ordered_json& value, const json_reader::Where& where) { readAo(value, where); }
 
 std::vector<FrameResource> aoNeedsOf(const nlohmann::json& value) {
   const AoMethod m = aoSettingsOf(value).method;
@@ -88,7 +88,7 @@ void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::W
 }
 
 AoSettings aoSettingsOf(const nlohmann::json& value) {
-  return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "ambient_occlusion"});
+  return readAo(nlohmann::ordered_json(value), json_reader::Where{"effects", "ambient_occlusion"});
 }
 
 nlohmann::json AoSettings::toJson() const {
@@ -118,7 +118,7 @@ const EffectDef& ambientOcclusionEffect() {
           "ambient occlusion of the scene's ambient term: layered depth maps along N directions, the same "
           "directions ray traced, or a Monte Carlo reference",
       .defaultValue = false,
-      .validate = validate,
+      .validate = validateAo,
       .needs = {FrameResource::Depth},
       .passes = {kLdmBuildPass, kAmbientOcclusionPass},
       .cannotAct = aoCannotAct,

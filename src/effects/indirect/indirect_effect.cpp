@@ -19,7 +19,7 @@ const char* toString(IndirectMethod m) {
 
 namespace {
 
-IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
   IndirectSettings s;
   if (!validateEffectValue(indirectEffect(), value, where)) return s;  // true, false or an object of its settings
@@ -36,16 +36,18 @@ IndirectSettings read(const nlohmann::ordered_json& value, const json_reader::Wh
   return s;
 }
 
-void validate(const nlohmann::ordered_json& value, const json_reader::Where& where) { read(value, where); }
+void validateIndirect(const nlohmann::ordered_json& value, const json_reader::Where& where) {
+  readIndirect(value, where);
+}
 
 // Every method meets the primary photons' (or the gathered rays') surfaces through the ray tracer.
-std::vector<FrameResource> needsOf(const nlohmann::json& value) {
+std::vector<FrameResource> indirectNeedsOf(const nlohmann::json& value) {
   if (indirectSettingsOf(value).method == IndirectMethod::Ldm)
     return {FrameResource::Depth, FrameResource::AccelerationStructures, FrameResource::LayeredDepthMaps};
   return {FrameResource::Depth, FrameResource::AccelerationStructures};
 }
 
-std::vector<const char*> passesOf(const nlohmann::json& value) {
+std::vector<const char*> indirectPassesOf(const nlohmann::json& value) {
   switch (indirectSettingsOf(value).method) {
     case IndirectMethod::Ldm: return {kIndirectLdmBuildPass, kPhotonTracePass, kPhotonSplatPass};
     case IndirectMethod::RayTraced: return {kPhotonTracePass, kPhotonSplatPass};
@@ -54,7 +56,7 @@ std::vector<const char*> passesOf(const nlohmann::json& value) {
   return {};
 }
 
-std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
+std::string indirectCannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
   const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(),
                                  [](const Light& l) { return l.type != LightType::Directional && l.intensity > 0.0f; });
   if (!emits)
@@ -67,7 +69,7 @@ std::string cannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
 }  // namespace
 
 IndirectSettings indirectSettingsOf(const nlohmann::json& value) {
-  return read(nlohmann::ordered_json(value), json_reader::Where{"effects", "indirect"});
+  return readIndirect(nlohmann::ordered_json(value), json_reader::Where{"effects", "indirect"});
 }
 
 nlohmann::json IndirectSettings::toJson() const {
@@ -95,12 +97,12 @@ const EffectDef& indirectEffect() {
           "through layered depth maps or the ray tracer and splatted with their differentials, or a gathered "
           "reference",
       .defaultValue = false,
-      .validate = validate,
+      .validate = validateIndirect,
       .needs = {FrameResource::Depth, FrameResource::AccelerationStructures},
       .passes = {kIndirectLdmBuildPass, kPhotonTracePass, kPhotonSplatPass, kIndirectGatherPass},
-      .cannotAct = cannotAct,
-      .needsOf = needsOf,
-      .passesOf = passesOf,
+      .cannotAct = indirectCannotAct,
+      .needsOf = indirectNeedsOf,
+      .passesOf = indirectPassesOf,
       .build = buildIndirect,
       .report = reportIndirect,
       .table = indirectTableMarkdown,
