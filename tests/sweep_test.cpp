@@ -468,6 +468,7 @@ TEST_F(Sweep, InterruptedSweepKeepsFinishedRunsAndResumeCompletesIt) {
   kill(first, SIGINT);
   const RunResult r1 = wait(first);
   EXPECT_EQ(r1.exitCode, 130) << r1.out << r1.err;
+  EXPECT_EQ(hb::testing::processesMentioning(out.string()), std::vector<std::string>{});  // the worker ended too
   EXPECT_NE(r1.out.find("--resume --out " + out.string()), std::string::npos) << r1.out;
   const json afterInt = readJson(out / "results.json");
   ASSERT_FALSE(afterInt.is_discarded());
@@ -481,6 +482,7 @@ TEST_F(Sweep, InterruptedSweepKeepsFinishedRunsAndResumeCompletesIt) {
   kill(second, SIGTERM);
   const RunResult r2 = wait(second);
   EXPECT_EQ(r2.exitCode, 130) << r2.out << r2.err;
+  EXPECT_EQ(hb::testing::processesMentioning(out.string()), std::vector<std::string>{});
   EXPECT_NE(r2.out.find("resume: " + std::to_string(k1) + " of " + std::to_string(variants.size())), std::string::npos)
       << r2.out;
   const json afterTerm = readJson(out / "results.json");

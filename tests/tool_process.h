@@ -58,6 +58,21 @@ inline void writeFile(const fs::path& p, const std::string& text) {
   f << text;
 }
 
+// The processes alive now whose command line holds `needle` (e.g. a test's scratch directory),
+// as "pid: command line" (zombies, which hold no command line, are not listed).
+inline std::vector<std::string> processesMentioning(const std::string& needle) {
+  std::vector<std::string> found;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string pid = entry.path().filename().string();
+    if (pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string cmdline = readFile(entry.path() / "cmdline");
+    for (char& c : cmdline)
+      if (c == '\0') c = ' ';
+    if (cmdline.find(needle) != std::string::npos) found.push_back(pid + ": " + cmdline);
+  }
+  return found;
+}
+
 class ToolTest : public ::testing::Test {
  protected:
   static constexpr std::chrono::seconds kChildDeadline{300};

@@ -62,6 +62,15 @@ int main(int argc, char** argv) {
   sweepCmd->add_option("--size", sweep.size, "resolution WxH of every variant, e.g. 1280x720");
   sweepCmd->add_option("--set", sweep.sets, "parameter or effect for every variant, key=value (repeatable)")
       ->allow_extra_args(false);
+  sweepCmd
+      ->add_option("--variant-timeout", sweep.variantTimeout,
+                   "seconds a variant may run before the watchdog ends it and the sweep goes on (default: 600, or "
+                   "2 s a frame where that is longer)")
+      ->check(CLI::PositiveNumber);
+  sweepCmd->add_flag("--retry-failed", sweep.retryFailed,
+                     "with --resume: run again the variants that timed out or crashed");
+  sweepCmd->add_option("--worker-fd", sweep.workerFd)->group("");  // internal: the variants' child process
+  sweepCmd->add_option("--worker-variants", sweep.workerVariants)->group("");
   sweepCmd->add_flag("--dry-run", sweep.dryRun,
                      "print the variants with their parameters, the frame count and a time estimate; run nothing");
 

@@ -30,6 +30,8 @@ int cmdSweep(const SweepOptions& options) {
     throw InputError(
         "sweep: --resume and --force contradict each other (--resume continues the results in --out, "
         "--force moves them aside); give one");
+  if (options.retryFailed && !options.resume)
+    throw InputError("sweep --retry-failed runs again what an earlier sweep left; it needs --resume --out DIR");
   if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
   ConfigOverrides overrides;
   overrides.scene = options.scene;
@@ -59,6 +61,11 @@ int cmdSweep(const SweepOptions& options) {
   }
   if (chosen.empty()) throw DeviceError("no Vulkan device found; install a driver (lavapipe: mesa-vulkan-drivers)");
   catchSweepInterrupts();
+  if (options.workerFd >= 0) {  // this process is one device's worker (sweep_worker.h)
+    if (chosen.size() != 1 || options.out.empty())
+      throw InputError("--worker-fd is internal to sweep: it needs one --device and --out");
+    return runSweepWorker(options, config, chosen[0], options.out);
+  }
 
   // One folder per device: DIR/<position>-<device> when several (two identical GPUs differ in
   // position only), else DIR, or out/<config>-<device>-<time>-<git> without --out.

@@ -1,5 +1,6 @@
 #include "app/sweep_device.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,12 +11,16 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <optional>
+#include <sstream>
 
 #include "analysis/render_outputs.h"
 #include "app/run_context.h"
 #include "app/scene_setup.h"
 #include "app/sweep_results.h"
+#include "app/sweep_worker.h"
 #include "base/errors.h"
 #include "base/text_format.h"
 #include "base/version.h"
@@ -72,9 +77,12 @@ class ReferenceCache {
 // Runs one variant; returns its run record (status ok) or throws.
 json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v, SceneCache& scenes,
                 ReferenceCache& references, const std::string& imageDir, bool images, uint32_t warmup,
-                uint32_t measured, const Peaks& peaks) {
+                uint32_t measured, const Peaks& peaks, const std::function<void(const char*)>& step) {
+  step("scene");
   const Scene& scene = scenes.get(config, v.params);
+  step("reference frame");
   const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
+  step("pipelines");
   RenderSettings settings = renderSettingsFor(v.params, effectsRequestFor(config));
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
@@ -90,6 +98,12 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - warmStart).count();
   };
   uint32_t warmed = 0;
+  step("warm-up");
+  // Test only (docs/usage.md): the named variant stops making progress as a driver hang does,
+  // deaf to SIGTERM, until the watchdog's SIGKILL; or its process ends on SIGABRT, as a crash.
+  if (const char* hang = std::getenv("HYBRIDBENCH_TEST_HANG_VARIANT"); hang && v.name == hang)
+    for (;;) ::pause();
+  if (const char* crash = std::getenv("HYBRIDBENCH_TEST_CRASH_VARIANT"); crash && v.name == crash) std::abort();
   while (warmup > 0 && !gInterrupted && warmed < kMaxWarmupFrames &&
          (warmed < warmup || (gpu && warmSeconds() < kMinWarmupSeconds))) {
     renderer.renderFrame(false);
@@ -99,6 +113,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   std::vector<double> frameMs;
   std::map<std::string, std::vector<double>> passMs;
   std::vector<std::string> passOrder;
+  step("measured frames");
   for (uint32_t i = 0; i < measured && !gInterrupted; ++i) {
     FrameTiming t = renderer.renderFrame(false);
     frameMs.push_back(t.frameMs);
@@ -108,10 +123,12 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     }
   }
   if (gInterrupted) throw std::runtime_error("interrupted");
+  step("analysis frame");
   renderer.renderFrame(true);  // analysis frame: counters, readbacks, images
   // Ray throughput right after it, while the GPU is as warm as in the measured frames (the CPU
   // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
   std::vector<double> rb;
+  step("ray benchmark");
   if (ShadowsPart* shadows = shadowsOf(renderer)) {
     // 30 warm-up and 30 measured repetitions, fewer (at least 3) where one repetition is long: a
     // billion rays take most of a second, and 60 of them would be a minute per variant.
@@ -123,6 +140,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     shadows->rayBench(renderer.timer(), cpu ? 0 : reps - 1);
     rb = shadows->rayBench(renderer.timer(), reps);
   }
+  step("analysis and images");
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
 
   json run = outputs.json;
@@ -235,41 +253,98 @@ void printDryRun(const SweepOptions& options, Config config, const DeviceInfo& d
   }
 }
 
-int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
-                   const Console& console, const std::vector<std::string>& concurrent,
-                   const std::vector<std::string>& sharing) {
+// The variant positions of "0,3,4" (--worker-variants).
+static std::vector<size_t> parsePositions(const std::string& list, size_t count) {
+  std::vector<size_t> out;
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    const size_t k = std::stoul(item);
+    if (k >= count) throw InputError("--worker-variants: no variant " + item);
+    out.push_back(k);
+  }
+  return out;
+}
+
+int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
+  const WorkerChannel parent(options.workerFd);
   VulkanContext ctx(device.index);
   config = configForDevice(config, options, device);
-  std::vector<Variant> variants = expandVariants(config);
-  // The scene of the config's defaults names the results file's scene (variants may scale it). It
-  // loads before anything is printed or created: a scene refused is one line and no folder.
+  const std::vector<Variant> variants = expandVariants(config);
   SceneCache scenes;
   const Scene& baseScene = scenes.get(config, config.defaults);
-  if (device.type == "cpu") console.print("note: " + config.notes.back() + "\n");
-  fs::create_directories(outDir);
-  const std::string resultsPath = (fs::path(outDir) / "results.json").string();
-  json results;
-  results["schema_version"] = 1;
   json context = runContext(ctx, baseScene);
   context["resolution"] = variants.front().params.resolution;
   context["config"] = toJson(config);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
-  if (!concurrent.empty())
-    context["concurrent_with"] = concurrent;  // other devices swept at the same time (one thread each)
-  if (!sharing.empty())
-    context["timing_caveat_shared_device"] =
-        "this device also ran the sweep(s) of " + joinNames(sharing) +
-        " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
   // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
   bool peaksCached = false;
   Peaks peaks = cachedPeaks(ctx, &peaksCached);
   addRayPeaks(ctx, baseScene, peaks);  // the scene's own: never cached
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
-  results["context"] = context;
-  results["runs"] = json::array();
+  parent.send("context", context.dump());
+  ReferenceCache references;  // across the variants of this worker
+  for (const size_t k : parsePositions(options.workerVariants, variants.size())) {
+    if (gInterrupted) break;
+    const Variant& v = variants[k];
+    parent.send("variant", std::to_string(k));
+    json run;
+    try {
+      run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(), options.images,
+                       config.warmupFrames, config.measuredFrames, peaks,
+                       [&](const char* what) { parent.send("step", what); });
+    } catch (const std::exception& e) {
+      if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
+      run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
+    }
+    parent.send("run", run.dump());
+  }
+  parent.send("validation", std::to_string(ctx.validationMessages()));
+  return gInterrupted ? 130 : kExitOk;
+}
 
-  std::map<std::string, json> done;
+namespace {
+
+// The command line of a worker for `positions` of this sweep on `device`.
+std::vector<std::string> workerArgs(const SweepOptions& options, const DeviceInfo& device, const std::string& outDir,
+                                    const std::vector<size_t>& positions) {
+  std::vector<std::string> a = {"sweep"};
+  if (!options.config.empty()) a.push_back(options.config);
+  a.insert(a.end(), {"--device", std::to_string(device.index), "--out", outDir});
+  if (options.frames > 0) a.insert(a.end(), {"--frames", std::to_string(options.frames)});
+  if (options.warmup >= 0) a.insert(a.end(), {"--warmup", std::to_string(options.warmup)});
+  if (!options.images) a.push_back("--no-images");
+  if (!options.scene.empty()) a.insert(a.end(), {"--scene", options.scene});
+  if (!options.size.empty()) a.insert(a.end(), {"--size", options.size});
+  for (const std::string& set : options.sets) a.insert(a.end(), {"--set", set});
+  std::string list;
+  for (size_t k : positions) list += (list.empty() ? "" : ",") + std::to_string(k);
+  a.insert(a.end(), {"--worker-fd", std::to_string(kWorkerFd), "--worker-variants", list});
+  return a;
+}
+
+}  // namespace
+
+int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
+                   const Console& console, const std::vector<std::string>& concurrent,
+                   const std::vector<std::string>& sharing) {
+  config = configForDevice(config, options, device);
+  std::vector<Variant> variants = expandVariants(config);
+  // The scene of the config's defaults names the results file's scene (variants may scale it). It
+  // loads before anything is printed or created: a scene refused is one line and no folder.
+  SceneCache scenes;
+  (void)scenes.get(config, config.defaults);
+  if (device.type == "cpu") console.print("note: " + config.notes.back() + "\n");
+  fs::create_directories(outDir);
+  const std::string resultsPath = (fs::path(outDir) / "results.json").string();
+  const uint64_t framesPerVariant = uint64_t(config.warmupFrames) + config.measuredFrames + 1;
+  const double timeoutS = options.variantTimeout > 0
+                              ? options.variantTimeout
+                              : std::max(kVariantTimeoutFloorS, kFrameLimitS * double(framesPerVariant));
+
+  // Each position's run once known: finished earlier (--resume) or now.
+  std::vector<json> slots(variants.size());
+  json resumedContext;
   if (options.resume && fs::exists(resultsPath)) {
     std::ifstream f(resultsPath);
     json old;
@@ -280,57 +355,171 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
                        "); remove it or use another --out");
     }
     const json& oc = old.value("context", json::object());
-    if (oc.value("config", json()) != context["config"] ||
-        oc.value("device", json::object()).value("uuid", "") != ctx.info().uuid)
+    if (oc.value("config", json()) != toJson(config) ||
+        oc.value("device", json::object()).value("uuid", "") != device.uuid)
       throw InputError(resultsPath +
                        ": --resume needs the same config (frame counts included) and device as the interrupted sweep; "
                        "use another --out");
-    for (const json& run : old.value("runs", json::array()))
-      if (run.value("status", "") == "ok") done[run.value("name", "")] = run;
-    console.print(format("resume: %zu of %zu variants already done\n", done.size(), variants.size()));
+    if (old.contains("context")) resumedContext = old["context"];  // until a worker sends today's
+    std::map<std::string, json> old_;
+    for (const json& run : old.value("runs", json::array())) {
+      const std::string status = run.value("status", "");
+      // ok: done. timeout and crashed: kept unless --retry-failed. error: run again.
+      if (status == "ok" || ((status == "timeout" || status == "crashed") && !options.retryFailed))
+        old_[run.value("name", "")] = run;
+    }
+    for (size_t k = 0; k < variants.size(); ++k)
+      if (old_.count(variants[k].name)) slots[k] = old_[variants[k].name];
+    size_t kept = 0, failed = 0;
+    for (const json& run : slots)
+      if (!run.is_null()) (run.value("status", "") == "ok" ? kept : failed)++;
+    console.print(format(
+        "resume: %zu of %zu variants already done%s\n", kept, variants.size(),
+        failed ? format(", %zu that timed out or crashed kept (--retry-failed runs them again)", failed).c_str() : ""));
   }
 
   console.print(format("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n",
-                       config.name.c_str(), ctx.info().name.c_str(), variants.size(), config.warmupFrames,
+                       config.name.c_str(), device.name.c_str(), variants.size(), config.warmupFrames,
                        config.measuredFrames, outDir.c_str()));
-  ReferenceCache references;
-  Progress progress(variants.size(), console);
-  size_t index = 0, failures = 0;
-  for (const Variant& v : variants) {
-    if (gInterrupted) break;
-    progress.update(index, v.name);
-    if (done.count(v.name)) {
-      results["runs"].push_back(done[v.name]);
-    } else {
-      json run;
-      try {
-        run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(), options.images,
-                         config.warmupFrames, config.measuredFrames, peaks);
-      } catch (const std::exception& e) {
-        if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
-        run = {{"name", v.name}, {"params", toJson(v.params)}, {"status", "error"}, {"error", e.what()}};
-        ++failures;
-        console.print(format("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
-                             v.name.c_str(), e.what()));
+  json results;
+  results["schema_version"] = 1;
+  results["runs"] = json::array();
+  if (!resumedContext.is_null()) results["context"] = resumedContext;
+  auto write = [&] {
+    results["runs"] = json::array();
+    for (const json& run : slots)
+      if (!run.is_null()) results["runs"].push_back(run);
+    if (results.contains("context")) writeSweepOutputs(outDir, results);  // nothing finished is ever lost
+  };
+  // The clock of "elapsed" and "eta" starts when the first worker has its device (as it did when
+  // the sweep opened the device itself).
+  std::optional<Progress> progress;
+  size_t finished = 0, failures = 0, lost = 0;
+  for (const json& run : slots) finished += !run.is_null();
+  unsigned validation = 0;
+  bool interrupted = false;
+  // Workers, one after another: each runs the variants still to do until they are done or it
+  // ends; a variant it did not finish is recorded and the next worker starts after it.
+  while (!interrupted) {
+    std::vector<size_t> todo;
+    for (size_t k = 0; k < variants.size(); ++k)
+      if (slots[k].is_null()) todo.push_back(k);
+    if (todo.empty()) break;
+    WorkerProcess worker(workerArgs(options, device, outDir, todo));
+    long current = -1;  // the position in flight
+    std::string lastStep = "start";
+    auto started = std::chrono::steady_clock::now();
+    auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(); };
+    bool progressed = false, timedOut = false;
+    for (;;) {
+      if (gInterrupted) {
+        interrupted = true;
+        break;
       }
-      results["runs"].push_back(run);
+      std::string kind, payload;
+      const double left = current >= 0 ? timeoutS - seconds() : 1e9;
+      const WorkerProcess::Read r = worker.next(std::min(1.0, std::max(left, 0.0)), kind, payload);
+      if (r == WorkerProcess::Read::End) break;
+      if (r == WorkerProcess::Read::Timeout) {
+        if (current >= 0 && seconds() >= timeoutS) {
+          timedOut = true;
+          break;
+        }
+        continue;
+      }
+      if (kind == "context") {
+        json context = json::parse(payload);
+        if (!concurrent.empty())
+          context["concurrent_with"] = concurrent;  // other devices swept at the same time (one thread each)
+        if (!sharing.empty())
+          context["timing_caveat_shared_device"] =
+              "this device also ran the sweep(s) of " + joinNames(sharing) +
+              " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
+        results["context"] = context;
+        if (!progress) progress.emplace(variants.size(), console);
+      } else if (kind == "variant") {
+        current = std::stol(payload);
+        lastStep = "start";
+        started = std::chrono::steady_clock::now();
+        progressed = true;
+        if (progress) progress->update(finished, variants[size_t(current)].name);
+      } else if (kind == "step") {
+        lastStep = payload;
+      } else if (kind == "run" && current >= 0) {
+        json run = json::parse(payload);
+        if (run.value("status", "") == "error") {
+          ++failures;
+          console.print(format("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
+                               variants[size_t(current)].name.c_str(), run.value("error", "").c_str()));
+        }
+        slots[size_t(current)] = run;
+        ++finished;
+        current = -1;
+        write();
+      } else if (kind == "validation") {
+        validation += unsigned(std::stoul(payload));
+      }
     }
-    writeSweepOutputs(outDir, results);  // after every variant: nothing finished is ever lost
-    ++index;
+    if (interrupted) {
+      worker.stop(kWorkerGraceS);  // it stops after its frame (Ctrl-C reached it too) or is killed
+      break;
+    }
+    const double ranS = seconds();  // before the grace period
+    const int status = timedOut ? worker.stop(kWorkerGraceS) : worker.wait();
+    if (current < 0) {
+      if (WIFEXITED(status) && WEXITSTATUS(status) == kExitOk) continue;  // it ran all it was given
+      if (!progressed) {
+        // It ended before its first variant (the device would not open, ...): its error is on
+        // stderr already; a fresh worker would end the same way.
+        std::fprintf(stderr, "hybridbench: the sweep's worker process ended before its first variant (%s)\n",
+                     describeWaitStatus(status).c_str());
+        write();
+        return WIFEXITED(status) && WEXITSTATUS(status) != 0 ? WEXITSTATUS(status) : kExitDeviceFailure;
+      }
+      continue;  // between variants: the next worker goes on
+    }
+    const Variant& v = variants[size_t(current)];
+    json run = {{"name", v.name},
+                {"params", toJson(v.params)},
+                {"status", timedOut ? "timeout" : "crashed"},
+                {"last_step", lastStep},
+                {"seconds", ranS},
+                {"process", describeWaitStatus(status)}};
+    if (timedOut) run["timeout_s"] = timeoutS;
+    slots[size_t(current)] = run;
+    ++finished;
+    ++lost;
+    console.print(
+        format("%svariant \"%s\" %s after %.0f s in step \"%s\" (%s); the sweep goes on with a fresh device\n",
+               isatty(fileno(stdout)) && !console.shared() ? "\n" : "", v.name.c_str(),
+               timedOut ? "timed out" : "crashed", ranS, lastStep.c_str(), describeWaitStatus(status).c_str()));
+    write();
   }
-  if (gInterrupted) {
-    console.print(format("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n", index,
-                         variants.size(), outDir.c_str(), outDir.c_str()));
+  if (interrupted || gInterrupted) {
+    write();
+    console.print(format("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n",
+                         finished, variants.size(), outDir.c_str(), outDir.c_str()));
     return 130;
   }
-  progress.update(variants.size(), "done");
+  write();
+  if (!progress) progress.emplace(variants.size(), console);
+  progress->update(variants.size(), "done");
   if (!console.shared()) console.print(thesisTablesMarkdown(results));  // concurrent: in tables.md only
   console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
                        options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
-  if (ctx.validationMessages()) {
+  lost = 0;  // this sweep's and those --resume kept
+  for (const json& run : slots) lost += run.value("status", "") == "timeout" || run.value("status", "") == "crashed";
+  if (lost) {
+    std::fprintf(stderr,
+                 "hybridbench: %s%zu variant(s) timed out or crashed (status \"timeout\" or \"crashed\" in "
+                 "results.json); every other variant finished; run them again with --resume --retry-failed --out %s\n",
+                 console.shared() ? (device.name + ": ").c_str() : "", lost, outDir.c_str());
+    return kExitDeviceFailure;
+  }
+  if (validation) {
     std::fprintf(stderr, "hybridbench: %s%u validation message(s)\n",
-                 console.shared() ? (device.name + ": ").c_str() : "", ctx.validationMessages());
+                 console.shared() ? (device.name + ": ").c_str() : "", validation);
     return kExitDeviceFailure;
   }
   return kExitOk;

@@ -19,6 +19,10 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
                    const Console& console, const std::vector<std::string>& concurrent,
                    const std::vector<std::string>& sharing = {});
 
+// The worker process's side (sweep_worker.h): runs the variants options.workerVariants names on
+// `device` and sends the results context, each variant's steps and its run to options.workerFd.
+int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir);
+
 // The config as it runs on `device`: options' frame counts, then lowered for a CPU device.
 Config configForDevice(Config config, const SweepOptions& options, const DeviceInfo& device);
 
