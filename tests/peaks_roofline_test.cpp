@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -149,6 +150,45 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
     // The work the analysis counted is the work the roofline divides: rays traced by the shadow pass.
     if (run["roofline"].contains("shadows")) {
       EXPECT_EQ(run["roofline"]["shadows"]["work"].get<double>(), run["rays"]["traced"].get<double>());
+    }
+  }
+  // Timing-shaped checks, which hold on any device (lavapipe's timestamps do not bracket compute
+  // work, so its times say nothing of speed, but they are still stamps of one clock): every timed
+  // pass has a nonzero duration in each measured frame; the sub-passes of a pass ("raster3d.scan"
+  // of "raster3d") sum to no more than it, and the passes to no more than their frame. Each
+  // duration is a difference of two stamps quantised to timestamp_period_ns, so it is off by less
+  // than one tick: a sum of k durations against one other is off by less than k + 1 ticks.
+  const double tickMs = results["context"]["device"]["timestamp_period_ns"].get<double>() * 1e-6;
+  const size_t frames = results["context"]["frames"]["measured"].get<size_t>();
+  for (const json& run : results["runs"]) {
+    SCOPED_TRACE(run.value("name", ""));
+    const json& passes = run["passes"];
+    for (const auto& [entry, t] : passes.items()) {
+      ASSERT_EQ(t["samples"].size(), frames) << entry;
+      for (const json& ms : t["samples"]) EXPECT_GT(ms.get<double>(), 0.0) << entry;
+    }
+    for (size_t f = 0; f < frames; ++f) {
+      std::map<std::string, std::pair<double, size_t>> subSums;  // pass -> (sum of its sub-passes, count)
+      double passSum = 0;
+      size_t passCount = 0;
+      for (const auto& [entry, t] : passes.items()) {
+        const double ms = t["samples"][f].get<double>();
+        const size_t dot = entry.find('.');
+        if (dot == std::string::npos) {
+          passSum += ms;
+          ++passCount;
+        } else {
+          auto& [sum, count] = subSums[entry.substr(0, dot)];
+          sum += ms;
+          ++count;
+        }
+      }
+      for (const auto& [pass, sc] : subSums) {
+        ASSERT_TRUE(passes.contains(pass)) << "sub-passes of an untimed pass " << pass;
+        EXPECT_LE(sc.first, passes[pass]["samples"][f].get<double>() + double(sc.second + 1) * tickMs)
+            << pass << " frame " << f;
+      }
+      EXPECT_LE(passSum, run["frame_ms"]["samples"][f].get<double>() + double(passCount + 1) * tickMs) << "frame " << f;
     }
   }
   // Each kind of pass and sub-pass ran at least once.

@@ -7,11 +7,14 @@
 
 #include "app/commands.h"
 #include "app/sweep.h"
+#include "app/sweep_worker.h"
 #include "base/errors.h"
 #include "base/version.h"
 #include "gpu/vk_context.h"
 
 int main(int argc, char** argv) {
+  // A sweep runs its variants in this same executable, started again as a worker (sweep_worker.h).
+  hb::setSweepWorkerExecutable("/proc/self/exe");
   using namespace hb;
   CLI::App app{"hybridbench: a headless Vulkan benchmark of a Forward+ renderer with ray-traced shadows"};
   app.set_version_flag("--version", toolVersion() + " (" + gitRevision() + ")");

@@ -328,6 +328,7 @@ std::vector<std::string> workerArgs(const SweepOptions& options, const DeviceInf
 int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir,
                    const Console& console, const std::vector<std::string>& concurrent,
                    const std::vector<std::string>& sharing) {
+  const Config asGiven = config;  // what a worker starts from
   config = configForDevice(config, options, device);
   std::vector<Variant> variants = expandVariants(config);
   // The scene of the config's defaults names the results file's scene (variants may scale it). It
@@ -405,7 +406,13 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     for (size_t k = 0; k < variants.size(); ++k)
       if (slots[k].is_null()) todo.push_back(k);
     if (todo.empty()) break;
-    WorkerProcess worker(workerArgs(options, device, outDir, todo));
+    const std::vector<std::string> args = workerArgs(options, device, outDir, todo);
+    WorkerProcess worker(args, [&, todo](int fd) {
+      SweepOptions o = options;
+      o.workerFd = fd;
+      o.workerVariants = args.back();  // "--worker-variants LIST" ends the arguments
+      return runSweepWorker(o, asGiven, device, outDir);
+    });
     long current = -1;  // the position in flight
     std::string lastStep = "start";
     auto started = std::chrono::steady_clock::now();
@@ -421,7 +428,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
       const WorkerProcess::Read r = worker.next(std::min(1.0, std::max(left, 0.0)), kind, payload);
       if (r == WorkerProcess::Read::End) break;
       if (r == WorkerProcess::Read::Timeout) {
-        if (current >= 0 && seconds() >= timeoutS) {
+        if (current >= 0 && seconds() >= timeoutS && !worker.isThread()) {  // a thread cannot be ended
           timedOut = true;
           break;
         }

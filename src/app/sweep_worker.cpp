@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 #include <thread>
@@ -34,9 +35,33 @@ void WorkerChannel::send(const std::string& kind, const std::string& payload) co
   }
 }
 
-WorkerProcess::WorkerProcess(const std::vector<std::string>& args) {
+namespace {
+std::string& workerExecutable() {
+  static std::string path;
+  return path;
+}
+}  // namespace
+
+void setSweepWorkerExecutable(const std::string& path) { workerExecutable() = path; }
+const std::string& sweepWorkerExecutable() { return workerExecutable(); }
+
+WorkerProcess::WorkerProcess(const std::vector<std::string>& args, std::function<int(int fd)> inProcess) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  if (sweepWorkerExecutable().empty()) {
+    fd_ = fds[0];
+    const int writeEnd = fds[1];
+    thread_ = std::thread([this, writeEnd, run = std::move(inProcess)] {
+      try {
+        threadCode_ = run(writeEnd);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "hybridbench: %s\n", e.what());
+        threadCode_ = 3;
+      }
+      ::close(writeEnd);  // the parent reads the end of the pipe
+    });
+    return;
+  }
   // The child's end moves to kWorkerFd; keep it off that number here, where dup2 would not clear
   // close-on-exec.
   const int writeEnd = ::fcntl(fds[1], F_DUPFD_CLOEXEC, 10);
@@ -49,7 +74,7 @@ WorkerProcess::WorkerProcess(const std::vector<std::string>& args) {
   std::vector<char*> cargv;
   for (std::string& a : argv) cargv.push_back(a.data());
   cargv.push_back(nullptr);
-  const int rc = ::posix_spawn(&pid_, "/proc/self/exe", &actions, nullptr, cargv.data(), environ);
+  const int rc = ::posix_spawn(&pid_, sweepWorkerExecutable().c_str(), &actions, nullptr, cargv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   ::close(writeEnd);
   if (rc != 0) {
@@ -60,6 +85,7 @@ WorkerProcess::WorkerProcess(const std::vector<std::string>& args) {
 }
 
 WorkerProcess::~WorkerProcess() {
+  if (thread_.joinable()) wait();
   if (!reaped_ && pid_ > 0) {
     ::kill(pid_, SIGKILL);
     wait();
@@ -105,6 +131,17 @@ WorkerProcess::Read WorkerProcess::next(double seconds, std::string& kind, std::
 
 int WorkerProcess::wait() {
   if (reaped_) return status_;
+  if (thread_.joinable() || threadDone_) {  // a thread: its exit code as a wait status
+    while (fd_ >= 0) {                      // drain what it still writes, so that it cannot block on a full pipe
+      std::string kind, payload;
+      if (next(1.0, kind, payload) == Read::End) break;
+    }
+    if (thread_.joinable()) thread_.join();
+    threadDone_ = true;
+    reaped_ = true;
+    status_ = (threadCode_ & 0xff) << 8;
+    return status_;
+  }
   while (::waitpid(pid_, &status_, 0) < 0 && errno == EINTR) {
   }
   reaped_ = true;
@@ -113,6 +150,7 @@ int WorkerProcess::wait() {
 
 int WorkerProcess::stop(double graceSeconds) {
   if (reaped_) return status_;
+  if (thread_.joinable() || threadDone_) return wait();  // a thread ends at its next frame (the sweep's interrupt flag)
   ::kill(pid_, SIGTERM);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(graceSeconds);
   while (std::chrono::steady_clock::now() < deadline) {

@@ -7,7 +7,9 @@
 #pragma once
 #include <sys/types.h>
 
+#include <functional>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace hb {
@@ -25,11 +27,21 @@ class WorkerChannel {
 // The file descriptor a child writes its messages to ("--worker-fd 3").
 constexpr int kWorkerFd = 3;
 
-// Parent side: one child, started from this same executable (/proc/self/exe) with `args`
-// (argv[1..], which must include "--worker-fd 3"). Its stdin, stdout and stderr are the parent's.
+// The executable a sweep starts as its worker: set by the tool's main() (/proc/self/exe). Where
+// none is set (a program that links the library, such as a test binary with effects of its own
+// registered, where re-executing itself would run something else) the worker runs on a thread of
+// this process instead: the same messages over the same pipe, but no watchdog, since a thread
+// cannot be killed.
+void setSweepWorkerExecutable(const std::string& path);
+const std::string& sweepWorkerExecutable();
+
+// Parent side: one child, started from sweepWorkerExecutable() with `args` (argv[1..], which must
+// include "--worker-fd 3"); its stdin, stdout and stderr are the parent's. Without an executable,
+// `inProcess(fd)` runs on a thread and its return value is the worker's exit code.
 class WorkerProcess {
  public:
-  explicit WorkerProcess(const std::vector<std::string>& args);
+  WorkerProcess(const std::vector<std::string>& args, std::function<int(int fd)> inProcess);
+  bool isThread() const { return thread_.joinable() || threadDone_; }
   ~WorkerProcess();  // a child still running is killed (SIGKILL) and reaped: none is left behind
   WorkerProcess(const WorkerProcess&) = delete;
   WorkerProcess& operator=(const WorkerProcess&) = delete;
@@ -47,6 +59,9 @@ class WorkerProcess {
 
  private:
   pid_t pid_ = -1;
+  std::thread thread_;
+  bool threadDone_ = false;
+  int threadCode_ = 0;
   int fd_ = -1;
   std::string buffer_;
   bool reaped_ = false;
