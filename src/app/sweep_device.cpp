@@ -362,20 +362,20 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
                        ": --resume needs the same config (frame counts included) and device as the interrupted sweep; "
                        "use another --out");
     if (old.contains("context")) resumedContext = old["context"];  // until a worker sends today's
-    std::map<std::string, json> old_;
+    std::map<std::string, json> kept;
     for (const json& run : old.value("runs", json::array())) {
       const std::string status = run.value("status", "");
       // ok: done. timeout and crashed: kept unless --retry-failed. error: run again.
       if (status == "ok" || ((status == "timeout" || status == "crashed") && !options.retryFailed))
-        old_[run.value("name", "")] = run;
+        kept[run.value("name", "")] = run;
     }
     for (size_t k = 0; k < variants.size(); ++k)
-      if (old_.count(variants[k].name)) slots[k] = old_[variants[k].name];
-    size_t kept = 0, failed = 0;
+      if (kept.count(variants[k].name)) slots[k] = kept[variants[k].name];
+    size_t done = 0, failed = 0;
     for (const json& run : slots)
-      if (!run.is_null()) (run.value("status", "") == "ok" ? kept : failed)++;
+      if (!run.is_null()) (run.value("status", "") == "ok" ? done : failed)++;
     console.print(format(
-        "resume: %zu of %zu variants already done%s\n", kept, variants.size(),
+        "resume: %zu of %zu variants already done%s\n", done, variants.size(),
         failed ? format(", %zu that timed out or crashed kept (--retry-failed runs them again)", failed).c_str() : ""));
   }
 
@@ -395,7 +395,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   // The clock of "elapsed" and "eta" starts when the first worker has its device (as it did when
   // the sweep opened the device itself).
   std::optional<Progress> progress;
-  size_t finished = 0, failures = 0, lost = 0;
+  size_t finished = 0, failures = 0;
   for (const json& run : slots) finished += !run.is_null();
   unsigned validation = 0;
   bool interrupted = false;
@@ -407,7 +407,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
       if (slots[k].is_null()) todo.push_back(k);
     if (todo.empty()) break;
     const std::vector<std::string> args = workerArgs(options, device, outDir, todo);
-    WorkerProcess worker(args, [&, todo](int fd) {
+    WorkerProcess worker(args, [&](int fd) {
       SweepOptions o = options;
       o.workerFd = fd;
       o.workerVariants = args.back();  // "--worker-variants LIST" ends the arguments
@@ -495,7 +495,6 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
     if (timedOut) run["timeout_s"] = timeoutS;
     slots[size_t(current)] = run;
     ++finished;
-    ++lost;
     console.print(
         format("%svariant \"%s\" %s after %.0f s in step \"%s\" (%s); the sweep goes on with a fresh device\n",
                isatty(fileno(stdout)) && !console.shared() ? "\n" : "", v.name.c_str(),
@@ -515,7 +514,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
                        options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
-  lost = 0;  // this sweep's and those --resume kept
+  size_t lost = 0;  // this sweep's and those --resume kept
   for (const json& run : slots) lost += run.value("status", "") == "timeout" || run.value("status", "") == "crashed";
   if (lost) {
     std::fprintf(stderr,
