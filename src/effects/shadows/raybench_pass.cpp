@@ -1,5 +1,8 @@
 #include "effects/shadows/raybench_pass.h"
 
+#include <cstring>
+
+#include "base/errors.h"
 #include "shared/bindings.h"
 
 namespace hb {
@@ -10,7 +13,9 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
       backend_(backend),
       width_(width),
       height_(height),
-      result_(ctx, width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      result_(ctx, width, height, VK_FORMAT_R32_UINT,
+              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+              VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx,
             [&] {
               const VkShaderStageFlags st = backend == ShadowBackend::RayQuery
@@ -44,9 +49,15 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   } else {
     rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
   }
+  // Cleared once, so that the pixels raybench never writes (sky) read back as 0.
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     imageBarrier(cmd, result_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
+                 VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    const VkClearColorValue zero{};
+    const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(cmd, result_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
   });
 }
 
@@ -61,6 +72,14 @@ void RayBenchPass::record(VkCommandBuffer cmd) const {
     rt_->traceRays(cmd, width_, height_);
   else
     vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+}
+
+std::vector<uint32_t> RayBenchPass::readResult() const {
+  const std::vector<uint8_t> bytes = readbackImage(ctx_, result_, VK_IMAGE_LAYOUT_GENERAL, sizeof(uint32_t));
+  std::vector<uint32_t> counts(size_t(width_) * height_);
+  HB_ASSERT(bytes.size() == counts.size() * sizeof(uint32_t));
+  std::memcpy(counts.data(), bytes.data(), bytes.size());
+  return counts;
 }
 
 }  // namespace hb

@@ -2,7 +2,9 @@
 // traced (shaders/shadows/raybench_common.glsl.inc) as a pure ray workload on the same TLAS, so that the
 // shadow pass's ray rate can be held against the device's own rate on the same rays.
 #pragma once
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "effects/shadows/shadow_pass.h"
 #include "gpu/rt_pipeline.h"
@@ -15,6 +17,11 @@ class RayBenchPass {
                const ShadowInputs& inputs, const ShadowPass& shadows);
   ~RayBenchPass();
   void record(VkCommandBuffer cmd) const;
+  // Per pixel (row-major) the number of its traced rays found unoccluded by the last record():
+  // popcount(visibility & traced) over the pixel's walk words, what raybench_gpu_test checks bit
+  // for bit. Sky pixels (no stored position) are never written: 0 unless an earlier frame had a
+  // surface there (the image is cleared to 0 when the pass is built).
+  std::vector<uint32_t> readResult() const;
 
  private:
   const VulkanContext& ctx_;

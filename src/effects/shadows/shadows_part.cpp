@@ -108,6 +108,11 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions)
   return ms;
 }
 
+std::vector<uint32_t> ShadowsPart::readRayBench() const {
+  HB_ASSERT(rayBench_);
+  return rayBench_->readResult();
+}
+
 ShadowsPart* shadowsOf(const Renderer& renderer) { return renderer.part<ShadowsPart>(shadowsEffect().name); }
 
 std::unique_ptr<FramePart> buildShadows(FrameBuilder& frame) { return std::make_unique<ShadowsPart>(frame); }

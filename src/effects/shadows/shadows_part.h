@@ -22,6 +22,9 @@ class ShadowsPart : public FramePart {
   // Re-traces the rays of the last analysis frame `repetitions` times as a pure ray workload;
   // returns each repetition's GPU time in ms. Precondition: the last frame was an analysis frame.
   std::vector<double> rayBench(GpuTimer& timer, uint32_t repetitions);
+  // Per pixel the traced rays the last rayBench() repetition found visible (RayBenchPass::readResult).
+  // Precondition: rayBench() has run (with repetitions >= 1 since the rays last changed).
+  std::vector<uint32_t> readRayBench() const;
 
  private:
   const VulkanContext& ctx_;
