@@ -243,6 +243,9 @@ void expectAnalysis(const json& run) {
     EXPECT_EQ(lit, 0u);
   }
 
+  // raybench.rays is rays.traced as sweep_device writes it, so this checks the results' plumbing
+  // only; that raybench re-traces exactly the rays the shadow pass traced (and counts the same
+  // visible ones, pixel by pixel) is tests/raybench_gpu_test.cpp (RayBenchRays).
   ASSERT_TRUE(run.contains("raybench"));
   EXPECT_EQ(run["raybench"]["rays"].get<double>(), double(traced));
   EXPECT_GE(run["raybench"]["repetitions"].get<int>(), 1);
@@ -387,7 +390,8 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
 // device is no regression (exit 0, compare.md and a JUnit report written); against a baseline
 // whose every time is a hundredth, the new run is 100x as slow: exit 1; a missing baseline: exit 2.
 // The threshold is 900 % (below): lavapipe's frame times move with the machine's load, which a
-// 5 % threshold would (rightly) call a change.
+// 5 % threshold would (rightly) call a change. The recipe at its defaults (5 %, --gate all) is
+// tests/ci_compare_test.cpp, on a fixed GPU run and edited copies of it.
 TEST_F(Sweep, CiCompareRecipePassesAgainstItselfAndFailsAgainstAFasterBaseline) {
   const fs::path base = dir / "base";
   // 8 frames a side: a U test of 3 against 3 cannot reach p < 0.05 however far apart they are.
