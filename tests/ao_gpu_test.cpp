@@ -244,13 +244,35 @@ TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
 // the exact surface: 3DR's hit positions and the triangles' own normals. (With positions and
 // normals reconstructed from the hardware prepass's depth the first case measures MAE 0.0137,
 // RMSE 0.0314, bias +0.0104: a reconstructed normal beside an edge tilts the slope-scaled bias.)
+//
+// The issue gives no RMSE or bias target at N = 128, 256²; they follow from the first case's by how
+// the LDM's error scales with the map resolution R and the direction count N. Both methods trace
+// the same N directions from the same surface, so per pixel e = AO_ldm − AO_rt = Σ_i w_i·δ_i, with
+// weights w_i = (2/N)·|n·v_i| (Σ w_i ≈ 1, the quadrature) and δ_i ∈ {−1, 0, +1} where the LDM's
+// answer for direction i differs from the ray's. It differs only within a map pixel of the ray:
+// an occluder nearer than the bias is missed (ldm_trace.glsl.inc: bias = (√2/2)·(2r/R)·tan θ +
+// 16u·2r, the second term 2^-20 of the first at R = 256) or an occluder's edge passes within half
+// a map-pixel diagonal (√2/2)·(2r/R) of the ray. Both widths are ∝ 1/R (N does not enter), and
+// they shrink the error in one of two ways:
+//  - spread: at every pixel the share of directions that differ is ∝ 1/R (an angular band beside
+//    each occluder edge), so e itself is ∝ 1/R at every pixel, and so are MAE, RMSE and bias; the
+//    sampling of that band by N directions adds a variance ∝ p/N, which doubling N and R quarters;
+//  - concentrated: pixels within a bias of a contact (a corner) differ in many directions, by O(1);
+//    their share of the image is ∝ 1/R, so MAE and bias are ∝ 1/R but RMSE = √(share·O(1)) ∝ 1/√R.
+// The bias (a mean, linear in the shares) halves either way; RMSE falls at least by √(1/2). So at
+// N = 128, 256²: |bias| <= 0.01·(128/256) = 0.005 and RMSE <= 0.03·√(128/256) = 0.0212 (MAE, ∝ 1/R,
+// would be 0.0075: the issue's 0.007 is a little tighter). lavapipe measures RMSE 0.0213 -> 0.0116
+// (x0.54, near the spread limit) and bias +0.0063 -> +0.0020 from the first case to the second.
 TEST_F(AoGpuTest, OnTheAtriumTheLdmApproximationStaysWithinTheIssuesBounds) {
   const Scene scene = makeAtrium(AtriumParams{});
   struct Case {
     uint32_t n, res;
     double mae, rmse, bias;
   };
-  for (const Case c : {Case{64, 128, 0.015, 0.03, 0.01}, Case{128, 256, 0.007, 1.0, 1.0}}) {
+  // The second case's RMSE and bias bounds: the first case's scaled by the map resolutions (above).
+  const double scale = 128.0 / 256.0;
+  for (const Case c :
+       {Case{64, 128, 0.015, 0.03, 0.01}, Case{128, 256, 0.007, 0.03 * std::sqrt(scale), 0.01 * scale}}) {
     RenderSettings rs = aoSettings(128, 72, {{"directions", c.n}, {"ldm_resolution", c.res}});
     rs.primary = hb::testing::primaryNamed("3dr");
     rs.worldPos = WorldPosMethod::Hit;
