@@ -53,10 +53,22 @@ nlohmann::json toJson(const PrimaryComparison& c);
 struct CoverageComparison {
   uint64_t pixels = 0, coveredPixels = 0;  // covered: the exact count is > 0
   uint64_t doubleCovers = 0, holes = 0;
+  // Given a rounding band (raster2dRoundingBand): the pixels it allows to differ, and of the pixels
+  // with a double cover or a hole those it does not allow (0 unless the method breaks its derivation).
+  uint64_t bandPixels = 0, outsideBand = 0;
 };
-// method: per pixel, (triangle, pixel) pairs covered (Raster3dPass::readCoverage).
+// method: per pixel, (triangle, pixel) pairs covered (Raster3dPass::readCoverage). band: optional,
+// per pixel nonzero where the method's count may differ from the exact one.
 CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConstants& rays,
-                                   const std::vector<uint32_t>& method);
+                                   const std::vector<uint32_t>& method, const std::vector<uint8_t>* band = nullptr);
+
+// Where 2D homogeneous rasterization (primary=2dr: raster3d.glsl.inc r2dSetup, float only, no fp64
+// fallback) may give a pixel another coverage count than the exact 3D rasterization above: per
+// pixel 1 if some triangle's float decision there can differ from the exact one in a way that
+// changes the count (near a vertex, an edge not shared with a triangle that negates it exactly,
+// an orientation within rounding of zero, or a hit nearer than znear where the screen boxes
+// differ), else 0. primary_analysis.cpp derives the bound. Precondition: a perspective view.
+std::vector<uint8_t> raster2dRoundingBand(const Scene& scene, const gpu::Raster3dConstants& rays);
 nlohmann::json toJson(const CoverageComparison& c);
 
 }  // namespace hb
