@@ -7,7 +7,7 @@
 //           rasterized by the thread itself; a larger one is appended as work items (one
 //           atomicAdd per triangle): brute force, the 8x8 tiles of its box; binned, the screen's
 //           8x8 tiles the box overlaps. When the list is full the thread rasterizes its box itself:
-//           slower, never a dropped pixel (counted).
+//           slower, never a dropped pixel (counted), and marks the slots it took empty (kNoItem).
 //   PASS 1: brute force: tileWorkgroups workgroups of 64 threads stride over the work items, one
 //           pixel each, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
@@ -47,7 +47,9 @@ void perTriangle() {
     const uvec2 t1 = BINNED == 1 ? uvec2(hi) / 8u : uvec2(w - 1u, h - 1u) / 8u;
     const uint tw = t1.x - t0.x + 1u, th = t1.y - t0.y + 1u;
     const uint n = tw * th;
-    const uint first = atomicAdd(itemCount, n);
+    // Once the list is full (a read that may be stale: then the atomicAdd below decides), no slot
+    // is taken; this also keeps itemCount far from wrapping around 2^32.
+    const uint first = itemCount >= r3.itemCapacity ? r3.itemCapacity : atomicAdd(itemCount, n);
     if (first + n <= r3.itemCapacity) {
       for (uint ty = 0u; ty < th; ++ty)
         for (uint tx = 0u; tx < tw; ++tx)
@@ -55,6 +57,11 @@ void perTriangle() {
               BINNED == 1 ? uvec2(id, (t0.y + ty) * tilesX() + t0.x + tx) : uvec2(id, tx | (ty << 16));
       return;
     }
+    // The slots of the list this thread took but cannot fill are marked empty: the passes after it
+    // read the list up to min(itemCount, itemCapacity), and a slot left unwritten would hold a
+    // previous frame's item (a pair tested twice: coverage counted twice, or in binned mode a kept
+    // item filled into a tile whose count did not include it, overwriting another tile's entries).
+    for (uint i = first; i < min(first + n, r3.itemCapacity); ++i) items[i] = uvec2(kNoItem, 0u);
     if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
   }
   rasterizeBox(id, s, uvec2(lo), hi, tally);
@@ -67,6 +74,7 @@ void perItem() {
   Tally tally = Tally(0u, 0u, 0u, 0u);
   for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
     const uvec2 it = items[item];
+    if (it.x == kNoItem) continue;  // a slot of a triangle that found the list full
     R3dSetup s;
     ivec2 lo, hi;
     if (!setupTriangle(it.x, s, lo, hi)) continue;  // never: PASS 0 set it up the same way
@@ -84,6 +92,7 @@ void binItems(bool fill) {
   Tally tally = Tally(0u, 0u, 0u, 0u);
   for (uint item = gl_GlobalInvocationID.x; item < count; item += stride) {
     const uvec2 it = items[item];
+    if (it.x == kNoItem) continue;  // a slot of a triangle that found the list full
     const uint tile = it.y & ~kKept;
     if (!fill) {
       R3dSetup s;

@@ -4,8 +4,9 @@
 # scenes/: 0 errors and 0 warnings each (infos and hints are printed, not failed).
 #   - every built-in scene (hybridbench scene list --json), the ~262k-triangle ones included,
 #     exported as .gltf and as .glb;
-#   - every .gltf/.glb at the top of scenes/ as committed, and loaded and exported again as .gltf
-#     and .glb (the exporter on what the loader makes of a file: node TRS, extras.effects).
+#   - every .gltf/.glb at the top of scenes/ and in scenes/external/ as committed, and loaded and
+#     exported again as .gltf and .glb (the exporter on what the loader makes of a file: node TRS,
+#     extras.effects).
 # Usage: tests/gltf_validator_test.sh HYBRIDBENCH
 # Needs node and the validator in tools/node_modules (scripts/setup.sh installs both); without
 # them it fails with one line saying what is missing.
@@ -33,7 +34,7 @@ for name in "${builtins[@]}"; do
   done
 done
 shopt -s nullglob nocaseglob
-for committed in "$SRC"/scenes/*.gltf "$SRC"/scenes/*.glb; do
+for committed in "$SRC"/scenes/*.gltf "$SRC"/scenes/*.glb "$SRC"/scenes/external/*.glb; do
   stem="$(basename "${committed%.*}")"
   files+=("$committed")
   for ext in gltf glb; do

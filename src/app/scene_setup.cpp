@@ -85,6 +85,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.tMin = p.tMin;
   s.primary = p.primary;
   s.raster3dThreadBox = p.r3dThreadBox;
+  s.raster3dListPerTile = p.r3dListPerTile;
   s.shading = p.shading;
   s.projection = p.projection;
   return s;

@@ -73,6 +73,10 @@
 //   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
 //                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
 //                                a pixel per thread)            default 64
+//   "r3d_list_per_tile": 1..1024  (3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile; a
+//                                triangle that finds the list full rasterizes its box itself:
+//                                slower, never a dropped pixel, counted as tile_list_overflows)
+//                                                               default 64
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -156,6 +160,7 @@ struct VariantParams {
   ShadowTMin tMin = ShadowTMin::Constant;
   PrimaryMethod primary = PrimaryMethod::Hardware;
   uint32_t r3dThreadBox = 64;
+  uint32_t r3dListPerTile = 64;
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
   ShadingMethod shading =

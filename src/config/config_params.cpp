@@ -234,6 +234,18 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "3dr: a triangle whose screen box has at most this many pixels is rasterized by its own thread",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dThreadBox = v.get<uint32_t>(); }},
+      {"r3d_list_per_tile",
+       K::Int,
+       {},
+       {},
+       1,
+       1024,
+       "",
+       "entries",
+       "",
+       "3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile; a triangle that finds the list full "
+       "rasterizes its box itself (slower, never a dropped pixel; counted as tile_list_overflows)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dListPerTile = v.get<uint32_t>(); }},
       {"shading",
        K::Choice,
        {"forward", "visbuffer"},
@@ -372,6 +384,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["t_min"] = toString(p.tMin);
   j["primary"] = toString(p.primary);
   j["r3d_thread_box"] = p.r3dThreadBox;
+  j["r3d_list_per_tile"] = p.r3dListPerTile;
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;

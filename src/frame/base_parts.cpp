@@ -97,9 +97,9 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
   } else {
     RayCastInputs cast;
     if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
-    raster3d_ =
-        std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
-                                       f.settings.primary, f.settings.raster3dThreadBox, f.settings.fp64Fallback, cast);
+    raster3d_ = std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
+                                               f.settings.primary, f.settings.raster3dThreadBox,
+                                               f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile);
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {res::kTlas};
     else
@@ -165,12 +165,22 @@ LightListsPart::LightListsPart(FrameBuilder& f) {
   pass.name = kLightCullingPass;
   pass.reads = {res::kFrameConstants, res::kLights, res::kDepth};
   pass.writes = {res::kListLights, res::kListGrid, res::kListIndices};
-  pass.record = [this, lightCount](VkCommandBuffer cmd, const PassFrame&) { culling_->recordCulling(cmd, lightCount); };
-  pass.work = [this, pixels = double(s.width) * s.height, lights = double(lightCount)](const nlohmann::json&) {
-    const double bytes = 4 * pixels + lights * sizeof(gpu::GpuLight) + double(culling_->memoryBytes());
-    return std::vector<PassWork>{
+  pass.subPasses = culling_->subPasses();
+  pass.record = [this, lightCount](VkCommandBuffer cmd, const PassFrame& frame) {
+    culling_->recordCulling(cmd, lightCount, frame.timer);
+  };
+  pass.work = [this, pixels = double(s.width) * s.height, lightCount](const nlohmann::json&) {
+    const double bytes = 4 * pixels + double(lightCount) * sizeof(gpu::GpuLight) + double(culling_->memoryBytes());
+    std::vector<PassWork> work{
         {kLightCullingPass,
          {derived("bytes", bytes, "the depth and the lights read once, the grid and lists written once")}}};
+    for (const LightCulling::SubPassWork& w : culling_->subPassWork(lightCount)) {
+      PassWork sub{w.name, {derived("bytes", w.bytes, "what the dispatch reads and writes once (sizes)")}};
+      if (w.compares > 0)
+        sub.items.push_back(derived("fma", w.compares, "a compare-and-count per pair of lights (one issue slot)"));
+      work.push_back(std::move(sub));
+    }
+    return work;
   };
   pass.after = [](VkCommandBuffer cmd) {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,

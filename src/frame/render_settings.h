@@ -31,6 +31,7 @@ struct RenderSettings {
   ShadowTMin tMin = ShadowTMin::Constant;    // scaled: max(kShadowTMin, kShadowTMinPerMetre·dist)
   PrimaryMethod primary = PrimaryMethod::Hardware;
   bool fp64Fallback = true;                        // raster3d: false only to measure what the fallback prevents
+  uint32_t raster3dListPerTile = 64;               // raster3d: work-list entries per 8x8 screen tile
   uint32_t raster3dThreadBox = 64;                 // raster3d: the largest box one thread rasterizes
   ShadingMethod shading = ShadingMethod::Forward;  // visbuffer: in compute from the visibility buffer
   bool raster3dShadingDepthTest = true;            // raster3d: early depth test before the id test (false: check only)

@@ -35,6 +35,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
       tilesX_((width + settings.tileSize - 1) / settings.tileSize),
       tilesY_((height + settings.tileSize - 1) / settings.tileSize),
       maskWords_(std::max<uint32_t>(1, (settings.lightCount + 31) / 32)),
+      pixels_(double(width) * height),
       lights_(lights),
       frustums_(ctx, VkDeviceSize(tilesX_) * tilesY_ * sizeof(gpu::TileFrustum), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                 false, MemClass::Culling),
@@ -139,22 +140,62 @@ void LightCulling::recordFrustums(VkCommandBuffer cmd) const {
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
 }
 
-void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const {
+std::vector<std::string> LightCulling::subPasses() const {
+  std::vector<std::string> names;
+  for (const SubPassWork& w : subPassWork(settings_.lightCount)) names.push_back(w.name);
+  return names;
+}
+
+std::vector<LightCulling::SubPassWork> LightCulling::subPassWork(uint32_t lightCount) const {
+  const double n = std::min<uint32_t>(lightCount, gpu::kMaxLights), light = sizeof(gpu::GpuLight);
+  const double viewLight = sizeof(gpu::GpuViewLight) + sizeof(glm::vec4);  // GpuViewLight + its range sphere
+  std::vector<SubPassWork> w;
+  if (settings_.lists == LightLists::Zbin) {
+    // Every light read, then written sorted with its index and bin extent; n² key compares.
+    w.push_back({"light_culling.zbin_sort", n * light + n * (light + 4 + 8), n * n});
+    // The extents read, one word per bin written.
+    w.push_back({"light_culling.zbin_bins", n * 8 + double(gpu::kZBins) * 4, 0});
+  }
+  const bool view = settings_.lightCulling && !inlineView_;
+  if (view) w.push_back({"light_culling.light_view", n * light + n * viewLight, 0});
+  if (w.empty()) return w;  // the tile test alone: the pass's own entry is its only one
+  // The depth read once, each light's view form (or the light itself) once, the grid and lists written.
+  w.push_back({"light_culling.tiles",
+               4.0 * pixels_ + n * (view ? viewLight : light) + double(grid_.size() + indices_.size()), 0});
+  return w;
+}
+
+void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount, GpuTimer* timer) const {
   auto computeToCompute = [&] {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
   };
+  const bool subTimed = timer && !subPasses().empty();
+  auto begin = [&](const char* name) {
+    if (subTimed) timer->begin(cmd, std::string("light_culling.") + name);
+  };
+  auto end = [&] {
+    if (subTimed) timer->end(cmd);
+  };
   if (settings_.lists == LightLists::Zbin) {
     // Sort (ranks), then the bins and the view-space lights over the sorted lights, which read it.
+    begin("zbin_sort");
     dispatch(cmd, sortPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 255) / 256));
+    end();
     computeToCompute();
+    begin("zbin_bins");
     dispatch(cmd, binPipeline_, lightCount, gpu::kZBins / 256);
+    end();
   }
   if (settings_.lightCulling && !inlineView_) {  // the lights in view space, then every tile tests them
+    begin("light_view");
     dispatch(cmd, viewPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 63) / 64));
+    end();
     computeToCompute();
   }
+  begin("tiles");
   dispatch(cmd, cullPipeline_, lightCount, tilesX_, tilesY_);
+  end();
 }
 
 }  // namespace hb

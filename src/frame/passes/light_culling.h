@@ -13,10 +13,12 @@
 // test, culling on/off and the list form are specialization constants: no dynamic branching on them.
 #pragma once
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "config/config.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 
@@ -57,8 +59,20 @@ class LightCulling {
 
   // Computes the tile frustums; record once per camera/resolution/tile size.
   void recordFrustums(VkCommandBuffer cmd) const;
-  // Culls every frame. Depth must be readable by compute shaders.
-  void recordCulling(VkCommandBuffer cmd, uint32_t lightCount) const;
+  // Culls every frame. Depth must be readable by compute shaders. With a timer, each dispatch of a
+  // pass of several is timed as a sub-pass (subPasses()).
+  void recordCulling(VkCommandBuffer cmd, uint32_t lightCount, GpuTimer* timer = nullptr) const;
+  // The timer entries recordCulling writes inside the pass's own: "light_culling.zbin_sort",
+  // ".zbin_bins", ".light_view" and ".tiles", those of the dispatches this configuration runs;
+  // none when it runs the tile test alone.
+  std::vector<std::string> subPasses() const;
+  // The bytes each of those dispatches moves at least (derived from sizes: what it reads and
+  // writes once), and for the sort its compares, by sub-pass name.
+  struct SubPassWork {
+    std::string name;
+    double bytes = 0, compares = 0;
+  };
+  std::vector<SubPassWork> subPassWork(uint32_t lightCount) const;
 
   CullingOutputs outputs() const {
     return {&grid_, &indices_, settings_.lists == LightLists::Zbin ? &sortedLights_ : &lights_, tilesX_, tilesY_};
@@ -79,6 +93,7 @@ class LightCulling {
   const VulkanContext& ctx_;
   CullingSettings settings_;
   uint32_t tilesX_, tilesY_, maskWords_;
+  double pixels_;
   bool inlineView_ = false;  // few lights: no light_view pass (kInlineViewMaxLights)
   const Buffer& lights_;
   Buffer frustums_, grid_, indices_, sortedLights_, order_, extents_, viewLights_, viewSpheres_;

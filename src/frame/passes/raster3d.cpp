@@ -15,7 +15,7 @@
 namespace hb {
 
 gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
-                                         uint32_t smallArea) {
+                                         uint32_t smallArea, uint32_t listPerTile) {
   const glm::dmat4 viewInv = glm::inverse(glm::dmat4(camera.view));
   const glm::dvec3 right(viewInv[0]), up(viewInv[1]), back(viewInv[2]), eye(viewInv[3]);
   const glm::dvec3 forward = -back;
@@ -43,10 +43,11 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   c.height = height;
   c.triangleCount = triangleCount;
   c.smallArea = smallArea;
-  // Work items of big boxes: 64 per 8x8 tile of the screen (boxes overlap: the atrium at 1080p
-  // needs about 40 with 8,118,546 covered pairs in 44.6 M box pixels, H100 run at 9c6b312). A
-  // full list is handled, not dropped (raster3d.comp.glsl), and counted (tile_list_overflows).
-  c.itemCapacity = 64u * ((width + 7) / 8) * ((height + 7) / 8);
+  // Work items of big boxes: listPerTile (default 64) per 8x8 tile of the screen (boxes overlap:
+  // the atrium at 1080p needs about 40 with 8,118,546 covered pairs in 44.6 M box pixels, H100 run
+  // at 9c6b312). A full list is handled, not dropped (raster3d.comp.glsl), and counted
+  // (tile_list_overflows).
+  c.itemCapacity = listPerTile * ((width + 7) / 8) * ((height + 7) / 8);
   c.tileWorkgroups = 4096;
   c.projection = uint32_t(camera.projection);
   static_assert(uint32_t(CameraProjection::Latlong) == gpu::kProjectionLatlong);
@@ -105,7 +106,7 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
                            uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
-                           const RayCastInputs& rayCast)
+                           const RayCastInputs& rayCast, uint32_t listPerTile)
     : ctx_(ctx),
       mode_(mode),
       width_(width),
@@ -120,7 +121,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
                       "\" lacks 64-bit buffer atomics or shaderFloat64, which primary=" +
                       std::string(mode == PrimaryMethod::RayCast ? "raycast" : "3dr") + " needs; use primary=hardware");
   const size_t pixels = size_t(width) * height;
-  const gpu::Raster3dConstants c = raster3dConstants(camera, width, height, triangleCount_, smallArea);
+  const gpu::Raster3dConstants c = raster3dConstants(camera, width, height, triangleCount_, smallArea, listPerTile);
   constants_ = Buffer(ctx, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
   std::memcpy(constants_.mapped(), &c, sizeof c);
   const std::vector<glm::vec4> tris = packTriangles(scene);

@@ -32,7 +32,7 @@ namespace hb {
 // (computed in double, rounded once). Perspective: d(x, y) = d0 + x·dx + y·dy, forward component
 // 1; the other projections: camera_ray.glsl.inc.
 gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
-                                         uint32_t smallArea);
+                                         uint32_t smallArea, uint32_t listPerTile = 64);
 
 struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0, bigTriangles = 0,
@@ -55,7 +55,7 @@ class Raster3dPass {
   // (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
                PrimaryMethod mode = PrimaryMethod::Raster3d, uint32_t smallArea = kDefaultSmallArea,
-               bool fp64Fallback = true, const RayCastInputs& rayCast = {});
+               bool fp64Fallback = true, const RayCastInputs& rayCast = {}, uint32_t listPerTile = 64);
   ~Raster3dPass();
 
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
@@ -67,7 +67,9 @@ class Raster3dPass {
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
   std::vector<std::string> subPasses() const;
 
-  const Buffer& visibility() const { return vis_; }       // uint64 per pixel, ~0 = nothing
+  const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
+  // The work list (a count, then uvec2 items): tests seed it with a previous frame's items.
+  const Buffer& workList() const { return big_; }
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
   const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
   uint32_t triangleCount() const { return triangleCount_; }
