@@ -336,7 +336,10 @@ json toJson(const Peaks& peaks, const DeviceInfo& device) {
 Peaks peaksFromJson(const json& j) {
   Peaks peaks;
   peaks.timing = j.value("timing", "");
-  for (const auto& [key, f] : j.value("figures", json::object()).items()) {
+  // A named copy: items() refers to its json, and a temporary's would end before the loop body
+  // (C++20 extends the life of the range's outermost temporary only).
+  const json figures = j.value("figures", json::object());
+  for (const auto& [key, f] : figures.items()) {
     Peak p;
     p.key = key;
     p.unit = f.value("unit", "");
