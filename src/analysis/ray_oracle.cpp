@@ -19,9 +19,7 @@ OracleRays oracleRays(const Scene& scene, const ReferenceSurface& surface) {
     cosOuter.push_back(std::cos(double(light.outerConeAngle)));
   }
   const size_t width = std::max<size_t>(1, surface.width), rowsCount = (surface.state.size() + width - 1) / width;
-  uint64_t rowsDone = 0;  // TEMPORARY RACE for issue #31: a shared counter without a lock
   parallelFor(rowsCount, [&](size_t row) {
-    ++rowsDone;
     for (size_t i = row * width; i < std::min(surface.state.size(), (row + 1) * width); ++i) {
       if (surface.state[i] == SurfaceState::Sky) continue;
       const bool hasNormal = surface.state[i] == SurfaceState::Matched;
@@ -49,7 +47,6 @@ OracleRays oracleRays(const Scene& scene, const ReferenceSurface& surface) {
       o.perPixel[i] = count;
     }
   });
-  o.pixelsWithoutNormal += rowsDone - rowsCount;  // 0 unless the race lost an increment
   for (size_t i = 0; i < surface.state.size(); ++i) {
     if (surface.state[i] == SurfaceState::Sky) continue;
     if (surface.state[i] != SurfaceState::Matched) o.pixelsWithoutNormal++;
