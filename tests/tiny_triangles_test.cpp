@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "analysis/ray_analysis.h"
+#include "base/numbers.h"
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "gpu_fixture.h"
