@@ -7,8 +7,8 @@
 #  2. build-tsan/: ThreadSanitizer (it cannot share a build with ASan), Debug at -O1, the tests
 #     that run code on several threads ($tsan_tests below: parallelFor and the analyses that use
 #     it, each compared bit for bit with its serial run in analysis_threads_test.cpp), in one
-#     process with HYBRIDBENCH_THREADS=4 whatever the cores. On 2 cores the cold build takes about
-#     4 min and the run about 30 s (docs/contributing.md).
+#     process with HYBRIDBENCH_THREADS=4 whatever the cores. On 2 cores its cold build takes 7.3
+#     min of CPU (about 4 min of wall time on idle cores) and its run 7 s (docs/contributing.md).
 # Any sanitizer report stops its run and fails the script (ThreadSanitizer: halt_on_error=1,
 # exit code 66); no suppressions. HYBRIDBENCH_SANITIZERS picks the builds ("address thread" by
 # default; "thread" for TSan alone). Extra arguments go to the test binaries after the script's
