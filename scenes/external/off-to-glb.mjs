@@ -77,4 +77,26 @@ const chunk = (type, data) => {
   return Buffer.concat([h, data]);
 };
 writeFileSync(output, Buffer.concat([header, chunk(0x4e4f534a, json), chunk(0x004e4942, bin)]));
-console.log(`${output}: ${vertexCount} vertices, ${indices.length / 3} triangles`);
+// What the README's table gives: each triangle's longest edge over its altitude to it (how thin it
+// is), and how many triangles share a vertex at most.
+const aspects = [],
+  valence = new Uint32Array(vertexCount);
+const at3 = (i) => [positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]];
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const len = (v) => Math.hypot(v[0], v[1], v[2]);
+for (let t = 0; t < indices.length; t += 3) {
+  const [a, b, c] = [at3(indices[t]), at3(indices[t + 1]), at3(indices[t + 2])];
+  for (let k = 0; k < 3; ++k) valence[indices[t + k]]++;
+  const ab = sub(b, a),
+    ac = sub(c, a);
+  const area2 = len([ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]]);
+  const longest = Math.max(len(ab), len(ac), len(sub(c, b)));
+  aspects.push(area2 > 0 ? (longest * longest) / area2 : Infinity);
+}
+aspects.sort((x, y) => x - y);
+const pick = (q) => aspects[Math.min(aspects.length - 1, Math.floor(q * aspects.length))];
+console.log(
+  `${output}: ${vertexCount} vertices, ${indices.length / 3} triangles; longest edge over its altitude: ` +
+    `median ${pick(0.5).toPrecision(3)}, p90 ${pick(0.9).toPrecision(3)}, max ${aspects[aspects.length - 1].toPrecision(3)}; ` +
+    `a vertex shared by up to ${Math.max(...valence)} triangles`,
+);
