@@ -50,9 +50,15 @@ Enum settingNamed(std::string_view name, const Enum (&values)[N]) {
   return values[0];
 }
 inline PrimaryMethod primaryNamed(std::string_view name) {
-  static constexpr PrimaryMethod kAll[] = {PrimaryMethod::Hardware, PrimaryMethod::Raster3d,
-                                           PrimaryMethod::Raster3dBinned, PrimaryMethod::Raster2d,
-                                           PrimaryMethod::RayCast};
+  static constexpr PrimaryMethod kAll[] = {PrimaryMethod::Hardware,
+                                           PrimaryMethod::Raster3d,
+                                           PrimaryMethod::Raster3dBinned,
+                                           PrimaryMethod::Raster2d,
+                                           PrimaryMethod::RayCast,
+                                           PrimaryMethod::Raster2dBinned,
+                                           PrimaryMethod::Raster3dFrustumCull,
+                                           PrimaryMethod::Raster3dFrustumSplit,
+                                           PrimaryMethod::Raster3dFull};
   return settingNamed(name, kAll);
 }
 inline RtBackend backendNamed(std::string_view name) {

@@ -127,7 +127,9 @@
 #define HB_R3D_TESTED 6u      // analysis: pixel tests per pixel
 #define HB_R3D_BINS 7u        // 3dr-binned: per screen tile count, first entry, fill cursor
 #define HB_R3D_BIN_LIST 8u    // 3dr-binned: the tiles' lists
-#define HB_R3D_BINDING_COUNT 9u
+#define HB_R3D_BVH_NODES 9u   // BVH methods: gpu::PrimaryBvhNode, the root first
+#define HB_R3D_BVH_ORDER 10u  // BVH methods: triangle ids in leaf order
+#define HB_R3D_BINDING_COUNT 11u
 #define HB_R3D_RESOLVE_CONSTANTS 0u   // raster3d_resolve.comp: uniform Raster3dConstants
 #define HB_R3D_RESOLVE_VISIBILITY 1u  // the visibility buffer, read
 #define HB_R3D_RESOLVE_DEPTH 2u       // the depth per pixel, written (copied into the depth image)

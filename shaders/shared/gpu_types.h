@@ -207,24 +207,39 @@ struct Raster3dConstants {
   vec4 view;
 };
 
+// A node of primary visibility's BVH (frame/passes/primary_bvh.h), 48 bytes.
+struct PrimaryBvhNode {
+  vec4 lo;     // xyz: the box's min corner (world)
+  vec4 hi;     // xyz: its max corner
+  uvec4 info;  // x: right child (0: a leaf; the left child is this node + 1), y: first entry of the
+               // triangle order its subtree occupies, z: how many, w: unused
+};
+
 HB_CONST uint kProjectionPerspective = 0u;
 HB_CONST uint kProjectionOrthographic = 1u;
 HB_CONST uint kProjectionParaboloid = 2u;
 HB_CONST uint kProjectionLatlong = 3u;
 
 // Counters of an analysis frame of the 3DR pass (never written in timed frames).
-HB_CONST uint kR3dCounterSetups = 0u;        // triangles set up (not culled before setup)
-HB_CONST uint kR3dCounterEdgeEvals = 1u;     // edge-function evaluations (3 per pixel tested)
-HB_CONST uint kR3dCounterFallbacks = 2u;     // of those, re-evaluated in double
-HB_CONST uint kR3dCounterPixelsTested = 3u;  // pixels tested (in screen boxes)
-HB_CONST uint kR3dCounterCovered = 4u;       // (triangle, pixel) pairs covered, depth-tested or not
-HB_CONST uint kR3dCounterAtomics = 5u;       // atomicMin calls (covered pairs within [znear, zfar])
-HB_CONST uint kR3dCounterBig = 6u;           // triangles whose box went to the tile pass
-HB_CONST uint kR3dCounterOverflow = 7u;      // of those, rasterized by their own thread (list full)
-HB_CONST uint kR3dCounterListEntries = 8u;   // binned: (triangle, screen tile) entries the frame needs
-HB_CONST uint kR3dCounterBinsRefined = 9u;   // binned: (triangle, screen tile) entries the tile pass tested
-HB_CONST uint kR3dCounterBinsEmpty = 10u;    // of those, entries that covered no pixel of the tile
-HB_CONST uint kR3dCounterCount = 11u;
+HB_CONST uint kR3dCounterSetups = 0u;            // triangles set up (not culled before setup)
+HB_CONST uint kR3dCounterEdgeEvals = 1u;         // edge-function evaluations (3 per pixel tested)
+HB_CONST uint kR3dCounterFallbacks = 2u;         // of those, re-evaluated in double
+HB_CONST uint kR3dCounterPixelsTested = 3u;      // pixels tested (in screen boxes)
+HB_CONST uint kR3dCounterCovered = 4u;           // (triangle, pixel) pairs covered, depth-tested or not
+HB_CONST uint kR3dCounterAtomics = 5u;           // atomicMin calls (covered pairs within [znear, zfar])
+HB_CONST uint kR3dCounterBig = 6u;               // triangles whose box went to the tile pass
+HB_CONST uint kR3dCounterOverflow = 7u;          // of those, rasterized by their own thread (list full)
+HB_CONST uint kR3dCounterListEntries = 8u;       // binned: (triangle, screen tile) entries the frame needs
+HB_CONST uint kR3dCounterBinsRefined = 9u;       // binned: (triangle, screen tile) entries the tile pass tested
+HB_CONST uint kR3dCounterBinsEmpty = 10u;        // of those, entries that covered no pixel of the tile
+HB_CONST uint kR3dCounterNodes = 11u;            // BVH methods: (node, frustum) pairs tested
+HB_CONST uint kR3dCounterFrusta = 12u;           // BVH methods: top-level frusta (r3d_frustum px a side)
+HB_CONST uint kR3dCounterSplits = 13u;           // BVH methods: frusta split into 4 (Fig. 6b, c)
+HB_CONST uint kR3dCounterCulledFrustum = 14u;    // BVH methods: triangles of nodes outside their frustum
+HB_CONST uint kR3dCounterCulledOcclusion = 15u;  // BVH methods: triangles of nodes behind the depth
+HB_CONST uint kR3dCounterCulledEarlyZ = 16u;     // (triangle, 8x8 block) pairs skipped by early-z
+HB_CONST uint kR3dCounterStackOverflows = 17u;   // BVH methods: nodes rasterized whole (stack full)
+HB_CONST uint kR3dCounterCount = 18u;
 
 // One layered depth map (Aalund et al. 2015; reference/ldm_ref.h defines the view): an
 // orthographic view along dir over the scene's bounding sphere (centre, radius). Pixel (i, j) of an
@@ -347,6 +362,7 @@ static_assert(sizeof(IndirectConstants) == 64, "IndirectConstants layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
+static_assert(sizeof(PrimaryBvhNode) == 48, "PrimaryBvhNode layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");

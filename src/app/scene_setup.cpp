@@ -86,6 +86,9 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.primary = p.primary;
   s.raster3dThreadBox = p.r3dThreadBox;
   s.raster3dListPerTile = p.r3dListPerTile;
+  s.raster3dFrustum = p.r3dFrustum;
+  s.raster3dMinFrustum = p.r3dMinFrustum;
+  s.raster3dEarlyZ = p.r3dEarlyZ;
   s.shading = p.shading;
   s.projection = p.projection;
   return s;

@@ -61,10 +61,13 @@
 //   "t_min": "constant" | "scaled"  (shadow rays' t_min: the thesis's 0.001 m, or
 //                                    max(0.001 m, 400u · distance to the eye); beyond the thesis)
 //                                                    default "constant"
-//   "primary": "hardware" | "3dr" | "3dr-binned" | "2dr" | "raycast"  (primary visibility: the
+//   "primary": "hardware" | "3dr" | "3dr-binned" | "2dr" | "raycast" | "2dr-binned" |
+//              "3dr-frustum-cull" | "3dr-frustum-split" | "3dr-full"  (primary visibility: the
 //                                    hardware depth prepass, or in compute (Davidovic et al. 2012)
 //                                    3D rasterization brute force over screen boxes or binned into
-//                                    8x8 screen tiles, the 2D homogeneous baseline, or a ray per
+//                                    8x8 screen tiles, the 2D homogeneous baseline (brute force, or
+//                                    binned with early-z), frusta through a BVH (culled; split with
+//                                    occlusion culling; both with binning and early-z), or a ray per
 //                                    pixel on the TLAS)
 //                                                    default "hardware"
 //   "shading": "forward" | "visbuffer"  (the thesis's forward pass, or shading in compute from
@@ -77,6 +80,11 @@
 //                                triangle that finds the list full rasterizes its box itself:
 //                                slower, never a dropped pixel, counted as tile_list_overflows)
 //                                                               default 64
+//   "r3d_frustum": 8 | 16 | 32 | 64 | 128 | 256  (BVH methods: the screen frusta's side, one
+//                                workgroup each)               default 256 (the paper's)
+//   "r3d_min_frustum": 8 | ... | 256  (3dr-frustum-split, 3dr-full: split down to this side; at
+//                                most r3d_frustum)             default 8 (the paper's)
+//   "r3d_early_z": bool  (3dr-binned: early-z in the tile pass)  default false
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -134,7 +142,22 @@ enum class WorldPosMethod : uint32_t {
   Hit = gpu::kWorldPosHit,
 };
 enum class ShadowTMin { Constant, Scaled };
-enum class PrimaryMethod { Hardware, Raster3d, Raster3dBinned, Raster2d, RayCast };
+enum class PrimaryMethod {
+  Hardware,
+  Raster3d,
+  Raster3dBinned,
+  Raster2d,
+  RayCast,
+  Raster2dBinned,
+  Raster3dFrustumCull,
+  Raster3dFrustumSplit,
+  Raster3dFull
+};
+// The methods that traverse frusta through a BVH (raster3d_bvh.comp.glsl).
+inline bool primaryUsesBvh(PrimaryMethod m) {
+  return m == PrimaryMethod::Raster3dFrustumCull || m == PrimaryMethod::Raster3dFrustumSplit ||
+         m == PrimaryMethod::Raster3dFull;
+}
 enum class ShadingMethod { Forward, Visbuffer };
 // tile (the thesis's lists, capped at 32 a tile) | bitmask | zbin: no cap (docs/methods/many-lights.md).
 enum class LightLists : uint32_t { Tile = gpu::kListTile, Bitmask = gpu::kListBitmask, Zbin = gpu::kListZbin };
@@ -161,6 +184,9 @@ struct VariantParams {
   PrimaryMethod primary = PrimaryMethod::Hardware;
   uint32_t r3dThreadBox = 64;
   uint32_t r3dListPerTile = 64;
+  uint32_t r3dFrustum = 256;   // BVH methods: the top frusta's side (px)
+  uint32_t r3dMinFrustum = 8;  // 3dr-frustum-split, 3dr-full: split down to this side (px)
+  bool r3dEarlyZ = false;      // 3dr-binned: early-z in the tile pass (2dr-binned always has it)
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
   ShadingMethod shading =

@@ -58,6 +58,10 @@ const char* toString(PrimaryMethod v) {
     case PrimaryMethod::Raster3dBinned: return "3dr-binned";
     case PrimaryMethod::Raster2d: return "2dr";
     case PrimaryMethod::RayCast: return "raycast";
+    case PrimaryMethod::Raster2dBinned: return "2dr-binned";
+    case PrimaryMethod::Raster3dFrustumCull: return "3dr-frustum-cull";
+    case PrimaryMethod::Raster3dFrustumSplit: return "3dr-frustum-split";
+    case PrimaryMethod::Raster3dFull: return "3dr-full";
   }
   return "?";
 }
@@ -202,7 +206,8 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.tMin = ShadowTMin(i); }},
       {"primary",
        K::Choice,
-       {"hardware", "3dr", "3dr-binned", "2dr", "raycast"},
+       {"hardware", "3dr", "3dr-binned", "2dr", "raycast", "2dr-binned", "3dr-frustum-cull", "3dr-frustum-split",
+        "3dr-full"},
        {},
        0,
        0,
@@ -210,7 +215,8 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "",
        "primary visibility: the hardware depth prepass, compute 3D rasterization (brute force or binned into "
-       "8x8 tiles), the 2D homogeneous baseline, or a ray per pixel",
+       "8x8 tiles), the 2D homogeneous baseline (brute force, or binned with early-z), frusta through a BVH "
+       "(culled, split with occlusion culling, or both with binning and early-z), or a ray per pixel",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.primary = PrimaryMethod(i); }},
       {"projection",
        K::Choice,
@@ -246,6 +252,41 @@ const std::vector<ParamSpec>& paramSpecs() {
        "3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile; a triangle that finds the list full "
        "rasterizes its box itself (slower, never a dropped pixel; counted as tile_list_overflows)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dListPerTile = v.get<uint32_t>(); }},
+      {"r3d_frustum",
+       K::IntChoice,
+       {},
+       {8, 16, 32, 64, 128, 256},
+       0,
+       0,
+       "",
+       "px",
+       "",
+       "3dr-frustum-cull, 3dr-frustum-split, 3dr-full: the side of the screen frusta that traverse the BVH, "
+       "each one a workgroup (the paper's 256)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dFrustum = v.get<uint32_t>(); }},
+      {"r3d_min_frustum",
+       K::IntChoice,
+       {},
+       {8, 16, 32, 64, 128, 256},
+       0,
+       0,
+       "",
+       "px",
+       "",
+       "3dr-frustum-split, 3dr-full: frusta split down to this side (the paper's 8; at most r3d_frustum)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dMinFrustum = v.get<uint32_t>(); }},
+      {"r3d_early_z",
+       K::Bool,
+       {},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
+       "3dr-binned: skip a tile's triangles that lie behind every pixel's nearest hit so far (2dr-binned and "
+       "3dr-full always do)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dEarlyZ = v.get<bool>(); }},
       {"shading",
        K::Choice,
        {"forward", "visbuffer"},
@@ -385,6 +426,9 @@ nlohmann::json toJson(const VariantParams& p) {
   j["primary"] = toString(p.primary);
   j["r3d_thread_box"] = p.r3dThreadBox;
   j["r3d_list_per_tile"] = p.r3dListPerTile;
+  j["r3d_frustum"] = p.r3dFrustum;
+  j["r3d_min_frustum"] = p.r3dMinFrustum;
+  j["r3d_early_z"] = p.r3dEarlyZ;
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["max_lights_per_tile"] = p.maxLightsPerTile;

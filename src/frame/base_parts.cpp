@@ -17,7 +17,12 @@ namespace {
 // counts are the paper's (Davidovic et al., Fig. 10: 57 per 3DR triangle setup, 12 per pixel
 // test), each at most one FMA issue slot.
 std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json& a, double pixels, double tiles,
-                                  bool cast, bool binned) {
+                                  PrimaryMethod method) {
+  const bool cast = method == PrimaryMethod::RayCast, bvh = primaryUsesBvh(method);
+  const bool binned = method == PrimaryMethod::Raster3dBinned || method == PrimaryMethod::Raster2dBinned;
+  // Fig. 10's scalar ops: 3DR 57 a setup and 12 a pixel; the 2D homogeneous baseline 73 and 14.
+  const bool twoD = method == PrimaryMethod::Raster2d || method == PrimaryMethod::Raster2dBinned;
+  const double setupCost = twoD ? 73 : 57, pixelCost = twoD ? 14 : 12;
   const double setups = figureAt(a, {"primary", "triangle_setups"});
   const double triangles = figureAt(a, {"primary", "triangles"});
   const double tested = figureAt(a, {"primary", "pixels_tested"});
@@ -33,14 +38,31 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
                  {derived("rays_coherent", pixels, "one primary ray per pixel"),
                   derived("bytes", 20 * pixels, "resolve and depth copy")}});
   } else {
-    const WorkItem setupOps = counted("fma", 57 * setups, "triangle setups x 57 scalar ops (paper Fig. 10)");
+    const WorkItem setupOps =
+        counted("fma", setupCost * setups,
+                "triangle setups x " + std::to_string(int(setupCost)) + " scalar ops (paper Fig. 10)");
     const WorkItem setupBytes = derived("bytes", 48 * triangles, "3 indices + 3 positions read a triangle");
-    const WorkItem testOps = counted("fma", 12 * tested, "pixel tests x 12 scalar ops (paper Fig. 10)");
+    const WorkItem testOps = counted("fma", pixelCost * tested,
+                                     "pixel tests x " + std::to_string(int(pixelCost)) + " scalar ops (paper Fig. 10)");
     const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");
     w.push_back(
         {name,
-         {counted("fma", 57 * setups + 12 * tested, "setups x 57 + pixel tests x 12 (paper Fig. 10)"), visAtomics,
-          derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")}});
+         {counted("fma", setupCost * setups + pixelCost * tested,
+                  "setups x " + std::to_string(int(setupCost)) + " + pixel tests x " + std::to_string(int(pixelCost)) +
+                      " (paper Fig. 10)"),
+          visAtomics, derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")}});
+    if (bvh) {
+      const double nodes = figureAt(a, {"primary", "bvh_nodes_visited"});
+      w.push_back({name + ".traverse",
+                   {counted("fma", setupCost * setups + pixelCost * tested,
+                            "setups x 57 + pixel tests x 12 (paper Fig. 10; node tests not counted)"),
+                    visAtomics,
+                    counted("bytes", 48 * nodes + 48 * setups,
+                            "48 B a node visited + 48 B a triangle set up (3 vertices as vec4)")}});
+      w.push_back({name + ".resolve", {resolve}});
+      w.push_back({name + ".depth_copy", {copy}});
+      return w;
+    }
     w.push_back({name + ".triangles", {setupOps, setupBytes}});
     if (binned) {
       const WorkItem listAtomics = counted("atomics", entries, "one atomicAdd per (triangle, tile) list entry");
@@ -97,9 +119,11 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
   } else {
     RayCastInputs cast;
     if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
-    raster3d_ = std::make_unique<Raster3dPass>(f.ctx, f.scene, f.camera, f.settings.width, f.settings.height,
-                                               f.settings.primary, f.settings.raster3dThreadBox,
-                                               f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile);
+    raster3d_ = std::make_unique<Raster3dPass>(
+        f.ctx, f.scene, f.camera, f.settings.width, f.settings.height, f.settings.primary, f.settings.raster3dThreadBox,
+        f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile,
+        Raster3dFrustumOptions{f.settings.raster3dFrustum, f.settings.raster3dMinFrustum, f.settings.raster3dEarlyZ,
+                               f.settings.raster3dStackEntries});
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {res::kTlas};
     else
@@ -107,9 +131,8 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
     pass.writes.insert(pass.writes.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
     pass.subPasses = raster3d_->subPasses();
     pass.work = [name = pass.name, pixels = double(f.settings.width) * f.settings.height,
-                 tiles = double(raster3d_->screenTiles()), cast = f.settings.primary == PrimaryMethod::RayCast,
-                 binned = f.settings.primary == PrimaryMethod::Raster3dBinned](const nlohmann::json& a) {
-      return primaryWork(name, a, pixels, tiles, cast, binned);
+                 tiles = double(raster3d_->screenTiles()), method = f.settings.primary](const nlohmann::json& a) {
+      return primaryWork(name, a, pixels, tiles, method);
     };
     // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
     pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {

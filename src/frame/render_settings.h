@@ -32,6 +32,10 @@ struct RenderSettings {
   PrimaryMethod primary = PrimaryMethod::Hardware;
   bool fp64Fallback = true;                        // raster3d: false only to measure what the fallback prevents
   uint32_t raster3dListPerTile = 64;               // raster3d: work-list entries per 8x8 screen tile
+  uint32_t raster3dFrustum = 256;                  // BVH methods: the top frusta's side (px)
+  uint32_t raster3dMinFrustum = 8;                 // split methods: the smallest frustum's side (px)
+  bool raster3dEarlyZ = false;                     // 3dr-binned: early-z in the tile pass
+  uint32_t raster3dStackEntries = 768;             // BVH methods' stack (tests only: to reach its fallback)
   uint32_t raster3dThreadBox = 64;                 // raster3d: the largest box one thread rasterizes
   ShadingMethod shading = ShadingMethod::Forward;  // visbuffer: in compute from the visibility buffer
   bool raster3dShadingDepthTest = true;            // raster3d: early depth test before the id test (false: check only)

@@ -49,7 +49,9 @@ static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
     const bool planar = c.projection == CameraProjection::Orthographic;
     const bool hardware = settings.primary == PrimaryMethod::Hardware;
     const std::string primary = toString(settings.primary);
-    if (settings.primary == PrimaryMethod::Raster2d || (hardware && !planar))
+    const bool perspectiveOnly = settings.primary == PrimaryMethod::Raster2d ||
+                                 settings.primary == PrimaryMethod::Raster2dBinned || primaryUsesBvh(settings.primary);
+    if (perspectiveOnly || (hardware && !planar))
       throw InputError(what + " needs primary=3dr, 3dr-binned or raycast" +
                        (planar ? "" : " (or hardware for orthographic)") + " (primary=" + primary + " draws " +
                        (hardware ? "planar views only" : "perspective views only") + ")");

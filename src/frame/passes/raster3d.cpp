@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "base/errors.h"
+#include "frame/passes/primary_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
 #include "shared/bindings.h"
@@ -106,7 +107,7 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
                            uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
-                           const RayCastInputs& rayCast, uint32_t listPerTile)
+                           const RayCastInputs& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta)
     : ctx_(ctx),
       mode_(mode),
       width_(width),
@@ -175,33 +176,72 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
 
   tileWorkgroups_ = c.tileWorkgroups;
   screenTiles_ = ((width + 7) / 8) * ((height + 7) / 8);
-  big_ = Buffer(ctx, 16 + size_t(c.itemCapacity) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
-  const bool binned = mode == PrimaryMethod::Raster3dBinned;
+  const bool bvh = primaryUsesBvh(mode);
+  big_ = Buffer(ctx, 16 + (bvh ? 1 : size_t(c.itemCapacity)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  const bool binned = mode == PrimaryMethod::Raster3dBinned || mode == PrimaryMethod::Raster2dBinned;
+  auto log2Of8 = [](uint32_t side) {  // side = 8 << result
+    uint32_t l = 0;
+    while ((8u << l) < side) ++l;
+    return l;
+  };
+  if (bvh) {
+    // The traversal shader's shared HiZ holds levels 0..5 (config_params limits the choices).
+    HB_ASSERT(frusta.frustum >= 8 && frusta.frustum <= 256 && (frusta.frustum & (frusta.frustum - 1)) == 0);
+    if (frusta.minFrustum > frusta.frustum)
+      throw InputError("r3d_min_frustum=" + std::to_string(frusta.minFrustum) + " is larger than r3d_frustum=" +
+                       std::to_string(frusta.frustum) + ": set r3d_min_frustum to at most r3d_frustum");
+    const PrimaryBvh tree = buildPrimaryBvh(scene.worldTriangles());
+    bvhNodes_ = uploadBuffer(ctx, tree.nodes.data(), tree.nodes.size() * sizeof(gpu::PrimaryBvhNode),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+    const std::vector<uint32_t> order = tree.order.empty() ? std::vector<uint32_t>{0u} : tree.order;
+    bvhOrder_ = uploadBuffer(ctx, order.data(), order.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                             MemClass::Geometry);
+    bvhStats_ = {uint32_t(tree.nodes.size()), tree.depth,
+                 uint64_t(tree.nodes.size() * sizeof(gpu::PrimaryBvhNode) + order.size() * sizeof(uint32_t)),
+                 tree.buildMs};
+    frusta_ = ((width + frusta.frustum - 1) / frusta.frustum) * ((height + frusta.frustum - 1) / frusta.frustum);
+  } else {
+    bvhNodes_ = Buffer(ctx, sizeof(gpu::PrimaryBvhNode), rw, false, MemClass::Other);
+    bvhOrder_ = Buffer(ctx, sizeof(uint32_t), rw, false, MemClass::Other);
+  }
   bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   const std::pair<uint32_t, const Buffer*> bufs[] = {
       {HB_R3D_CONSTANTS, &constants_}, {HB_R3D_TRIANGLES, &triangles_}, {HB_R3D_VISIBILITY, &vis_},
       {HB_R3D_ITEMS, &big_},           {HB_R3D_COUNTERS, &counters_},   {HB_R3D_COVERAGE, &coverage_},
-      {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_}};
+      {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_},
+      {HB_R3D_BVH_NODES, &bvhNodes_},  {HB_R3D_BVH_ORDER, &bvhOrder_}};
   for (const auto& [b, buf] : bufs)
     rasterSets_.writeBuffer(
         0, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
         buf->handle());
-  // The dispatches in order: (shader, its PASS). Specialization constants (raster3d.comp.glsl):
-  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection.
-  const std::vector<std::pair<const char*, uint32_t>> stages =
-      binned ? std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0},
-                                                             {"raster3d.comp", 3},
-                                                             {"raster3d_scan.comp", 2},
-                                                             {"raster3d.comp", 4},
-                                                             {"raster3d_tiles.comp", 1}}
-             : std::vector<std::pair<const char*, uint32_t>>{{"raster3d.comp", 0}, {"raster3d.comp", 1}};
+  // The dispatches in order: (shader, its PASS). Specialization constants (raster3d_common.glsl.inc):
+  // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection; the tile pass's
+  // 6 early-z; the BVH traversal's (raster3d_bvh.comp.glsl) 6 split, 7 occlusion, 8 binning,
+  // 9 early-z, 10 log2(r3d_frustum / 8), 11 log2(r3d_min_frustum / 8).
+  using Stages = std::vector<std::pair<const char*, uint32_t>>;
+  const Stages stages = bvh      ? Stages{{"raster3d_bvh.comp", 0}}
+                        : binned ? Stages{{"raster3d.comp", 0},
+                                          {"raster3d.comp", 3},
+                                          {"raster3d_scan.comp", 2},
+                                          {"raster3d.comp", 4},
+                                          {"raster3d_tiles.comp", 1}}
+                                 : Stages{{"raster3d.comp", 0}, {"raster3d.comp", 1}};
+  const bool twoD = mode == PrimaryMethod::Raster2d || mode == PrimaryMethod::Raster2dBinned;
+  const bool split = mode == PrimaryMethod::Raster3dFrustumSplit || mode == PrimaryMethod::Raster3dFull;
+  const bool full = mode == PrimaryMethod::Raster3dFull;
   for (const auto& [shader, pass] : stages)
     for (uint32_t analysis = 0; analysis < 2; ++analysis) {
       auto p = std::make_unique<Pipeline>(ctx);
       p->createLayout({rasterSets_.layout()}, 0);
-      p->createCompute(shader, {{pass, analysis, fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
-                                 mode == PrimaryMethod::Raster2d ? 1u : 0u, c.projection}});
+      std::vector<uint32_t> spec{pass,           analysis,    fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
+                                 twoD ? 1u : 0u, c.projection};
+      if (bvh)
+        spec.insert(spec.end(), {split ? 1u : 0u, split ? 1u : 0u, split && !full ? 0u : 1u, full ? 1u : 0u,
+                                 log2Of8(frusta.frustum), log2Of8(frusta.minFrustum), frusta.stackEntries});
+      else
+        spec.push_back(mode == PrimaryMethod::Raster2dBinned || frusta.earlyZ ? 1u : 0u);
+      p->createCompute(shader, {spec});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
 }
@@ -211,7 +251,9 @@ Raster3dPass::~Raster3dPass() = default;
 std::vector<std::string> Raster3dPass::subPasses() const {
   const std::string pass = subPassName(mode_);
   std::vector<std::string> names;
-  if (mode_ == PrimaryMethod::Raster3dBinned)
+  if (primaryUsesBvh(mode_))
+    names.push_back(pass + ".traverse");
+  else if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
     for (const char* s : {"triangles", "count", "scan", "fill", "tiles"}) names.push_back(pass + "." + s);
   else if (mode_ != PrimaryMethod::RayCast)
     for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
@@ -222,7 +264,7 @@ std::vector<std::string> Raster3dPass::subPasses() const {
 
 void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const {
   VkDescriptorSet set = rasterSets_.set();
-  const bool binned = mode_ == PrimaryMethod::Raster3dBinned;
+  const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
   auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
     if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + "." + name);
     const Pipeline& p = *(analysis ? analysis_ : timed_)[pass];
@@ -233,6 +275,10 @@ void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* ti
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
   };
+  if (primaryUsesBvh(mode_)) {
+    dispatch(0, frusta_, "traverse");
+    return;
+  }
   const uint32_t triangleGroups = (triangleCount_ + 63) / 64;
   dispatch(0, triangleGroups, "triangles");
   if (binned) {
@@ -266,7 +312,8 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   const bool cast = mode_ == PrimaryMethod::RayCast;
   if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
   if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);                       // the item count
-  if (mode_ == PrimaryMethod::Raster3dBinned) vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
+  if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
+    vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -339,6 +386,13 @@ Raster3dCounters Raster3dPass::readCounters() const {
   r.listEntries = c[gpu::kR3dCounterListEntries];
   r.binsRefined = c[gpu::kR3dCounterBinsRefined];
   r.binsEmpty = c[gpu::kR3dCounterBinsEmpty];
+  r.nodesVisited = c[gpu::kR3dCounterNodes];
+  r.frusta = c[gpu::kR3dCounterFrusta];
+  r.frustaSplit = c[gpu::kR3dCounterSplits];
+  r.culledFrustum = c[gpu::kR3dCounterCulledFrustum];
+  r.culledOcclusion = c[gpu::kR3dCounterCulledOcclusion];
+  r.culledEarlyZ = c[gpu::kR3dCounterCulledEarlyZ];
+  r.stackOverflows = c[gpu::kR3dCounterStackOverflows];
   return r;
 }
 

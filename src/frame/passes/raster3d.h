@@ -9,6 +9,11 @@
 //    (triangle, tile) item: only tiles the triangle can touch), then one workgroup per screen tile;
 //    the result equals "3dr" bit for bit.
 //  - "2dr": the paper's baseline, 2D homogeneous edge functions, otherwise as "3dr".
+//  - "2dr-binned": "2dr" binned as "3dr-binned", with early-z in the tile pass (the paper's "2DR
+//    binning" with its hierarchical w-buffer test).
+//  - "3dr-frustum-cull", "3dr-frustum-split", "3dr-full" (raster3d_bvh.comp.glsl): screen frusta
+//    traverse a BVH of the scene (primary_bvh.h), culled by frustum (and occlusion), split, and
+//    rasterize their leaves' triangles; equal to "3dr" bit for bit.
 //  - "raycast" (primary_raycast.*): a ray per pixel along the same camera rays, nearest hit on the
 //    frame's TLAS, through ray query where the device has it, else the ray-tracing pipeline.
 #pragma once
@@ -38,6 +43,24 @@ struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0, bigTriangles = 0,
            listOverflows = 0, listEntries = 0, binsRefined = 0,
            binsEmpty = 0;  // binned: (triangle, tile) entries tested, of those covering nothing
+  // BVH methods (kR3dCounter* in gpu_types.h).
+  uint64_t nodesVisited = 0, frusta = 0, frustaSplit = 0, culledFrustum = 0, culledOcclusion = 0, culledEarlyZ = 0,
+           stackOverflows = 0;
+};
+
+// The BVH methods' and binned methods' options (r3d_frustum, r3d_min_frustum, r3d_early_z).
+struct Raster3dFrustumOptions {
+  uint32_t frustum = 256;       // the top frusta's side, a power of two in [8, 256]
+  uint32_t minFrustum = 8;      // split down to this side, a power of two in [8, frustum]
+  bool earlyZ = false;          // 3dr-binned: early-z in the tile pass (2dr-binned and 3dr-full always)
+  uint32_t stackEntries = 768;  // the traversal stack's capacity; tests lower it to reach the fallback
+};
+
+// What the BVH of the BVH methods is (render.json "primary").
+struct Raster3dBvhStats {
+  uint32_t nodes = 0, depth = 0;
+  uint64_t bytes = 0;
+  double buildMs = 0.0;
 };
 
 // What ray casting needs: the TLAS and the device's way to trace.
@@ -55,7 +78,8 @@ class Raster3dPass {
   // (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
                PrimaryMethod mode = PrimaryMethod::Raster3d, uint32_t smallArea = kDefaultSmallArea,
-               bool fp64Fallback = true, const RayCastInputs& rayCast = {}, uint32_t listPerTile = 64);
+               bool fp64Fallback = true, const RayCastInputs& rayCast = {}, uint32_t listPerTile = 64,
+               const Raster3dFrustumOptions& frusta = {});
   ~Raster3dPass();
 
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
@@ -80,6 +104,9 @@ class Raster3dPass {
   std::vector<uint32_t> readCoverage() const;    // (triangle, pixel) pairs covered, per pixel
   std::vector<uint32_t> readPixelTests() const;  // triangles tested at each pixel (3 edge evaluations each)
   Raster3dCounters readCounters() const;
+  // BVH methods: the hierarchy's size and build time; zeros otherwise.
+  const Raster3dBvhStats& bvhStats() const { return bvhStats_; }
+  uint32_t frusta() const { return frusta_; }  // BVH methods: workgroups of the traversal
 
  private:
   void recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const;
@@ -87,8 +114,10 @@ class Raster3dPass {
 
   const VulkanContext& ctx_;
   PrimaryMethod mode_;
-  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_;
+  uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
+  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_,
+      bvhNodes_, bvhOrder_;
+  Raster3dBvhStats bvhStats_;
   DescriptorSets rasterSets_, resolveSets_;
   // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
   // and an analysis pipeline.

@@ -1,0 +1,155 @@
+#include "frame/passes/primary_bvh.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace hb {
+
+namespace {
+
+struct Box {
+  glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+  void grow(const glm::vec3& p) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  void grow(const Box& b) {
+    lo = glm::min(lo, b.lo);
+    hi = glm::max(hi, b.hi);
+  }
+  bool empty() const { return !(lo.x <= hi.x); }
+  // Half the surface area (the SAH's constant factor cancels); 0 for an empty box.
+  float halfArea() const {
+    if (empty()) return 0.0f;
+    const glm::vec3 d = hi - lo;
+    return d.x * d.y + d.y * d.z + d.z * d.x;
+  }
+};
+
+struct Builder {
+  std::vector<Box> boxes;            // per triangle (empty: a non-finite vertex)
+  std::vector<glm::vec3> centroids;  // per triangle (0 for the non-finite ones)
+  std::vector<uint32_t> order;
+  std::vector<gpu::PrimaryBvhNode> nodes;
+  uint32_t depth = 0;
+
+  static constexpr int kBins = 12;
+
+  // Where to cut order[first, first + count): the index of the first right triangle, or 0 for a
+  // leaf. Binned SAH (cost 1 a node traversal, 1 a triangle test) on the centroids' widest extent.
+  uint32_t partition(uint32_t first, uint32_t count, const Box& box) {
+    Box cb;
+    for (uint32_t i = first; i < first + count; ++i) cb.grow(centroids[order[i]]);
+    const glm::vec3 ext = cb.hi - cb.lo;
+    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    uint32_t mid = 0;
+    if (ext[axis] > 0.0f) {
+      std::array<Box, kBins> bin{};
+      std::array<uint32_t, kBins> n{};
+      const float scale = float(kBins) / ext[axis];
+      auto binOf = [&](uint32_t t) {
+        return std::clamp(int((centroids[t][axis] - cb.lo[axis]) * scale), 0, kBins - 1);
+      };
+      for (uint32_t i = first; i < first + count; ++i) {
+        const int b = binOf(order[i]);
+        bin[b].grow(boxes[order[i]]);
+        ++n[b];
+      }
+      std::array<float, kBins> rightCost{};
+      Box acc;
+      uint32_t acc_n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        acc.grow(bin[b]);
+        acc_n += n[b];
+        rightCost[b] = acc.halfArea() * float(acc_n);
+      }
+      float best = std::numeric_limits<float>::infinity();
+      int bestBin = -1;
+      Box left;
+      uint32_t leftN = 0;
+      for (int b = 1; b < kBins; ++b) {
+        left.grow(bin[b - 1]);
+        leftN += n[b - 1];
+        if (leftN == 0 || leftN == count) continue;
+        const float cost = left.halfArea() * float(leftN) + rightCost[b];
+        if (cost < best) {
+          best = cost;
+          bestBin = b;
+        }
+      }
+      const float leafCost = box.halfArea() * float(count);
+      if (bestBin > 0 && (count > kPrimaryBvhLeaf || best + box.halfArea() < leafCost)) {
+        const auto it = std::partition(order.begin() + first, order.begin() + first + count,
+                                       [&](uint32_t t) { return binOf(t) < bestBin; });
+        mid = uint32_t(it - order.begin());
+      }
+    }
+    if (mid == 0 && count > kPrimaryBvhLeaf) {  // no useful SAH cut (equal centroids): the median
+      mid = first + count / 2;
+      std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + first + count,
+                       [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    }
+    return mid;
+  }
+
+  uint32_t build(uint32_t first, uint32_t count, uint32_t level) {
+    depth = std::max(depth, level);
+    const uint32_t index = uint32_t(nodes.size());
+    nodes.emplace_back();
+    Box box;
+    for (uint32_t i = first; i < first + count; ++i) box.grow(boxes[order[i]]);
+    if (box.empty()) box.lo = box.hi = glm::vec3(0.0f);  // only non-finite triangles: a point
+    const uint32_t mid = count > 1 ? partition(first, count, box) : 0;
+    uint32_t right = 0;
+    if (mid != 0) {
+      build(first, mid - first, level + 1);
+      right = build(mid, first + count - mid, level + 1);
+    }
+    gpu::PrimaryBvhNode& node = nodes[index];
+    node.lo = glm::vec4(box.lo, 0.0f);
+    node.hi = glm::vec4(box.hi, 0.0f);
+    node.info = glm::uvec4(right, first, count, 0u);
+    return index;
+  }
+};
+
+}  // namespace
+
+PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices) {
+  const auto start = std::chrono::steady_clock::now();
+  Builder b;
+  const size_t n = vertices.size() / 3;
+  b.boxes.resize(n);
+  b.centroids.assign(n, glm::vec3(0.0f));
+  b.order.resize(n);
+  for (size_t t = 0; t < n; ++t) {
+    b.order[t] = uint32_t(t);
+    const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
+    auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    const bool finite = finite3(v0) && finite3(v1) && finite3(v2);
+    if (!finite) continue;
+    b.boxes[t].grow(v0);
+    b.boxes[t].grow(v1);
+    b.boxes[t].grow(v2);
+    b.centroids[t] = (b.boxes[t].lo + b.boxes[t].hi) * 0.5f;
+  }
+  PrimaryBvh out;
+  if (n == 0) {
+    gpu::PrimaryBvhNode empty{};
+    out.nodes.push_back(empty);  // a leaf with no triangles
+    out.depth = 1;
+  } else {
+    b.nodes.reserve(2 * n);
+    b.build(0, uint32_t(n), 1);
+    out.nodes = std::move(b.nodes);
+    out.order = std::move(b.order);
+    out.depth = b.depth;
+  }
+  out.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace hb
