@@ -1,6 +1,6 @@
 #version 460
 // Primary visibility by frusta through a BVH (Davidovic et al. 2012, Sect. 4, Fig. 7): the methods
-// "3dr-frustum-cull", "3dr-frustum-split" and "3dr-full". One workgroup of 64 threads owns a
+// "3dr-frustum-cull", "3dr-frustum-split" and "3dr-full". One workgroup of 256 threads owns a
 // screen frustum of F = 8 << FRUSTUM_LOG2 pixels a side (r3d_frustum) and every pixel in it:
 //
 //   traverse(F, N): if isOutside or isOccluded: return        (Fig. 6a)
@@ -9,13 +9,13 @@
 //                   else: traverse(F, child) for both children, the nearer first
 //
 // The recursion is a stack of (node, frustum) entries in shared memory; each step the 64 threads
-// pop up to 64 entries and run the oracles on one each, pushing what follows. A leaf's triangles
+// pop up to 64 entries and run the oracles on one each (the first 64 threads), pushing what follows. A leaf's triangles
 // go to a queue that is rasterized after the step (so depth is there for the next step's
 // occlusion tests), 64 triangles at a time: each thread sets one up (3DR, raster3d.glsl.inc) and
 // clips its screen box to the entry's frustum, then lists the box's 8x8 blocks (BINNING: only
 // blocks whose corner edge values can reach a pixel centre, tileMayBeCovered; EARLYZ: only blocks
 // whose farthest depth so far is not nearer than the triangle), and the workgroup rasterizes the
-// list a block at a time, a pixel per thread, with one atomicMin per covered pixel.
+// list four blocks at a time, a pixel per thread, with one atomicMin per covered pixel.
 //
 // The oracles, each conservative, so the visibility buffer equals brute force ("3dr") bit for bit:
 //  - isOutside: the node's box is outside one of the planes through the eye and the pixel-centre
@@ -35,7 +35,10 @@
 #include "shared/gpu_types.h"
 
 #include "raster3d_common.glsl.inc"
-layout(local_size_x = 64) in;
+// 256 threads: the first 64 traverse and set triangles up; all four groups of 64 rasterize, four
+// blocks at a time (64 threads alone left too few warps on an SM to hide memory latency).
+layout(local_size_x = 256) in;
+const uint kGroups = 4u;
 
 layout(constant_id = 6) const uint SPLIT = 0;          // the splitFrustum oracle
 layout(constant_id = 7) const uint OCCLUSION = 0;      // the isOccluded oracle
@@ -63,7 +66,7 @@ shared uint sBlock[kBlocks];  // (chunk entry | block x << 6 | block y << 19)
 shared uint sBlockCount;
 shared uint sPending;
 shared uint sHiz[kHizSize];  // max t bits over each block's pixels (kNoDepth: some pixel has none)
-shared uint sBlockMax;
+shared uint sBlockMax[kGroups];
 
 // A frustum rect: its first pixel / 8 (x: 12 bits, y: 12 bits) and its level (size 8 << level).
 uint packRect(uvec2 origin, uint level) { return (origin.x / 8u) | ((origin.y / 8u) << 12) | (level << 24); }
@@ -217,9 +220,12 @@ void visit(uvec2 entry, inout Work work, inout Tally tally) {
 }
 
 // Level 0 of the HiZ after block (bx, by) changed: its new farthest depth, then every level up.
+// Two groups may have reduced the same block: each value bounds its current farthest depth from
+// above (a pixel's key only decreases), so the smaller one is kept.
 void updateHiz(uvec2 block, uint blockMax) {
   const uvec2 local = block - frustumOrigin() / 8u;
-  sHiz[local.y * (1u << FRUSTUM_LOG2) + local.x] = blockMax;
+  const uint at = local.y * (1u << FRUSTUM_LOG2) + local.x;
+  sHiz[at] = min(sHiz[at], blockMax);
   uint offset = 0u;
   for (uint l = 1u; l <= FRUSTUM_LOG2; ++l) {
     const uint side = 1u << (FRUSTUM_LOG2 - l + 1u), childOffset = offset;
@@ -233,13 +239,13 @@ void updateHiz(uvec2 block, uint blockMax) {
 
 // The queue's triangles over their frusta, 64 at a time (the queue is drained every step).
 void rasterizeQueue(inout Work work, inout Tally tally) {
-  const uint lid = gl_LocalInvocationID.x;
+  const uint lid = gl_LocalInvocationID.x, lane = lid & 63u, group = lid >> 6;
   const uint total = sQueueCount;
   for (uint base = 0u; base < total; base += 64u) {  // uniform
     const uint e = base + lid;
     ivec4 box = ivec4(0, 0, -1, -1);
     float zmin = 0.0;
-    if (e < total) {
+    if (lid < 64u && e < total) {
       const uint id = sQueueId[e];
       R3dSetup s;
       ivec2 lo, hi;
@@ -255,7 +261,7 @@ void rasterizeQueue(inout Work work, inout Tally tally) {
       sSetup[lid] = s;
       sId[lid] = id;
     }
-    sBox[lid] = box;
+    if (lid < 64u) sBox[lid] = box;
     // This thread's blocks: the 8x8 screen blocks its clipped box overlaps.
     const uvec2 b0 = uvec2(max(box.xy, ivec2(0))) / 8u;
     const uint bw = box.z >= box.x ? uint(box.z) / 8u - b0.x + 1u : 0u;
@@ -296,16 +302,17 @@ void rasterizeQueue(inout Work work, inout Tally tally) {
       }
       barrier();
       const uint count = min(sBlockCount, kBlocks);
-      for (uint k = 0u; k < count; ++k) {
-        const uint item = sBlock[k];
+      for (uint k0 = 0u; k0 < count; k0 += kGroups) {  // uniform; group g takes item k0 + g
+        const bool valid = k0 + group < count;
+        const uint item = valid ? sBlock[k0 + group] : 0u;
         const uint j = item & 63u;
         const uvec2 blk = uvec2((item >> 6) & 0x1FFFu, item >> 19);
-        const uint x = blk.x * 8u + lid % 8u, y = blk.y * 8u + lid / 8u;
+        const uint x = blk.x * 8u + lane % 8u, y = blk.y * 8u + lane / 8u;
         const ivec4 b = sBox[j];
-        const bool onScreen = x < r3.width && y < r3.height;
+        const bool onScreen = valid && x < r3.width && y < r3.height;
         uint64_t best = ~0ul;
         bool known = false;
-        if (int(x) >= b.x && int(y) >= b.y && int(x) <= b.z && int(y) <= b.w) {
+        if (valid && int(x) >= b.x && int(y) >= b.y && int(x) <= b.z && int(y) <= b.w) {
           uint64_t key;
           if (pixelKey(sId[j], sSetup[j], x, y, tally, key)) {
             best = min(atomicMin(vis[y * r3.width + x], key), key);
@@ -317,11 +324,15 @@ void rasterizeQueue(inout Work work, inout Tally tally) {
         // The block's farthest depth now: every pixel's current key (an atomic read where this
         // item did not just write it), reduced in shared memory.
         if (onScreen && !known) best = atomicMin(vis[y * r3.width + x], ~0ul);
-        if (lid == 0u) sBlockMax = 0u;
+        if (lane == 0u) sBlockMax[group] = 0u;
         barrier();
-        if (onScreen) atomicMax(sBlockMax, uint(best >> 32));
+        if (onScreen) atomicMax(sBlockMax[group], uint(best >> 32));
         barrier();
-        if (lid == 0u) updateHiz(blk, sBlockMax);
+        if (lid == 0u)
+          for (uint g = 0u; g < kGroups && k0 + g < count; ++g) {
+            const uint it = sBlock[k0 + g];
+            updateHiz(uvec2((it >> 6) & 0x1FFFu, it >> 19), sBlockMax[g]);
+          }
         barrier();
       }
       barrier();
@@ -345,7 +356,7 @@ void main() {
     uint offset = 0u;
     for (uint l = 0u; l <= FRUSTUM_LOG2; ++l) {
       const uint side = 1u << (FRUSTUM_LOG2 - l);
-      for (uint i = lid; i < side * side; i += 64u) {
+      for (uint i = lid; i < side * side; i += gl_WorkGroupSize.x) {
         const uvec2 o = frustumOrigin() + uvec2(i % side, i / side) * (8u << l);
         sHiz[offset + i] = o.x < r3.width && o.y < r3.height ? kNoDepth : 0u;
       }
