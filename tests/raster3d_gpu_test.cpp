@@ -865,6 +865,7 @@ TEST_F(Raster3dTest, EachDispatchIsTimedInsideItsPass) {
       for (const char* sub : {"raster3d.count", "raster3d.scan", "raster3d.fill"}) expected.push_back(sub);
     if (pass == "raster3d") expected.push_back("raster3d.tiles");
     expected.push_back(pass + ".resolve");
+    expected.push_back(pass + ".depth_copy");
     expected.push_back("light_culling");
     expected.push_back("shading");
     EXPECT_EQ(names, expected) << primary;

@@ -117,7 +117,7 @@
 #define HB_LDM_BLOCK_SUMS 3u     // the scan set: per block of 4096 counts its sum
 
 // 3D rasterization (frame/passes/raster3d.cpp): raster3d_common.glsl.inc (raster3d.comp,
-// raster3d_tiles.comp, raster3d_scan.comp, raster3d_bvh.comp) share one set; raster3d_resolve.frag has its own.
+// raster3d_tiles.comp, raster3d_scan.comp) share one set; raster3d_resolve.comp has its own.
 #define HB_R3D_CONSTANTS 0u   // uniform Raster3dConstants
 #define HB_R3D_TRIANGLES 1u   // the world triangles, 3 vec4 each
 #define HB_R3D_VISIBILITY 2u  // (t bits << 32 | id) per pixel
@@ -130,12 +130,13 @@
 #define HB_R3D_BVH_NODES 9u   // BVH methods: gpu::PrimaryBvhNode, the root first
 #define HB_R3D_BVH_ORDER 10u  // BVH methods: triangle ids in leaf order
 #define HB_R3D_BINDING_COUNT 11u
-#define HB_R3D_RESOLVE_CONSTANTS 0u   // raster3d_resolve.frag: uniform Raster3dConstants
+#define HB_R3D_RESOLVE_CONSTANTS 0u   // raster3d_resolve.comp: uniform Raster3dConstants
 #define HB_R3D_RESOLVE_VISIBILITY 1u  // the visibility buffer, read
-#define HB_R3D_RESOLVE_BINDING_COUNT 2u
+#define HB_R3D_RESOLVE_DEPTH 2u       // the depth per pixel, written (copied into the depth image)
+#define HB_R3D_RESOLVE_BINDING_COUNT 3u
 
 // Primary visibility by ray casting (frame/passes/raster3d.cpp): primary_raycast.glsl.inc
-// (primary_raycast.comp, .rgen, .rchit) share one set; then raster3d_resolve.frag as above.
+// (primary_raycast.comp, .rgen, .rchit) share one set; then raster3d_resolve.comp as above.
 #define HB_CAST_CONSTANTS 0u   // uniform Raster3dConstants
 #define HB_CAST_VISIBILITY 1u  // (t bits << 32 | id) per pixel, written
 #define HB_CAST_ID_BASE 2u     // instance/geometry -> first draw-order triangle id

@@ -28,14 +28,15 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   const double tested = figureAt(a, {"primary", "pixels_tested"});
   const double atomics = figureAt(a, {"primary", "atomics"});
   const double entries = figureAt(a, {"primary", "list_entries"});
-  // The resolve (a full-screen draw) reads 8 B of visibility and writes 4 B of depth per pixel,
-  // straight into the depth image.
+  // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; the depth is then
+  // copied into the depth image (4 B read + 4 B written).
   const WorkItem resolve = derived("bytes", 12 * pixels, "8 B visibility read + 4 B depth written a pixel");
+  const WorkItem copy = derived("bytes", 8 * pixels, "4 B read + 4 B written a pixel");
   std::vector<PassWork> w;
   if (cast) {
     w.push_back({name,
                  {derived("rays_coherent", pixels, "one primary ray per pixel"),
-                  derived("bytes", 12 * pixels, "the resolve")}});
+                  derived("bytes", 20 * pixels, "resolve and depth copy")}});
   } else {
     const WorkItem setupOps =
         counted("fma", setupCost * setups,
@@ -44,11 +45,12 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     const WorkItem testOps = counted("fma", pixelCost * tested,
                                      "pixel tests x " + std::to_string(int(pixelCost)) + " scalar ops (paper Fig. 10)");
     const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");
-    w.push_back({name,
-                 {counted("fma", setupCost * setups + pixelCost * tested,
-                          "setups x " + std::to_string(int(setupCost)) + " + pixel tests x " +
-                              std::to_string(int(pixelCost)) + " (paper Fig. 10)"),
-                  visAtomics, derived("bytes", 48 * triangles + 12 * pixels, "triangles read + resolve")}});
+    w.push_back(
+        {name,
+         {counted("fma", setupCost * setups + pixelCost * tested,
+                  "setups x " + std::to_string(int(setupCost)) + " + pixel tests x " + std::to_string(int(pixelCost)) +
+                      " (paper Fig. 10)"),
+          visAtomics, derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")}});
     if (bvh) {
       const double nodes = figureAt(a, {"primary", "bvh_nodes_visited"});
       w.push_back({name + ".traverse",
@@ -58,6 +60,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
                     counted("bytes", 48 * nodes + 48 * setups,
                             "48 B a node visited + 48 B a triangle set up (3 vertices as vec4)")}});
       w.push_back({name + ".resolve", {resolve}});
+      w.push_back({name + ".depth_copy", {copy}});
       return w;
     }
     w.push_back({name + ".triangles", {setupOps, setupBytes}});
@@ -71,6 +74,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     w.push_back({name + ".tiles", {testOps, visAtomics}});
   }
   w.push_back({name + ".resolve", {resolve}});
+  w.push_back({name + ".depth_copy", {copy}});
   return w;
 }
 

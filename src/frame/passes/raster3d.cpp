@@ -8,11 +8,9 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "base/errors.h"
-#include "frame/passes/depth_prepass.h"
 #include "frame/passes/primary_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
-#include "gpu/raster_pipeline.h"
 #include "shared/bindings.h"
 
 namespace hb {
@@ -117,7 +115,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       triangleCount_(uint32_t(scene.triangleCount())),
       rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolveSets_(
-          ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_FRAGMENT_BIT)),
+          ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
   if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
     throw DeviceError("device \"" + ctx.info().name +
@@ -136,23 +134,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
   coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
   tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
+  depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
   resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
   resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-  // The resolve: a full-screen draw writing each pixel's depth (raster3d_resolve.frag.glsl).
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
   resolve_.createLayout({resolveSets_.layout()}, 0);
-  {
-    ShaderModule vert(ctx, "raster3d_resolve.vert"), frag(ctx, "raster3d_resolve.frag");
-    RasterPipelineDesc desc;
-    desc.layout = resolve_.layout();
-    desc.vertex = vert.handle();
-    desc.fragment = frag.handle();
-    desc.vertexAttributes = 0;
-    desc.depthWrite = true;
-    desc.depthCompare = VK_COMPARE_OP_ALWAYS;
-    desc.depthFormat = kDepthFormat;
-    resolve_.pipeline_ = createRasterPipeline(ctx, desc);
-    resolve_.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  }
+  resolve_.createCompute("raster3d_resolve.comp");
 
   if (mode == PrimaryMethod::RayCast) {
     HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE);
@@ -271,6 +258,7 @@ std::vector<std::string> Raster3dPass::subPasses() const {
   else if (mode_ != PrimaryMethod::RayCast)
     for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
   names.push_back(pass + ".resolve");
+  names.push_back(pass + ".depth_copy");
   return names;
 }
 
@@ -338,38 +326,27 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
     recordRayCast(cmd, analysis);
   else
     recordRaster(cmd, analysis, timer);
-  // The resolve: a full-screen draw that writes each pixel's depth into the depth image (a depth
-  // format cannot be a storage image; this replaced a compute resolve into a buffer and a
-  // buffer-to-image copy).
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
-  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-               VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-               VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-  VkRenderingAttachmentInfo da{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-  da.imageView = depth.view();
-  da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-  da.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
-  da.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  ri.renderArea = {{0, 0}, {width_, height_}};
-  ri.layerCount = 1;
-  ri.pDepthAttachment = &da;
-  vkCmdBeginRendering(cmd, &ri);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.handle());
   VkDescriptorSet rset = resolveSets_.set();
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_.layout(), 0, 1, &rset, 0, nullptr);
-  const VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-  const VkRect2D scissor{{0, 0}, {width_, height_}};
-  vkCmdSetViewport(cmd, 0, 1, &viewport);
-  vkCmdSetScissor(cmd, 0, 1, &scissor);
-  vkCmdDraw(cmd, 3, 1, 0, 0);
-  vkCmdEndRendering(cmd);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
+  vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);
   if (timer) timer->end(cmd);
-  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-               VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+  // The depth buffer into the depth image (a depth format cannot be a storage image), timed on its
+  // own so that the roofline tells the resolve's bandwidth from the copy's.
+  if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".depth_copy");
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+                VK_ACCESS_2_TRANSFER_READ_BIT);
+  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
+               VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  VkBufferImageCopy region{};
+  region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
+  region.imageExtent = {width_, height_, 1};
+  vkCmdCopyBufferToImage(cmd, depthStaging_.handle(), depth.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+  if (timer) timer->end(cmd);
+  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
+               VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
                    VK_PIPELINE_STAGE_2_COPY_BIT,

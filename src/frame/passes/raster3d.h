@@ -85,7 +85,7 @@ class Raster3dPass {
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
   // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
   // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".count", ".scan", ".fill",
-  // ".tiles", ".traverse", ".resolve": the draw that writes the depth image).
+  // ".tiles", ".resolve", ".depth_copy").
   void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
   PrimaryMethod mode() const { return mode_; }
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
@@ -115,8 +115,8 @@ class Raster3dPass {
   const VulkanContext& ctx_;
   PrimaryMethod mode_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, bins_, binList_, idBase_, bvhNodes_,
-      bvhOrder_;
+  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_,
+      bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
   DescriptorSets rasterSets_, resolveSets_;
   // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
