@@ -114,12 +114,14 @@ std::string primaryTableMarkdown(const json& results) {
        "Paper instr. vs 2DR = this run's paper instruction estimate (paper_scalar_ops_estimate) / that of the "
        "same 2DR brute force run (— for a ray cast, which has no estimate). Double covers / holes: "
        "pixels the method gives to more / fewer triangles than the exact CPU rasterization (every depth; a ray "
-       "cast reports one hit per pixel: not counted). Wrong ids: visible triangle differs from the double ray "
+       "cast reports one hit per pixel: not counted; holes are not counted, —, for methods that skip hidden "
+       "triangles by occlusion culling or early-z). Wrong ids: visible triangle differs from the double ray "
        "cast's, not at a tie. Empty bins: of the (triangle, 8x8 tile) pairs the binned tile pass tested, the "
        "share that covered no pixel (the paper's 18 % of bins refined without a hit, Sect. 3.5).";
   if (anyBvh)
     o << " Nodes visited: the (BVH node, frustum) pairs the BVH traversal tested. Frusta (split): the top-level "
-         "frusta and, in parentheses, how many the traversal split. Culled: frustum / occlusion / early-z: "
+         "frusta and, in parentheses, the splits ((node, frustum) pairs whose frustum was split into four). Culled: "
+         "frustum / occlusion / early-z: "
          "triangles culled with a node outside its frustum / with a node behind the depth, and (triangle, 8x8 "
          "block) pairs skipped by early-z.";
   o << " The method names its view when it is not a perspective one.";
