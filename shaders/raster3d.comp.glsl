@@ -2,12 +2,13 @@
 // Primary visibility by 3D rasterization (raster3d.glsl.inc) or by the paper's 2D homogeneous
 // baseline (METHOD2D), brute force over each triangle's screen box ("3dr", "2dr") or binned into
 // the screen's 8x8 tiles ("3dr-binned"). The per-triangle and per-work-item passes (this shader;
-// none uses shared memory, so none loses occupancy to it):
+// only PASS 0 uses shared memory, 1.5 KB, so none loses occupancy to it):
 //   PASS 0: one thread per triangle: setup and screen box; a box of at most smallArea pixels is
 //           rasterized by the thread itself; a larger one is appended as work items (one
 //           atomicAdd per triangle): brute force, the 8x8 tiles of its box; binned, the screen's
-//           8x8 tiles the box overlaps. When the list is full the thread rasterizes its box itself:
-//           slower, never a dropped pixel (counted), and marks the slots it took empty (kNoItem).
+//           8x8 tiles the box overlaps. The workgroup's 64 threads write those items together.
+//           When the list is full the thread rasterizes its box itself: slower, never a dropped
+//           pixel (counted), and marks the slots it took empty (kNoItem).
 //   PASS 1: brute force: tileWorkgroups workgroups of 64 threads stride over the work items, one
 //           pixel each, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
@@ -28,43 +29,69 @@
 #include "raster3d_common.glsl.inc"
 layout(local_size_x = 64) in;
 
+// PASS 0's big triangles of this workgroup, whose items all 64 threads write together: one thread
+// writing a big box's items alone took up to the whole pass (a triangle across half the screen
+// has about 16,000), 0.28 ms in brute force and 0.61 ms binned on the atrium at 1080p on an H200
+// whatever the thread box (results/h200/continuum-32/pass0).
+shared uint sBigId[64];
+shared uint sBigFirst[64];
+shared uvec4 sBigSpan[64];  // first tile x, first tile y, tiles a row, items
+shared uint sBigCount;
+
 void perTriangle() {
+  const uint lid = gl_LocalInvocationID.x;
+  if (lid == 0u) sBigCount = 0u;
+  barrier();
   const uint id = gl_GlobalInvocationID.x;
-  if (id >= r3.triangleCount) return;
   R3dSetup s;
   ivec2 lo, hi;
-  if (!setupTriangle(id, s, lo, hi)) return;
-  const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
-  const bool big = w * h > r3.smallArea;
-  if (ANALYSIS == 1) {
-    atomicAdd(counters[kR3dCounterSetups], 1ul);
-    if (big) atomicAdd(counters[kR3dCounterBig], 1ul);
-  }
+  // Every thread reaches both barriers: no early return.
+  bool own = id < r3.triangleCount && setupTriangle(id, s, lo, hi);  // rasterized by this thread
   Tally tally = Tally(0u, 0u, 0u, 0u);
-  if (big) {
-    // Brute force: the 8x8 tiles of the box; binned: the screen tiles the box overlaps.
-    const uvec2 t0 = BINNED == 1 ? uvec2(lo) / 8u : uvec2(0u);
-    const uvec2 t1 = BINNED == 1 ? uvec2(hi) / 8u : uvec2(w - 1u, h - 1u) / 8u;
-    const uint tw = t1.x - t0.x + 1u, th = t1.y - t0.y + 1u;
-    const uint n = tw * th;
-    // Once the list is full (a read that may be stale: then the atomicAdd below decides), no slot
-    // is taken; this also keeps itemCount far from wrapping around 2^32.
-    const uint first = itemCount >= r3.itemCapacity ? r3.itemCapacity : atomicAdd(itemCount, n);
-    if (first + n <= r3.itemCapacity) {
-      for (uint ty = 0u; ty < th; ++ty)
-        for (uint tx = 0u; tx < tw; ++tx)
-          items[first + ty * tw + tx] =
-              BINNED == 1 ? uvec2(id, (t0.y + ty) * tilesX() + t0.x + tx) : uvec2(id, tx | (ty << 16));
-      return;
+  if (own) {
+    const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
+    const bool big = w * h > r3.smallArea;
+    if (ANALYSIS == 1) {
+      atomicAdd(counters[kR3dCounterSetups], 1ul);
+      if (big) atomicAdd(counters[kR3dCounterBig], 1ul);
     }
-    // The slots of the list this thread took but cannot fill are marked empty: the passes after it
-    // read the list up to min(itemCount, itemCapacity), and a slot left unwritten would hold a
-    // previous frame's item (a pair tested twice: coverage counted twice, or in binned mode a kept
-    // item filled into a tile whose count did not include it, overwriting another tile's entries).
-    for (uint i = first; i < min(first + n, r3.itemCapacity); ++i) items[i] = uvec2(kNoItem, 0u);
-    if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
+    if (big) {
+      // Brute force: the 8x8 tiles of the box; binned: the screen tiles the box overlaps.
+      const uvec2 t0 = BINNED == 1 ? uvec2(lo) / 8u : uvec2(0u);
+      const uvec2 t1 = BINNED == 1 ? uvec2(hi) / 8u : uvec2(w - 1u, h - 1u) / 8u;
+      const uint tw = t1.x - t0.x + 1u, th = t1.y - t0.y + 1u;
+      const uint n = tw * th;
+      // Once the list is full (a read that may be stale: then the atomicAdd below decides), no slot
+      // is taken; this also keeps itemCount far from wrapping around 2^32.
+      const uint first = itemCount >= r3.itemCapacity ? r3.itemCapacity : atomicAdd(itemCount, n);
+      if (first + n <= r3.itemCapacity) {
+        const uint k = atomicAdd(sBigCount, 1u);
+        sBigId[k] = id;
+        sBigFirst[k] = first;
+        sBigSpan[k] = uvec4(t0, tw, n);
+        own = false;
+      } else {
+        // The slots of the list this thread took but cannot fill are marked empty: the passes
+        // after it read the list up to min(itemCount, itemCapacity), and a slot left unwritten
+        // would hold a previous frame's item (a pair tested twice: coverage counted twice, or in
+        // binned mode a kept item filled into a tile whose count did not include it, overwriting
+        // another tile's entries). Then this thread rasterizes its box.
+        for (uint i = first; i < min(first + n, r3.itemCapacity); ++i) items[i] = uvec2(kNoItem, 0u);
+        if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
+      }
+    }
   }
-  rasterizeBox(id, s, uvec2(lo), hi, tally);
+  barrier();
+  const uint bigCount = sBigCount;
+  for (uint b = 0u; b < bigCount; ++b) {
+    const uvec4 span = sBigSpan[b];
+    const uint bid = sBigId[b], first = sBigFirst[b];
+    for (uint i = lid; i < span.w; i += 64u) {
+      const uint ty = i / span.z, tx = i - ty * span.z;
+      items[first + i] = BINNED == 1 ? uvec2(bid, (span.y + ty) * tilesX() + span.x + tx) : uvec2(bid, tx | (ty << 16));
+    }
+  }
+  if (own) rasterizeBox(id, s, uvec2(lo), hi, tally);
   flush(tally);
 }
 
