@@ -58,6 +58,18 @@ class ReferenceCache {
                             SceneCache& scenes) {
     const Scene& scene = scenes.get(config, params);
     const EffectsRequest effects = effectsRequestFor(config);
+    if (params.referenceSsaa > 1) {  // the supersampled reference of the same frame
+      const VariantParams rp = supersampledReferenceParams(params);
+      const std::string key = "ssaa " + toJson(rp).dump();
+      auto it = frames_.find(key);
+      if (it == frames_.end()) {
+        Renderer renderer(ctx, scene, renderSettingsFor(rp, effects));
+        renderer.renderFrame(false);
+        it = frames_.emplace(key, captureSupersampledReference(renderer, params.resolution[0], params.resolution[1]))
+                 .first;
+      }
+      return &it->second;
+    }
     if (scene.lights.size() > gpu::kMaxLightsPerTile || !planFrame(scene, effects).runs("shadows")) return nullptr;
     VariantParams rp = referenceParams(params);
     const std::string key = toJson(rp).dump();

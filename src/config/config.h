@@ -85,6 +85,15 @@
 //   "r3d_min_frustum": 8 | ... | 256  (3dr-frustum-split, 3dr-full: split down to this side; at
 //                                most r3d_frustum)             default 8 (the paper's)
 //   "r3d_early_z": bool  (3dr-binned: early-z in the tile pass)  default false
+//   "aa": "none" | "msaa4" | "msaa8" | "msaa16" | "csaa-4-12"  (anti-aliasing: coverage at the
+//                                standard Vulkan sample positions, shading once per pixel and
+//                                distinct triangle; CSAA 4 stored + 12 coverage samples; any
+//                                rasterizing primary with shading=visbuffer, or primary=hardware
+//                                (the raster pipeline's own multisampling, MSAA only))
+//                                                    default "none"
+//   "reference_ssaa": 1 | 4 | 16 | 64  (accuracy.image_error against: 1 the no-culling reference;
+//                                n the same frame supersampled n times, a sqrt(n)^2 grid)
+//                                                    default 1
 //   "max_lights_per_tile": 32..1024, a multiple of 32 (one 32-bit visibility word per 32 lights)
 //                                                    default 32
 //   "light_count": 0..4096       built-in atrium with its own lights only; default scene_params.lights
@@ -159,6 +168,22 @@ inline bool primaryUsesBvh(PrimaryMethod m) {
          m == PrimaryMethod::Raster3dFull;
 }
 enum class ShadingMethod { Forward, Visbuffer };
+// Anti-aliasing (3D rasterization paper, Fig. 8; docs/methods/3d-rasterization.md "Anti-aliasing").
+enum class AntiAliasing { None, Msaa4, Msaa8, Msaa16, Csaa4x12 };
+// Samples with a visibility entry of their own (CSAA: the 4 stored samples; its 12 coverage
+// samples are tested in the resolve against the stored samples' triangles only).
+inline uint32_t aaStoredSamples(AntiAliasing a) {
+  switch (a) {
+    case AntiAliasing::None: return 0;
+    case AntiAliasing::Msaa4: return 4;
+    case AntiAliasing::Msaa8: return 8;
+    case AntiAliasing::Msaa16: return 16;
+    case AntiAliasing::Csaa4x12: return 4;
+  }
+  return 0;
+}
+// Coverage positions per pixel (MSAA: the stored samples; CSAA: 4 stored + 12 coverage).
+inline uint32_t aaCoverageSamples(AntiAliasing a) { return a == AntiAliasing::Csaa4x12 ? 16u : aaStoredSamples(a); }
 // tile (the thesis's lists, capped at 32 a tile) | bitmask | zbin: no cap (docs/methods/many-lights.md).
 enum class LightLists : uint32_t { Tile = gpu::kListTile, Bitmask = gpu::kListBitmask, Zbin = gpu::kListZbin };
 
@@ -169,6 +194,7 @@ const char* toString(ShadowTMin);
 const char* toString(PrimaryMethod);
 const char* toString(ShadingMethod);
 const char* toString(LightLists);
+const char* toString(AntiAliasing);
 
 struct VariantParams {
   uint32_t tileSize = 8;
@@ -191,6 +217,10 @@ struct VariantParams {
   std::optional<CameraProjection> projection;
   ShadingMethod shading =
       ShadingMethod::Forward;  // 3dr: screen boxes up to this many pixels are rasterized by one thread
+  AntiAliasing aa = AntiAliasing::None;
+  // accuracy.image_error's reference: 1 the no-culling reference; 4, 16 or 64 the same frame
+  // rendered at sqrt(n) x sqrt(n) times the resolution with aa none, box-filtered to it.
+  uint32_t referenceSsaa = 1;
   uint32_t maxLightsPerTile = 32;
   LightLists lightLists = LightLists::Tile;
   // Built-in atrium only. After parsing an atrium config both hold a value (from scene_params

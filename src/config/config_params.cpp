@@ -74,6 +74,17 @@ const char* toString(ShadowTMin v) {
   return "?";
 }
 
+const char* toString(AntiAliasing v) {
+  switch (v) {
+    case AntiAliasing::None: return "none";
+    case AntiAliasing::Msaa4: return "msaa4";
+    case AntiAliasing::Msaa8: return "msaa8";
+    case AntiAliasing::Msaa16: return "msaa16";
+    case AntiAliasing::Csaa4x12: return "csaa-4-12";
+  }
+  return "?";
+}
+
 namespace config_reader {
 
 // A choice's index is its enum value: the choices below are listed in the enums' order.
@@ -298,6 +309,31 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "the forward pass, or shading in compute from the visibility buffer (any primary but hardware)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.shading = ShadingMethod(i); }},
+      {"aa",
+       K::Choice,
+       {"none", "msaa4", "msaa8", "msaa16", "csaa-4-12"},
+       {},
+       0,
+       0,
+       "",
+       "",
+       "",
+       "anti-aliasing: coverage at the standard Vulkan sample positions, shading once per pixel and distinct "
+       "triangle (CSAA: 4 stored + 12 coverage samples); shading=visbuffer after a compute primary, or "
+       "primary=hardware (MSAA only)",
+       [](VariantParams& p, const Json&, size_t i, const Where&) { p.aa = AntiAliasing(i); }},
+      {"reference_ssaa",
+       K::IntChoice,
+       {},
+       {1, 4, 16, 64},
+       0,
+       0,
+       "",
+       "samples",
+       "",
+       "accuracy.image_error's reference: 1 the no-culling render; n the same frame rendered at sqrt(n) times "
+       "the width and height with aa none and box-filtered (64: the supersampled reference of the AA study)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.referenceSsaa = v.get<uint32_t>(); }},
       {"max_lights_per_tile",
        K::Int,
        {},
@@ -431,6 +467,8 @@ nlohmann::json toJson(const VariantParams& p) {
   j["r3d_early_z"] = p.r3dEarlyZ;
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
+  j["aa"] = toString(p.aa);
+  j["reference_ssaa"] = p.referenceSsaa;
   j["max_lights_per_tile"] = p.maxLightsPerTile;
   j["light_lists"] = toString(p.lightLists);
   if (p.lightCount) j["light_count"] = *p.lightCount;

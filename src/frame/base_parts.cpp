@@ -12,6 +12,16 @@ namespace hb {
 
 namespace {
 
+// Anti-aliasing: the sample planes' work (render.json primary.aa), all in the ".samples" sub-pass.
+void samplesWork(const std::string& name, const nlohmann::json& a, std::vector<PassWork>& w) {
+  if (!a.contains("primary") || !a["primary"].contains("aa")) return;
+  const nlohmann::json& aa = a["primary"]["aa"];
+  w.push_back({name + ".samples",
+               {counted("fma", figureAt(aa, {"sample_paper_scalar_ops_estimate"}),
+                        "the sample planes' setups and pixel tests x the paper's Fig. 10 ops"),
+                counted("atomics64", figureAt(aa, {"sample_atomics"}), "64-bit atomicMin on the sample planes")}});
+}
+
 // What primary visibility by compute did, per sub-pass (raster3d.cpp's dispatches), from the
 // analysis frame's counters ("primary" in the run's record) and the frame's sizes. The scalar-op
 // counts are the paper's (Davidovic et al., Fig. 10: 57 per 3DR triangle setup, 12 per pixel
@@ -59,6 +69,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
                     visAtomics,
                     counted("bytes", 48 * nodes + 48 * setups,
                             "48 B a node visited + 48 B a triangle set up (3 vertices as vec4)")}});
+      samplesWork(name, a, w);
       w.push_back({name + ".resolve", {resolve}});
       w.push_back({name + ".depth_copy", {copy}});
       return w;
@@ -73,6 +84,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     }
     w.push_back({name + ".tiles", {testOps, visAtomics}});
   }
+  samplesWork(name, a, w);
   w.push_back({name + ".resolve", {resolve}});
   w.push_back({name + ".depth_copy", {copy}});
   return w;
@@ -123,7 +135,8 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
         f.ctx, f.scene, f.camera, f.settings.width, f.settings.height, f.settings.primary, f.settings.raster3dThreadBox,
         f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile,
         Raster3dFrustumOptions{f.settings.raster3dFrustum, f.settings.raster3dMinFrustum, f.settings.raster3dEarlyZ,
-                               f.settings.raster3dStackEntries});
+                               f.settings.raster3dStackEntries},
+        f.settings.aa);
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {res::kTlas};
     else
@@ -241,6 +254,8 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   const uint32_t listMode = lists ? f.constants.lists.x : gpu::kListTile;
   in.visibilityWords = lists && listMode == gpu::kListTile ? 1u : (f.constants.lightCount + 31u) / 32u;
   in.perspective = f.proj[3][3] != 1.0f;
+  in.aa = s.aa;
+  in.planeStride = visibilityPlaneStride(s.width, s.height);
   shading_ = std::make_unique<ShadingPass>(f.ctx, f.gpuScene, s.width, s.height, in);
   f.resources.publish(res::kColor, shading_->color(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
   f.resources.publish(res::kRefNormals, shading_->refNormals(), "", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);

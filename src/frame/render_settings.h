@@ -38,6 +38,7 @@ struct RenderSettings {
   uint32_t raster3dStackEntries = 768;             // BVH methods' stack (tests only: to reach its fallback)
   uint32_t raster3dThreadBox = 64;                 // raster3d: the largest box one thread rasterizes
   ShadingMethod shading = ShadingMethod::Forward;  // visbuffer: in compute from the visibility buffer
+  AntiAliasing aa = AntiAliasing::None;            // compute primaries with visbuffer shading, or hardware MSAA
   bool raster3dShadingDepthTest = true;            // raster3d: early depth test before the id test (false: check only)
 };
 

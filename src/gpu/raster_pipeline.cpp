@@ -41,14 +41,14 @@ VkPipeline createRasterPipeline(const VulkanContext& ctx, const RasterPipelineDe
     rs.depthBiasSlopeFactor = d.depthBiasSlope;
   }
   VkPipelineMultisampleStateCreateInfo ms{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  ms.rasterizationSamples = d.samples;
   VkPipelineDepthStencilStateCreateInfo ds{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   ds.depthTestEnable = d.depthTest ? VK_TRUE : VK_FALSE;
   ds.depthWriteEnable = d.depthTest && d.depthWrite ? VK_TRUE : VK_FALSE;
   ds.depthCompareOp = d.depthCompare;
   std::vector<VkPipelineColorBlendAttachmentState> blend(d.colorFormats.size());
   for (auto& b : blend) {
-    b.colorWriteMask = 0xF;
+    b.colorWriteMask = d.colorWrites ? 0xF : 0;
     if (d.additiveBlend) {
       b.blendEnable = VK_TRUE;
       b.srcColorBlendFactor = b.dstColorBlendFactor = b.srcAlphaBlendFactor = b.dstAlphaBlendFactor =

@@ -23,6 +23,8 @@ struct RasterPipelineDesc {
   std::vector<VkFormat> colorFormats;
   bool additiveBlend = false;  // every colour target: dst = src + dst (photon splatting)
   VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;  // multisampling (hardware MSAA)
+  bool colorWrites = true;  // false: the colour targets are declared (one rendering) but not written
 };
 
 // Triangle lists, no culling (scenes may be open or double-sided; both passes must agree),

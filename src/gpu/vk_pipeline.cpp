@@ -97,8 +97,8 @@ DescriptorSets::~DescriptorSets() {
 }
 
 void DescriptorSets::writeBuffer(uint32_t set, uint32_t binding, VkDescriptorType type, VkBuffer buffer,
-                                 VkDeviceSize size) const {
-  VkDescriptorBufferInfo bi{buffer, 0, size};
+                                 VkDeviceSize size, VkDeviceSize offset) const {
+  VkDescriptorBufferInfo bi{buffer, offset, size};
   VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
   w.dstSet = sets_[set];
   w.dstBinding = binding;

@@ -48,7 +48,7 @@ class DescriptorSets {
   VkDescriptorSet set(uint32_t i = 0) const { return sets_[i]; }
 
   void writeBuffer(uint32_t set, uint32_t binding, VkDescriptorType type, VkBuffer buffer,
-                   VkDeviceSize size = VK_WHOLE_SIZE) const;
+                   VkDeviceSize size = VK_WHOLE_SIZE, VkDeviceSize offset = 0) const;
   void writeImage(uint32_t set, uint32_t binding, VkDescriptorType type, VkImageView view, VkImageLayout layout,
                   VkSampler sampler = VK_NULL_HANDLE, uint32_t arrayElement = 0) const;
   void writeAccelerationStructure(uint32_t set, uint32_t binding, VkAccelerationStructureKHR as) const;

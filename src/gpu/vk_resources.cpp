@@ -105,7 +105,7 @@ Buffer uploadBuffer(const VulkanContext& ctx, const void* data, VkDeviceSize siz
 }
 
 Image::Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-             VkImageAspectFlags aspect, uint32_t mipLevels, MemClass cls) {
+             VkImageAspectFlags aspect, uint32_t mipLevels, MemClass cls, VkSampleCountFlagBits samples) {
   f_ = {&ctx, VK_NULL_HANDLE, VK_NULL_HANDLE, VK_NULL_HANDLE, format, width, height, mipLevels, 0, aspect, cls};
   VkImageCreateInfo ci{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
   ci.imageType = VK_IMAGE_TYPE_2D;
@@ -113,7 +113,7 @@ Image::Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat
   ci.extent = {width, height, 1};
   ci.mipLevels = mipLevels;
   ci.arrayLayers = 1;
-  ci.samples = VK_SAMPLE_COUNT_1_BIT;
+  ci.samples = samples;
   ci.tiling = VK_IMAGE_TILING_OPTIMAL;
   ci.usage = usage;
   ci.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;

@@ -59,7 +59,8 @@ class Image {
  public:
   Image() = default;
   Image(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-        VkImageAspectFlags aspect, uint32_t mipLevels = 1, MemClass cls = MemClass::Images);
+        VkImageAspectFlags aspect, uint32_t mipLevels = 1, MemClass cls = MemClass::Images,
+        VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT);
   ~Image();
   Image(Image&& o) noexcept;
   Image& operator=(Image&& o) noexcept;

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <span>
 #include <tuple>
 
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "base/errors.h"
+#include "frame/passes/aa_samples.h"
 #include "frame/passes/primary_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
@@ -16,14 +18,16 @@
 namespace hb {
 
 gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
-                                         uint32_t smallArea, uint32_t listPerTile) {
+                                         uint32_t smallArea, uint32_t listPerTile, glm::vec2 sample) {
   const glm::dmat4 viewInv = glm::inverse(glm::dmat4(camera.view));
   const glm::dvec3 right(viewInv[0]), up(viewInv[1]), back(viewInv[2]), eye(viewInv[3]);
   const glm::dvec3 forward = -back;
   const double w = width, h = height, a = w / h, tanHalf = std::tan(double(camera.yfov) * 0.5);
   // Pixel (x, y) centre in NDC: (2(x + 0.5)/W − 1, 2(y + 0.5)/H − 1), Vulkan y down; view-space
-  // direction (ndc.x·a·tan, −ndc.y·tan, −1), as reverseZProjection maps it (camera.h).
-  const glm::dvec3 d0 = forward + right * ((-1.0 + 1.0 / w) * a * tanHalf) + up * ((1.0 - 1.0 / h) * tanHalf);
+  // direction (ndc.x·a·tan, −ndc.y·tan, −1), as reverseZProjection maps it (camera.h). A sample
+  // (sx, sy) of the pixel instead of its centre: 2(x + sx)/W − 1 (sx = 0.5 gives the same bits).
+  const double sx = sample.x, sy = sample.y;
+  const glm::dvec3 d0 = forward + right * ((-1.0 + 2.0 * sx / w) * a * tanHalf) + up * ((1.0 - 2.0 * sy / h) * tanHalf);
   const glm::dvec3 dx = right * (2.0 * a * tanHalf / w);
   const glm::dvec3 dy = -up * (2.0 * tanHalf / h);
   const double zn = camera.znear, zf = camera.zfar;
@@ -38,8 +42,9 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   // C and D as camera.cpp computes them in float for the hardware path's projection.
   const float fzn = camera.znear, fzf = camera.zfar;
   c.depth = glm::vec4(float(zn), float(zf), fzn / (fzf - fzn), fzf * fzn / (fzf - fzn));
+  // Screen position to the index of the pixel whose sample is there (the centre: w/2 − 0.5).
   c.project =
-      glm::vec4(float(w / (2.0 * a * tanHalf)), float(h / (2.0 * tanHalf)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
+      glm::vec4(float(w / (2.0 * a * tanHalf)), float(h / (2.0 * tanHalf)), float(w / 2.0 - sx), float(h / 2.0 - sy));
   c.width = width;
   c.height = height;
   c.triangleCount = triangleCount;
@@ -60,22 +65,24 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
       const double xm = camera.xmag, ym = camera.ymag;
       c.rayD0 = glm::vec4(glm::vec3(forward), 0.0f);
       c.rayDx = c.rayDy = glm::vec4(0.0f);
-      c.origin0 = glm::vec4(glm::vec3(right * ((-1.0 + 1.0 / w) * xm) + up * ((1.0 - 1.0 / h) * ym)), 0.0f);
+      c.origin0 = glm::vec4(glm::vec3(right * ((-1.0 + 2.0 * sx / w) * xm) + up * ((1.0 - 2.0 * sy / h) * ym)), 0.0f);
       c.originX = glm::vec4(glm::vec3(right * (2.0 * xm / w)), 0.0f);
       c.originY = glm::vec4(glm::vec3(-up * (2.0 * ym / h)), 0.0f);
-      c.project = glm::vec4(float(w / (2.0 * xm)), float(h / (2.0 * ym)), float(w / 2.0 - 0.5), float(h / 2.0 - 0.5));
+      c.project = glm::vec4(float(w / (2.0 * xm)), float(h / (2.0 * ym)), float(w / 2.0 - sx), float(h / 2.0 - sy));
       // The orthographic matrix's C and D, as camera.cpp computes them in float: depth = D − C·t.
       c.depth.z = 1.0f / (fzf - fzn);
       c.depth.w = fzf / (fzf - fzn);
       break;
     }
     case CameraProjection::Paraboloid: {
+      HB_ASSERT(sx == 0.5 && sy == 0.5);
       // The hemisphere around forward in the largest centred disk (camera_ray.glsl.inc).
       const double radius = 0.5 * double(std::min(width, height));
       c.view = glm::vec4(float(w / 2.0 - 0.5), float(h / 2.0 - 0.5), float(1.0 / radius), float(radius));
       break;
     }
     case CameraProjection::Latlong: {
+      HB_ASSERT(sx == 0.5 && sy == 0.5);
       const double pi = 3.14159265358979323846;
       c.view = glm::vec4(float(2.0 * pi / w), float(pi / h), 0.0f, 0.0f);
       break;
@@ -107,13 +114,17 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
                            uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
-                           const RayCastInputs& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta)
+                           const RayCastInputs& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta,
+                           AntiAliasing aa)
     : ctx_(ctx),
       mode_(mode),
       width_(width),
       height_(height),
       triangleCount_(uint32_t(scene.triangleCount())),
-      rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
+      planes_(1 + aaStoredSamples(aa)),
+      planeStride_(visibilityPlaneStride(width, height)),
+      rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT),
+                  1 + aaStoredSamples(aa)),
       resolveSets_(
           ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
@@ -123,20 +134,39 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
                       std::string(mode == PrimaryMethod::RayCast ? "raycast" : "3dr") + " needs; use primary=hardware");
   const size_t pixels = size_t(width) * height;
   const gpu::Raster3dConstants c = raster3dConstants(camera, width, height, triangleCount_, smallArea, listPerTile);
-  constants_ = Buffer(ctx, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
+  if (aa != AntiAliasing::None) {
+    if (mode == PrimaryMethod::RayCast)
+      throw InputError(std::string("aa=") + toString(aa) +
+                       " needs a rasterizing primary: set primary=3dr, 3dr-binned, 2dr, 2dr-binned or a BVH method");
+    if (camera.projection != CameraProjection::Perspective && camera.projection != CameraProjection::Orthographic)
+      throw InputError(std::string("aa=") + toString(aa) + " needs a planar view (perspective or orthographic), not " +
+                       toString(camera.projection) + ": set aa=none");
+  }
+  // Plane p's constants at p·256 B (minUniformBufferOffsetAlignment is at most 256).
+  constexpr size_t kConstantsStride = (sizeof c + 255) / 256 * 256;
+  constants_ = Buffer(ctx, kConstantsStride * planes_, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
   std::memcpy(constants_.mapped(), &c, sizeof c);
+  const std::span<const glm::vec2> samples = aaStoredPositions(aa);
+  for (uint32_t p = 1; p < planes_; ++p) {
+    const gpu::Raster3dConstants cp =
+        raster3dConstants(camera, width, height, triangleCount_, smallArea, listPerTile, samples[p - 1]);
+    std::memcpy(static_cast<char*>(constants_.mapped()) + p * kConstantsStride, &cp, sizeof cp);
+  }
   const std::vector<glm::vec4> tris = packTriangles(scene);
   triangles_ = uploadBuffer(ctx, tris.data(), std::max<size_t>(1, tris.size()) * sizeof(glm::vec4),
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   const VkBufferUsageFlags rw =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  vis_ = Buffer(ctx, pixels * sizeof(uint64_t), rw, false, MemClass::Images);
+  vis_ = Buffer(ctx, size_t(planeStride_) * planes_ * sizeof(uint64_t), rw, false, MemClass::Images);
   counters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
-  coverage_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
-  tested_ = Buffer(ctx, pixels * sizeof(uint32_t), rw, false, MemClass::Images);
+  sampleCounters_ = Buffer(ctx, gpu::kR3dCounterCount * sizeof(uint64_t), rw, false, MemClass::Other);
+  coverage_ = Buffer(ctx, size_t(planeStride_) * planes_ * sizeof(uint32_t), rw, false, MemClass::Images);
+  tested_ = Buffer(ctx, size_t(planeStride_) * planes_ * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
-  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle(),
+                           sizeof c);
+  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle(),
+                           pixels * sizeof(uint64_t));
   resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
   resolve_.createLayout({resolveSets_.layout()}, 0);
   resolve_.createCompute("raster3d_resolve.comp");
@@ -211,10 +241,18 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       {HB_R3D_ITEMS, &big_},           {HB_R3D_COUNTERS, &counters_},   {HB_R3D_COVERAGE, &coverage_},
       {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_},
       {HB_R3D_BVH_NODES, &bvhNodes_},  {HB_R3D_BVH_ORDER, &bvhOrder_}};
-  for (const auto& [b, buf] : bufs)
-    rasterSets_.writeBuffer(
-        0, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-        buf->handle());
+  // Set p rasterizes plane p: its constants, its visibility, coverage and test counts; the sample
+  // planes count their work apart from plane 0's (readSampleCounters).
+  for (uint32_t p = 0; p < planes_; ++p)
+    for (const auto& [b, buf] : bufs) {
+      VkDeviceSize offset = 0, range = VK_WHOLE_SIZE;
+      if (b == HB_R3D_CONSTANTS) offset = p * kConstantsStride, range = sizeof c;
+      if (b == HB_R3D_VISIBILITY) offset = size_t(p) * planeStride_ * 8, range = pixels * 8;
+      if (b == HB_R3D_COVERAGE || b == HB_R3D_TESTED) offset = size_t(p) * planeStride_ * 4, range = pixels * 4;
+      rasterSets_.writeBuffer(
+          p, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+          (b == HB_R3D_COUNTERS && p > 0 ? &sampleCounters_ : buf)->handle(), range, offset);
+    }
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d_common.glsl.inc):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection; the tile pass's
   // 6 early-z; the BVH traversal's (raster3d_bvh.comp.glsl) 6 split, 7 occlusion, 8 binning,
@@ -257,13 +295,30 @@ std::vector<std::string> Raster3dPass::subPasses() const {
     for (const char* s : {"triangles", "count", "scan", "fill", "tiles"}) names.push_back(pass + "." + s);
   else if (mode_ != PrimaryMethod::RayCast)
     for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
+  if (planes_ > 1) names.push_back(pass + ".samples");
   names.push_back(pass + ".resolve");
   names.push_back(pass + ".depth_copy");
   return names;
 }
 
 void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const {
-  VkDescriptorSet set = rasterSets_.set();
+  recordPlane(cmd, 0, analysis, timer);
+  if (planes_ == 1) return;
+  // The anti-aliasing samples: the same dispatches once per sample plane, timed together.
+  if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".samples");
+  for (uint32_t p = 1; p < planes_; ++p) {
+    vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);
+    if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
+      vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+    recordPlane(cmd, p, analysis, nullptr);
+  }
+  if (timer) timer->end(cmd);
+}
+
+void Raster3dPass::recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysis, GpuTimer* timer) const {
+  VkDescriptorSet set = rasterSets_.set(plane);
   const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
   auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
     if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + "." + name);
@@ -316,6 +371,7 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
     vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
   if (analysis) {
     vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
+    vkCmdFillBuffer(cmd, sampleCounters_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, tested_.handle(), 0, VK_WHOLE_SIZE, 0);
   }
@@ -368,12 +424,32 @@ static std::vector<T> readAs(const VulkanContext& ctx, const Buffer& b) {
   return out;
 }
 
-std::vector<uint64_t> Raster3dPass::readVisibility() const { return readAs<uint64_t>(ctx_, vis_); }
-std::vector<uint32_t> Raster3dPass::readCoverage() const { return readAs<uint32_t>(ctx_, coverage_); }
-std::vector<uint32_t> Raster3dPass::readPixelTests() const { return readAs<uint32_t>(ctx_, tested_); }
+// Plane `plane` of a buffer of planes_ planes (planeStride_ entries apart) of width_·height_ values.
+template <typename T>
+static std::vector<T> readPlane(const VulkanContext& ctx, const Buffer& b, uint32_t plane, uint32_t stride,
+                                size_t pixels) {
+  std::vector<T> all = readAs<T>(ctx, b);
+  HB_ASSERT((size_t(plane) * stride + pixels) <= all.size());
+  return std::vector<T>(all.begin() + ptrdiff_t(size_t(plane) * stride),
+                        all.begin() + ptrdiff_t(size_t(plane) * stride + pixels));
+}
 
-Raster3dCounters Raster3dPass::readCounters() const {
-  const std::vector<uint64_t> c = readAs<uint64_t>(ctx_, counters_);
+std::vector<uint64_t> Raster3dPass::readVisibility(uint32_t plane) const {
+  return readPlane<uint64_t>(ctx_, vis_, plane, planeStride_, size_t(width_) * height_);
+}
+std::vector<uint32_t> Raster3dPass::readCoverage(uint32_t plane) const {
+  return readPlane<uint32_t>(ctx_, coverage_, plane, planeStride_, size_t(width_) * height_);
+}
+std::vector<uint32_t> Raster3dPass::readPixelTests(uint32_t plane) const {
+  return readPlane<uint32_t>(ctx_, tested_, plane, planeStride_, size_t(width_) * height_);
+}
+
+Raster3dCounters Raster3dPass::readCounters() const { return countersOf(readAs<uint64_t>(ctx_, counters_)); }
+Raster3dCounters Raster3dPass::readSampleCounters() const {
+  return countersOf(readAs<uint64_t>(ctx_, sampleCounters_));
+}
+
+Raster3dCounters countersOf(const std::vector<uint64_t>& c) {
   Raster3dCounters r;
   r.setups = c[gpu::kR3dCounterSetups];
   r.edgeEvaluations = c[gpu::kR3dCounterEdgeEvals];

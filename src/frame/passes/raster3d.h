@@ -35,9 +35,12 @@ namespace hb {
 
 // The rays of the camera through pixel centres, as the 3DR shader and its CPU reference use them
 // (computed in double, rounded once). Perspective: d(x, y) = d0 + x·dx + y·dy, forward component
-// 1; the other projections: camera_ray.glsl.inc.
+// 1; the other projections: camera_ray.glsl.inc. `sample`: the position within each pixel the rays
+// pass through ((0.5, 0.5) the centre; an anti-aliasing sample, aa_samples.h), perspective and
+// orthographic views only.
 gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, uint32_t height, uint32_t triangleCount,
-                                         uint32_t smallArea, uint32_t listPerTile = 64);
+                                         uint32_t smallArea, uint32_t listPerTile = 64,
+                                         glm::vec2 sample = glm::vec2(0.5f));
 
 struct Raster3dCounters {
   uint64_t setups = 0, edgeEvaluations = 0, fallbacks = 0, pixelsTested = 0, covered = 0, atomics = 0, bigTriangles = 0,
@@ -47,6 +50,13 @@ struct Raster3dCounters {
   uint64_t nodesVisited = 0, frusta = 0, frustaSplit = 0, culledFrustum = 0, culledOcclusion = 0, culledEarlyZ = 0,
            stackOverflows = 0;
 };
+
+// Entries from one visibility plane to the next: planes start at multiples of 256 B (the largest
+// minStorageBufferOffsetAlignment Vulkan allows) for 32-bit entries too, so 64 entries.
+inline uint32_t visibilityPlaneStride(uint32_t width, uint32_t height) { return (width * height + 63u) / 64u * 64u; }
+
+// The counters buffer's values (kR3dCounter* order) by name.
+Raster3dCounters countersOf(const std::vector<uint64_t>& values);
 
 // The BVH methods' and binned methods' options (r3d_frustum, r3d_min_frustum, r3d_early_z).
 struct Raster3dFrustumOptions {
@@ -79,7 +89,7 @@ class Raster3dPass {
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
                PrimaryMethod mode = PrimaryMethod::Raster3d, uint32_t smallArea = kDefaultSmallArea,
                bool fp64Fallback = true, const RayCastInputs& rayCast = {}, uint32_t listPerTile = 64,
-               const Raster3dFrustumOptions& frusta = {});
+               const Raster3dFrustumOptions& frusta = {}, AntiAliasing aa = AntiAliasing::None);
   ~Raster3dPass();
 
   // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
@@ -91,7 +101,12 @@ class Raster3dPass {
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
   std::vector<std::string> subPasses() const;
 
-  const Buffer& visibility() const { return vis_; }  // uint64 per pixel, ~0 = nothing
+  // uint64 per pixel, ~0 = nothing: plane 0 the pixel centres (what aa none writes, and what the
+  // depth image, shadows and positions use), then with anti-aliasing one plane per stored sample
+  // (aa_samples.h), planeStride() entries apart.
+  const Buffer& visibility() const { return vis_; }
+  uint32_t planes() const { return planes_; }
+  uint32_t planeStride() const { return planeStride_; }
   // The work list (a count, then uvec2 items): tests seed it with a previous frame's items.
   const Buffer& workList() const { return big_; }
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
@@ -99,24 +114,28 @@ class Raster3dPass {
   uint32_t triangleCount() const { return triangleCount_; }
   uint32_t screenTiles() const { return screenTiles_; }  // 8 x 8-pixel tiles (3dr-binned's bins)
 
-  // Readbacks (after an analysis frame).
-  std::vector<uint64_t> readVisibility() const;
-  std::vector<uint32_t> readCoverage() const;    // (triangle, pixel) pairs covered, per pixel
-  std::vector<uint32_t> readPixelTests() const;  // triangles tested at each pixel (3 edge evaluations each)
-  Raster3dCounters readCounters() const;
+  // Readbacks (after an analysis frame), of plane `plane` (0: the pixel centres).
+  std::vector<uint64_t> readVisibility(uint32_t plane = 0) const;
+  std::vector<uint32_t> readCoverage(uint32_t plane = 0) const;  // (triangle, pixel) pairs covered, per pixel
+  std::vector<uint32_t> readPixelTests(
+      uint32_t plane = 0) const;                // triangles tested at each pixel (3 edge evaluations each)
+  Raster3dCounters readCounters() const;        // plane 0
+  Raster3dCounters readSampleCounters() const;  // the sample planes together
   // BVH methods: the hierarchy's size and build time; zeros otherwise.
   const Raster3dBvhStats& bvhStats() const { return bvhStats_; }
   uint32_t frusta() const { return frusta_; }  // BVH methods: workgroups of the traversal
 
  private:
   void recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const;
+  void recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysis, GpuTimer* timer) const;
   void recordRayCast(VkCommandBuffer cmd, bool analysis) const;
 
   const VulkanContext& ctx_;
   PrimaryMethod mode_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, coverage_, tested_, depthStaging_, bins_, binList_, idBase_,
-      bvhNodes_, bvhOrder_;
+  uint32_t planes_ = 1, planeStride_ = 0;
+  Buffer constants_, triangles_, vis_, big_, counters_, sampleCounters_, coverage_, tested_, depthStaging_, bins_,
+      binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
   DescriptorSets rasterSets_, resolveSets_;
   // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed

@@ -77,6 +77,13 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
     sets_.writeImage(0, HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
   layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
+  if (in.aa != AntiAliasing::None && !in.visbuffer) {
+    if (in.visibilityIds)
+      throw InputError(std::string("aa=") + toString(in.aa) +
+                       " after a compute primary needs shading=visbuffer (the forward pass draws one sample a pixel "
+                       "after it): set shading=visbuffer");
+    createMultisampled(ctx);
+  }
   if (in.visbuffer) {
     if (!in.visibilityIds || !in.rays)
       throw InputError(
@@ -98,7 +105,60 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   });
 }
 
+void ShadingPass::createMultisampled(const VulkanContext& ctx) {
+  if (in_.aa == AntiAliasing::Csaa4x12)
+    throw InputError(
+        "aa=csaa-4-12 is 3D rasterization's (its coverage samples are tested in compute); the raster pipeline "
+        "multisamples with MSAA only: set aa=msaa4, msaa8 or msaa16 with primary=hardware, or a compute primary");
+  const uint32_t n = aaStoredSamples(in_.aa);
+  samples_ = VkSampleCountFlagBits(n);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(ctx.physical(), &props);
+  const VkSampleCountFlags supported =
+      props.limits.framebufferColorSampleCounts & props.limits.framebufferDepthSampleCounts;
+  if (!(supported & samples_)) {
+    std::string list;
+    for (uint32_t c = 1; c <= 64; c *= 2)
+      if (supported & c) list += (list.empty() ? "" : ", ") + std::to_string(c);
+    throw DeviceError("device \"" + ctx.info().name + "\" cannot multisample " + std::to_string(n) +
+                      " times in the raster pipeline (colour and depth targets take " + list +
+                      " samples): pick one of those with aa=msaaN, or a compute primary with shading=visbuffer");
+  }
+  // Resolved in the pass itself: the samples never leave the chip where the device keeps them there.
+  const VkImageUsageFlags transient = VK_IMAGE_USAGE_TRANSIENT_ATTACHMENT_BIT;
+  msColor_ = Image(ctx, width_, height_, kHdrFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | transient,
+                   VK_IMAGE_ASPECT_COLOR_BIT, 1, MemClass::Images, samples_);
+  msRefNormals_ = Image(ctx, width_, height_, kRefNormalFormat, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | transient,
+                        VK_IMAGE_ASPECT_COLOR_BIT, 1, MemClass::Images, samples_);
+  msDepth_ = Image(ctx, width_, height_, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | transient,
+                   VK_IMAGE_ASPECT_DEPTH_BIT, 1, MemClass::Images, samples_);
+  // The depth of every sample first (depth.vert, no fragment shader, colour declared but not written),
+  // so that the shading draw shades each pixel's visible triangles once (EQUAL), as without MSAA.
+  ShaderModule vert(ctx, "depth.vert");
+  RasterPipelineDesc desc;
+  desc.layout = layout_.layout();
+  desc.vertex = vert.handle();
+  desc.depthWrite = true;
+  desc.depthCompare = VK_COMPARE_OP_GREATER_OR_EQUAL;
+  desc.depthFormat = kDepthFormat;
+  desc.colorFormats = {kHdrFormat, kRefNormalFormat};
+  desc.colorWrites = false;
+  desc.samples = samples_;
+  msDepthPipeline_ = createRasterPipeline(ctx, desc);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    for (const Image* img : {&msColor_, &msRefNormals_})
+      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                   VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+    imageBarrier(cmd, msDepth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
+                 VK_PIPELINE_STAGE_2_NONE, 0,
+                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
+                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+  });
+}
+
 ShadingPass::~ShadingPass() {
+  if (msDepthPipeline_) vkDestroyPipeline(ctx_.device(), msDepthPipeline_, nullptr);
   if (timed_) vkDestroyPipeline(ctx_.device(), timed_, nullptr);
   if (analysis_) vkDestroyPipeline(ctx_.device(), analysis_, nullptr);
 }
@@ -133,8 +193,13 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
     desc.depthBiasSlope = in_.idMatchDepthTest ? 1.0f : 0.0f;
   }
   desc.colorFormats = {kHdrFormat};
-  if (analysis) desc.colorFormats.push_back(kRefNormalFormat);
+  if (analysis || msDepthPipeline_) desc.colorFormats.push_back(kRefNormalFormat);
   desc.depthFormat = kDepthFormat;
+  if (msDepthPipeline_) {
+    // MSAA: the multisampled depth of this pass's own depth draw, bit for bit (invariant gl_Position).
+    desc.samples = samples_;
+    desc.depthCompare = VK_COMPARE_OP_EQUAL;
+  }
   return createRasterPipeline(ctx_, desc);
 }
 
@@ -201,7 +266,8 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
     p->createLayout({v.layout()}, 0);
     p->createCompute("shading_visbuffer.comp",
                      {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u,
-                       in_.listMode, in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u}});
+                       in_.listMode, in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u,
+                       aaStoredSamples(in_.aa), in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride}});
   }
 }
 
@@ -231,25 +297,47 @@ void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool an
   VkRenderingAttachmentInfo ca[2] = {{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO},
                                      {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO}};
   const Image* targets[2] = {&color_, &refNormals_};
+  const bool ms = msDepthPipeline_ != VK_NULL_HANDLE;
+  const Image* msTargets[2] = {&msColor_, &msRefNormals_};
   for (int i = 0; i < 2; ++i) {
     ca[i].imageView = targets[i]->view();
     ca[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
     ca[i].loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;  // sky: black, no normal
     ca[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     ca[i].clearValue.color = {{0.0f, 0.0f, 0.0f, i == 0 ? 1.0f : 0.0f}};  // opaque black sky; no normal
+    if (ms) {  // the samples, averaged into the single-sample target at the end of the pass
+      ca[i].imageView = msTargets[i]->view();
+      ca[i].storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+      ca[i].resolveMode = VK_RESOLVE_MODE_AVERAGE_BIT;
+      ca[i].resolveImageView = targets[i]->view();
+      ca[i].resolveImageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    }
   }
+  // A timed frame writes no normals: the pipelines declare the target, the frame discards it.
+  if (ms && !analysis) ca[1] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   VkRenderingAttachmentInfo da{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   da.imageView = in_.depth->view();
   da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL;
   da.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
   da.storeOp = VK_ATTACHMENT_STORE_OP_NONE;
+  if (ms) {
+    da.imageView = msDepth_.view();
+    da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    da.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    da.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    da.clearValue.depthStencil = {0.0f, 0};  // reverse-Z: 0 is the far plane
+  }
   VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
   ri.renderArea = {{0, 0}, {width_, height_}};
   ri.layerCount = 1;
-  ri.colorAttachmentCount = analysis ? 2 : 1;
+  ri.colorAttachmentCount = analysis || ms ? 2 : 1;
   ri.pColorAttachments = ca;
   ri.pDepthAttachment = &da;
   vkCmdBeginRendering(cmd, &ri);
+  if (ms) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, msDepthPipeline_);
+    drawScene(cmd, scene_, layout_.layout(), viewProj, width_, height_);
+  }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, analysis ? analysis_ : timed_);
   VkDescriptorSet set = sets_.set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0, nullptr);

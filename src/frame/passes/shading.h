@@ -42,6 +42,12 @@ struct ShadingInputs {
   uint32_t visibilityWords = 1;
   // A perspective view: the view vector needs no orthographic branch (a specialisation constant).
   bool perspective = true;
+  // Anti-aliasing (docs/methods/3d-rasterization.md "Anti-aliasing"). Visbuffer: the visibility
+  // buffer's sample planes (Raster3dPass::planes() − 1 of them, planeStride apart) resolved per
+  // distinct triangle; forward (the hardware path): the raster pipeline's own multisampling, a
+  // multisampled depth pass and the shading pass into multisampled targets resolved to color().
+  AntiAliasing aa = AntiAliasing::None;
+  uint32_t planeStride = 0;
 };
 
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
@@ -59,6 +65,7 @@ class ShadingPass {
 
  private:
   VkPipeline createPipeline(bool analysis);
+  void createMultisampled(const VulkanContext& ctx);
   void createVisbuffer(const VulkanContext& ctx, const GpuScene& scene);
   void recordVisbuffer(VkCommandBuffer cmd, bool analysis) const;
   const VulkanContext& ctx_;
@@ -67,6 +74,10 @@ class ShadingPass {
   uint32_t width_, height_;
   GpuTextures textures_;
   Image color_, refNormals_, dummyIndirect_;
+  // Hardware MSAA: the multisampled targets and the depth-only pipeline that fills msDepth_.
+  Image msColor_, msRefNormals_, msDepth_;
+  VkPipeline msDepthPipeline_ = VK_NULL_HANDLE;
+  VkSampleCountFlagBits samples_ = VK_SAMPLE_COUNT_1_BIT;
   Buffer dummyVisibility_;
   DescriptorSets sets_;
   Pipeline layout_;
