@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "base/errors.h"
 #include "frame/passes/primary_bvh.h"
 #include "frame/passes/raster3d.h"
 #include "frame/renderer.h"

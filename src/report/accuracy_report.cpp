@@ -1,6 +1,7 @@
 #include "report/accuracy_report.h"
 #include "base/numbers.h"
 #include "base/text_format.h"
+#include "report/aa_table.h"
 #include "report/results_json.h"
 
 #include <algorithm>
@@ -92,8 +93,9 @@ std::string accuracyMeasureDefinition(AccuracyMeasure m) {
       return "ambient_occlusion.vs_reference.mae, the mean absolute error of the AO image against 1024 "
              "stratified cosine-weighted rays per pixel on the same surface (0 for the reference itself)";
     case AccuracyMeasure::ImageError:
-      return "accuracy.image_error, the mean FLIP error against the reference render (same "
-             "scene, camera and resolution, no culling)";
+      return "accuracy.image_error, the mean FLIP error against the run's reference render "
+             "(accuracy.image_error_flip.reference: the same scene, camera and resolution with no culling, or "
+             "with reference_ssaa the run's own frame supersampled)";
     case AccuracyMeasure::ShadowMismatchRate:
       return "(wrongly dark + wrongly lit) / pairs compared, the fraction of (pixel, light) pairs "
              "whose shadow test differs from the reference; used because not every run carries "
@@ -254,6 +256,8 @@ std::string accuracyReportMarkdown(const json& results) {
     out += "\nFailed runs (not on the front):\n";
     for (const AccuracyPoint* p : failed) out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";
   }
+  // Anti-aliasing is one more accuracy-for-time trade: its own table where the runs study it.
+  if (const std::string aa = aaTableMarkdown(results); !aa.empty()) out += "\n" + aa;
   return out;
 }
 

@@ -1,0 +1,253 @@
+// Anti-aliasing (aa = msaa4 | msaa8 | msaa16 | csaa-4-12; docs/methods/3d-rasterization.md
+// "Anti-aliasing") on the real device:
+//  - each stored sample's visibility plane is the exact 3D rasterization at that sample's position:
+//    bit for bit the CPU reference's (ids and t) with its rays, and its coverage counted once per
+//    sample where the exact rasterization counts one (0 holes, 0 double covers);
+//  - a pixel a straight edge crosses resolves to the share of its samples on the lit side, in the
+//    compute resolve (MSAA and CSAA) and in the raster pipeline's own multisampling;
+//  - the refusals name what is wrong.
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "base/errors.h"
+#include "frame/passes/aa_samples.h"
+#include "frame/passes/raster3d.h"
+#include "frame/renderer.h"
+#include "gpu_fixture.h"
+#include "reference/raster3d_ref.h"
+
+namespace hb {
+namespace {
+
+Scene aaTestScene(const char* name, const Camera& cam) {
+  Scene s;
+  s.name = name;
+  Material m;
+  m.metallicFactor = 0.0f;  // a white diffuse surface
+  s.materials.push_back(m);
+  s.cameras.push_back(cam);
+  return s;
+}
+
+void addAaTriangles(Scene& s, const std::vector<glm::vec3>& corners) {  // 3 per triangle
+  const uint32_t first = uint32_t(s.indices.size()), base = uint32_t(s.vertices.size());
+  for (size_t i = 0; i < corners.size(); ++i) {
+    s.vertices.push_back({corners[i], glm::vec3(0, 0, 1), glm::vec2(0)});
+    s.indices.push_back(uint32_t(i));
+  }
+  s.meshes.push_back({"mesh", {{first, uint32_t(corners.size()), base, uint32_t(corners.size()), 0}}});
+  s.instances.push_back({uint32_t(s.meshes.size() - 1), glm::mat4(1.0f)});
+}
+
+// Overlapping random triangles of many sizes and a shared-vertex heightfield grid under an oblique
+// camera: ties, shared edges and vertices at every sample position.
+Scene aaSoupAndGrid() {
+  Camera cam;
+  cam.view = lookAt(glm::vec3(1.37f, 0.71f, 2.13f), glm::vec3(-0.4f, 0.2f, -1.9f), glm::vec3(0.1f, 1.0f, 0.05f));
+  cam.yfov = 1.0f;
+  cam.znear = 0.1f;
+  cam.zfar = 100.0f;
+  Scene s = aaTestScene("aa-soup-and-grid", cam);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const glm::mat4 inv = glm::inverse(cam.view);
+  std::vector<glm::vec3> tris;
+  for (int i = 0; i < 300; ++i) {
+    const glm::vec3 c(2.5f * u(rng), 1.5f * u(rng), -3.0f + 2.5f * u(rng));  // view space
+    const float size = i % 10 == 0 ? 1.5f : 0.15f;
+    for (int k = 0; k < 3; ++k)
+      tris.push_back(glm::vec3(inv * glm::vec4(c + size * glm::vec3(u(rng), u(rng), u(rng)), 1.0f)));
+  }
+  constexpr int n = 24;
+  auto v = [&](int i, int j) {
+    const float x = -1.2f + 2.4f * float(i) / float(n), z = -3.2f + 2.4f * float(j) / float(n);
+    return glm::vec3(x, 0.15f * std::sin(3.0f * x) * std::cos(2.0f * z) - 0.3f, z);
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const glm::vec3 a = v(i, j), b = v(i + 1, j), c = v(i + 1, j + 1), d = v(i, j + 1);
+      tris.insert(tris.end(), {a, b, c, a, c, d});
+    }
+  addAaTriangles(s, tris);
+  return s;
+}
+
+Raster3dView viewOfConstants(const gpu::Raster3dConstants& c) {
+  Raster3dView view;
+  view.eye = glm::vec3(c.eye);
+  view.d0 = glm::vec3(c.rayD0);
+  view.dx = glm::vec3(c.rayDx);
+  view.dy = glm::vec3(c.rayDy);
+  view.width = c.width;
+  view.height = c.height;
+  view.znear = c.depth.x;
+  view.zfar = c.depth.y;
+  return view;
+}
+
+RenderSettings aaSettings(const char* primary, const char* aa, uint32_t w, uint32_t h) {
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.primary = hb::testing::primaryNamed(primary);
+  rs.shading = rs.primary == PrimaryMethod::Hardware ? ShadingMethod::Forward : ShadingMethod::Visbuffer;
+  static constexpr AntiAliasing kAll[] = {AntiAliasing::None, AntiAliasing::Msaa4, AntiAliasing::Msaa8,
+                                          AntiAliasing::Msaa16, AntiAliasing::Csaa4x12};
+  rs.aa = hb::testing::settingNamed(aa, kAll);
+  rs.lightCulling = false;
+  rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
+  return rs;
+}
+
+using AaTest = hb::testing::GpuTest;
+
+TEST_F(AaTest, EachSamplePlaneIsTheExactRasterizationAtItsSamplePosition) {
+  const Scene scene = aaSoupAndGrid();
+  const std::vector<glm::vec3> positions = scene.worldTriangles();
+  std::vector<uint32_t> indices(positions.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  constexpr uint32_t w = 48, h = 36;
+  // msaa16 holds every standard 16x position, msaa8 the 8x ones; the methods whose coverage is
+  // additive (frustum culling drops only pairs that cover no sample of the frustum).
+  for (const char* aa : {"msaa8", "msaa16"})
+    for (const char* primary : {"3dr", "3dr-binned", "3dr-frustum-cull"}) {
+      SCOPED_TRACE(std::string(primary) + ", aa=" + aa);
+      Renderer r(*ctx, scene, aaSettings(primary, aa, w, h));
+      r.renderFrame(true);
+      const Raster3dPass& pass = *r.raster3d();
+      const std::span<const glm::vec2> samples = aaStoredPositions(r.settings().aa);
+      ASSERT_EQ(pass.planes(), 1 + samples.size());
+      uint64_t covered = 0;
+      const gpu::Raster3dConstants centre = raster3dConstants(scene.cameras[0], w, h, 0, 64, 64);
+      for (uint32_t p = 1; p < pass.planes(); ++p) {
+        const glm::vec2 s = samples[p - 1];
+        const gpu::Raster3dConstants c = raster3dConstants(scene.cameras[0], w, h, 0, 64, 64, s);
+        // The sample's rays are the centre's moved by (s − 0.5) pixels: d0 is rounded to float once in
+        // each (half an ulp), the expected value is formed in double from those floats, so they agree
+        // within an ulp of |d0| (2^-23 relative, taken twice). The screen boxes shift by the same
+        // offset exactly (w/2 − s.x is exact in float for positions in sixteenths).
+        const glm::dvec3 expect = glm::dvec3(centre.rayD0) + (double(s.x) - 0.5) * glm::dvec3(centre.rayDx) +
+                                  (double(s.y) - 0.5) * glm::dvec3(centre.rayDy);
+        const double ulp2 = std::ldexp(glm::length(glm::dvec3(centre.rayD0)), -22);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(double(c.rayD0[k]), expect[k], ulp2) << "sample " << p - 1;
+        EXPECT_EQ(c.project.z, centre.project.z + 0.5f - s.x);
+        EXPECT_EQ(c.project.w, centre.project.w + 0.5f - s.y);
+        const Raster3dResult exact = rasterize3d(viewOfConstants(c), positions, indices);
+        const std::vector<uint64_t> vis = pass.readVisibility(p);
+        const std::vector<uint32_t> count = pass.readCoverage(p);
+        size_t differ = 0, holes = 0, doubles = 0;
+        for (size_t i = 0; i < vis.size(); ++i) {
+          differ += vis[i] != exact.visibility[i];
+          holes += exact.coverage[i] > count[i];
+          doubles += count[i] > exact.coverage[i];
+          covered += count[i];
+        }
+        EXPECT_EQ(differ, 0u) << "sample " << p - 1 << ": pixels whose (t, id) differs from the CPU reference";
+        EXPECT_EQ(holes, 0u) << "sample " << p - 1;
+        EXPECT_EQ(doubles, 0u) << "sample " << p - 1;
+      }
+      EXPECT_GT(covered, uint64_t(w) * h) << "the scene covers the samples";
+    }
+}
+
+// A white quad facing the eye whose right edge is vertical on the screen, `edge` of the way into
+// pixel column `column`; directional light, no shadows, black sky beyond the edge.
+Scene halfCoveredQuad(uint32_t w, uint32_t h, uint32_t column, double edge) {
+  Camera cam;
+  cam.view = glm::mat4(1.0f);  // eye at the origin looking down -z
+  cam.yfov = 0.8f;
+  cam.znear = 0.1f;
+  cam.zfar = 100.0f;
+  Scene s = aaTestScene("half-covered-quad", cam);
+  const double depth = 2.0, tanHalf = std::tan(0.4), a = double(w) / double(h);
+  // Screen position u (pixels from the left edge) to view x at that depth: NDC 2u/W − 1.
+  const double xEdge = (2.0 * (double(column) + edge) / double(w) - 1.0) * a * tanHalf * depth;
+  const float x0 = -10.0f, x1 = float(xEdge), y0 = -10.0f, y1 = 10.0f, z = float(-depth);
+  addAaTriangles(s, {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y0, z}, {x1, y1, z}, {x0, y1, z}});
+  Light l;
+  l.type = LightType::Directional;
+  l.direction = glm::normalize(glm::vec3(0.2f, -0.1f, -1.0f));
+  l.intensity = 2.0f;
+  l.castShadows = false;
+  s.lights.push_back(l);
+  return s;
+}
+
+TEST_F(AaTest, APixelAStraightEdgeCrossesResolvesToTheShareOfItsSamplesOnTheQuad) {
+  constexpr uint32_t w = 32, h = 16, column = 20;
+  // The edge 0.6 of the way into the column (the area covered): of the standard positions
+  // (aa_samples.h) 2 of 4, 5 of 8, 10 of 16 and, for CSAA, 2 of its 4 stored and 7 of its 12
+  // coverage samples lie left of it, so each mode resolves to its own share.
+  constexpr double kEdge = 0.6;
+  const Scene scene = halfCoveredQuad(w, h, column, kEdge);
+  struct Case {
+    const char *primary, *aa;
+  };
+  for (const Case c : {Case{"3dr", "msaa4"}, Case{"3dr-binned", "msaa8"}, Case{"3dr", "msaa16"},
+                       Case{"3dr", "csaa-4-12"}, Case{"hardware", "msaa4"}}) {
+    SCOPED_TRACE(std::string(c.primary) + ", aa=" + c.aa);
+    Renderer r(*ctx, scene, aaSettings(c.primary, c.aa, w, h));
+    r.renderFrame(false);
+    const AntiAliasing aa = r.settings().aa;
+    double left = 0;  // stored and coverage positions left of the edge
+    const std::span<const glm::vec2> stored = aaStoredPositions(aa);
+    for (const glm::vec2 s : stored) left += s.x < kEdge;
+    double total = double(stored.size());
+    if (aa == AntiAliasing::Csaa4x12)
+      for (const glm::vec2 s : kCsaaCoverage) left += s.x < kEdge, total += 1;
+    const double expected = left / total;
+    const std::vector<float> color = r.readColor();
+    auto at = [&](uint32_t x, uint32_t y, int ch) { return double(color[(size_t(y) * w + x) * 4 + size_t(ch)]); };
+    for (uint32_t y = 2; y + 2 < h; ++y)
+      for (int ch = 0; ch < 3; ++ch) {
+        // The quad's shading at the edge pixel, from its two left neighbours (fully covered); the
+        // shading changes by |C(x−1) − C(x−2)| a pixel (the view vector turns), so extrapolating
+        // linearly errs by at most that; RGBA16F rounds each value to 2^-11 relative.
+        const double c1 = at(column - 1, y, ch), c2 = at(column - 2, y, ch);
+        ASSERT_GT(c1, 0.05) << "the quad is lit";
+        const double shade = 2.0 * c1 - c2;
+        const double tol = expected * std::fabs(c1 - c2) + 3.0 * std::ldexp(std::max(c1, shade), -11);
+        EXPECT_NEAR(at(column, y, ch), expected * shade, tol) << "pixel (" << column << ", " << y << ")";
+        EXPECT_EQ(at(column + 1, y, ch), 0.0) << "beyond the edge: the sky";
+      }
+  }
+}
+
+TEST_F(AaTest, WithoutAntiAliasingTheEdgePixelIsAllOrNothing) {
+  constexpr uint32_t w = 32, h = 16, column = 20;
+  const Scene scene = halfCoveredQuad(w, h, column, 0.6);
+  Renderer r(*ctx, scene, aaSettings("3dr", "none", w, h));
+  r.renderFrame(false);
+  const std::vector<float> color = r.readColor();
+  // The centre (0.5) lies left of the edge: the pixel is the quad's alone.
+  const size_t edge = (size_t(8) * w + column) * 4, inside = (size_t(8) * w + column - 1) * 4;
+  EXPECT_NEAR(color[edge], color[inside], 0.01 * color[inside]);
+  EXPECT_EQ(color[edge + 4], 0.0f);
+}
+
+TEST_F(AaTest, RefusalsNameWhatIsWrong) {
+  const Scene scene = halfCoveredQuad(32, 16, 20, 0.6);
+  RenderSettings forward = aaSettings("3dr", "msaa4", 32, 16);
+  forward.shading = ShadingMethod::Forward;
+  try {
+    Renderer r(*ctx, scene, forward);
+    ADD_FAILURE() << "aa with the forward pass after 3dr was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shading=visbuffer"), std::string::npos) << e.what();
+  }
+  try {
+    Renderer r(*ctx, scene, aaSettings("hardware", "csaa-4-12", 32, 16));
+    ADD_FAILURE() << "csaa on the raster pipeline was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("csaa-4-12"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hb
