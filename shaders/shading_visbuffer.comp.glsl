@@ -167,7 +167,11 @@ vec3 resolveSamples(ivec2 p, uint pixel) {
     total += 1.0;
   }
   if (CSAA == 1u) {
-    // Each coverage sample's ray against the stored triangles; the nearest hit takes it.
+    // Each coverage sample's ray against the stored triangles (at most 4, their corners fetched
+    // once); the nearest hit takes it.
+    vec3 c0[4], c1[4], c2[4];
+    for (uint k = 0u; k < n; ++k)
+      if (ids[k] != 0xFFFFFFFFu) worldCorners(ids[k], c0[k], c1[k], c2[k]);
     const uint proj = rays.projection;
     for (uint s = 0u; s < 12u; ++s) {
       const float sx = float(p.x) + kCsaaCoverage[s].x - 0.5, sy = float(p.y) + kCsaaCoverage[s].y - 0.5;
@@ -176,8 +180,7 @@ vec3 resolveSamples(ivec2 p, uint pixel) {
       uint bestK = kMax;
       for (uint k = 0u; k < n; ++k) {
         if (ids[k] == 0xFFFFFFFFu) continue;
-        vec3 w0, w1, w2;
-        worldCorners(ids[k], w0, w1, w2);
+        const vec3 w0 = c0[k], w1 = c1[k], w2 = c2[k];
         const vec2 b = barycentrics(w0, w1, w2, org, dir);
         if (!(b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0)) continue;
         const vec3 hit = (1.0 - b.x - b.y) * w0 + b.x * w1 + b.y * w2;
