@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/render_outputs.h"
+#include "app/scene_setup.h"
 #include "base/errors.h"
 #include "frame/passes/aa_samples.h"
 #include "frame/passes/raster3d.h"
@@ -247,6 +249,23 @@ TEST_F(AaTest, RefusalsNameWhatIsWrong) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("csaa-4-12"), std::string::npos) << e.what();
   }
+}
+
+// An AA variant's no-culling reference (the sweep's default, reference_ssaa 1) is rendered without
+// AA, with the forward pass: it must be a frame the renderer accepts (it once kept the AA and was
+// refused, failing every AA variant of a sweep without reference_ssaa).
+TEST_F(AaTest, TheNoCullingReferenceOfAnAaVariantRenders) {
+  const Scene scene = halfCoveredQuad(32, 16, 20, 0.6);
+  VariantParams p;
+  p.resolution = {32, 16};
+  p.primary = PrimaryMethod::Raster3dBinned;
+  p.shading = ShadingMethod::Visbuffer;
+  p.aa = AntiAliasing::Msaa4;
+  const VariantParams rp = referenceParams(p);
+  EXPECT_EQ(rp.aa, AntiAliasing::None);
+  Renderer r(*ctx, scene, renderSettingsFor(rp, EffectsRequest{}));
+  r.renderFrame(true);
+  EXPECT_GT(r.readColor()[(size_t(8) * 32 + 10) * 4], 0.0f) << "the quad is drawn";
 }
 
 }  // namespace

@@ -39,6 +39,9 @@ VariantParams referenceParams(const VariantParams& params) {
   // Except for views the forward pass cannot draw (projection other than perspective), which keep
   // their shading and the light_culling=false they need.
   if (!params.projection || *params.projection == CameraProjection::Perspective) r.shading = ShadingMethod::Forward;
+  // Without anti-aliasing: the forward pass after a compute primary draws one sample a pixel, and
+  // what AA changes is measured against the supersampled reference (reference_ssaa), not this one.
+  r.aa = AntiAliasing::None;
   return r;
 }
 
