@@ -62,7 +62,7 @@ inline PrimaryMethod primaryNamed(std::string_view name) {
   return settingNamed(name, kAll);
 }
 inline RtBackend backendNamed(std::string_view name) {
-  static constexpr RtBackend kAll[] = {RtBackend::Auto, RtBackend::RayQuery, RtBackend::Pipeline};
+  static constexpr RtBackend kAll[] = {RtBackend::Auto, RtBackend::RayQuery, RtBackend::Pipeline, RtBackend::Compute};
   return settingNamed(name, kAll);
 }
 

@@ -64,6 +64,9 @@
 #define HB_SURFACE_HIT_RAYS 12u       // uniform Raster3dConstants: its rays
 #define HB_SURFACE_HIT_TRIANGLES 13u  // its world triangles, 3 vec4 each
 #define HB_SURFACE_LDM_MAPS 15u       // the layered depth maps' LdmMap per direction (AO, indirect light)
+// backend=compute (compute_occluded.glsl.inc): our BVH instead of HB_SURFACE_TLAS (shadows only so far).
+#define HB_SURFACE_BVH_NODES 22u      // gpu::PrimaryBvhNode
+#define HB_SURFACE_BVH_TRIANGLES 23u  // 3 vec4 per triangle, in leaf order
 
 // Shadows (effects/shadows/shadow_pass.cpp): shadows_common.glsl.inc, with the HB_SURFACE_* bindings.
 #define HB_SHADOW_LIGHTS 1u      // GpuLight per scene light
@@ -85,6 +88,8 @@
 #define HB_RAYBENCH_TLAS 6u        // the scene's top-level acceleration structure
 #define HB_RAYBENCH_RESULT 7u      // written, keeps the rays alive
 #define HB_RAYBENCH_VISIBILITY 8u  // the shadow pass's visibility (zbin: the pixels' bin ranges)
+#define HB_RAYBENCH_BVH_NODES 9u   // backend=compute: HB_SURFACE_BVH_NODES
+#define HB_RAYBENCH_BVH_TRIANGLES 10u  // backend=compute: HB_SURFACE_BVH_TRIANGLES
 
 // Ambient occlusion (effects/ambient_occlusion/ao_pass.cpp): ao_common.glsl.inc, with the HB_SURFACE_*
 // bindings (HB_SURFACE_TLAS only where the frame has a ray tracer).

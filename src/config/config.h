@@ -144,7 +144,8 @@ enum class NormalCulling : uint32_t {
   Improved = gpu::kNormalsImproved,
   Geometric = gpu::kNormalsGeometric,
 };
-enum class RtBackend { Auto, RayQuery, Pipeline };
+// compute: our BVH and traversal in a compute shader (shadows and raybench; the other ray passes as auto).
+enum class RtBackend { Auto, RayQuery, Pipeline, Compute };
 enum class WorldPosMethod : uint32_t {
   Alg41 = gpu::kWorldPosAlg41,
   Matrix = gpu::kWorldPosMatrix,

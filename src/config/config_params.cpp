@@ -27,6 +27,7 @@ const char* toString(RtBackend v) {
     case RtBackend::Auto: return "auto";
     case RtBackend::RayQuery: return "rayquery";
     case RtBackend::Pipeline: return "pipeline";
+    case RtBackend::Compute: return "compute";
   }
   return "?";
 }
@@ -145,14 +146,15 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.normalCulling = NormalCulling(i); }},
       {"backend",
        K::Choice,
-       {"auto", "rayquery", "pipeline"},
+       {"auto", "rayquery", "pipeline", "compute"},
        {},
        0,
        0,
        "",
        "",
        "",
-       "how shadow rays are traced: ray queries in compute, a ray-tracing pipeline, or whichever the device has",
+       "how shadow rays are traced: ray queries in compute, a ray-tracing pipeline, whichever the device has, or "
+       "our own BVH and traversal in compute (shadows and raybench; other ray passes as auto)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.backend = RtBackend(i); }},
       {"resolution",
        K::Resolution,

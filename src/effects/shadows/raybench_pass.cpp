@@ -1,6 +1,7 @@
 #include "effects/shadows/raybench_pass.h"
 
 #include <cstring>
+#include <vector>
 
 #include "base/errors.h"
 #include "shared/bindings.h"
@@ -18,18 +19,24 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
               VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx,
             [&] {
-              const VkShaderStageFlags st = backend == ShadowBackend::RayQuery
+              const VkShaderStageFlags st = backend != ShadowBackend::Pipeline
                                                 ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                                                 : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
-              return std::vector<Binding>{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
-                                          {HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                          {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
-                                          {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                          {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
+              std::vector<Binding> b{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
+                                     {HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                     {HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                     {HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                     {HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                     {HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
+                                     {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
+                                     {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
+                                     {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
+              if (backend == ShadowBackend::Compute) {  // our BVH instead of the TLAS
+                std::erase_if(b, [](const Binding& x) { return x.binding == HB_RAYBENCH_TLAS; });
+                b.push_back({HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
+                b.push_back({HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
+              }
+              return b;
             }()),
       compute_(ctx) {
   sets_.writeBuffer(0, HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -39,13 +46,19 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   sets_.writeImage(0, HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
                    VK_IMAGE_LAYOUT_GENERAL);
   sets_.writeBuffer(0, HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
-  sets_.writeAccelerationStructure(0, HB_RAYBENCH_TLAS, in.tlas);
+  if (backend == ShadowBackend::Compute) {
+    sets_.writeBuffer(0, HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhNodes->handle());
+    sets_.writeBuffer(0, HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhTriangles->handle());
+  } else {
+    sets_.writeAccelerationStructure(0, HB_RAYBENCH_TLAS, in.tlas);
+  }
   sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
   sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
   const SpecConstants spec{{shadows.settings().listMode}};
-  if (backend == ShadowBackend::RayQuery) {
+  if (backend != ShadowBackend::Pipeline) {
     compute_.createLayout({sets_.layout()}, 0);
-    compute_.createCompute("raybench_rayquery.comp", spec);
+    compute_.createCompute(backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",
+                           spec);
   } else {
     rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
   }

@@ -1,6 +1,7 @@
 #include "effects/shadows/shadow_pass.h"
 
 #include <cstring>
+#include <vector>
 
 #include "base/errors.h"
 #include "gpu/rt_pipeline.h"
@@ -9,7 +10,14 @@
 
 namespace hb {
 
-const char* toString(ShadowBackend b) { return b == ShadowBackend::RayQuery ? "rayquery" : "pipeline"; }
+const char* toString(ShadowBackend b) {
+  switch (b) {
+    case ShadowBackend::RayQuery: return "rayquery";
+    case ShadowBackend::Pipeline: return "pipeline";
+    case ShadowBackend::Compute: return "compute";
+  }
+  return "?";
+}
 
 namespace {
 
@@ -30,25 +38,31 @@ VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, 
   return bytes;
 }
 
-std::vector<Binding> shadowBindings(VkShaderStageFlags stages) {
-  return {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-          {HB_SHADOW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SHADOW_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-          {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
-          {HB_SHADOW_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SHADOW_ACCOUNTING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {HB_SHADOW_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {HB_SHADOW_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
-          {HB_SHADOW_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-          {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-          {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
+std::vector<Binding> shadowBindings(ShadowBackend backend, VkShaderStageFlags stages) {
+  std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SHADOW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SHADOW_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
+                            {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages},
+                            {HB_SHADOW_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SHADOW_ACCOUNTING, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+                            {HB_SHADOW_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+                            {HB_SHADOW_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, stages},
+                            {HB_SHADOW_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
+                            {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
+  if (backend == ShadowBackend::Compute) {  // our BVH instead of the TLAS
+    std::erase_if(b, [](const Binding& x) { return x.binding == HB_SURFACE_TLAS; });
+    b.push_back({HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+    b.push_back({HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  }
+  return b;
 }
 
 VkShaderStageFlags stagesFor(ShadowBackend b) {
-  return b == ShadowBackend::RayQuery ? VK_SHADER_STAGE_COMPUTE_BIT
+  return b != ShadowBackend::Pipeline ? VK_SHADER_STAGE_COMPUTE_BIT
                                       : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
 }
 
@@ -61,9 +75,10 @@ struct ShadowPass::Variant {
   Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
     SpecConstants spec{
         {s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
-    if (s.backend == ShadowBackend::RayQuery) {
+    if (s.backend != ShadowBackend::Pipeline) {
       compute.createLayout({layout}, 0);
-      compute.createCompute("shadows_rayquery.comp", spec);
+      compute.createCompute(s.backend == ShadowBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp",
+                            spec);
     } else {
       rtProgram = std::make_unique<RaygenMissPipeline>(c, layout, "shadows.rgen", "shadows.rmiss", spec);
     }
@@ -87,7 +102,7 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
-      sets_(ctx, shadowBindings(stagesFor(settings.backend))) {
+      sets_(ctx, shadowBindings(settings.backend, stagesFor(settings.backend))) {
   if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
     throw InputError("backend=rayquery: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_query; use backend=pipeline or backend=auto");
@@ -100,7 +115,17 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeBuffer(0, HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
   sets_.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-  sets_.writeAccelerationStructure(0, HB_SURFACE_TLAS, in.tlas);
+  if (settings.backend == ShadowBackend::Compute) {
+    if (!ctx.info().shaderFloat64)
+      throw DeviceError("backend=compute: device \"" + ctx.info().name +
+                        "\" lacks shaderFloat64, which its watertight triangle test needs at exact zeros; use "
+                        "backend=auto");
+    HB_ASSERT(in.bvhNodes && in.bvhTriangles);
+    sets_.writeBuffer(0, HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhNodes->handle());
+    sets_.writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhTriangles->handle());
+  } else {
+    sets_.writeAccelerationStructure(0, HB_SURFACE_TLAS, in.tlas);
+  }
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   if (needsHits && !(in.hitIds && in.hitRays && in.hitTriangles))
     throw InputError(
@@ -135,7 +160,7 @@ void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
   VkDescriptorSet set = sets_.set();
   vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
   vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
-  if (settings_.backend == ShadowBackend::RayQuery) {
+  if (settings_.backend != ShadowBackend::Pipeline) {
     const uint32_t t = settings_.tileSize;
     vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
   } else {

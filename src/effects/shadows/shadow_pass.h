@@ -14,7 +14,8 @@
 
 namespace hb {
 
-enum class ShadowBackend { RayQuery, Pipeline };
+// Compute: our BVH (primary_bvh.h) traversed in a compute shader (compute_occluded.glsl.inc).
+enum class ShadowBackend { RayQuery, Pipeline, Compute };
 const char* toString(ShadowBackend);
 
 struct ShadowSettings {
@@ -36,6 +37,9 @@ struct ShadowInputs {
   const Image* depth;  // DEPTH_READ_ONLY_OPTIMAL
   VkSampler sampler;
   VkAccelerationStructureKHR tlas;
+  // backend compute: our BVH's nodes (gpu::PrimaryBvhNode) and its triangles in leaf order (3 vec4).
+  const Buffer* bvhNodes = nullptr;
+  const Buffer* bvhTriangles = nullptr;
   // 3D rasterization's visibility buffer, ray constants and world triangles (nullptr after the
   // hardware prepass): what world_pos=hit and normal_culling=geometric read.
   const Buffer* hitIds = nullptr;

@@ -25,11 +25,20 @@ class ShadowsPart : public FramePart {
   // Per pixel the traced rays the last rayBench() repetition found visible (RayBenchPass::readResult).
   // Precondition: rayBench() has run (with repetitions >= 1 since the rays last changed).
   std::vector<uint32_t> readRayBench() const;
+  // backend=compute: our BVH (render.json "compute_bvh"); zeros otherwise.
+  struct ComputeBvhStats {
+    uint32_t nodes = 0, depth = 0;
+    uint64_t bytes = 0;
+    double buildMs = 0.0;
+  };
+  const ComputeBvhStats& computeBvh() const { return bvhStats_; }
 
  private:
   const VulkanContext& ctx_;
   uint32_t width_, height_;
   ShadowInputs inputs_{};
+  Buffer bvhNodes_, bvhTriangles_;  // backend=compute
+  ComputeBvhStats bvhStats_;
   std::unique_ptr<ShadowPass> shadows_;
   std::unique_ptr<RayBenchPass> rayBench_;
 };

@@ -1,0 +1,16 @@
+#version 460
+// Ray throughput benchmark, compute backend (our BVH: compute_occluded.glsl.inc; see
+// raybench_common.glsl.inc).
+#extension GL_GOOGLE_include_directive : require
+#include "shared/gpu_types.h"
+#define HB_RAYBENCH_COMPUTE 1
+layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
+#include "raybench_common.glsl.inc"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#define HB_BVH_NODES_BINDING HB_RAYBENCH_BVH_NODES
+#define HB_BVH_TRIANGLES_BINDING HB_RAYBENCH_BVH_TRIANGLES
+#include "compute_occluded.glsl.inc"
+
+void main() { traceStored(ivec2(gl_GlobalInvocationID.xy)); }
