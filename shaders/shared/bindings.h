@@ -79,16 +79,16 @@
 #define HB_SHADOW_TRACED 10u     // analysis: as visibility, bit = ray traced (raybench: HB_RAYBENCH_TRACED)
 
 // Ray throughput benchmark (effects/shadows/raybench_pass.cpp): raybench_common.glsl.inc, its own set.
-#define HB_RAYBENCH_FRAME 0u       // uniform FrameConstants
-#define HB_RAYBENCH_LIGHTS 1u      // GpuLight per scene light
-#define HB_RAYBENCH_GRID 2u        // LightGridEntry per tile
-#define HB_RAYBENCH_INDICES 3u     // the tiles' light lists or masks
-#define HB_RAYBENCH_POSITIONS 4u   // the shadow pass's world positions (HB_SHADOW_POSITIONS)
-#define HB_RAYBENCH_TRACED 5u      // the shadow pass's traced-ray words (HB_SHADOW_TRACED)
-#define HB_RAYBENCH_TLAS 6u        // the scene's top-level acceleration structure
-#define HB_RAYBENCH_RESULT 7u      // written, keeps the rays alive
-#define HB_RAYBENCH_VISIBILITY 8u  // the shadow pass's visibility (zbin: the pixels' bin ranges)
-#define HB_RAYBENCH_BVH_NODES 9u   // backend=compute: HB_SURFACE_BVH_NODES
+#define HB_RAYBENCH_FRAME 0u           // uniform FrameConstants
+#define HB_RAYBENCH_LIGHTS 1u          // GpuLight per scene light
+#define HB_RAYBENCH_GRID 2u            // LightGridEntry per tile
+#define HB_RAYBENCH_INDICES 3u         // the tiles' light lists or masks
+#define HB_RAYBENCH_POSITIONS 4u       // the shadow pass's world positions (HB_SHADOW_POSITIONS)
+#define HB_RAYBENCH_TRACED 5u          // the shadow pass's traced-ray words (HB_SHADOW_TRACED)
+#define HB_RAYBENCH_TLAS 6u            // the scene's top-level acceleration structure
+#define HB_RAYBENCH_RESULT 7u          // written, keeps the rays alive
+#define HB_RAYBENCH_VISIBILITY 8u      // the shadow pass's visibility (zbin: the pixels' bin ranges)
+#define HB_RAYBENCH_BVH_NODES 9u       // backend=compute: HB_SURFACE_BVH_NODES
 #define HB_RAYBENCH_BVH_TRIANGLES 10u  // backend=compute: HB_SURFACE_BVH_TRIANGLES
 
 // Ambient occlusion (effects/ambient_occlusion/ao_pass.cpp): ao_common.glsl.inc, with the HB_SURFACE_*
