@@ -26,6 +26,7 @@ struct ShadowSettings {
   bool rangeTest = false;
   uint32_t listMode = 0;         // gpu::kList*
   uint32_t visibilityWords = 1;  // per pixel: 1 for tile lists, ceil(lights/32) for the masks
+  uint32_t bvhStack = 32;        // backend compute: the traversal stack's entries (the tree's depth − 1)
 };
 
 // Inputs shared with the other passes.

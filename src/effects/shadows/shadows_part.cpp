@@ -1,5 +1,6 @@
 #include "effects/shadows/shadows_part.h"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -58,6 +59,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
     bvhStats_ = {uint32_t(tree.nodes.size()), tree.depth,
                  uint64_t(tree.nodes.size() * sizeof(gpu::PrimaryBvhNode) + ordered.size() * sizeof(glm::vec4)),
                  tree.buildMs};
+    // A node is pushed once per level of the path to it: depth − 1 entries hold any traversal.
+    ss.bvhStack = std::max(1u, tree.depth > 0 ? tree.depth - 1 : 1u);
     inputs_.bvhNodes = &bvhNodes_;
     inputs_.bvhTriangles = &bvhTriangles_;
   }
