@@ -19,6 +19,10 @@ AoPart::AoPart(FrameBuilder& f) {
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
   const AoInputs ai = surfaceBindings(f, surface);
+  if (f.settings.backend == RtBackend::Compute && ai.tlas) {  // traces through our BVH
+    bvh_ = std::make_unique<TraceBvh>(buildTraceBvh(f.ctx, f.scene));
+    as.computeBvh = bvh_.get();
+  }
   ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));

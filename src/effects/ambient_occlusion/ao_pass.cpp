@@ -14,7 +14,7 @@ namespace hb {
 
 namespace {
 
-std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
+std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas, bool computeBvh) {
   std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
                             {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
                             {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
@@ -25,6 +25,10 @@ std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas) {
                             {HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
   if (tlas) b.push_back({HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
+  if (computeBvh) {  // backend=compute: our BVH (compute_occluded.glsl.inc)
+    b.push_back({HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+    b.push_back({HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  }
   return b;
 }
 
@@ -94,11 +98,16 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
   auto makeSets = [&](const Buffer& out) {
-    auto sets = std::make_unique<DescriptorSets>(ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE));
+    auto sets = std::make_unique<DescriptorSets>(
+        ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE, settings.computeBvh != nullptr));
     sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
     sets->writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                      VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
     if (tlas_) sets->writeAccelerationStructure(0, HB_SURFACE_TLAS, tlas_);
+    if (const TraceBvh* bvh = settings.computeBvh) {
+      sets->writeBuffer(0, HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->nodes.handle());
+      sets->writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->triangles.handle());
+    }
     // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
     sets->writeBuffer(0, HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (in.hitIds ? *in.hitIds : placeholder_).handle());
@@ -137,7 +146,12 @@ const AoPass::Program& AoPass::program(AoMethod method) {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
                               method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced}};
-    if (ctx_.info().rayQuery) {
+    if (settings_.computeBvh) {
+      SpecConstants withStack = spec;
+      withStack.values.push_back(settings_.computeBvh->stack);
+      p->compute.createLayout({sets_->layout()}, 0);
+      p->compute.createCompute("ao_computetrace.comp", withStack);
+    } else if (ctx_.info().rayQuery) {
       p->compute.createLayout({sets_->layout()}, 0);
       p->compute.createCompute("ao_rayquery.comp", spec);
     } else {

@@ -17,6 +17,7 @@
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
+#include "frame/passes/trace_bvh.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/vk_pipeline.h"
@@ -33,6 +34,9 @@ struct AoPassSettings {
   AoSettings ao;
   NormalCulling normals = NormalCulling::Improved;  // frame_builder.h SurfaceInputs
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
+  // backend=compute: raytraced and reference trace through this BVH (compute_occluded.glsl.inc)
+  // instead of the TLAS; null: the device's ray query or ray-tracing pipeline.
+  const TraceBvh* computeBvh = nullptr;
 };
 
 struct AoMemory {

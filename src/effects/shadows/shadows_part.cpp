@@ -8,7 +8,7 @@
 #include "effects/shadows/shadows_effect.h"
 #include "frame/base_parts.h"
 #include "frame/pass_work.h"
-#include "frame/passes/primary_bvh.h"
+#include "frame/passes/trace_bvh.h"
 
 namespace hb {
 
@@ -43,26 +43,10 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
              r.sampler(res::kPointSampler),
              r.tlas(res::kTlas)};
   if (ss.backend == ShadowBackend::Compute) {
-    // Our BVH over the scene's world triangles (built once per frame set-up), its triangles copied
-    // in leaf order so that a leaf's are contiguous.
-    const std::vector<glm::vec3> world = f.scene.worldTriangles();
-    const PrimaryBvh tree = buildPrimaryBvh(world);
-    std::vector<glm::vec4> ordered;
-    ordered.reserve(3 * tree.order.size());
-    for (uint32_t id : tree.order)
-      for (int k = 0; k < 3; ++k) ordered.emplace_back(world[3 * size_t(id) + size_t(k)], 1.0f);
-    if (ordered.empty()) ordered.assign(3, glm::vec4(0.0f));  // no triangle: a leaf of nothing is never read
-    bvhNodes_ = uploadBuffer(f.ctx, tree.nodes.data(), tree.nodes.size() * sizeof(gpu::PrimaryBvhNode),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
-    bvhTriangles_ = uploadBuffer(f.ctx, ordered.data(), ordered.size() * sizeof(glm::vec4),
-                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
-    bvhStats_ = {uint32_t(tree.nodes.size()), tree.depth,
-                 uint64_t(tree.nodes.size() * sizeof(gpu::PrimaryBvhNode) + ordered.size() * sizeof(glm::vec4)),
-                 tree.buildMs};
-    // A node is pushed once per level of the path to it: depth − 1 entries hold any traversal.
-    ss.bvhStack = std::max(1u, tree.depth > 0 ? tree.depth - 1 : 1u);
-    inputs_.bvhNodes = &bvhNodes_;
-    inputs_.bvhTriangles = &bvhTriangles_;
+    bvh_ = buildTraceBvh(f.ctx, f.scene);
+    ss.bvhStack = bvh_.stack;
+    inputs_.bvhNodes = &bvh_.nodes;
+    inputs_.bvhTriangles = &bvh_.triangles;
   }
   inputs_.hitIds = r.buffer(res::kVisibility);
   inputs_.hitRays = r.buffer(res::kVisibilityRays);

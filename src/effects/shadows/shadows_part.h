@@ -8,6 +8,7 @@
 #include "effects/shadows/raybench_pass.h"
 #include "effects/shadows/shadow_pass.h"
 #include "frame/frame_builder.h"
+#include "frame/passes/trace_bvh.h"
 #include "frame/renderer.h"
 
 namespace hb {
@@ -25,20 +26,14 @@ class ShadowsPart : public FramePart {
   // Per pixel the traced rays the last rayBench() repetition found visible (RayBenchPass::readResult).
   // Precondition: rayBench() has run (with repetitions >= 1 since the rays last changed).
   std::vector<uint32_t> readRayBench() const;
-  // backend=compute: our BVH (render.json "compute_bvh"); zeros otherwise.
-  struct ComputeBvhStats {
-    uint32_t nodes = 0, depth = 0;
-    uint64_t bytes = 0;
-    double buildMs = 0.0;
-  };
-  const ComputeBvhStats& computeBvh() const { return bvhStats_; }
+  // backend=compute: our BVH (render.json "compute_bvh"); empty otherwise.
+  const TraceBvh& computeBvh() const { return bvh_; }
 
  private:
   const VulkanContext& ctx_;
   uint32_t width_, height_;
   ShadowInputs inputs_{};
-  Buffer bvhNodes_, bvhTriangles_;  // backend=compute
-  ComputeBvhStats bvhStats_;
+  TraceBvh bvh_;  // backend=compute
   std::unique_ptr<ShadowPass> shadows_;
   std::unique_ptr<RayBenchPass> rayBench_;
 };

@@ -101,9 +101,9 @@ void reportShadows(EffectReport& r) {
   if (!shadows) return;
   r.run["backend"] = toString(shadows->shadowPass().settings().backend);
   if (shadows->shadowPass().settings().backend == ShadowBackend::Compute) {
-    const ShadowsPart::ComputeBvhStats& b = shadows->computeBvh();
+    const TraceBvh& b = shadows->computeBvh();
     r.run["compute_bvh"] = {{"layout", "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
-                            {"nodes", b.nodes},
+                            {"nodes", b.nodeCount},
                             {"depth", b.depth},
                             {"bytes", b.bytes},
                             {"build_ms", b.buildMs},
