@@ -63,6 +63,7 @@ class AoPass {
   // Precondition: a tracer (inputs.tlas) for raytraced/reference.
   std::vector<float> computeWith(AoMethod method);
   bool canTrace() const { return tlas_ != VK_NULL_HANDLE; }
+  const VulkanContext& context() const { return ctx_; }
 
   const AoPassSettings& settings() const { return settings_; }
   const LdmBuild* ldm() const { return ldm_.get(); }

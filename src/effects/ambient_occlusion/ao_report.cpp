@@ -25,6 +25,11 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
   }
   a["pixels_sky"] = sky;
   a["pixels_without_normal"] = noNormal;
+  // What traces the raytraced and reference methods' rays (backend=compute: our BVH).
+  a["tracer"] = !ao.canTrace()                 ? "none"
+                : ao.settings().computeBvh     ? "compute"
+                : ao.context().info().rayQuery ? "rayquery"
+                                               : "pipeline";
   const AoMemory m = ao.memory();
   a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes},
                        {"ldm_maps", m.ldmMapBytes},
