@@ -12,6 +12,7 @@
 #include "analysis/ray_analysis.h"
 #include "base/numbers.h"
 #include "effects/shadows/shadows_part.h"
+#include "frame/passes/trace_bvh.h"
 #include "frame/renderer.h"
 #include "gpu/gpu_lights.h"
 #include "gpu_fixture.h"
@@ -178,6 +179,27 @@ INSTANTIATE_TEST_SUITE_P(ShadowScenes, ShadowBackends, ::testing::ValuesIn(built
                              if (c == '-') c = '_';
                            return n;
                          });
+
+// backend=compute at every tile size: a tile's workgroup keeps its traversal stacks in shared memory
+// only where they fit (trace_bvh.h traceStackShared: 8x8 yes, 16x16 and 32x32 no); both forms give
+// ray query's visibility on the atrium (the 1024-thread workgroup's stacks in shared memory once
+// lost the H200 device).
+class ShadowComputeTiles : public testing::GpuTest {};
+
+TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
+  const Scene& scene = sceneNamed("atrium");
+  for (uint32_t tile : {8u, 16u, 32u}) {
+    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", tile);
+    const ShadowFrame cp = render(*ctx, scene, NormalCulling::Improved, "compute", tile);
+    // The atrium's tree needs 26 entries: 6.6 KiB for 64 threads in shared memory, 26.6 KiB for 256.
+    const TraceBvh bvh = buildTraceBvh(*ctx, scene);
+    EXPECT_EQ(bvh.stack, bvh.depth - 1);
+    EXPECT_EQ(traceStackShared(bvh, tile * tile), tile == 8) << "tile " << tile;
+    size_t differ = 0;
+    for (size_t i = 0; i < rq.pixels(); ++i) differ += rq.shadows.visibility[i] != cp.shadows.visibility[i];
+    EXPECT_EQ(differ, 0u) << "tile " << tile << ": pixels whose mask differs from ray query's";
+  }
+}
 
 // ---- scaled t_min (beyond the thesis) --------------------------------------------------------------
 

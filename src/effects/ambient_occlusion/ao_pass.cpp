@@ -149,6 +149,7 @@ const AoPass::Program& AoPass::program(AoMethod method) {
     if (settings_.computeBvh) {
       SpecConstants withStack = spec;
       withStack.values.push_back(settings_.computeBvh->stack);
+      withStack.values.push_back(traceStackShared(*settings_.computeBvh, 64) ? 1u : 0u);  // 8x8 threads
       p->compute.createLayout({sets_->layout()}, 0);
       p->compute.createCompute("ao_computetrace.comp", withStack);
     } else if (ctx_.info().rayQuery) {

@@ -54,7 +54,8 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   }
   sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
   sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
-  const SpecConstants spec{{shadows.settings().listMode, shadows.settings().bvhStack}};
+  const SpecConstants spec{
+      {shadows.settings().listMode, shadows.settings().bvhStack, shadows.settings().raybenchStackShared ? 1u : 0u}};
   if (backend != ShadowBackend::Pipeline) {
     compute_.createLayout({sets_.layout()}, 0);
     compute_.createCompute(backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",

@@ -24,9 +24,11 @@ struct ShadowSettings {
   NormalCulling normals = NormalCulling::Off;       // geometric needs hit ids
   WorldPosMethod worldPos = WorldPosMethod::Alg41;  // hit needs hit ids
   bool rangeTest = false;
-  uint32_t listMode = 0;         // gpu::kList*
-  uint32_t visibilityWords = 1;  // per pixel: 1 for tile lists, ceil(lights/32) for the masks
-  uint32_t bvhStack = 32;        // backend compute: the traversal stack's entries (the tree's depth − 1)
+  uint32_t listMode = 0;            // gpu::kList*
+  uint32_t visibilityWords = 1;     // per pixel: 1 for tile lists, ceil(lights/32) for the masks
+  uint32_t bvhStack = 32;           // backend compute: the traversal stack's entries (the tree's depth − 1)
+  bool bvhStackShared = true;       // backend compute: the stacks in shared memory (trace_bvh.h traceStackShared)
+  bool raybenchStackShared = true;  // the same for raybench's 64-thread workgroups
 };
 
 // Inputs shared with the other passes.

@@ -45,6 +45,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
   if (ss.backend == ShadowBackend::Compute) {
     bvh_ = buildTraceBvh(f.ctx, f.scene);
     ss.bvhStack = bvh_.stack;
+    ss.bvhStackShared = traceStackShared(bvh_, s.tileSize * s.tileSize);  // a workgroup per tile
+    ss.raybenchStackShared = traceStackShared(bvh_, 64);
     inputs_.bvhNodes = &bvh_.nodes;
     inputs_.bvhTriangles = &bvh_.triangles;
   }

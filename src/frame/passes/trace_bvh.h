@@ -20,4 +20,12 @@ struct TraceBvh {
 
 TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene);
 
+// Whether a workgroup of `threads` keeps its traversal stacks in shared memory (compute_occluded's
+// HB_BVH_SHARED_ID): at most 16 KiB of them, so that the pass's own shared memory and several
+// workgroups an SM still fit (the atrium's 26 entries: 6.6 KiB at 64 threads, 26.6 KiB at 256,
+// 106 KiB at 1024, which lost the device on the H200). Otherwise the thread's local memory.
+inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads) {
+  return uint64_t(bvh.stack) * threads * sizeof(uint32_t) <= 16384;
+}
+
 }  // namespace hb
