@@ -64,7 +64,7 @@
 #define HB_SURFACE_HIT_RAYS 12u       // uniform Raster3dConstants: its rays
 #define HB_SURFACE_HIT_TRIANGLES 13u  // its world triangles, 3 vec4 each
 #define HB_SURFACE_LDM_MAPS 15u       // the layered depth maps' LdmMap per direction (AO, indirect light)
-// backend=compute (compute_occluded.glsl.inc): our BVH instead of HB_SURFACE_TLAS (shadows only so far).
+// backend=compute (compute_occluded.glsl.inc): our BVH instead of HB_SURFACE_TLAS.
 #define HB_SURFACE_BVH_NODES 22u      // gpu::PrimaryBvhNode
 #define HB_SURFACE_BVH_TRIANGLES 23u  // 3 vec4 per triangle, in leaf order
 
@@ -111,7 +111,7 @@
 #define HB_INDIRECT_PARAMS 18u          // uniform IndirectConstants
 #define HB_INDIRECT_FACES 19u           // PhotonFace per emitting image plane
 #define HB_INDIRECT_IRRADIANCE 20u      // the irradiance image (reference), written
-#define HB_INDIRECT_TEXTURES 21u        // bindless sampled textures: the last binding
+#define HB_INDIRECT_TEXTURES 24u        // bindless sampled textures: the last binding (after HB_SURFACE_BVH_*)
 
 // Layered depth maps' build (frame/passes/ldm_build.cpp): the build's set (ldm_build.vert/frag for
 // the hardware build, ldm_build_3dr.comp) and the sbuffer list's scan set (ldm_sbuffer.comp: 1-3).
@@ -149,12 +149,17 @@
 #define HB_CAST_COUNTERS 4u    // analysis counters (kR3dCounterCount)
 #define HB_CAST_COVERAGE 5u    // analysis: 1 where the pixel's ray hit
 #define HB_CAST_BINDING_COUNT 6u
+#define HB_CAST_BVH_NODES 6u      // backend=compute: our BVH instead of HB_CAST_TLAS (gpu::PrimaryBvhNode)
+#define HB_CAST_BVH_TRIANGLES 7u  // backend=compute: 3 vec4 per triangle, in leaf order
 
 // The device's own ceilings (gpu/peaks.cpp): peaks/peaks.comp and peaks/peaks_atomic64.comp.
-#define HB_PEAKS_SRC 0u     // the buffer read (read, copy)
-#define HB_PEAKS_DST 1u     // the buffer written (write, copy, atomics, the sink of read and FMA)
-#define HB_PEAKS_TLAS 2u    // peaks_rays.rgen: the scene's top-level acceleration structure
-#define HB_PEAKS_PARAMS 3u  // peaks_rays.rgen: uniform camera and bounds
-#define HB_PEAKS_BINDING_COUNT 4u
+#define HB_PEAKS_SRC 0u            // the buffer read (read, copy)
+#define HB_PEAKS_DST 1u            // the buffer written (write, copy, atomics, the sink of read and FMA)
+#define HB_PEAKS_TLAS 2u           // peaks_rays.rgen: the scene's top-level acceleration structure
+#define HB_PEAKS_PARAMS 3u         // peaks_rays.rgen: uniform camera and bounds
+#define HB_PEAKS_HITS 4u           // peaks_rays: the camera rays' t (MODE 3's origins)
+#define HB_PEAKS_BVH_NODES 5u      // peaks_rays_compute: our BVH (gpu::PrimaryBvhNode)
+#define HB_PEAKS_BVH_TRIANGLES 6u  // peaks_rays_compute: 3 vec4 per triangle, in leaf order
+#define HB_PEAKS_BINDING_COUNT 4u  // peaks.comp's
 
 #endif

@@ -267,7 +267,9 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   j["passes_skipped"] = nlohmann::json::object();
   for (const auto& [pass, why] : renderer.passesSkipped()) j["passes_skipped"][pass] = why;
   j["frame_resources"] = renderer.resources().toJson();
-  j["backend"] = "none";  // the shadows effect's report names the ray-tracing backend it used
+  // The frame's ray tracer (frame/ray_backend.h): every ray pass uses it.
+  j["backend"] = renderer.accel() ? toString(renderer.settings().backend) : "none";
+  if (renderer.accel()) j["backend_choice"] = toJson(renderer.backendChoice(), renderer.settings().rayRates);
   j["primary"] = primaryJson(renderer, scene);
   if (const Raster3dPass* r3 = renderer.raster3d()) {
     // Edge evaluations per pixel (3 per triangle tested there), viridis from 0 to the 99th
@@ -288,6 +290,14 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                     {"bytes", as->bytes()},
                                     {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};
+  if (const TraceBvh* b = renderer.traceBvh())  // backend=compute: ours, beside the driver's
+    j["compute_bvh"] = {{"layout", "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
+                        {"nodes", b->nodeCount},
+                        {"depth", b->depth},
+                        {"stack_entries", b->stack},
+                        {"bytes", b->bytes},
+                        {"build_ms", b->buildMs},
+                        {"build_ms_source", "wall clock on the CPU (the upload not counted)"}};
 
   const std::vector<float> depth = renderer.readDepth();
   const Camera& cam = renderer.camera();

@@ -16,6 +16,7 @@
 #include "base/input_file.h"
 #include "base/text_format.h"
 #include "config/config.h"
+#include "frame/ray_backend.h"
 #include "frame/renderer.h"
 #include "gpu/peaks.h"
 #include "gpu/vk_context.h"
@@ -114,6 +115,11 @@ int cmdRender(const RenderOptions& options) {
   std::printf("scene: %s, %s, %s, %ux%u\n", scene.name.c_str(), countOf(scene.triangleCount(), "triangle").c_str(),
               countOf(scene.lights.size(), "light").c_str(), settings.width, settings.height);
   std::fflush(stdout);
+  // The device's ceilings (gpu/peaks.h), before the frame: backend=auto chooses from its ray rates.
+  bool peaksCached = false;
+  Peaks peaks = cachedPeaks(ctx, &peaksCached);
+  addRayPeaks(ctx, scene, peaks, ctx.info().type != "cpu");
+  settings.rayRates = rayRatesOf(peaks, ctx.info());
   Renderer renderer(ctx, scene, settings);
   renderer.renderFrame(false);                       // warm: pipelines and caches
   FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation
@@ -127,9 +133,6 @@ int cmdRender(const RenderOptions& options) {
   report["frame_minus_passes_ms"] = frameMinusPassesMs(timing.frameMs, timing.passMs);
   nlohmann::json context = runContext(ctx, scene);
   context["resolution"] = {settings.width, settings.height};
-  bool peaksCached = false;
-  Peaks peaks = cachedPeaks(ctx, &peaksCached);  // the device's ceilings (gpu/peaks.h)
-  addRayPeaks(ctx, scene, peaks);
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
   report["context"] = context;

@@ -25,6 +25,7 @@
 #include "base/text_format.h"
 #include "base/version.h"
 #include "effects/shadows/shadows_part.h"
+#include "frame/ray_backend.h"
 #include "frame/renderer.h"
 #include "gpu/vk_resources.h"
 #include "report/roofline.h"
@@ -96,6 +97,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
   step("pipelines");
   RenderSettings settings = renderSettingsFor(v.params, effectsRequestFor(config));
+  settings.rayRates = rayRatesOf(peaks, ctx.info());  // what backend=auto chooses from
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
 
@@ -140,6 +142,12 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   // Ray throughput right after it, while the GPU is as warm as in the measured frames (the CPU
   // analysis below takes seconds and lets the clocks drop): warm-up repetitions, then measured.
   std::vector<double> rb;
+  struct RayBenchRun {
+    std::string backend;
+    std::vector<double> ms;
+    uint64_t pixelsDiffering;
+  };
+  std::vector<RayBenchRun> rbOthers;
   step("ray benchmark");
   if (ShadowsPart* shadows = shadowsOf(renderer)) {
     // 30 warm-up and 30 measured repetitions, fewer (at least 3) where one repetition is long: a
@@ -151,6 +159,19 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
         cpu ? 3u : uint32_t(std::clamp(kRayBenchBudgetMs / std::max(first.empty() ? 1.0 : first[0], 1e-3), 3.0, 30.0));
     shadows->rayBench(renderer.timer(), cpu ? 0 : reps - 1);
     rb = shadows->rayBench(renderer.timer(), reps);
+    // The same rays through every other backend the device has, side by side (not on a CPU
+    // device, whose timings do not bracket ray work): the rate and whether each ray's answer agrees.
+    if (!cpu) {
+      const std::vector<uint32_t> own = shadows->readRayBench();
+      for (ShadowBackend b : shadows->rayBenchBackends()) {
+        if (b == shadows->shadowPass().settings().backend) continue;
+        shadows->rayBench(renderer.timer(), reps, b);  // warm-up
+        RayBenchRun r{toString(b), shadows->rayBench(renderer.timer(), reps, b), 0};
+        const std::vector<uint32_t> other = shadows->readRayBench(b);
+        for (size_t i = 0; i < own.size() && i < other.size(); ++i) r.pixelsDiffering += own[i] != other[i];
+        rbOthers.push_back(std::move(r));
+      }
+    }
   }
   step("analysis and images");
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, v.params, imageDir, images, reference);
@@ -185,6 +206,23 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
                        {"rays_per_s", benchMs > 0 ? rays / (benchMs * 1e-3) : 0.0},
                        {"shadow_pass_rays_per_s", shadowMs > 0 ? rays / (shadowMs * 1e-3) : 0.0},
                        {"shadow_pass_fraction_of_peak", shadowMs > 0 ? benchMs / shadowMs : 0.0}};
+    // Every backend on the same rays: the frame's first.
+    json backends = json::object();
+    backends[run.value("backend", std::string("?"))] = {{"ms", toJson(summarize(rb), rb)},
+                                                        {"rays_per_s", benchMs > 0 ? rays / (benchMs * 1e-3) : 0.0},
+                                                        {"pixels_differing", 0}};
+    for (const RayBenchRun& r : rbOthers) {
+      const double ms = summarize(r.ms).median;
+      backends[r.backend] = {{"ms", toJson(summarize(r.ms), r.ms)},
+                             {"rays_per_s", ms > 0 ? rays / (ms * 1e-3) : 0.0},
+                             {"pixels_differing", r.pixelsDiffering}};
+    }
+    run["raybench"]["backends"] = backends;
+    run["raybench"]["backends_source"] =
+        rbOthers.empty() && ctx.info().type == "cpu"
+            ? "the frame's backend only (a CPU device: other backends are not timed)"
+            : "the analysis frame's shadow rays through each backend, as many repetitions each; pixels_differing: "
+              "pixels whose count of visible rays differs from the frame backend's";
   }
   // Each timed pass against the device's own ceilings (report/roofline.h).
   std::map<std::string, double> medianMs(medians.begin(), medians.end());
@@ -291,7 +329,7 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
   // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
   bool peaksCached = false;
   Peaks peaks = cachedPeaks(ctx, &peaksCached);
-  addRayPeaks(ctx, baseScene, peaks);  // the scene's own: never cached
+  addRayPeaks(ctx, baseScene, peaks, ctx.info().type != "cpu");  // the scene's own: never cached
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
   parent.send("context", context.dump());

@@ -130,7 +130,9 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
     };
   } else {
     RayCastInputs cast;
-    if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas)) cast = {tlas, f.ctx.info().rayQuery};
+    if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas))
+      cast = {tlas, f.settings.backend == RtBackend::RayQuery,
+              f.settings.backend == RtBackend::Compute ? f.traceBvh : nullptr};
     raster3d_ = std::make_unique<Raster3dPass>(
         f.ctx, f.scene, f.camera, f.settings.width, f.settings.height, f.settings.primary, f.settings.raster3dThreadBox,
         f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile,
@@ -138,7 +140,7 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
                                f.settings.raster3dStackEntries},
         f.settings.aa);
     if (f.settings.primary == PrimaryMethod::RayCast)
-      pass.reads = {res::kTlas};
+      pass.reads = {cast.bvh ? res::kTraceBvh : res::kTlas};
     else
       pass.reads = {res::kSceneVertices, res::kSceneIndices};
     pass.writes.insert(pass.writes.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});

@@ -8,6 +8,7 @@
 
 #include "effects/effects.h"
 #include "frame/frame_pass.h"
+#include "frame/passes/trace_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/vk_context.h"
@@ -25,7 +26,8 @@ inline constexpr const char* kFrameConstants = "frame_constants";  // gpu::Frame
 inline constexpr const char* kLights = "lights";                   // gpu::GpuLight per scene light
 inline constexpr const char* kDepth = "depth";                     // reverse-Z depth, D32_SFLOAT
 inline constexpr const char* kPointSampler = "point_sampler";
-inline constexpr const char* kTlas = "tlas";  // the ray tracer's scene
+inline constexpr const char* kTlas = "tlas";           // the ray tracer's scene
+inline constexpr const char* kTraceBvh = "trace_bvh";  // backend=compute: our BVH (trace_bvh.h)
 // Primary visibility by compute (raster3d / raycast): a visibility buffer and what decodes it.
 inline constexpr const char* kVisibility = "visibility";                     // u64 per pixel: depth | triangle id
 inline constexpr const char* kVisibilityRays = "visibility.rays";            // gpu::Raster3dConstants (UBO)
@@ -53,6 +55,8 @@ struct FrameBuilder {
   gpu::FrameConstants& constants;
   // The value of the effect being built, after precedence (null for a base part).
   nlohmann::json value;
+  // backend=compute (settings.backend, resolved from auto): our BVH, built once for every ray pass.
+  const TraceBvh* traceBvh = nullptr;
 };
 
 }  // namespace hb

@@ -34,9 +34,10 @@ struct PassFrame {
 // unit: "bytes" (DRAM traffic), "atomics", "atomics64", "fma" (FMA issue slots), "triangles" and
 // "fragments" (the hardware rasterizer), "rays" (the frame's own shadow rays: against raybench),
 // "rays_coherent" (camera rays), "rays_random" and "rays_occlusion" (incoherent rays to the
-// closest hit, or ended by the first: gpu/peaks.h addRayPeaks). source says how the amount was found: "counted"
-// (a GPU counter of the analysis frame, as the run's record reports it) or "derived: <how>" (from
-// sizes; a lower bound unless it says otherwise).
+// closest hit, or ended by the first), "rays_ao" (occlusion rays from visible surfaces: gpu/peaks.h
+// addRayPeaks; each against the rate of the backend the frame traced with). source says how the amount was found:
+// "counted" (a GPU counter of the analysis frame, as the run's record reports it) or "derived: <how>" (from sizes; a
+// lower bound unless it says otherwise).
 struct WorkItem {
   std::string unit;
   double amount = 0;

@@ -3,12 +3,22 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "config/config.h"
 #include "effects/effects.h"
 #include "scene/scene.h"
 
 namespace hb {
+
+// The device's measured ray rates (peaks: the same random rays through each backend) that
+// backend=auto chooses from (ray_backend.h chooseBackend). 0: not measured.
+struct RayRates {
+  double driverOcclusion = 0, computeOcclusion = 0;  // rays/s, any hit (shadow and AO rays)
+  double driverClosest = 0, computeClosest = 0;      // rays/s, closest hit (primary rays, photons)
+  std::string driver;                                // the driver backend measured: rayquery | pipeline
+  std::string source;                                // where the figures come from
+};
 
 struct RenderSettings {
   uint32_t width = 1920;
@@ -23,6 +33,7 @@ struct RenderSettings {
   // and the scene (effects/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
   EffectsRequest effects;
   RtBackend backend = RtBackend::Auto;
+  std::optional<RayRates> rayRates;  // backend=auto: the measurements it may choose compute from
   NormalCulling normals = NormalCulling::Off;
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
   bool rangeTest = false;

@@ -123,8 +123,13 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The frame's shared resources, then its parts in frame order: each part finds what the parts
   // before it published (frame/frame_builder.h).
   passesSkipped_ = plan_.skipped;
-  if (plan_.needs(FrameResource::AccelerationStructures))
+  if (plan_.needs(FrameResource::AccelerationStructures)) {
     accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
+    backendChoice_ = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
+    settings_.backend = backendChoice_.ran;
+    if (settings_.backend == RtBackend::Compute)
+      traceBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx, scene));  // built once, for every ray pass
+  }
   resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
   resources_.publish(res::kFrameConstants, frameConstants_, "gpu::FrameConstants", "1");
@@ -132,8 +137,12 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT");
   resources_.publishSampler(res::kPointSampler, pointSampler_);
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
+  if (traceBvh_)
+    resources_.publish(res::kTraceBvh, traceBvh_->nodes, "gpu::PrimaryBvhNode (+ triangles, trace_bvh.h)",
+                       std::to_string(traceBvh_->nodeCount) + " nodes");
 
-  FrameBuilder builder{ctx, scene, settings_, plan_, camera_, view_, proj_, gpuScene_, resources_, fc, nullptr};
+  FrameBuilder builder{ctx,   scene,     settings_,  plan_, camera_, view_,
+                       proj_, gpuScene_, resources_, fc,    nullptr, traceBvh_.get()};
   auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) {
     parts_.emplace_back(std::move(name), std::move(part));
   };
@@ -157,8 +166,8 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // The declarations hold the frame together: every pass the plan runs is built exactly once,
   // and reads only what the frame or a pass before it wrote.
   std::vector<std::string> written;
-  for (const char* name :
-       {res::kSceneVertices, res::kSceneIndices, res::kFrameConstants, res::kLights, res::kPointSampler, res::kTlas})
+  for (const char* name : {res::kSceneVertices, res::kSceneIndices, res::kFrameConstants, res::kLights,
+                           res::kPointSampler, res::kTlas, res::kTraceBvh})
     if (resources_.has(name)) written.push_back(name);
   uint32_t timerEntries = 0;
   for (const std::string& name : plan_.passes) {

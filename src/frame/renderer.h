@@ -14,6 +14,8 @@
 
 #include "effects/effects.h"
 #include "frame/frame_pass.h"
+#include "frame/passes/trace_bvh.h"
+#include "frame/ray_backend.h"
 #include "frame/render_settings.h"
 #include "gpu/accel.h"
 #include "gpu/gpu_scene.h"
@@ -96,6 +98,10 @@ class Renderer {
   uint64_t listMemoryBytes() const;      // grid, lists, bins; 0 without culling
   const Raster3dPass* raster3d() const;  // primary visibility by compute (raster3d, raycast) only
   const AccelerationStructures* accel() const { return accel_.get(); }
+  // backend=compute: our BVH, shared by every pass that traces (null otherwise).
+  const TraceBvh* traceBvh() const { return traceBvh_.get(); }
+  // Which ray tracer the frame's ray passes use, and why (settings().backend is the one that ran).
+  const BackendChoice& backendChoice() const { return backendChoice_; }
 
   // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
@@ -117,6 +123,8 @@ class Renderer {
   VkSampler pointSampler_ = VK_NULL_HANDLE;
   Buffer frameConstants_, lights_;
   std::unique_ptr<AccelerationStructures> accel_;
+  BackendChoice backendChoice_;
+  std::unique_ptr<TraceBvh> traceBvh_;
   FrameResources resources_;
   std::vector<std::pair<std::string, std::unique_ptr<FramePart>>> parts_;
   std::vector<const FramePass*> order_;  // the plan's passes, in frame order

@@ -10,6 +10,7 @@
 
 #include "base/errors.h"
 #include "base/text_format.h"
+#include "frame/passes/trace_bvh.h"
 #include "gpu/accel.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
@@ -236,13 +237,14 @@ void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pea
 
 }  // namespace
 
-void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks) {
-  if (!ctx.info().accelerationStructure || !ctx.info().rayTracingPipeline || scene.cameras.empty()) return;
+void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend) {
+  if (!ctx.canTrace() || scene.cameras.empty()) return;
   const Sizes sizes = sizesFor(ctx.info());
   const bool cpu = ctx.info().type == "cpu";
   const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
   GpuScene gpuScene(ctx, scene);
   AccelerationStructures accel(ctx, gpuScene);
+  const TraceBvh bvh = everyBackend ? buildTraceBvh(ctx, scene) : TraceBvh{};
   struct Params {
     glm::vec4 eye, forward, right, up, lo, hi;
   } params;
@@ -259,40 +261,98 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks) {
   params.hi = glm::vec4(hi, 0);
   const Buffer uniforms =
       uploadBuffer(ctx, &params, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
-  Buffer missed(ctx, size_t(width) * height * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
-  DescriptorSets sets(ctx,
-                      {{HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR},
-                       {HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, VK_SHADER_STAGE_RAYGEN_BIT_KHR},
-                       {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_RAYGEN_BIT_KHR}});
-  sets.writeBuffer(0, HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, missed.handle());
-  sets.writeAccelerationStructure(0, HB_PEAKS_TLAS, accel.tlas());
-  sets.writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
-  const char* keys[3] = {"rays_camera", "rays_random_closest", "rays_random_occlusion"};
-  const char* units[3] = {"rays_coherent", "rays_random", "rays_occlusion"};
-  const std::string where = " on " + scene.name + "'s TLAS (" + std::to_string(width) + "x" + std::to_string(height) +
+  const size_t rays = size_t(width) * height;
+  Buffer missed(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
+  Buffer hits(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  // One set layout per backend: the driver's TLAS or our BVH.
+  enum Backend { kPipeline, kRayQuery, kCompute };
+  auto makeSets = [&](Backend b) {
+    const VkShaderStageFlags st = b == kPipeline ? VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR)
+                                                 : VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT);
+    std::vector<Binding> bindings{
+        {HB_PEAKS_DST, sb, st}, {HB_PEAKS_HITS, sb, st}, {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st}};
+    if (b == kCompute)
+      bindings.insert(bindings.end(), {{HB_PEAKS_BVH_NODES, sb, st}, {HB_PEAKS_BVH_TRIANGLES, sb, st}});
+    else
+      bindings.push_back({HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st});
+    auto sets = std::make_unique<DescriptorSets>(ctx, bindings);
+    sets->writeBuffer(0, HB_PEAKS_DST, sb, missed.handle());
+    sets->writeBuffer(0, HB_PEAKS_HITS, sb, hits.handle());
+    sets->writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
+    if (b == kCompute) {
+      sets->writeBuffer(0, HB_PEAKS_BVH_NODES, sb, bvh.nodes.handle());
+      sets->writeBuffer(0, HB_PEAKS_BVH_TRIANGLES, sb, bvh.triangles.handle());
+    } else {
+      sets->writeAccelerationStructure(0, HB_PEAKS_TLAS, accel.tlas());
+    }
+    return sets;
+  };
+  const char* keys[4] = {"rays_camera", "rays_random_closest", "rays_random_occlusion", "rays_ao"};
+  const char* units[4] = {"rays_coherent", "rays_random", "rays_occlusion", "rays_ao"};
+  const std::string where = " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) +
                             " rays, no hit shader)";
-  const char* what[3] = {"camera rays through every pixel, closest hit",
-                         "rays from random points of the scene's "
-                         "bounds in random directions, closest hit",
-                         "the same random rays as occlusion rays "
-                         "(first hit ends them)"};
-  for (uint32_t mode = 0; mode < 3; ++mode) {
-    RaygenMissPipeline p(ctx, sets.layout(), "peaks_rays.rgen", "shadows.rmiss", {{mode}});
-    VkDescriptorSet set = sets.set();
-    peaks.figures.push_back(makePeak(
-        keys[mode], units[mode], double(width) * height,
-        timeRepetitions(ctx, sizes,
-                        [&](VkCommandBuffer cmd) {
-                          vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
-                          vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0,
-                                                  1, &set, 0, nullptr);
-                          p.traceRays(cmd, width, height);
-                        }),
-        what[mode] + where));
+  const char* what[4] = {"camera rays through every pixel, closest hit",
+                         "rays from random points of the scene's bounds in random directions, closest hit",
+                         "the same random rays as occlusion rays (first hit ends them)",
+                         "AO rays: from where each camera ray meets a surface, a random direction of the hemisphere "
+                         "facing the camera, occlusion rays as long as the bounds' diagonal"};
+  // Ours first: its camera rays write the surfaces the AO rays of every backend start from.
+  std::vector<Backend> backends;
+  if (everyBackend) backends.push_back(kCompute);
+  if (ctx.info().rayTracingPipeline) backends.push_back(kPipeline);
+  if (ctx.info().rayQuery && everyBackend) backends.push_back(kRayQuery);
+  for (Backend b : backends) {
+    const std::unique_ptr<DescriptorSets> sets = makeSets(b);
+    const char* name = b == kCompute ? "compute" : b == kPipeline ? "pipeline" : "rayquery";
+    // The AO rays start where our BVH's camera rays met the scene: only where it ran.
+    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) {
+      std::unique_ptr<RaygenMissPipeline> rt;
+      Pipeline compute(ctx);
+      if (b == kPipeline) {
+        rt = std::make_unique<RaygenMissPipeline>(ctx, sets->layout(), "peaks_rays.rgen", "shadows.rmiss",
+                                                  SpecConstants{{mode}});
+      } else {
+        compute.createLayout({sets->layout()}, 2 * sizeof(uint32_t));
+        if (b == kCompute)  // 8x8 threads a group
+          compute.createCompute("peaks_rays_compute.comp", {{mode, bvh.stack, traceStackShared(bvh, 64) ? 1u : 0u}});
+        else
+          compute.createCompute("peaks_rays_rayquery.comp", {{mode}});
+      }
+      VkDescriptorSet set = sets->set();
+      const uint32_t size[2] = {width, height};
+      Peak peak =
+          makePeak(b == kPipeline ? keys[mode] : std::string(keys[mode]) + "_" + name, units[mode], double(rays),
+                   timeRepetitions(ctx, sizes,
+                                   [&](VkCommandBuffer cmd) {
+                                     const Pipeline& p = rt ? rt->pipeline() : compute;
+                                     vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
+                                     vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
+                                     if (rt) {
+                                       rt->traceRays(cmd, width, height);
+                                     } else {
+                                       vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
+                                       vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+                                     }
+                                   }),
+                   std::string(what[mode]) + where + ", through " +
+                       (b == kCompute    ? "our BVH in compute (backend=compute)"
+                        : b == kPipeline ? "the driver's ray-tracing pipeline"
+                                         : "the driver's ray query"));
+      peak.backend = name;
+      const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
+      const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
+      peak.missed = 0;
+      for (size_t i = 0; i < rays; ++i) peak.missed += m[i];
+      peaks.figures.push_back(std::move(peak));
+    }
   }
 }
 
-double Peaks::rateFor(const std::string& unit) const {
+double Peaks::rateFor(const std::string& unit, const std::string& backend) const {
+  if (!backend.empty())
+    for (const Peak& p : figures)
+      if (p.unit == unit && p.backend == backend) return p.perSecond;
   if (unit == "bytes") {
     double best = 0;
     for (const Peak& p : figures)
@@ -327,6 +387,8 @@ json toJson(const Peaks& peaks, const DeviceInfo& device) {
         {"work", p.work},
         {"ms", {{"median", median(p.ms)}, {"min", sorted.front()}, {"max", sorted.back()}, {"samples", p.ms}}},
         {"description", p.description}};
+    if (!p.backend.empty()) figures[p.key]["backend"] = p.backend;
+    if (p.missed >= 0) figures[p.key]["missed"] = p.missed;
   }
   return {{"version", kPeaksVersion}, {"device", device.name},
           {"uuid", device.uuid},      {"driver", device.driverName + " " + device.driverVersion},
@@ -347,6 +409,8 @@ Peaks peaksFromJson(const json& j) {
     p.work = f.value("work", 0.0);
     if (f.contains("ms")) p.ms = f["ms"].value("samples", std::vector<double>{});
     p.description = f.value("description", "");
+    p.backend = f.value("backend", "");
+    p.missed = f.value("missed", -1.0);
     peaks.figures.push_back(p);
   }
   return peaks;

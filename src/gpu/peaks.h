@@ -23,6 +23,8 @@ struct Peak {
   double work = 0;          // units per repetition
   std::vector<double> ms;   // each repetition's time
   std::string description;  // what one repetition does, in words
+  std::string backend;      // ray figures: the tracer, pipeline | rayquery | compute ("" otherwise)
+  double missed = -1;       // ray figures: the rays that met nothing (-1 otherwise), equal across backends
 };
 
 struct Peaks {
@@ -30,19 +32,24 @@ struct Peaks {
   std::string timing;  // "gpu timestamps" or "host clock (CPU device)"
   // The rate for a unit a pass counts (report/roofline.cpp): bytes -> the highest of read, write
   // and copy; atomics -> distinct 32-bit adds; atomics64 -> atomicMin on 64 bits; fma; triangles;
-  // fragments; rays_coherent, rays_random, rays_occlusion (addRayPeaks). 0 where nothing measured it.
-  double rateFor(const std::string& unit) const;
+  // fragments; rays_coherent, rays_random, rays_occlusion, rays_ao (addRayPeaks), through
+  // `backend` where given and measured (else the first backend measured). 0 where nothing measured it.
+  double rateFor(const std::string& unit, const std::string& backend = "") const;
 };
 
 // Measures every figure on ctx's device (a few seconds on a GPU, about a second on lavapipe).
 // Figures the device cannot run (64-bit atomics) are left out.
 Peaks measurePeaks(const VulkanContext& ctx);
 
-// Adds the device's ray rates on `scene`'s TLAS, through the ray-tracing pipeline (a device
-// without one adds none): camera rays of a full-HD image (rays_coherent), random rays in the
-// scene's bounds to the closest hit (rays_random) and as occlusion rays (rays_occlusion). They
+// Adds the device's ray rates on `scene`, the same rays through every backend the device has (our
+// BVH in compute, the ray-tracing pipeline, ray query; keys rays_camera, rays_camera_compute,
+// rays_camera_rayquery, ...; a device that cannot trace adds none): camera rays of a full-HD image
+// (rays_coherent), random rays in the scene's bounds to the closest hit (rays_random) and as
+// occlusion rays (rays_occlusion), and AO rays from the surfaces the camera sees (rays_ao). They
 // depend on the scene, so they are never cached; a sweep adds them for its scene.
-void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks);
+// everyBackend false: the driver's backends only (a CPU device's render and sweep, where the
+// timings mean nothing and each figure costs a second; `peaks` measures them all).
+void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend = true);
 
 // {"version", "timing", "figures": {key: {unit, per_s, work, ms: {median, min, max, samples}, description}}}
 nlohmann::json toJson(const Peaks& peaks, const DeviceInfo& device);

@@ -10,11 +10,13 @@ namespace hb {
 
 using json = nlohmann::json;
 
-std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS) {
+std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS, const std::string& backend) {
   std::map<std::string, double> rates;
-  for (const char* unit : {"bytes", "atomics", "atomics64", "fma", "triangles", "fragments", "rays_coherent",
-                           "rays_random", "rays_occlusion"})
+  for (const char* unit : {"bytes", "atomics", "atomics64", "fma", "triangles", "fragments"})
     rates[unit] = peaks.rateFor(unit);
+  // Ray passes against the rate of the backend they traced with.
+  for (const char* unit : {"rays_coherent", "rays_random", "rays_occlusion", "rays_ao"})
+    rates[unit] = peaks.rateFor(unit, backend);
   rates["rays"] = raybenchRaysPerS;
   return rates;
 }
@@ -70,7 +72,7 @@ json rooflineOf(const Renderer& renderer, const json& run, const std::map<std::s
     }
   double rays = 0;
   if (run.contains("raybench")) rays = run["raybench"].value("rays_per_s", 0.0);
-  return rooflineJson(works, medianMs, peakRates(peaks, rays));
+  return rooflineJson(works, medianMs, peakRates(peaks, rays, run.value("backend", std::string())));
 }
 
 namespace {

@@ -16,7 +16,8 @@ namespace hb {
 
 // The peak per second of each unit: the device's peaks, and for "rays" the rate of the frame's own
 // shadow rays traced alone (raybench) where the run has it (0: none).
-std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS);
+// Ray units take the rate measured through `backend` (the run's "backend") where it was measured.
+std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysPerS, const std::string& backend = "");
 
 // {entry: {bound, work, unit, ms, achieved_per_s, peak_per_s, fraction, source, loads: [...]}} for
 // every entry of `works` that has a time in medianMs. fraction is null where no peak was measured

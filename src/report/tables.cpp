@@ -42,7 +42,7 @@ const ThesisConfig kThesis[] = {
     {"5.2", "32x32", 32, true, true, "improved", 9.99, kNaN},
 };
 
-std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
+std::string cellNum(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
 
 std::string stringAt(const json& j, const char* key) {
   const json& v = at(j, key);
@@ -116,10 +116,10 @@ std::string headerLine(const json& results) {
 std::string frameCell(const ThesisRow& r) {
   if (r.status == "missing") return "missing (not in results)";
   if (r.status == "error") return "failed (run '" + r.runName + "')";
-  return num(r.frameMs, "%.3f");
+  return cellNum(r.frameMs, "%.3f");
 }
 
-std::string shareCell(double share) { return num(100 * share, "%.1f %%"); }
+std::string shareCell(double share) { return cellNum(100 * share, "%.1f %%"); }
 
 }  // namespace
 
@@ -177,8 +177,8 @@ std::string thesisTablesMarkdown(const json& results) {
   std::vector<std::string> notes;
   auto extraCells = [&](const ThesisRow& r) {
     if (!r.note.empty()) notes.push_back(r.table + " " + r.label + ": " + r.note);
-    return " | " + num(r.raysTraced, "%.0f") + " | " +
-           (std::isfinite(r.efficiency) ? formatNear1(r.efficiency) : num(r.efficiency, "%.3f")) + " | " +
+    return " | " + cellNum(r.raysTraced, "%.0f") + " | " +
+           (std::isfinite(r.efficiency) ? formatNear1(r.efficiency) : cellNum(r.efficiency, "%.3f")) + " | " +
            shareCell(r.shadowShare) + " | " + bytes(r.memoryBytes) + " |\n";
   };
   auto diffCell = [](const ThesisRow& r) {
@@ -229,14 +229,14 @@ std::string thesisTablesCsv(const json& results) {
                                              r.normalCulling,
                                              r.status,
                                              r.runName,
-                                             num(r.frameMs, "%.6g"),
-                                             num(r.diffPct, "%.2f"),
+                                             cellNum(r.frameMs, "%.6g"),
+                                             cellNum(r.diffPct, "%.2f"),
                                              format("%g", r.thesisMs),
-                                             num(r.thesisDiffPct, "%.2f"),
-                                             num(r.raysTraced, "%.0f"),
-                                             num(r.efficiency, "%.6g"),
-                                             num(r.shadowShare, "%.6g"),
-                                             num(r.memoryBytes, "%.0f"),
+                                             cellNum(r.thesisDiffPct, "%.2f"),
+                                             cellNum(r.raysTraced, "%.0f"),
+                                             cellNum(r.efficiency, "%.6g"),
+                                             cellNum(r.shadowShare, "%.6g"),
+                                             cellNum(r.memoryBytes, "%.0f"),
                                              r.note};
     for (size_t i = 0; i < fields.size(); ++i) out += (i ? "," : "") + csvField(fields[i]);
     out += "\n";

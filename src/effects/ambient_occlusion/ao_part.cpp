@@ -19,10 +19,7 @@ AoPart::AoPart(FrameBuilder& f) {
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
   const AoInputs ai = surfaceBindings(f, surface);
-  if (f.settings.backend == RtBackend::Compute && ai.tlas) {  // traces through our BVH
-    bvh_ = std::make_unique<TraceBvh>(buildTraceBvh(f.ctx, f.scene));
-    as.computeBvh = bvh_.get();
-  }
+  if (f.settings.backend == RtBackend::Compute && ai.tlas) as.computeBvh = f.traceBvh;  // traces through our BVH
   ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
@@ -45,6 +42,7 @@ AoPart::AoPart(FrameBuilder& f) {
   pass.reads = surfaceReads(surface);
   if (ao_->buildsLdms()) pass.reads.push_back("ambient_occlusion.ldm");
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
+  if (as.computeBvh) pass.reads.push_back(res::kTraceBvh);
   pass.writes = {res::kAmbientOcclusion};
   pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordAo(cmd); };
   pass.work = [pixels = double(f.settings.width) * f.settings.height](const nlohmann::json& a) {
@@ -54,12 +52,12 @@ AoPart::AoPart(FrameBuilder& f) {
     const std::string method = ao.value("method", "");
     WorkItem item;
     if (method == "raytraced")
-      item = derived("rays_occlusion", lit * directions, "one ray per direction per pixel with a surface");
+      item = derived("rays_ao", lit * directions, "one ray per direction per pixel with a surface");
     else if (method == "hbao")
       item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 4,
                      "a 4 B depth texel per step per direction per pixel (most from cache)");
     else if (method == "reference")
-      item = derived("rays_occlusion", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
+      item = derived("rays_ao", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
     else
       item = derived("bytes", lit * directions * 8, "at least one 8 B list node read per direction per pixel");
     return std::vector<PassWork>{{kAmbientOcclusionPass, {item}}};

@@ -14,7 +14,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.indirect = indirectSettingsOf(f.value);
   is.worldPos = surface.worldPos;  // the surface as ambient occlusion takes it
   is.normals = surface.normals;
-  is.rayQuery = f.settings.backend != RtBackend::Pipeline && f.ctx.info().rayQuery;  // backend=pipeline: every ray pass
+  is.rayQuery = f.settings.backend == RtBackend::RayQuery;  // the renderer resolved auto
+  if (f.settings.backend == RtBackend::Compute) is.computeBvh = f.traceBvh;
   const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");

@@ -170,9 +170,10 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
 
   if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
   const VkShaderStageFlags trace =
-      settings_.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-                         : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
-                                              VK_SHADER_STAGE_MISS_BIT_KHR);
+      settings_.rayQuery || settings_.computeBvh
+          ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+                               VK_SHADER_STAGE_MISS_BIT_KHR);
   const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   bindings_ = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
@@ -195,6 +196,11 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                {HB_INDIRECT_FACES, sb, trace},
                {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
                {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
+  if (settings_.computeBvh) {  // our BVH instead of the TLAS
+    std::erase_if(bindings_, [](const Binding& b) { return b.binding == HB_SURFACE_TLAS; });
+    bindings_.push_back({HB_SURFACE_BVH_NODES, sb, trace});
+    bindings_.push_back({HB_SURFACE_BVH_TRIANGLES, sb, trace});
+  }
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
@@ -247,7 +253,12 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   d.writeBuffer(0, HB_INDIRECT_LIGHTS, sb, in_.lights->handle());
   d.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  d.writeAccelerationStructure(0, HB_SURFACE_TLAS, in_.tlas);
+  if (const TraceBvh* bvh = settings_.computeBvh) {
+    d.writeBuffer(0, HB_SURFACE_BVH_NODES, sb, bvh->nodes.handle());
+    d.writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, sb, bvh->triangles.handle());
+  } else {
+    d.writeAccelerationStructure(0, HB_SURFACE_TLAS, in_.tlas);
+  }
   d.writeBuffer(0, HB_INDIRECT_VERTICES, sb, gpuScene_.vertices().handle());
   d.writeBuffer(0, HB_INDIRECT_SCENE_INDICES, sb, gpuScene_.indices().handle());
   d.writeBuffer(0, HB_INDIRECT_MATERIALS, sb, textures_->materials().handle());
@@ -282,7 +293,13 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
                      : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
                                                            : gpu::kIndirectReference;
   const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m}};
-  if (settings_.rayQuery) {
+  if (const TraceBvh* bvh = settings_.computeBvh) {  // 64 threads a group
+    SpecConstants withStack = spec;
+    withStack.values.push_back(bvh->stack);
+    withStack.values.push_back(traceStackShared(*bvh, 64) ? 1u : 0u);
+    p->compute.createLayout({frame_.sets->layout()}, 0);
+    p->compute.createCompute("indirect_computetrace.comp", withStack);
+  } else if (settings_.rayQuery) {
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute("indirect.comp", spec);
   } else {

@@ -19,6 +19,7 @@
 #include "effects/indirect/indirect_effect.h"
 #include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
+#include "frame/passes/trace_bvh.h"
 #include "gpu/gpu_textures.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/vk_pipeline.h"
@@ -38,6 +39,7 @@ struct IndirectPassSettings {
   NormalCulling normals = NormalCulling::Improved;  // as AoPassSettings
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
   bool rayQuery = true;  // trace through ray queries (false: the ray-tracing pipeline); the frame's backend
+  const TraceBvh* computeBvh = nullptr;  // backend=compute: our BVH instead of either (the frame's)
 };
 
 struct IndirectMemory {

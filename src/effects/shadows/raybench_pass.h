@@ -1,12 +1,15 @@
 // The ray throughput benchmark: re-traces exactly the shadow rays that the last analysis frame
 // traced (shaders/shadows/raybench_common.glsl.inc) as a pure ray workload on the same TLAS, so that the
-// shadow pass's ray rate can be held against the device's own rate on the same rays.
+// shadow pass's ray rate can be held against the device's own rate on the same rays. Any backend
+// traces them, whichever the frame used (`bvh`: our BVH, where the frame's shadows did not build on
+// one; inputs.bvhNodes/bvhTriangles point into it).
 #pragma once
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "effects/shadows/shadow_pass.h"
+#include "frame/passes/trace_bvh.h"
 #include "gpu/rt_pipeline.h"
 
 namespace hb {
@@ -14,7 +17,7 @@ namespace hb {
 class RayBenchPass {
  public:
   RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
-               const ShadowInputs& inputs, const ShadowPass& shadows);
+               const ShadowInputs& inputs, const ShadowPass& shadows, const TraceBvh* bvh = nullptr);
   ~RayBenchPass();
   void record(VkCommandBuffer cmd) const;
   // Per pixel (row-major) the number of its traced rays found unoccluded by the last record():

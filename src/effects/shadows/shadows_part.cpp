@@ -12,7 +12,19 @@
 
 namespace hb {
 
-ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width), height_(f.settings.height) {
+namespace {
+// Points the shadow pass's settings and inputs at our BVH (backend=compute).
+void useBvh(ShadowSettings& ss, ShadowInputs& in, const TraceBvh& bvh, uint32_t tileSize) {
+  ss.bvhStack = bvh.stack;
+  ss.bvhStackShared = traceStackShared(bvh, tileSize * tileSize);  // a workgroup per tile
+  ss.raybenchStackShared = traceStackShared(bvh, 64);
+  in.bvhNodes = &bvh.nodes;
+  in.bvhTriangles = &bvh.triangles;
+}
+}  // namespace
+
+ShadowsPart::ShadowsPart(FrameBuilder& f)
+    : ctx_(f.ctx), scene_(f.scene), width_(f.settings.width), height_(f.settings.height) {
   const RenderSettings& s = f.settings;
   const FrameResources& r = f.resources;
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
@@ -23,12 +35,10 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
                      " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
                      "matrix otherwise)");
   ShadowSettings ss;
-  if (s.backend == RtBackend::Auto)
-    ss.backend = f.ctx.info().rayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
-  else if (s.backend == RtBackend::Compute)
-    ss.backend = ShadowBackend::Compute;
-  else
-    ss.backend = s.backend == RtBackend::RayQuery ? ShadowBackend::RayQuery : ShadowBackend::Pipeline;
+  // The renderer resolved auto (frame/ray_backend.h).
+  ss.backend = s.backend == RtBackend::Compute    ? ShadowBackend::Compute
+               : s.backend == RtBackend::RayQuery ? ShadowBackend::RayQuery
+                                                  : ShadowBackend::Pipeline;
   ss.tileSize = s.tileSize;
   ss.normals = s.normals;
   ss.worldPos = s.worldPos;
@@ -43,12 +53,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
              r.sampler(res::kPointSampler),
              r.tlas(res::kTlas)};
   if (ss.backend == ShadowBackend::Compute) {
-    bvh_ = buildTraceBvh(f.ctx, f.scene);
-    ss.bvhStack = bvh_.stack;
-    ss.bvhStackShared = traceStackShared(bvh_, s.tileSize * s.tileSize);  // a workgroup per tile
-    ss.raybenchStackShared = traceStackShared(bvh_, 64);
-    inputs_.bvhNodes = &bvh_.nodes;
-    inputs_.bvhTriangles = &bvh_.triangles;
+    HB_ASSERT(f.traceBvh != nullptr);  // the renderer builds it for backend=compute
+    useBvh(ss, inputs_, *f.traceBvh, s.tileSize);
   }
   inputs_.hitIds = r.buffer(res::kVisibility);
   inputs_.hitRays = r.buffer(res::kVisibilityRays);
@@ -61,6 +67,7 @@ ShadowsPart::ShadowsPart(FrameBuilder& f) : ctx_(f.ctx), width_(f.settings.width
   FramePass pass;
   pass.name = kShadowsPass;
   pass.reads = {res::kFrameConstants, res::kListLights, res::kListGrid, res::kListIndices, res::kDepth, res::kTlas};
+  if (f.traceBvh) pass.reads.push_back(res::kTraceBvh);
   if (inputs_.hitIds)
     pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
@@ -101,16 +108,37 @@ ShadowReadback ShadowsPart::readShadows() const {
   return r;
 }
 
-std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions) {
-  if (!rayBench_)
-    rayBench_ = std::make_unique<RayBenchPass>(ctx_, shadows_->settings().backend, width_, height_, inputs_, *shadows_);
+std::vector<ShadowBackend> ShadowsPart::rayBenchBackends() const {
+  std::vector<ShadowBackend> out{shadows_->settings().backend};
+  for (ShadowBackend b : {ShadowBackend::RayQuery, ShadowBackend::Pipeline, ShadowBackend::Compute}) {
+    const bool available = b == ShadowBackend::Compute    ? true
+                           : b == ShadowBackend::RayQuery ? ctx_.info().rayQuery
+                                                          : ctx_.info().rayTracingPipeline;
+    if (available && b != out.front()) out.push_back(b);
+  }
+  return out;
+}
+
+std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<ShadowBackend> backend) {
+  const ShadowBackend b = backend.value_or(shadows_->settings().backend);
+  std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(b)];
+  if (!bench) {
+    ShadowInputs in = inputs_;
+    if (b == ShadowBackend::Compute && !in.bvhNodes) {  // the frame traces with the driver's: ours for the bench
+      if (!ownBvh_) ownBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx_, scene_));
+      in.bvhNodes = &ownBvh_->nodes;
+      in.bvhTriangles = &ownBvh_->triangles;
+    }
+    const TraceBvh* bvh = b == ShadowBackend::Compute && ownBvh_ ? ownBvh_.get() : nullptr;
+    bench = std::make_unique<RayBenchPass>(ctx_, b, width_, height_, in, *shadows_, bvh);
+  }
   std::vector<double> ms;
   for (uint32_t rep = 0; rep < repetitions; ++rep) {
     ctx_.submitAndWait([&](VkCommandBuffer cmd) {
       timer.reset(cmd);
       timer.frameBegin(cmd);
       timer.begin(cmd, "raybench");
-      rayBench_->record(cmd);
+      bench->record(cmd);
       timer.end(cmd);
       timer.frameEnd(cmd);
     });
@@ -120,9 +148,10 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions)
   return ms;
 }
 
-std::vector<uint32_t> ShadowsPart::readRayBench() const {
-  HB_ASSERT(rayBench_);
-  return rayBench_->readResult();
+std::vector<uint32_t> ShadowsPart::readRayBench(std::optional<ShadowBackend> backend) const {
+  const std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(backend.value_or(shadows_->settings().backend))];
+  HB_ASSERT(bench);
+  return bench->readResult();
 }
 
 ShadowsPart* shadowsOf(const Renderer& renderer) { return renderer.part<ShadowsPart>(shadowsEffect().name); }

@@ -3,6 +3,7 @@
 // readbacks; and the ray-throughput benchmark on the same rays (raybench_pass.h).
 #pragma once
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "effects/shadows/raybench_pass.h"
@@ -20,22 +21,24 @@ class ShadowsPart : public FramePart {
   explicit ShadowsPart(FrameBuilder& frame);
   const ShadowPass& shadowPass() const { return *shadows_; }
   ShadowReadback readShadows() const;  // after an analysis frame
-  // Re-traces the rays of the last analysis frame `repetitions` times as a pure ray workload;
-  // returns each repetition's GPU time in ms. Precondition: the last frame was an analysis frame.
-  std::vector<double> rayBench(GpuTimer& timer, uint32_t repetitions);
-  // Per pixel the traced rays the last rayBench() repetition found visible (RayBenchPass::readResult).
-  // Precondition: rayBench() has run (with repetitions >= 1 since the rays last changed).
-  std::vector<uint32_t> readRayBench() const;
-  // backend=compute: our BVH (render.json "compute_bvh"); empty otherwise.
-  const TraceBvh& computeBvh() const { return bvh_; }
+  // Re-traces the rays of the last analysis frame `repetitions` times as a pure ray workload,
+  // through `backend` (default: the frame's); returns each repetition's GPU time in ms.
+  // Precondition: the last frame was an analysis frame.
+  std::vector<double> rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<ShadowBackend> backend = {});
+  // The backends raybench can trace on this device, the frame's first (sweep: "raybench.backends").
+  std::vector<ShadowBackend> rayBenchBackends() const;
+  // Per pixel the traced rays the last rayBench() repetition through `backend` found visible
+  // (RayBenchPass::readResult). Precondition: rayBench() has run through it.
+  std::vector<uint32_t> readRayBench(std::optional<ShadowBackend> backend = {}) const;
 
  private:
   const VulkanContext& ctx_;
+  const Scene& scene_;
   uint32_t width_, height_;
   ShadowInputs inputs_{};
-  TraceBvh bvh_;  // backend=compute
   std::unique_ptr<ShadowPass> shadows_;
-  std::unique_ptr<RayBenchPass> rayBench_;
+  std::unique_ptr<TraceBvh> ownBvh_;             // raybench through compute when the frame traces with the driver's
+  std::unique_ptr<RayBenchPass> rayBenches_[3];  // by ShadowBackend
 };
 
 // The frame's shadows part; null when the effect does not run.

@@ -99,16 +99,6 @@ static bool lightReaches(const Light& l, const glm::dvec3& p, const glm::dvec3& 
 void reportShadows(EffectReport& r) {
   ShadowsPart* shadows = shadowsOf(r.renderer);
   if (!shadows) return;
-  r.run["backend"] = toString(shadows->shadowPass().settings().backend);
-  if (shadows->shadowPass().settings().backend == ShadowBackend::Compute) {
-    const TraceBvh& b = shadows->computeBvh();
-    r.run["compute_bvh"] = {{"layout", "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
-                            {"nodes", b.nodeCount},
-                            {"depth", b.depth},
-                            {"bytes", b.bytes},
-                            {"build_ms", b.buildMs},
-                            {"build_ms_source", "wall clock on the CPU"}};
-  }
   if (!r.perspective || !r.renderer.hasCulling()) return;
   const Renderer& renderer = r.renderer;
   const Scene& scene = r.scene;

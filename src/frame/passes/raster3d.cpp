@@ -99,9 +99,15 @@ std::vector<Binding> storageBindings(uint32_t count, uint32_t constants, VkShade
     b.push_back({i, i == constants ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
   return b;
 }
-std::vector<Binding> castBindings(VkShaderStageFlags stages) {
+std::vector<Binding> castBindings(VkShaderStageFlags stages, bool bvh) {
   std::vector<Binding> b = storageBindings(HB_CAST_BINDING_COUNT, HB_CAST_CONSTANTS, stages);
-  b[HB_CAST_TLAS] = {HB_CAST_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  if (bvh) {  // our BVH instead of the TLAS
+    b.erase(b.begin() + HB_CAST_TLAS);
+    b.push_back({HB_CAST_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+    b.push_back({HB_CAST_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
+  } else {
+    b[HB_CAST_TLAS] = {HB_CAST_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
+  }
   return b;
 }
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
@@ -172,26 +178,37 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   resolve_.createCompute("raster3d_resolve.comp");
 
   if (mode == PrimaryMethod::RayCast) {
-    HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE);
+    HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE || rayCast.bvh != nullptr);
     const std::vector<uint32_t> idBase = triangleIdBase(scene);
     idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            MemClass::Other);
     const VkShaderStageFlags stages =
-        rayCast.rayQuery ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-                         : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
-    castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages));
+        rayCast.rayQuery || rayCast.bvh
+            ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
+            : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
+    castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages, rayCast.bvh != nullptr));
     castSets_->writeBuffer(0, HB_CAST_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
     castSets_->writeBuffer(0, HB_CAST_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
     castSets_->writeBuffer(0, HB_CAST_ID_BASE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
-    castSets_->writeAccelerationStructure(0, HB_CAST_TLAS, rayCast.tlas);
+    if (rayCast.bvh) {
+      castSets_->writeBuffer(0, HB_CAST_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rayCast.bvh->nodes.handle());
+      castSets_->writeBuffer(0, HB_CAST_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                             rayCast.bvh->triangles.handle());
+    } else {
+      castSets_->writeAccelerationStructure(0, HB_CAST_TLAS, rayCast.tlas);
+    }
     castSets_->writeBuffer(0, HB_CAST_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
     castSets_->writeBuffer(0, HB_CAST_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
-    if (rayCast.rayQuery) {
+    if (rayCast.rayQuery || rayCast.bvh) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
       for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
         p->createLayout({castSets_->layout()}, 0);
-        p->createCompute("primary_raycast.comp", {{analysis}});
+        if (rayCast.bvh)  // 8x8 threads a group
+          p->createCompute("primary_raycast_compute.comp",
+                           {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64) ? 1u : 0u}});
+        else
+          p->createCompute("primary_raycast.comp", {{analysis}});
       }
     } else {
       castRtTimed_ =

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "frame/passes/trace_bvh.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/vk_pipeline.h"
@@ -76,7 +77,8 @@ struct Raster3dBvhStats {
 // What ray casting needs: the TLAS and the device's way to trace.
 struct RayCastInputs {
   VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
-  bool rayQuery = true;  // false: the ray-tracing pipeline
+  bool rayQuery = true;           // false: the ray-tracing pipeline
+  const TraceBvh* bvh = nullptr;  // backend=compute: our BVH instead of either
 };
 
 class Raster3dPass {

@@ -1,0 +1,35 @@
+#version 460
+// Indirect light through our own BVH (backend=compute, compute_occluded.glsl.inc;
+// indirect_common.glsl.inc): the same photons and gather rays as indirect.comp.glsl, with
+// closestHitBvh for photons and gather rays and occluded() for the reference's light rays.
+#extension GL_GOOGLE_include_directive : require
+#include "surface_constants.glsl.inc"
+layout(constant_id = 2) const uint METHOD = kIndirectLdm;
+layout(local_size_x = 64) in;
+
+#include "indirect_common.glsl.inc"
+
+#include "depth_texel.glsl.inc"
+#define HB_BVH_NODES_BINDING HB_SURFACE_BVH_NODES
+#define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
+#define HB_BVH_STACK_ID 3
+#define HB_BVH_SHARED_ID 4
+#define HB_BVH_THREADS 64u
+
+float depthAt(ivec2 p) { return fetchDepth(p); }
+
+#include "compute_occluded.glsl.inc"
+
+bool closestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) {
+  return closestHitBvh(origin, dir, tMin, tMax, t, id);
+}
+
+void main() {
+  const uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
+  if (METHOD == kIndirectReference) {
+    const uint width = uint(frame.extent.x);
+    gatherPixel(ivec2(index % width, index / width));
+  } else {
+    photonTrace(index);
+  }
+}

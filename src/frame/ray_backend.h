@@ -1,0 +1,35 @@
+// Which ray tracer a frame's ray passes use (config "backend"): the driver's (ray query where the
+// device has it, else the ray-tracing pipeline) or ours in compute (docs/methods/compute-ray-tracing.md).
+// backend=auto keeps the driver's unless the device's own measured rates say ours is faster on both
+// kinds of ray; the frame records which ran and why (render.json "backend", "backend_choice").
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "frame/render_settings.h"
+#include "gpu/peaks.h"
+#include "gpu/vk_context.h"
+
+namespace hb {
+
+struct BackendChoice {
+  RtBackend requested = RtBackend::Auto;
+  RtBackend ran = RtBackend::RayQuery;  // never Auto
+  std::string reason;
+};
+
+// Ours must beat the driver's by this factor on both ray kinds for auto to take it: above the
+// run-to-run spread of the peaks' ray rates (their repetitions vary by under 3 % on the H200) with
+// room, so that two runs of one device do not choose differently.
+inline constexpr double kAutoComputeMargin = 1.10;
+
+// The rates auto chooses from, out of the peaks measured on the frame's scene (addRayPeaks): the
+// random occlusion and closest-hit rays through our BVH and through the driver's tracer (ray query
+// where the device has it); empty where either was not measured.
+std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device);
+
+BackendChoice chooseBackend(RtBackend requested, const DeviceInfo& device, const std::optional<RayRates>& rates);
+nlohmann::json toJson(const BackendChoice& choice, const std::optional<RayRates>& rates);
+
+}  // namespace hb
