@@ -623,12 +623,13 @@ TEST_F(Raster3dTest, RaycastGivesTheSameIdsAndDepthsAsTheDoubleRayCastAnd3dr) {
   // cast hits, ids agree except at ties, and depth within the ray tracer's own error (a few u of t,
   // the same 1e-6 at p99.9 as 3dr). The two backends name the same triangle at every pixel but ties.
   const Scene scene = makeAtrium(AtriumParams{});
-  std::map<RtBackend, std::vector<uint64_t>> byBackend;
-  for (RtBackend backend : {RtBackend::Auto, RtBackend::Compute}) {
-    SCOPED_TRACE(toString(backend));
+  std::map<std::pair<RtBackend, uint32_t>, std::vector<uint64_t>> byBackend;
+  for (auto [backend, width] : {std::pair{RtBackend::Auto, 2u}, {RtBackend::Compute, 2u}, {RtBackend::Compute, 4u}}) {
+    SCOPED_TRACE(std::string(toString(backend)) + ", bvh_width " + std::to_string(width));
     RenderSettings rs = atrium3drSettings();
     rs.primary = hb::testing::primaryNamed("raycast");
     rs.backend = backend;
+    rs.bvhWidth = width;
     Renderer r(*ctx, scene, rs);
     r.renderFrame(true);
     EXPECT_EQ(r.passesRun().front(), "raycast");
@@ -649,11 +650,14 @@ TEST_F(Raster3dTest, RaycastGivesTheSameIdsAndDepthsAsTheDoubleRayCastAnd3dr) {
       same += uint32_t(cast[i]) == uint32_t(r3.vis[i]);
     }
     EXPECT_GE(double(same), 0.999 * double(hit));
-    std::printf("atrium 160x90, backend=%s: raycast and 3dr name the same triangle at %zu of %zu pixels\n",
-                toString(backend), same, hit);
-    byBackend[backend] = cast;
+    std::printf(
+        "atrium 160x90, backend=%s, bvh_width %u: raycast and 3dr name the same triangle at %zu of %zu pixels\n",
+        toString(backend), width, same, hit);
+    byBackend[{backend, width}] = cast;
   }
-  const std::vector<uint64_t>&driver = byBackend[RtBackend::Auto], &ours = byBackend[RtBackend::Compute];
+  // The two widths test the same triangles to the same closest hit, ties to the lower id: equal.
+  EXPECT_TRUE((byBackend[{RtBackend::Compute, 2u}] == byBackend[{RtBackend::Compute, 4u}]));
+  const std::vector<uint64_t>&driver = byBackend[{RtBackend::Auto, 2u}], &ours = byBackend[{RtBackend::Compute, 2u}];
   ASSERT_EQ(driver.size(), ours.size());
   size_t idsDiffer = 0, hitDiffers = 0;
   for (size_t i = 0; i < driver.size(); ++i) {

@@ -36,11 +36,12 @@ struct ShadowFrame {
 };
 
 ShadowFrame render(const VulkanContext& ctx, const Scene& scene, NormalCulling normals, const std::string& backend,
-                   uint32_t tileSize = 16, bool scaledTMin = false) {
+                   uint32_t tileSize = 16, bool scaledTMin = false, uint32_t bvhWidth = 2) {
   RenderSettings s{.width = kWidth,
                    .height = kHeight,
                    .tileSize = tileSize,
                    .backend = hb::testing::backendNamed(backend),
+                   .bvhWidth = bvhWidth,
                    .normals = normals};
   s.tMin = scaledTMin ? ShadowTMin::Scaled : ShadowTMin::Constant;
   Renderer r(ctx, scene, s);
@@ -114,13 +115,22 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     // query's holds a pair on which one of the two differs from the double-precision CPU ray, and
     // every such pair must be explained (compareShadows' float bound), so the differing pixels are at
     // most the two backends' mismatches together.
+    // The 4-wide tree (bvh_width=4) tests the same triangles with the same test: held to the same.
     const ShadowFrame cp = render(*ctx, scene, normals, "compute");
-    size_t cpDiff = 0;
-    for (size_t i = 0; i < rq.pixels(); ++i) cpDiff += rq.shadows.visibility[i] != cp.shadows.visibility[i];
+    const ShadowFrame cp4 = render(*ctx, scene, normals, "compute", 16, false, 4);
+    size_t cpDiff = 0, cp4Diff = 0;
+    for (size_t i = 0; i < rq.pixels(); ++i) {
+      cpDiff += rq.shadows.visibility[i] != cp.shadows.visibility[i];
+      cp4Diff += cp.shadows.visibility[i] != cp4.shadows.visibility[i];
+    }
     const ShadowComparison cmpCp = compare(cp, scene, bvh);
     EXPECT_EQ(cmpCp.unexplained(), 0u) << what << " compute: " << cmpCp.mismatches << " mismatches of " << cmpCp.pairs;
     EXPECT_TRUE(account(cp, scene).addsUp()) << what << " compute";
     expectCleanImages(cp, what + " compute");
+    // Any hit is any hit: the same rays, triangles and watertight test give the same answer, whichever
+    // box order found the hit.
+    EXPECT_EQ(cp4Diff, 0u) << what << ": pixels whose mask differs between bvh_width 2 and 4";
+    expectCleanImages(cp4, what + " compute, bvh_width 4");
     EXPECT_EQ(accDiff, 0u) << what << ": pixels whose accounting differs between rayquery and pipeline";
     expectCleanImages(rq, what + " rayquery");
     expectCleanImages(rt, what + " pipeline");
@@ -191,13 +201,22 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
   for (uint32_t tile : {8u, 16u, 32u}) {
     const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", tile);
     const ShadowFrame cp = render(*ctx, scene, NormalCulling::Improved, "compute", tile);
-    // The atrium's tree needs 26 entries: 6.6 KiB for 64 threads in shared memory, 26.6 KiB for 256.
+    // The atrium's tree needs 26 entries: 13.3 KiB for 64 threads in shared memory, 53 KiB for 256.
     const TraceBvh bvh = buildTraceBvh(*ctx, scene);
     EXPECT_EQ(bvh.stack, bvh.depth - 1);
     EXPECT_EQ(traceStackShared(bvh, tile * tile), tile == 8) << "tile " << tile;
     size_t differ = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) differ += rq.shadows.visibility[i] != cp.shadows.visibility[i];
     EXPECT_EQ(differ, 0u) << "tile " << tile << ": pixels whose mask differs from ray query's";
+    if (tile == 8) {  // the 4-wide tree's 3 entries a level: 42 here, in local memory at 64 threads
+      const ShadowFrame cp4 = render(*ctx, scene, NormalCulling::Improved, "compute", tile, false, 4);
+      const TraceBvh wide = buildTraceBvh(*ctx, scene, 4);
+      EXPECT_EQ(wide.stack, 3 * wide.depth);
+      EXPECT_LT(wide.depth, bvh.depth);
+      size_t differ4 = 0;
+      for (size_t i = 0; i < rq.pixels(); ++i) differ4 += rq.shadows.visibility[i] != cp4.shadows.visibility[i];
+      EXPECT_EQ(differ4, 0u) << "bvh_width 4: pixels whose mask differs from ray query's";
+    }
   }
 }
 

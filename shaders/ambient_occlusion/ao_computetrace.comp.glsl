@@ -12,7 +12,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_BVH_NODES_BINDING HB_SURFACE_BVH_NODES
 #define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 3
-#define HB_BVH_SHARED_ID 4
 #define HB_BVH_THREADS 64u
 
 float depthAt(ivec2 p) { return fetchDepth(p); }

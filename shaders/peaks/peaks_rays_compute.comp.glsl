@@ -9,7 +9,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_BVH_NODES_BINDING HB_PEAKS_BVH_NODES
 #define HB_BVH_TRIANGLES_BINDING HB_PEAKS_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 1
-#define HB_BVH_SHARED_ID 2
 #define HB_BVH_THREADS 64u
 #include "compute_occluded.glsl.inc"
 layout(push_constant) uniform Size { uvec2 size; };

@@ -291,13 +291,17 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                     {"build_ms", as->buildMs()},
                                     {"build_ms_source", "wall clock, submit to fence"}};
   if (const TraceBvh* b = renderer.traceBvh())  // backend=compute: ours, beside the driver's
-    j["compute_bvh"] = {{"layout", "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
-                        {"nodes", b->nodeCount},
-                        {"depth", b->depth},
-                        {"stack_entries", b->stack},
-                        {"bytes", b->bytes},
-                        {"build_ms", b->buildMs},
-                        {"build_ms_source", "wall clock on the CPU (the upload not counted)"}};
+    j["compute_bvh"] = {
+        {"layout", b->width == 4 ? "4-wide, collapsed from the binary SAH tree (trace_bvh.h), 128 B nodes, "
+                                   "triangles 3 x vec4 in leaf order"
+                                 : "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
+        {"width", b->width},
+        {"nodes", b->nodeCount},
+        {"depth", b->depth},
+        {"stack_entries", b->stack},
+        {"bytes", b->bytes},
+        {"build_ms", b->buildMs},
+        {"build_ms_source", "wall clock on the CPU (the upload not counted)"}};
 
   const std::vector<float> depth = renderer.readDepth();
   const Camera& cam = renderer.camera();

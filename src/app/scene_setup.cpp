@@ -89,6 +89,7 @@ RenderSettings renderSettingsFor(const VariantParams& p, const EffectsRequest& e
   s.raster3dFrustum = p.r3dFrustum;
   s.raster3dMinFrustum = p.r3dMinFrustum;
   s.raster3dEarlyZ = p.r3dEarlyZ;
+  s.bvhWidth = p.bvhWidth;
   s.aa = p.aa;
   s.shading = p.shading;
   s.projection = p.projection;

@@ -153,8 +153,9 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "",
        "",
-       "how shadow rays are traced: ray queries in compute, a ray-tracing pipeline, whichever the device has, or "
-       "our own BVH and traversal in compute (shadows and raybench; other ray passes as auto)",
+       "how every ray pass traces (shadows, AO, the ray-cast primary, photons, raybench): ray queries in "
+       "compute, the ray-tracing pipeline, our own BVH and traversal in compute, or auto: the driver's unless "
+       "the device's measured ray rates favour ours (render.json backend_choice)",
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.backend = RtBackend(i); }},
       {"resolution",
        K::Resolution,
@@ -288,6 +289,18 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "3dr-frustum-split, 3dr-full: frusta split down to this side (the paper's 8; at most r3d_frustum)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dMinFrustum = v.get<uint32_t>(); }},
+      {"bvh_width",
+       K::IntChoice,
+       {},
+       {2, 4},
+       0,
+       0,
+       "",
+       "",
+       "",
+       "backend=compute: children a node of our BVH has (2: the binary SAH tree; 4: collapsed, four boxes tested "
+       "a node)",
+       [](VariantParams& p, const Json& v, size_t, const Where&) { p.bvhWidth = v.get<uint32_t>(); }},
       {"r3d_early_z",
        K::Bool,
        {},
@@ -467,6 +480,7 @@ nlohmann::json toJson(const VariantParams& p) {
   j["r3d_frustum"] = p.r3dFrustum;
   j["r3d_min_frustum"] = p.r3dMinFrustum;
   j["r3d_early_z"] = p.r3dEarlyZ;
+  j["bvh_width"] = p.bvhWidth;
   if (p.projection) j["projection"] = toString(*p.projection);
   j["shading"] = toString(p.shading);
   j["aa"] = toString(p.aa);

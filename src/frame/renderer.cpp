@@ -128,7 +128,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
     backendChoice_ = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
     settings_.backend = backendChoice_.ran;
     if (settings_.backend == RtBackend::Compute)
-      traceBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx, scene));  // built once, for every ray pass
+      traceBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx, scene, settings.bvhWidth));  // once, for every ray pass
   }
   resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");

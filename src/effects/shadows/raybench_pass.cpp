@@ -55,8 +55,8 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
   sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
   const bool stackShared = bvh ? traceStackShared(*bvh, 64) : shadows.settings().raybenchStackShared;
-  const SpecConstants spec{
-      {shadows.settings().listMode, bvh ? bvh->stack : shadows.settings().bvhStack, stackShared ? 1u : 0u}};
+  const SpecConstants spec{{shadows.settings().listMode, bvh ? bvh->stack : shadows.settings().bvhStack,
+                            stackShared ? 1u : 0u, bvh ? bvh->width : shadows.settings().bvhWidth}};
   if (backend != ShadowBackend::Pipeline) {
     compute_.createLayout({sets_.layout()}, 0);
     compute_.createCompute(backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",

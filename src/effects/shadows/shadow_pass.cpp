@@ -76,7 +76,7 @@ struct ShadowPass::Variant {
     SpecConstants spec{
         {s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
     if (s.backend == ShadowBackend::Compute)
-      spec.values.insert(spec.values.end(), {s.bvhStack, s.bvhStackShared ? 1u : 0u});
+      spec.values.insert(spec.values.end(), {s.bvhStack, s.bvhStackShared ? 1u : 0u, s.bvhWidth});
     if (s.backend != ShadowBackend::Pipeline) {
       compute.createLayout({layout}, 0);
       compute.createCompute(s.backend == ShadowBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp",

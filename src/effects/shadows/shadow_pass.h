@@ -29,6 +29,7 @@ struct ShadowSettings {
   uint32_t bvhStack = 32;           // backend compute: the traversal stack's entries (the tree's depth − 1)
   bool bvhStackShared = true;       // backend compute: the stacks in shared memory (trace_bvh.h traceStackShared)
   bool raybenchStackShared = true;  // the same for raybench's 64-thread workgroups
+  uint32_t bvhWidth = 2;            // backend compute: our BVH's children a node
 };
 
 // Inputs shared with the other passes.

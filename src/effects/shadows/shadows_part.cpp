@@ -18,13 +18,18 @@ void useBvh(ShadowSettings& ss, ShadowInputs& in, const TraceBvh& bvh, uint32_t 
   ss.bvhStack = bvh.stack;
   ss.bvhStackShared = traceStackShared(bvh, tileSize * tileSize);  // a workgroup per tile
   ss.raybenchStackShared = traceStackShared(bvh, 64);
+  ss.bvhWidth = bvh.width;
   in.bvhNodes = &bvh.nodes;
   in.bvhTriangles = &bvh.triangles;
 }
 }  // namespace
 
 ShadowsPart::ShadowsPart(FrameBuilder& f)
-    : ctx_(f.ctx), scene_(f.scene), width_(f.settings.width), height_(f.settings.height) {
+    : ctx_(f.ctx),
+      scene_(f.scene),
+      width_(f.settings.width),
+      height_(f.settings.height),
+      bvhWidth_(f.settings.bvhWidth) {
   const RenderSettings& s = f.settings;
   const FrameResources& r = f.resources;
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
@@ -125,7 +130,7 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions,
   if (!bench) {
     ShadowInputs in = inputs_;
     if (b == ShadowBackend::Compute && !in.bvhNodes) {  // the frame traces with the driver's: ours for the bench
-      if (!ownBvh_) ownBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx_, scene_));
+      if (!ownBvh_) ownBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx_, scene_, bvhWidth_));
       in.bvhNodes = &ownBvh_->nodes;
       in.bvhTriangles = &ownBvh_->triangles;
     }

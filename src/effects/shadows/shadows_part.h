@@ -35,6 +35,7 @@ class ShadowsPart : public FramePart {
   const VulkanContext& ctx_;
   const Scene& scene_;
   uint32_t width_, height_;
+  uint32_t bvhWidth_;  // bvh_width: raybench's own BVH, where the frame has none
   ShadowInputs inputs_{};
   std::unique_ptr<ShadowPass> shadows_;
   std::unique_ptr<TraceBvh> ownBvh_;             // raybench through compute when the frame traces with the driver's

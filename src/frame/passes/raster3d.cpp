@@ -205,8 +205,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
         p->createLayout({castSets_->layout()}, 0);
         if (rayCast.bvh)  // 8x8 threads a group
-          p->createCompute("primary_raycast_compute.comp",
-                           {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64) ? 1u : 0u}});
+          p->createCompute(
+              "primary_raycast_compute.comp",
+              {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64) ? 1u : 0u, rayCast.bvh->width}});
         else
           p->createCompute("primary_raycast.comp", {{analysis}});
       }

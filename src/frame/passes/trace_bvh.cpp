@@ -1,16 +1,77 @@
 #include "frame/passes/trace_bvh.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <vector>
 
+#include "base/errors.h"
 #include "frame/passes/primary_bvh.h"
 
 namespace hb {
 
-TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices) {
+namespace {
+
+float halfAreaOf(const gpu::PrimaryBvhNode& n) {
+  const glm::vec3 d = glm::max(glm::vec3(n.hi) - glm::vec3(n.lo), glm::vec3(0.0f));
+  return d.x * d.y + d.y * d.z + d.z * d.x;
+}
+
+// Collapses the binary tree below binary node `b` into wide nodes, depth first (a node before its
+// children); returns the wide node's index.
+struct WideCollapse {
+  const std::vector<gpu::PrimaryBvhNode>& binary;
+  std::vector<glm::vec4>& out;
+  uint32_t depth = 0;
+
+  uint32_t build(uint32_t b, uint32_t level) {
+    std::vector<uint32_t> kids;
+    if (binary[b].info.x == 0)
+      kids = {b};  // the root is a leaf: one child
+    else
+      kids = {b + 1, binary[b].info.x};
+    while (kids.size() < 4) {
+      int widest = -1;
+      float area = -1.0f;
+      for (size_t i = 0; i < kids.size(); ++i)
+        if (binary[kids[i]].info.x != 0 && halfAreaOf(binary[kids[i]]) > area) {
+          area = halfAreaOf(binary[kids[i]]);
+          widest = int(i);
+        }
+      if (widest < 0) break;
+      const uint32_t k = kids[size_t(widest)];
+      kids[size_t(widest)] = k + 1;  // its children take its place, in order
+      kids.insert(kids.begin() + widest + 1, binary[k].info.x);
+    }
+    const uint32_t index = uint32_t(out.size() / kWideVec4s);
+    out.resize(out.size() + kWideVec4s, glm::vec4(0.0f));
+    depth = std::max(depth, level);
+    uint32_t codes[4] = {kWideEmpty, kWideEmpty, kWideEmpty, kWideEmpty};
+    for (size_t i = 0; i < kids.size(); ++i) {
+      const gpu::PrimaryBvhNode& k = binary[kids[i]];
+      for (int a = 0; a < 3; ++a) {
+        out[size_t(index) * kWideVec4s + a][int(i)] = k.lo[a];
+        out[size_t(index) * kWideVec4s + 3 + a][int(i)] = k.hi[a];
+      }
+      if (k.info.x == 0) {
+        HB_ASSERT(k.info.z >= 1 && k.info.z <= 8 && k.info.y < (1u << 28));
+        codes[i] = kWideLeaf | (k.info.z - 1) << 28 | k.info.y;
+      } else {
+        codes[i] = build(kids[i], level + 1);
+      }
+    }
+    for (int i = 0; i < 4; ++i) std::memcpy(&out[size_t(index) * kWideVec4s + 6][i], &codes[i], sizeof(uint32_t));
+    return index;
+  }
+};
+
+}  // namespace
+
+TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width) {
+  HB_ASSERT(width == 2 || width == 4);
   const PrimaryBvh tree = buildPrimaryBvh(vertices);
   TraceBvhLayout out;
+  out.width = width;
   out.triangles.reserve(3 * tree.order.size());
   for (uint32_t id : tree.order) {
     float idBits;
@@ -22,6 +83,21 @@ TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices) {
   out.depth = tree.depth;
   out.stack = std::max(1u, tree.depth > 1 ? tree.depth - 1 : 1u);
   out.buildMs = tree.buildMs;
+  if (width == 4) {
+    const auto start = std::chrono::steady_clock::now();
+    if (tree.nodes.empty() || tree.order.empty()) {
+      out.wide.assign(kWideVec4s, glm::vec4(0.0f));  // a root without children
+      const uint32_t empty = kWideEmpty;
+      for (int i = 0; i < 4; ++i) std::memcpy(&out.wide[6][i], &empty, sizeof empty);
+      out.depth = 1;
+    } else {
+      WideCollapse c{out.nodes, out.wide};
+      c.build(0, 1);
+      out.depth = c.depth;
+    }
+    out.stack = 3 * out.depth;
+    out.buildMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  }
   return out;
 }
 
@@ -31,18 +107,21 @@ uint32_t traceBvhTriangleId(const TraceBvhLayout& layout, size_t slot) {
   return id;
 }
 
-TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene) {
-  TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles());
+TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width) {
+  TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles(), width);
   if (l.triangles.empty()) l.triangles.assign(3, glm::vec4(0.0f));  // no triangle: a leaf of nothing is never read
   TraceBvh b;
-  b.nodes = uploadBuffer(ctx, l.nodes.data(), l.nodes.size() * sizeof(gpu::PrimaryBvhNode),
-                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  if (width == 4)
+    b.nodes = uploadBuffer(ctx, l.wide.data(), l.nodeBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
+  else
+    b.nodes = uploadBuffer(ctx, l.nodes.data(), l.nodeBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   b.triangles = uploadBuffer(ctx, l.triangles.data(), l.triangles.size() * sizeof(glm::vec4),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
-  b.nodeCount = uint32_t(l.nodes.size());
+  b.width = width;
+  b.nodeCount = uint32_t(width == 4 ? l.wide.size() / kWideVec4s : l.nodes.size());
   b.depth = l.depth;
   b.stack = l.stack;
-  b.bytes = uint64_t(l.nodes.size() * sizeof(gpu::PrimaryBvhNode) + l.triangles.size() * sizeof(glm::vec4));
+  b.bytes = l.nodeBytes() + uint64_t(l.triangles.size() * sizeof(glm::vec4));
   b.buildMs = l.buildMs;
   return b;
 }

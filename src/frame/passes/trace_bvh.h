@@ -15,36 +15,60 @@
 
 namespace hb {
 
+// bvh_width=4: the binary tree collapsed into nodes of up to 4 children (a node's children are its
+// binary node's two; then, while fewer than 4, the interior child with the largest box is replaced by
+// its two), 8 vec4 = 128 B a node: the children's lo.x, lo.y, lo.z, hi.x, hi.y, hi.z (one vec4
+// each, child k in component k), their codes (vec4 of uint bits), and one unused. A code is a wide
+// node's index, or a leaf: kWideLeaf | (count − 1) << 28 | first (entries of the triangle order), or
+// kWideEmpty for no child.
+inline constexpr uint32_t kWideLeaf = 0x80000000u;
+inline constexpr uint32_t kWideEmpty = 0xFFFFFFFFu;
+inline constexpr uint32_t kWideVec4s = 8;
+
 // What is uploaded, built on the CPU (tested without a device: trace_bvh_test.cpp).
 struct TraceBvhLayout {
-  std::vector<gpu::PrimaryBvhNode> nodes;
-  std::vector<glm::vec4> triangles;  // 3 per triangle in leaf order; [3i].w = the id's bits
-  uint32_t depth = 0;
-  uint32_t stack = 1;  // the traversal stack's entries: depth − 1 (a node is pushed once per level)
+  uint32_t width = 2;
+  std::vector<gpu::PrimaryBvhNode> nodes;  // the binary tree (kept for width 4: its leaves are the wide leaves)
+  std::vector<glm::vec4> wide;             // width 4: kWideVec4s per node, the root first
+  std::vector<glm::vec4> triangles;        // 3 per triangle in leaf order; [3i].w = the id's bits
+  uint32_t depth = 0;                      // in nodes of the width's tree
+  // The traversal stack's entries: binary depth − 1 (a node is pushed once per level), wide
+  // 3 · depth (up to 3 children pushed a level).
+  uint32_t stack = 1;
   double buildMs = 0.0;
+  uint64_t nodeBytes() const {
+    return width == 4 ? wide.size() * sizeof(glm::vec4) : nodes.size() * sizeof(gpu::PrimaryBvhNode);
+  }
 };
-// `vertices`: 3 per triangle, world space (Scene::worldTriangles()).
-TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices);
+// `vertices`: 3 per triangle, world space (Scene::worldTriangles()); width 2 or 4.
+TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width = 2);
 // The id a layout's triangle slot carries (the bits of its first vertex's w).
 uint32_t traceBvhTriangleId(const TraceBvhLayout& layout, size_t slot);
 
 struct TraceBvh {
-  Buffer nodes;      // gpu::PrimaryBvhNode
+  Buffer nodes;      // gpu::PrimaryBvhNode (width 2) or kWideVec4s vec4 a node (width 4)
   Buffer triangles;  // 3 vec4 per triangle, in leaf order
+  uint32_t width = 2;
   uint32_t nodeCount = 0, depth = 0;
   uint32_t stack = 1;
   uint64_t bytes = 0;
   double buildMs = 0.0;  // the CPU build; the upload is not counted
 };
 
-TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene);
+TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width = 2);
 
 // Whether a workgroup of `threads` keeps its traversal stacks in shared memory (compute_occluded's
-// HB_BVH_SHARED_ID): at most 16 KiB of them, so that the pass's own shared memory and several
-// workgroups an SM still fit (the atrium's 26 entries: 6.6 KiB at 64 threads, 26.6 KiB at 256,
-// 106 KiB at 1024, which lost the device on the H200). Otherwise the thread's local memory.
+// second specialization constant): at most 16 KiB of them (8 B an entry: the code and the entry
+// distance), so that the pass's own shared memory and several workgroups an SM still fit (the
+// atrium's binary tree, 26 entries: 13.3 KiB at 64 threads, 53 KiB at 256; stacks of 106 KiB at
+// 1024 threads lost the device on the H200). Otherwise the thread's local memory.
 inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads) {
-  return uint64_t(bvh.stack) * threads * sizeof(uint32_t) <= 16384;
+  return uint64_t(bvh.stack) * threads * 8 <= 16384;
+}
+// The specialization constants compute_occluded.glsl.inc takes, in order: the stack's entries,
+// whether it is in shared memory for a workgroup of `threads`, and the width (2 or 4).
+inline std::vector<uint32_t> traceBvhSpec(const TraceBvh& bvh, uint32_t threads) {
+  return {bvh.stack, traceStackShared(bvh, threads) ? 1u : 0u, bvh.width};
 }
 
 }  // namespace hb

@@ -1,7 +1,8 @@
 // The compute backend's BVH as uploaded (trace_bvh.h), checked on the CPU, so the sanitizers see
 // its build: every triangle once with its exact vertices and id, boxes that hold their subtrees
-// exactly, a stack as deep as any path needs, and a traversal of the layout that finds the same
-// nearest triangle as testing every triangle.
+// exactly, a stack as deep as any path needs, the same for the tree collapsed to 4 children
+// (bvh_width=4), and a traversal of either layout that finds the same nearest triangle as testing
+// every triangle.
 #include "frame/passes/trace_bvh.h"
 
 #include <gtest/gtest.h>
@@ -53,8 +54,79 @@ uint32_t checkSubtree(const TraceBvhLayout& l, uint32_t node, uint32_t& leafSlot
   return 1 + std::max(leftDepth, checkSubtree(l, right, leafSlots));
 }
 
+uint32_t codeOf(const TraceBvhLayout& l, uint32_t node, int k) {
+  uint32_t c;
+  std::memcpy(&c, &l.wide[size_t(node) * kWideVec4s + 6][k], sizeof c);
+  return c;
+}
+glm::vec3 wideLo(const TraceBvhLayout& l, uint32_t node, int k) {
+  const size_t b = size_t(node) * kWideVec4s;
+  return {l.wide[b][k], l.wide[b + 1][k], l.wide[b + 2][k]};
+}
+glm::vec3 wideHi(const TraceBvhLayout& l, uint32_t node, int k) {
+  const size_t b = size_t(node) * kWideVec4s;
+  return {l.wide[b + 3][k], l.wide[b + 4][k], l.wide[b + 5][k]};
+}
+
+// The wide tree below `node`: every child's box holds its subtree's triangles, leaves hold at most
+// 8 triangles; marks each slot a leaf covers in `covered`; returns the subtree's depth in nodes.
+uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& covered) {
+  uint32_t deepest = 0;
+  for (int k = 0; k < 4; ++k) {
+    const uint32_t code = codeOf(l, node, k);
+    if (code == kWideEmpty) continue;
+    const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
+    auto holds = [&](const glm::vec3& p) {
+      return glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
+    };
+    if (code & kWideLeaf) {
+      const uint32_t first = code & 0x0FFFFFFFu, count = ((code >> 28) & 7u) + 1;
+      for (uint32_t s = first; s < first + count; ++s) {
+        ++covered.at(s);
+        bool finite = true;
+        for (int j = 0; j < 3; ++j) {
+          const glm::vec3 p = glm::vec3(l.triangles[3 * size_t(s) + j]);
+          finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+        }
+        for (int j = 0; j < 3 && finite; ++j) {
+          EXPECT_TRUE(holds(glm::vec3(l.triangles[3 * size_t(s) + j]))) << "wide node " << node << " slot " << s;
+        }
+      }
+    } else {
+      EXPECT_GT(code, node) << "children after their parent";
+      for (int j = 0; j < 4; ++j)
+        if (codeOf(l, code, j) != kWideEmpty) {
+          EXPECT_TRUE(holds(wideLo(l, code, j)) && holds(wideHi(l, code, j))) << "wide node " << code;
+        }
+      deepest = std::max(deepest, checkWide(l, code, covered));
+    }
+  }
+  return 1 + deepest;
+}
+
+void checkWideLayout(const std::vector<glm::vec3>& v) {
+  const TraceBvhLayout l = layoutTraceBvh(v, 4);
+  ASSERT_EQ(l.width, 4u);
+  ASSERT_EQ(l.wide.size() % kWideVec4s, 0u);
+  ASSERT_GE(l.wide.size(), kWideVec4s);
+  EXPECT_EQ(l.nodeBytes(), l.wide.size() * sizeof(glm::vec4));
+  std::vector<int> covered(v.size() / 3, 0);
+  const uint32_t depth = checkWide(l, 0, covered);
+  for (size_t s = 0; s < covered.size(); ++s) EXPECT_EQ(covered[s], 1) << "slot " << s;
+  EXPECT_EQ(depth, l.depth);
+  EXPECT_EQ(l.stack, 3 * depth);  // up to 3 children pushed a level
+  // The same triangles in the same order as the binary layout: the wide tree only regroups its nodes.
+  const TraceBvhLayout b = layoutTraceBvh(v, 2);
+  ASSERT_EQ(b.triangles.size(), l.triangles.size());
+  EXPECT_EQ(std::memcmp(b.triangles.data(), l.triangles.data(), b.triangles.size() * sizeof(glm::vec4)), 0);
+  if (v.size() >= 3 * 64) {
+    EXPECT_LT(depth, b.depth);  // shallower (about half where the binary tree is balanced)
+  }
+}
+
 void checkLayout(const std::vector<glm::vec3>& v, const std::string& what) {
   SCOPED_TRACE(what);
+  checkWideLayout(v);
   const TraceBvhLayout l = layoutTraceBvh(v);
   const size_t triangles = v.size() / 3;
   ASSERT_EQ(l.triangles.size(), 3 * triangles);
@@ -121,6 +193,31 @@ void leafSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o,
   leafSlotsAlong(l, n.info.x, o, d, out, boxes);
 }
 
+// The same through the wide tree's boxes.
+void wideSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o, const glm::dvec3& d,
+                    std::vector<uint32_t>& out) {
+  for (int k = 0; k < 4; ++k) {
+    const uint32_t code = codeOf(l, node, k);
+    if (code == kWideEmpty) continue;
+    const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
+    double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      const double inv = 1.0 / d[a];
+      double x = (lo[a] - o[a]) * inv, y = (hi[a] - o[a]) * inv;
+      if (x > y) std::swap(x, y);
+      t0 = std::max(t0, x);
+      t1 = std::min(t1, y);
+    }
+    if (t0 > t1) continue;
+    if (code & kWideLeaf) {
+      const uint32_t first = code & 0x0FFFFFFFu, count = ((code >> 28) & 7u) + 1;
+      for (uint32_t s = first; s < first + count; ++s) out.push_back(s);
+    } else {
+      wideSlotsAlong(l, code, o, d, out);
+    }
+  }
+}
+
 TEST(TraceBvh, EveryTriangleOnceInBoxesThatHoldThem) {
   for (const char* name : {"scenes/cornell-box.gltf", "scenes/external/mcad-gears.glb", "scenes/degenerate.gltf",
                            "scenes/tiny-triangles.glb"}) {
@@ -140,10 +237,11 @@ TEST(TraceBvh, EdgeCases) {
   checkLayout(v, "a row, a NaN vertex, collapsed triangles");
 }
 
-// Culling by the layout's boxes loses no nearest hit: the traversal's premise.
+// Culling by the layout's boxes (binary and wide) loses no nearest hit: the traversal's premise.
 TEST(TraceBvh, BoxesLoseNoNearestHit) {
   const Scene scene = loadGltf(HYBRIDBENCH_SOURCE_DIR "/scenes/external/mcad-gears.glb");
   const TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles());
+  const TraceBvhLayout wide = layoutTraceBvh(scene.worldTriangles(), 4);
   glm::vec3 lo, hi;
   scene.bounds(lo, hi);
   std::vector<uint32_t> all(l.triangles.size() / 3);
@@ -164,6 +262,10 @@ TEST(TraceBvh, BoxesLoseNoNearestHit) {
     boxes += visited;
     const int tree = nearestOf(l, slots, o, d, tTree);
     EXPECT_EQ(tree, brute) << "ray " << r;
+    std::vector<uint32_t> wideSlots;
+    wideSlotsAlong(wide, 0, o, d, wideSlots);
+    double tWide = 1e30;
+    EXPECT_EQ(nearestOf(wide, wideSlots, o, d, tWide), brute) << "ray " << r << " (width 4)";
     hits += brute >= 0;
   }
   EXPECT_GT(hits, 100);                         // the rays start inside the bounds: most meet a gear
