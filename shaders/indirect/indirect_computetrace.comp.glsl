@@ -14,6 +14,7 @@ layout(local_size_x = 64) in;
 #define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 3
 #define HB_BVH_THREADS 64u
+#define HB_BVH_CLOSEST  // closest hits: the stack keeps entry distances
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 

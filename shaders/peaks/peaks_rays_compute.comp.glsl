@@ -10,6 +10,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_BVH_TRIANGLES_BINDING HB_PEAKS_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 1
 #define HB_BVH_THREADS 64u
+#define HB_BVH_CLOSEST  // closest hits: the stack keeps entry distances
 #include "compute_occluded.glsl.inc"
 layout(push_constant) uniform Size { uvec2 size; };
 

@@ -316,7 +316,7 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
         compute.createLayout({sets->layout()}, 2 * sizeof(uint32_t));
         if (b == kCompute)  // 8x8 threads a group
           compute.createCompute("peaks_rays_compute.comp",
-                                {{mode, bvh.stack, traceStackShared(bvh, 64) ? 1u : 0u, bvh.width}});
+                                {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width}});
         else
           compute.createCompute("peaks_rays_rayquery.comp", {{mode}});
       }

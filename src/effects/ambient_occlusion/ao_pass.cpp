@@ -148,7 +148,7 @@ const AoPass::Program& AoPass::program(AoMethod method) {
                               method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced}};
     if (settings_.computeBvh) {
       SpecConstants withStack = spec;
-      for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64)) withStack.values.push_back(v);  // 8x8 threads
+      for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64, false)) withStack.values.push_back(v);  // 8x8 threads
       p->compute.createLayout({sets_->layout()}, 0);
       p->compute.createCompute("ao_computetrace.comp", withStack);
     } else if (ctx_.info().rayQuery) {

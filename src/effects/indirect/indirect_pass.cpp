@@ -295,7 +295,7 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
   const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m}};
   if (const TraceBvh* bvh = settings_.computeBvh) {  // 64 threads a group
     SpecConstants withStack = spec;
-    for (uint32_t v : traceBvhSpec(*bvh, 64)) withStack.values.push_back(v);
+    for (uint32_t v : traceBvhSpec(*bvh, 64, true)) withStack.values.push_back(v);
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute("indirect_computetrace.comp", withStack);
   } else if (settings_.rayQuery) {

@@ -207,7 +207,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         if (rayCast.bvh)  // 8x8 threads a group
           p->createCompute(
               "primary_raycast_compute.comp",
-              {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64) ? 1u : 0u, rayCast.bvh->width}});
+              {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64, true) ? 1u : 0u, rayCast.bvh->width}});
         else
           p->createCompute("primary_raycast.comp", {{analysis}});
       }

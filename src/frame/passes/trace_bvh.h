@@ -58,17 +58,19 @@ struct TraceBvh {
 TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width = 2);
 
 // Whether a workgroup of `threads` keeps its traversal stacks in shared memory (compute_occluded's
-// second specialization constant): at most 16 KiB of them (8 B an entry: the code and the entry
-// distance), so that the pass's own shared memory and several workgroups an SM still fit (the
-// atrium's binary tree, 26 entries: 13.3 KiB at 64 threads, 53 KiB at 256; stacks of 106 KiB at
-// 1024 threads lost the device on the H200). Otherwise the thread's local memory.
-inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads) {
-  return uint64_t(bvh.stack) * threads * 8 <= 16384;
+// second specialization constant): at most 16 KiB of them, so that the pass's own shared memory and
+// several workgroups an SM still fit. An entry is 4 B (the code), 8 B where the shader traces closest
+// hits (HB_BVH_CLOSEST: the entry distance too). The atrium's binary tree, 26 entries: 6.6 KiB at 64
+// threads (13.3 KiB with distances), 26.6 KiB at 256; its 4-wide tree, 45 entries: 11.5 KiB at 64
+// (23 KiB with distances: local); stacks of 106 KiB at 1024 threads lost the device on the H200.
+// Otherwise the thread's local memory.
+inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads, bool closest = false) {
+  return uint64_t(bvh.stack) * threads * (closest ? 8 : 4) <= 16384;
 }
 // The specialization constants compute_occluded.glsl.inc takes, in order: the stack's entries,
 // whether it is in shared memory for a workgroup of `threads`, and the width (2 or 4).
-inline std::vector<uint32_t> traceBvhSpec(const TraceBvh& bvh, uint32_t threads) {
-  return {bvh.stack, traceStackShared(bvh, threads) ? 1u : 0u, bvh.width};
+inline std::vector<uint32_t> traceBvhSpec(const TraceBvh& bvh, uint32_t threads, bool closest) {
+  return {bvh.stack, traceStackShared(bvh, threads, closest) ? 1u : 0u, bvh.width};
 }
 
 }  // namespace hb
