@@ -119,7 +119,7 @@ int cmdRender(const RenderOptions& options) {
   bool peaksCached = false;
   Peaks peaks = cachedPeaks(ctx, &peaksCached);
   addRayPeaks(ctx, scene, peaks, ctx.info().type != "cpu");
-  settings.rayRates = rayRatesOf(peaks, ctx.info());
+  settings.rayRates = rayRatesOf(peaks, ctx.info(), settings.bvhWidth);
   Renderer renderer(ctx, scene, settings);
   renderer.renderFrame(false);                       // warm: pipelines and caches
   FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation

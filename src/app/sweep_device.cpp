@@ -97,7 +97,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   const ReferenceFrame* reference = references.get(ctx, config, v.params, scenes);
   step("pipelines");
   RenderSettings settings = renderSettingsFor(v.params, effectsRequestFor(config));
-  settings.rayRates = rayRatesOf(peaks, ctx.info());  // what backend=auto chooses from
+  settings.rayRates = rayRatesOf(peaks, ctx.info(), settings.bvhWidth);  // what backend=auto chooses from
   Renderer renderer(ctx, scene, settings);
   std::map<std::string, uint64_t> memory = memoryByClass();
 

@@ -4,7 +4,7 @@
 
 namespace hb {
 
-std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device) {
+std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device, uint32_t bvhWidth) {
   RayRates r;
   r.driver = device.rayQuery ? "rayquery" : "pipeline";
   auto rate = [&](const char* unit, const std::string& backend) {
@@ -12,13 +12,14 @@ std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device)
       if (p.unit == unit && p.backend == backend) return p.perSecond;
     return 0.0;
   };
+  const std::string ours = bvhWidth == 4 ? "compute-w4" : "compute";
   r.driverOcclusion = rate("rays_occlusion", r.driver);
-  r.computeOcclusion = rate("rays_occlusion", "compute");
+  r.computeOcclusion = rate("rays_occlusion", ours);
   r.driverClosest = rate("rays_random", r.driver);
-  r.computeClosest = rate("rays_random", "compute");
+  r.computeClosest = rate("rays_random", ours);
   if (r.driverOcclusion <= 0 || r.computeOcclusion <= 0 || r.driverClosest <= 0 || r.computeClosest <= 0)
     return std::nullopt;
-  r.source = "peaks: rays_random_occlusion and rays_random_closest, " + r.driver + " and compute, on this scene";
+  r.source = "peaks: rays_random_occlusion and rays_random_closest, " + r.driver + " and " + ours + ", on this scene";
   return r;
 }
 

@@ -244,7 +244,9 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
   GpuScene gpuScene(ctx, scene);
   AccelerationStructures accel(ctx, gpuScene);
-  const TraceBvh bvh = everyBackend ? buildTraceBvh(ctx, scene) : TraceBvh{};
+  // Ours at both widths (bvh_width 2 and 4).
+  const TraceBvh bvh2 = everyBackend ? buildTraceBvh(ctx, scene, 2) : TraceBvh{};
+  const TraceBvh bvh4 = everyBackend ? buildTraceBvh(ctx, scene, 4) : TraceBvh{};
   struct Params {
     glm::vec4 eye, forward, right, up, lo, hi;
   } params;
@@ -266,13 +268,14 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   Buffer hits(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   // One set layout per backend: the driver's TLAS or our BVH.
-  enum Backend { kPipeline, kRayQuery, kCompute };
+  enum Backend { kPipeline, kRayQuery, kCompute, kComputeWide };
+  auto isOurs = [](Backend b) { return b == kCompute || b == kComputeWide; };
   auto makeSets = [&](Backend b) {
     const VkShaderStageFlags st = b == kPipeline ? VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR)
                                                  : VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT);
     std::vector<Binding> bindings{
         {HB_PEAKS_DST, sb, st}, {HB_PEAKS_HITS, sb, st}, {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st}};
-    if (b == kCompute)
+    if (isOurs(b))
       bindings.insert(bindings.end(), {{HB_PEAKS_BVH_NODES, sb, st}, {HB_PEAKS_BVH_TRIANGLES, sb, st}});
     else
       bindings.push_back({HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st});
@@ -280,7 +283,8 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
     sets->writeBuffer(0, HB_PEAKS_DST, sb, missed.handle());
     sets->writeBuffer(0, HB_PEAKS_HITS, sb, hits.handle());
     sets->writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
-    if (b == kCompute) {
+    if (isOurs(b)) {
+      const TraceBvh& bvh = b == kCompute ? bvh2 : bvh4;
       sets->writeBuffer(0, HB_PEAKS_BVH_NODES, sb, bvh.nodes.handle());
       sets->writeBuffer(0, HB_PEAKS_BVH_TRIANGLES, sb, bvh.triangles.handle());
     } else {
@@ -299,12 +303,16 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
                          "facing the camera, occlusion rays as long as the bounds' diagonal"};
   // Ours first: its camera rays write the surfaces the AO rays of every backend start from.
   std::vector<Backend> backends;
-  if (everyBackend) backends.push_back(kCompute);
+  if (everyBackend) backends.insert(backends.end(), {kCompute, kComputeWide});
   if (ctx.info().rayTracingPipeline) backends.push_back(kPipeline);
   if (ctx.info().rayQuery && everyBackend) backends.push_back(kRayQuery);
   for (Backend b : backends) {
     const std::unique_ptr<DescriptorSets> sets = makeSets(b);
-    const char* name = b == kCompute ? "compute" : b == kPipeline ? "pipeline" : "rayquery";
+    const char* name = b == kCompute       ? "compute"
+                       : b == kComputeWide ? "compute-w4"
+                       : b == kPipeline    ? "pipeline"
+                                           : "rayquery";
+    const std::string suffix = b == kComputeWide ? "_compute_w4" : std::string("_") + name;
     // The AO rays start where our BVH's camera rays met the scene: only where it ran.
     for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) {
       std::unique_ptr<RaygenMissPipeline> rt;
@@ -314,10 +322,11 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
                                                   SpecConstants{{mode}});
       } else {
         compute.createLayout({sets->layout()}, 2 * sizeof(uint32_t));
-        if (b == kCompute)  // 8x8 threads a group
+        if (isOurs(b)) {  // 8x8 threads a group
+          const TraceBvh& bvh = b == kCompute ? bvh2 : bvh4;
           compute.createCompute("peaks_rays_compute.comp",
                                 {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width}});
-        else
+        } else
           compute.createCompute("peaks_rays_rayquery.comp", {{mode}});
       }
       VkDescriptorSet set = sets->set();
@@ -337,9 +346,10 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
                                      }
                                    }),
                    std::string(what[mode]) + where + ", through " +
-                       (b == kCompute    ? "our BVH in compute (backend=compute)"
-                        : b == kPipeline ? "the driver's ray-tracing pipeline"
-                                         : "the driver's ray query"));
+                       (b == kCompute       ? "our binary BVH in compute (backend=compute)"
+                        : b == kComputeWide ? "our 4-wide BVH in compute (backend=compute, bvh_width=4)"
+                        : b == kPipeline    ? "the driver's ray-tracing pipeline"
+                                            : "the driver's ray query"));
       peak.backend = name;
       const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
       const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());

@@ -58,14 +58,16 @@ struct TraceBvh {
 TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width = 2);
 
 // Whether a workgroup of `threads` keeps its traversal stacks in shared memory (compute_occluded's
-// second specialization constant): at most 16 KiB of them, so that the pass's own shared memory and
-// several workgroups an SM still fit. An entry is 4 B (the code), 8 B where the shader traces closest
-// hits (HB_BVH_CLOSEST: the entry distance too). The atrium's binary tree, 26 entries: 6.6 KiB at 64
-// threads (13.3 KiB with distances), 26.6 KiB at 256; its 4-wide tree, 45 entries: 11.5 KiB at 64
-// (23 KiB with distances: local); stacks of 106 KiB at 1024 threads lost the device on the H200.
-// Otherwise the thread's local memory.
+// second specialization constant): at most 8 KiB of them, else the thread's local memory. An entry
+// is 4 B (the code), 8 B where the shader traces closest hits (HB_BVH_CLOSEST: the entry distance
+// too). Measured on the H200 (results/h200/compute-backend-33/bvh-width): the atrium's binary tree,
+// 26 entries, any hit at 64 threads: 6.6 KiB, shared, 4.5 G rays/s; with distances, 13.3 KiB: its
+// closest hits ran 1.30 ms a 1080p frame in shared memory against 0.79 ms in local memory, and the
+// 4-wide tree's any-hit stack (45 entries, 11.5 KiB) 1.33 ms in shared against 1.06 ms in local:
+// shared memory beyond ~8 KiB a 64-thread group cuts the groups an SM holds more than the stack
+// saves. (Stacks of 106 KiB at 1024 threads lost the device.)
 inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads, bool closest = false) {
-  return uint64_t(bvh.stack) * threads * (closest ? 8 : 4) <= 16384;
+  return uint64_t(bvh.stack) * threads * (closest ? 8 : 4) <= 8192;
 }
 // The specialization constants compute_occluded.glsl.inc takes, in order: the stack's entries,
 // whether it is in shared memory for a workgroup of `threads`, and the width (2 or 4).
