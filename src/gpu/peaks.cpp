@@ -332,7 +332,7 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
       VkDescriptorSet set = sets->set();
       const uint32_t size[2] = {width, height};
       Peak peak =
-          makePeak(b == kPipeline ? keys[mode] : std::string(keys[mode]) + "_" + name, units[mode], double(rays),
+          makePeak(b == kPipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
                    timeRepetitions(ctx, sizes,
                                    [&](VkCommandBuffer cmd) {
                                      const Pipeline& p = rt ? rt->pipeline() : compute;
