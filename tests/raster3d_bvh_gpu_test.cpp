@@ -15,9 +15,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "base/errors.h"
-#include "frame/passes/primary_bvh.h"
 #include "frame/passes/raster3d.h"
 #include "frame/renderer.h"
+#include "gpu/primary_bvh.h"
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/hard_cases.h"

@@ -207,7 +207,7 @@ struct Raster3dConstants {
   vec4 view;
 };
 
-// A node of primary visibility's BVH (frame/passes/primary_bvh.h), 48 bytes.
+// A node of primary visibility's BVH (gpu/primary_bvh.h), 48 bytes.
 struct PrimaryBvhNode {
   vec4 lo;     // xyz: the box's min corner (world)
   vec4 hi;     // xyz: its max corner

@@ -8,9 +8,9 @@
 
 #include "effects/effects.h"
 #include "frame/frame_pass.h"
-#include "frame/passes/trace_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
+#include "gpu/trace_bvh.h"
 #include "gpu/vk_context.h"
 #include "scene/camera.h"
 #include "scene/scene.h"

@@ -14,12 +14,12 @@
 
 #include "effects/effects.h"
 #include "frame/frame_pass.h"
-#include "frame/passes/trace_bvh.h"
 #include "frame/ray_backend.h"
 #include "frame/render_settings.h"
 #include "gpu/accel.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
+#include "gpu/trace_bvh.h"
 #include "scene/camera.h"
 
 namespace hb {

@@ -10,12 +10,12 @@
 
 #include "base/errors.h"
 #include "base/text_format.h"
-#include "frame/passes/trace_bvh.h"
 #include "gpu/accel.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/raster_pipeline.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "shared/bindings.h"

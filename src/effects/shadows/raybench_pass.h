@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "effects/shadows/shadow_pass.h"
-#include "frame/passes/trace_bvh.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/trace_bvh.h"
 
 namespace hb {
 

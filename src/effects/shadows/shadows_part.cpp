@@ -8,7 +8,7 @@
 #include "effects/shadows/shadows_effect.h"
 #include "frame/base_parts.h"
 #include "frame/pass_work.h"
-#include "frame/passes/trace_bvh.h"
+#include "gpu/trace_bvh.h"
 
 namespace hb {
 

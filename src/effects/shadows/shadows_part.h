@@ -9,8 +9,8 @@
 #include "effects/shadows/raybench_pass.h"
 #include "effects/shadows/shadow_pass.h"
 #include "frame/frame_builder.h"
-#include "frame/passes/trace_bvh.h"
 #include "frame/renderer.h"
+#include "gpu/trace_bvh.h"
 
 namespace hb {
 

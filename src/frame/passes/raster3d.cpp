@@ -10,9 +10,9 @@
 
 #include "base/errors.h"
 #include "frame/passes/aa_samples.h"
-#include "frame/passes/primary_bvh.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
+#include "gpu/primary_bvh.h"
 #include "shared/bindings.h"
 
 namespace hb {

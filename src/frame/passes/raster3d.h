@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "config/config.h"
-#include "frame/passes/trace_bvh.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "scene/scene.h"

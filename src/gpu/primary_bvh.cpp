@@ -1,4 +1,4 @@
-#include "frame/passes/primary_bvh.h"
+#include "gpu/primary_bvh.h"
 
 #include <algorithm>
 #include <array>

@@ -3,7 +3,7 @@
 // exactly, a stack as deep as any path needs, the same for the tree collapsed to 4 children
 // (bvh_width=4), and a traversal of either layout that finds the same nearest triangle as testing
 // every triangle.
-#include "frame/passes/trace_bvh.h"
+#include "gpu/trace_bvh.h"
 
 #include <gtest/gtest.h>
 

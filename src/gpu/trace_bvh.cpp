@@ -1,4 +1,4 @@
-#include "frame/passes/trace_bvh.h"
+#include "gpu/trace_bvh.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "base/errors.h"
-#include "frame/passes/primary_bvh.h"
+#include "gpu/primary_bvh.h"
 
 namespace hb {
 
