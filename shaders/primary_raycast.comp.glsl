@@ -8,28 +8,20 @@
 
 layout(constant_id = 0) const uint ANALYSIS = 0;
 layout(local_size_x = 8, local_size_y = 8) in;
+#define HB_CAST_COMPUTE_MAIN
 #include "primary_raycast.glsl.inc"
 
-void main() {
-  const uvec2 p = gl_GlobalInvocationID.xy;
-  if (p.x >= r3.width || p.y >= r3.height) return;
-  if (!cameraHasRay(r3.projection, r3, float(p.x), float(p.y))) {  // paraboloid: outside the disk
-    storeHit(p, false, 0.0, 0u);
-    return;
-  }
+bool castClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) {
   rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, cameraRayOrigin(r3.projection, r3, float(p.x), float(p.y)), r3.depth.x,
-                        cameraRayDir(r3.projection, r3, float(p.x), float(p.y)), r3.depth.y);
+  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, origin, tMin, dir, tMax);
   while (rayQueryProceedEXT(rq)) {
   }
-  const bool hit = rayQueryGetIntersectionTypeEXT(rq, true) == gl_RayQueryCommittedIntersectionTriangleEXT;
-  float t = 0.0;
-  uint id = 0u;
-  if (hit) {
-    t = rayQueryGetIntersectionTEXT(rq, true);
-    id = triangleId(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true)),
-                    uint(rayQueryGetIntersectionGeometryIndexEXT(rq, true)),
-                    uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true)));
-  }
-  storeHit(p, hit, t, id);
+  t = 0.0;
+  id = 0u;
+  if (rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionTriangleEXT) return false;
+  t = rayQueryGetIntersectionTEXT(rq, true);
+  id = triangleId(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true)),
+                  uint(rayQueryGetIntersectionGeometryIndexEXT(rq, true)),
+                  uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true)));
+  return true;
 }

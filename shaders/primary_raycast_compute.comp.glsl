@@ -9,6 +9,7 @@
 layout(constant_id = 0) const uint ANALYSIS = 0;
 layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_CAST_COMPUTE
+#define HB_CAST_COMPUTE_MAIN
 #include "primary_raycast.glsl.inc"
 
 #define HB_BVH_NODES_BINDING HB_CAST_BVH_NODES
@@ -18,16 +19,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_BVH_CLOSEST  // closest hits: the stack keeps entry distances
 #include "compute_occluded.glsl.inc"
 
-void main() {
-  const uvec2 p = gl_GlobalInvocationID.xy;
-  if (p.x >= r3.width || p.y >= r3.height) return;
-  if (!cameraHasRay(r3.projection, r3, float(p.x), float(p.y))) {  // paraboloid: outside the disk
-    storeHit(p, false, 0.0, 0u);
-    return;
-  }
-  float t;
-  uint id;
-  const bool hit = closestHitBvh(cameraRayOrigin(r3.projection, r3, float(p.x), float(p.y)),
-                                 cameraRayDir(r3.projection, r3, float(p.x), float(p.y)), r3.depth.x, r3.depth.y, t, id);
-  storeHit(p, hit, t, id);
+bool castClosest(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) {
+  return closestHitBvh(origin, dir, tMin, tMax, t, id);
 }

@@ -8,6 +8,7 @@
 layout(constant_id = 2) const uint METHOD = kIndirectLdm;
 layout(local_size_x = 64) in;
 
+#define HB_INDIRECT_COMPUTE_MAIN  // main: indirect_common.glsl.inc
 #include "indirect_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
@@ -30,14 +31,4 @@ bool closestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out 
                   uint(rayQueryGetIntersectionGeometryIndexEXT(rq, true)),
                   uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true)));
   return true;
-}
-
-void main() {
-  const uint index = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationID.x;
-  if (METHOD == kIndirectReference) {
-    const uint width = uint(frame.extent.x);
-    gatherPixel(ivec2(index % width, index / width));
-  } else {
-    photonTrace(index);
-  }
 }
