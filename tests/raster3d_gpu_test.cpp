@@ -624,7 +624,8 @@ TEST_F(Raster3dTest, RaycastGivesTheSameIdsAndDepthsAsTheDoubleRayCastAnd3dr) {
   // the same 1e-6 at p99.9 as 3dr). The two backends name the same triangle at every pixel but ties.
   const Scene scene = makeAtrium(AtriumParams{});
   std::map<std::pair<RtBackend, uint32_t>, std::vector<uint64_t>> byBackend;
-  for (auto [backend, width] : {std::pair{RtBackend::Auto, 2u}, {RtBackend::Compute, 2u}, {RtBackend::Compute, 4u}}) {
+  for (auto [backend, width] :
+       {std::pair{RtBackend::Auto, 2u}, {RtBackend::Compute, 2u}, {RtBackend::Compute, 4u}, {RtBackend::Compute, 8u}}) {
     SCOPED_TRACE(std::string(toString(backend)) + ", bvh_width " + std::to_string(width));
     RenderSettings rs = atrium3drSettings();
     rs.primary = hb::testing::primaryNamed("raycast");
@@ -655,8 +656,9 @@ TEST_F(Raster3dTest, RaycastGivesTheSameIdsAndDepthsAsTheDoubleRayCastAnd3dr) {
         toString(backend), width, same, hit);
     byBackend[{backend, width}] = cast;
   }
-  // The two widths test the same triangles to the same closest hit, ties to the lower id: equal.
+  // Every width tests the same triangles to the same closest hit, ties to the lower id: equal.
   EXPECT_TRUE((byBackend[{RtBackend::Compute, 2u}] == byBackend[{RtBackend::Compute, 4u}]));
+  EXPECT_TRUE((byBackend[{RtBackend::Compute, 2u}] == byBackend[{RtBackend::Compute, 8u}]));
   const std::vector<uint64_t>&driver = byBackend[{RtBackend::Auto, 2u}], &ours = byBackend[{RtBackend::Compute, 2u}];
   ASSERT_EQ(driver.size(), ours.size());
   size_t idsDiffer = 0, hitDiffers = 0;

@@ -115,13 +115,16 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     // query's holds a pair on which one of the two differs from the double-precision CPU ray, and
     // every such pair must be explained (compareShadows' float bound), so the differing pixels are at
     // most the two backends' mismatches together.
-    // The 4-wide tree (bvh_width=4) tests the same triangles with the same test: held to the same.
+    // The 4- and 8-wide trees (bvh_width=4, 8) test the same triangles with the same test: held to the
+    // same.
     const ShadowFrame cp = render(*ctx, scene, normals, "compute");
     const ShadowFrame cp4 = render(*ctx, scene, normals, "compute", 16, false, 4);
-    size_t cpDiff = 0, cp4Diff = 0;
+    const ShadowFrame cp8 = render(*ctx, scene, normals, "compute", 16, false, 8);
+    size_t cpDiff = 0, cp4Diff = 0, cp8Diff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) {
       cpDiff += rq.shadows.visibility[i] != cp.shadows.visibility[i];
       cp4Diff += cp.shadows.visibility[i] != cp4.shadows.visibility[i];
+      cp8Diff += cp.shadows.visibility[i] != cp8.shadows.visibility[i];
     }
     const ShadowComparison cmpCp = compare(cp, scene, bvh);
     EXPECT_EQ(cmpCp.unexplained(), 0u) << what << " compute: " << cmpCp.mismatches << " mismatches of " << cmpCp.pairs;
@@ -130,7 +133,9 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     // Any hit is any hit: the same rays, triangles and watertight test give the same answer, whichever
     // box order found the hit.
     EXPECT_EQ(cp4Diff, 0u) << what << ": pixels whose mask differs between bvh_width 2 and 4";
+    EXPECT_EQ(cp8Diff, 0u) << what << ": pixels whose mask differs between bvh_width 2 and 8";
     expectCleanImages(cp4, what + " compute, bvh_width 4");
+    expectCleanImages(cp8, what + " compute, bvh_width 8");
     EXPECT_EQ(accDiff, 0u) << what << ": pixels whose accounting differs between rayquery and pipeline";
     expectCleanImages(rq, what + " rayquery");
     expectCleanImages(rt, what + " pipeline");
@@ -208,15 +213,16 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
     size_t differ = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) differ += rq.shadows.visibility[i] != cp.shadows.visibility[i];
     EXPECT_EQ(differ, 0u) << "tile " << tile << ": pixels whose mask differs from ray query's";
-    if (tile == 8) {  // the 4-wide tree's 3 entries a level: 42 here, in local memory at 64 threads
-      const ShadowFrame cp4 = render(*ctx, scene, NormalCulling::Improved, "compute", tile, false, 4);
-      const TraceBvh wide = buildTraceBvh(*ctx, scene, 4);
-      EXPECT_EQ(wide.stack, 3 * wide.depth);
-      EXPECT_LT(wide.depth, bvh.depth);
-      size_t differ4 = 0;
-      for (size_t i = 0; i < rq.pixels(); ++i) differ4 += rq.shadows.visibility[i] != cp4.shadows.visibility[i];
-      EXPECT_EQ(differ4, 0u) << "bvh_width 4: pixels whose mask differs from ray query's";
-    }
+    if (tile == 8)  // the wide trees' W − 1 entries a level: in local memory at 64 threads
+      for (uint32_t width : {4u, 8u}) {
+        const ShadowFrame cpw = render(*ctx, scene, NormalCulling::Improved, "compute", tile, false, width);
+        const TraceBvh wide = buildTraceBvh(*ctx, scene, width);
+        EXPECT_EQ(wide.stack, (width - 1) * wide.depth);
+        EXPECT_LT(wide.depth, bvh.depth);
+        size_t differW = 0;
+        for (size_t i = 0; i < rq.pixels(); ++i) differW += rq.shadows.visibility[i] != cpw.shadows.visibility[i];
+        EXPECT_EQ(differW, 0u) << "bvh_width " << width << ": pixels whose mask differs from ray query's";
+      }
   }
 }
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <span>
+#include <string>
 
 #include "analysis/culling_analysis.h"
 #include "analysis/effect_report.h"
@@ -17,6 +18,7 @@
 #include "base/version.h"
 #include "frame/passes/aa_samples.h"
 #include "frame/passes/raster3d.h"
+#include "gpu/trace_bvh.h"
 #include "reference/flip.h"
 #include "reference/reconstruct_ref.h"
 #include "shared/gpu_types.h"
@@ -292,9 +294,10 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                     {"build_ms_source", "wall clock, submit to fence"}};
   if (const TraceBvh* b = renderer.traceBvh())  // backend=compute: ours, beside the driver's
     j["compute_bvh"] = {
-        {"layout", b->width == 4 ? "4-wide, collapsed from the binary SAH tree (trace_bvh.h), 128 B nodes, "
-                                   "triangles 3 x vec4 in leaf order"
-                                 : "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
+        {"layout", b->width != 2
+                       ? std::to_string(b->width) + "-wide, collapsed from the binary SAH tree (trace_bvh.h), " +
+                             std::to_string(16 * wideNodeVec4s(b->width)) + " B nodes, triangles 3 x vec4 in leaf order"
+                       : "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
         {"width", b->width},
         {"nodes", b->nodeCount},
         {"depth", b->depth},

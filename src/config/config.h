@@ -85,7 +85,7 @@
 //   "r3d_min_frustum": 8 | ... | 256  (3dr-frustum-split, 3dr-full: split down to this side; at
 //                                most r3d_frustum)             default 8 (the paper's)
 //   "r3d_early_z": bool  (3dr-binned: early-z in the tile pass)  default false
-//   "bvh_width": 2 | 4  (backend=compute: our BVH binary, or collapsed to 4 children a node)
+//   "bvh_width": 2 | 4 | 8  (backend=compute: our BVH binary, or collapsed to 4 or 8 children a node)
 //                                                    default 4 (faster on the H200 but for AO rays)
 //   "aa": "none" | "msaa4" | "msaa8" | "msaa16" | "csaa-4-12"  (anti-aliasing: coverage at the
 //                                standard Vulkan sample positions, shading once per pixel and
@@ -216,7 +216,7 @@ struct VariantParams {
   uint32_t r3dFrustum = 256;   // BVH methods: the top frusta's side (px)
   uint32_t r3dMinFrustum = 8;  // 3dr-frustum-split, 3dr-full: split down to this side (px)
   bool r3dEarlyZ = false;      // 3dr-binned: early-z in the tile pass (2dr-binned always has it)
-  uint32_t bvhWidth = 4;       // backend=compute: children a node of our BVH (gpu/trace_bvh.h)
+  uint32_t bvhWidth = 8;       // backend=compute: children a node of our BVH (gpu/trace_bvh.h)
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
   ShadingMethod shading =

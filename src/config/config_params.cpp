@@ -292,14 +292,14 @@ const std::vector<ParamSpec>& paramSpecs() {
       {"bvh_width",
        K::IntChoice,
        {},
-       {2, 4},
+       {2, 4, 8},
        0,
        0,
        "",
        "",
        "",
-       "backend=compute: children a node of our BVH has (2: the binary SAH tree; 4: collapsed, four boxes tested "
-       "a node)",
+       "backend=compute: children a node of our BVH has (2: the binary SAH tree; 4 or 8: collapsed, four or eight "
+       "boxes tested a node)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.bvhWidth = v.get<uint32_t>(); }},
       {"r3d_early_z",
        K::Bool,

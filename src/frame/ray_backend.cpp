@@ -1,5 +1,7 @@
 #include "frame/ray_backend.h"
 
+#include <string>
+
 #include "base/text_format.h"
 
 namespace hb {
@@ -12,7 +14,7 @@ std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device,
       if (p.unit == unit && p.backend == backend) return p.perSecond;
     return 0.0;
   };
-  const std::string ours = bvhWidth == 4 ? "compute-w4" : "compute";
+  const std::string ours = bvhWidth == 2 ? "compute" : "compute-w" + std::to_string(bvhWidth);
   r.driverOcclusion = rate("rays_occlusion", r.driver);
   r.computeOcclusion = rate("rays_occlusion", ours);
   r.driverClosest = rate("rays_random", r.driver);

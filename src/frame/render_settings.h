@@ -34,7 +34,7 @@ struct RenderSettings {
   EffectsRequest effects;
   RtBackend backend = RtBackend::Auto;
   std::optional<RayRates> rayRates;  // backend=auto: the measurements it may choose compute from
-  uint32_t bvhWidth = 4;             // backend=compute: our BVH's children a node (2 or 4; 4 measured faster)
+  uint32_t bvhWidth = 8;             // backend=compute: our BVH's children a node (2, 4 or 8; trace_bvh.h)
   NormalCulling normals = NormalCulling::Off;
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
   bool rangeTest = false;

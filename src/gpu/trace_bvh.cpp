@@ -22,6 +22,7 @@ float halfAreaOf(const gpu::PrimaryBvhNode& n) {
 struct WideCollapse {
   const std::vector<gpu::PrimaryBvhNode>& binary;
   std::vector<glm::vec4>& out;
+  uint32_t width;
   uint32_t depth = 0;
 
   uint32_t build(uint32_t b, uint32_t level) {
@@ -30,7 +31,7 @@ struct WideCollapse {
       kids = {b};  // the root is a leaf: one child
     else
       kids = {b + 1, binary[b].info.x};
-    while (kids.size() < 4) {
+    while (kids.size() < width) {
       int widest = -1;
       float area = -1.0f;
       for (size_t i = 0; i < kids.size(); ++i)
@@ -43,15 +44,17 @@ struct WideCollapse {
       kids[size_t(widest)] = k + 1;  // its children take its place, in order
       kids.insert(kids.begin() + widest + 1, binary[k].info.x);
     }
-    const uint32_t index = uint32_t(out.size() / kWideVec4s);
-    out.resize(out.size() + kWideVec4s, glm::vec4(0.0f));
+    const size_t stride = wideNodeVec4s(width);
+    const uint32_t index = uint32_t(out.size() / stride);
+    out.resize(out.size() + stride, glm::vec4(0.0f));
     depth = std::max(depth, level);
-    uint32_t codes[4] = {kWideEmpty, kWideEmpty, kWideEmpty, kWideEmpty};
+    std::vector<uint32_t> codes(width, kWideEmpty);
     for (size_t i = 0; i < kids.size(); ++i) {
       const gpu::PrimaryBvhNode& k = binary[kids[i]];
+      const size_t group = index * stride + (i / 4) * kWideGroupVec4s;  // child i: group i / 4, slot i % 4
       for (int a = 0; a < 3; ++a) {
-        out[size_t(index) * kWideVec4s + a][int(i)] = k.lo[a];
-        out[size_t(index) * kWideVec4s + 3 + a][int(i)] = k.hi[a];
+        out[group + a][int(i % 4)] = k.lo[a];
+        out[group + 3 + a][int(i % 4)] = k.hi[a];
       }
       if (k.info.x == 0) {
         HB_ASSERT(k.info.z >= 1 && k.info.z <= 8 && k.info.y < (1u << 28));
@@ -60,7 +63,8 @@ struct WideCollapse {
         codes[i] = build(kids[i], level + 1);
       }
     }
-    for (int i = 0; i < 4; ++i) std::memcpy(&out[size_t(index) * kWideVec4s + 6][i], &codes[i], sizeof(uint32_t));
+    for (size_t i = 0; i < width; ++i)
+      std::memcpy(&out[index * stride + (i / 4) * kWideGroupVec4s + 6][int(i % 4)], &codes[i], sizeof(uint32_t));
     return index;
   }
 };
@@ -68,7 +72,7 @@ struct WideCollapse {
 }  // namespace
 
 TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width) {
-  HB_ASSERT(width == 2 || width == 4);
+  HB_ASSERT(width == 2 || width == 4 || width == 8);
   const PrimaryBvh tree = buildPrimaryBvh(vertices);
   TraceBvhLayout out;
   out.width = width;
@@ -83,19 +87,20 @@ TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t w
   out.depth = tree.depth;
   out.stack = std::max(1u, tree.depth > 1 ? tree.depth - 1 : 1u);
   out.buildMs = tree.buildMs;
-  if (width == 4) {
+  if (width != 2) {
     const auto start = std::chrono::steady_clock::now();
     if (tree.nodes.empty() || tree.order.empty()) {
-      out.wide.assign(kWideVec4s, glm::vec4(0.0f));  // a root without children
+      out.wide.assign(wideNodeVec4s(width), glm::vec4(0.0f));  // a root without children
       const uint32_t empty = kWideEmpty;
-      for (int i = 0; i < 4; ++i) std::memcpy(&out.wide[6][i], &empty, sizeof empty);
+      for (uint32_t g = 0; g < width / 4; ++g)
+        for (int i = 0; i < 4; ++i) std::memcpy(&out.wide[g * kWideGroupVec4s + 6][i], &empty, sizeof empty);
       out.depth = 1;
     } else {
-      WideCollapse c{out.nodes, out.wide};
+      WideCollapse c{out.nodes, out.wide, width};
       c.build(0, 1);
       out.depth = c.depth;
     }
-    out.stack = 3 * out.depth;
+    out.stack = (width - 1) * out.depth;
     out.buildMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   return out;
@@ -111,14 +116,14 @@ TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t wi
   TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles(), width);
   if (l.triangles.empty()) l.triangles.assign(3, glm::vec4(0.0f));  // no triangle: a leaf of nothing is never read
   TraceBvh b;
-  if (width == 4)
+  if (width != 2)
     b.nodes = uploadBuffer(ctx, l.wide.data(), l.nodeBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   else
     b.nodes = uploadBuffer(ctx, l.nodes.data(), l.nodeBytes(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   b.triangles = uploadBuffer(ctx, l.triangles.data(), l.triangles.size() * sizeof(glm::vec4),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
   b.width = width;
-  b.nodeCount = uint32_t(width == 4 ? l.wide.size() / kWideVec4s : l.nodes.size());
+  b.nodeCount = uint32_t(width != 2 ? l.wide.size() / wideNodeVec4s(width) : l.nodes.size());
   b.depth = l.depth;
   b.stack = l.stack;
   b.bytes = l.nodeBytes() + uint64_t(l.triangles.size() * sizeof(glm::vec4));

@@ -15,38 +15,40 @@
 
 namespace hb {
 
-// bvh_width=4: the binary tree collapsed into nodes of up to 4 children (a node's children are its
-// binary node's two; then, while fewer than 4, the interior child with the largest box is replaced by
-// its two), 8 vec4 = 128 B a node: the children's lo.x, lo.y, lo.z, hi.x, hi.y, hi.z (one vec4
-// each, child k in component k), their codes (vec4 of uint bits), and one unused. A code is a wide
+// bvh_width=4 or 8: the binary tree collapsed into nodes of up to W children (a node's children are
+// its binary node's two; then, while fewer than W, the interior child with the largest box is
+// replaced by its two), in groups of 4 children of 8 vec4 = 128 B: the children's lo.x, lo.y, lo.z,
+// hi.x, hi.y, hi.z (one vec4 each, child k of the group in component k), their codes (vec4 of uint
+// bits), and one unused; a node is W / 4 groups (width 4: 128 B, width 8: 256 B). A code is a wide
 // node's index, or a leaf: kWideLeaf | (count − 1) << 28 | first (entries of the triangle order), or
 // kWideEmpty for no child.
 inline constexpr uint32_t kWideLeaf = 0x80000000u;
 inline constexpr uint32_t kWideEmpty = 0xFFFFFFFFu;
-inline constexpr uint32_t kWideVec4s = 8;
+inline constexpr uint32_t kWideGroupVec4s = 8;  // a group of 4 children
+inline constexpr uint32_t wideNodeVec4s(uint32_t width) { return 2 * width; }
 
 // What is uploaded, built on the CPU (tested without a device: trace_bvh_test.cpp).
 struct TraceBvhLayout {
   uint32_t width = 2;
-  std::vector<gpu::PrimaryBvhNode> nodes;  // the binary tree (kept for width 4: its leaves are the wide leaves)
-  std::vector<glm::vec4> wide;             // width 4: kWideVec4s per node, the root first
+  std::vector<gpu::PrimaryBvhNode> nodes;  // the binary tree (kept for widths 4, 8: its leaves are the wide leaves)
+  std::vector<glm::vec4> wide;             // width 4, 8: wideNodeVec4s(width) per node, the root first
   std::vector<glm::vec4> triangles;        // 3 per triangle in leaf order; [3i].w = the id's bits
   uint32_t depth = 0;                      // in nodes of the width's tree
-  // The traversal stack's entries: binary depth − 1 (a node is pushed once per level), wide
-  // 3 · depth (up to 3 children pushed a level).
+  // The traversal stack's entries: binary depth − 1 (a node is pushed once per level), width W
+  // (W − 1) · depth (up to W − 1 children pushed a level).
   uint32_t stack = 1;
   double buildMs = 0.0;
   uint64_t nodeBytes() const {
-    return width == 4 ? wide.size() * sizeof(glm::vec4) : nodes.size() * sizeof(gpu::PrimaryBvhNode);
+    return width != 2 ? wide.size() * sizeof(glm::vec4) : nodes.size() * sizeof(gpu::PrimaryBvhNode);
   }
 };
-// `vertices`: 3 per triangle, world space (Scene::worldTriangles()); width 2 or 4.
+// `vertices`: 3 per triangle, world space (Scene::worldTriangles()); width 2, 4 or 8.
 TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width = 2);
 // The id a layout's triangle slot carries (the bits of its first vertex's w).
 uint32_t traceBvhTriangleId(const TraceBvhLayout& layout, size_t slot);
 
 struct TraceBvh {
-  Buffer nodes;      // gpu::PrimaryBvhNode (width 2) or kWideVec4s vec4 a node (width 4)
+  Buffer nodes;      // gpu::PrimaryBvhNode (width 2) or wideNodeVec4s(width) vec4 a node (4, 8)
   Buffer triangles;  // 3 vec4 per triangle, in leaf order
   uint32_t width = 2;
   uint32_t nodeCount = 0, depth = 0;
@@ -70,7 +72,7 @@ inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads, bool closest
   return uint64_t(bvh.stack) * threads * (closest ? 8 : 4) <= 8192;
 }
 // The specialization constants compute_occluded.glsl.inc takes, in order: the stack's entries,
-// whether it is in shared memory for a workgroup of `threads`, and the width (2 or 4).
+// whether it is in shared memory for a workgroup of `threads`, and the width (2, 4 or 8).
 inline std::vector<uint32_t> traceBvhSpec(const TraceBvh& bvh, uint32_t threads, bool closest) {
   return {bvh.stack, traceStackShared(bvh, threads, closest) ? 1u : 0u, bvh.width};
 }

@@ -1,7 +1,7 @@
 // The compute backend's BVH as uploaded (trace_bvh.h), checked on the CPU, so the sanitizers see
 // its build: every triangle once with its exact vertices and id, boxes that hold their subtrees
-// exactly, a stack as deep as any path needs, the same for the tree collapsed to 4 children
-// (bvh_width=4), and a traversal of either layout that finds the same nearest triangle as testing
+// exactly, a stack as deep as any path needs, the same for the tree collapsed to 4 and 8 children
+// (bvh_width=4, 8), and a traversal of each layout that finds the same nearest triangle as testing
 // every triangle.
 #include "gpu/trace_bvh.h"
 
@@ -54,25 +54,29 @@ uint32_t checkSubtree(const TraceBvhLayout& l, uint32_t node, uint32_t& leafSlot
   return 1 + std::max(leftDepth, checkSubtree(l, right, leafSlots));
 }
 
+// Child k of a wide node: group k / 4, component k % 4 (trace_bvh.h).
+size_t groupOf(const TraceBvhLayout& l, uint32_t node, int k) {
+  return size_t(node) * wideNodeVec4s(l.width) + size_t(k / 4) * kWideGroupVec4s;
+}
 uint32_t codeOf(const TraceBvhLayout& l, uint32_t node, int k) {
   uint32_t c;
-  std::memcpy(&c, &l.wide[size_t(node) * kWideVec4s + 6][k], sizeof c);
+  std::memcpy(&c, &l.wide[groupOf(l, node, k) + 6][k % 4], sizeof c);
   return c;
 }
 glm::vec3 wideLo(const TraceBvhLayout& l, uint32_t node, int k) {
-  const size_t b = size_t(node) * kWideVec4s;
-  return {l.wide[b][k], l.wide[b + 1][k], l.wide[b + 2][k]};
+  const size_t b = groupOf(l, node, k);
+  return {l.wide[b][k % 4], l.wide[b + 1][k % 4], l.wide[b + 2][k % 4]};
 }
 glm::vec3 wideHi(const TraceBvhLayout& l, uint32_t node, int k) {
-  const size_t b = size_t(node) * kWideVec4s;
-  return {l.wide[b + 3][k], l.wide[b + 4][k], l.wide[b + 5][k]};
+  const size_t b = groupOf(l, node, k);
+  return {l.wide[b + 3][k % 4], l.wide[b + 4][k % 4], l.wide[b + 5][k % 4]};
 }
 
 // The wide tree below `node`: every child's box holds its subtree's triangles, leaves hold at most
 // 8 triangles; marks each slot a leaf covers in `covered`; returns the subtree's depth in nodes.
 uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& covered) {
   uint32_t deepest = 0;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < int(l.width); ++k) {
     const uint32_t code = codeOf(l, node, k);
     if (code == kWideEmpty) continue;
     const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
@@ -94,7 +98,7 @@ uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& cov
       }
     } else {
       EXPECT_GT(code, node) << "children after their parent";
-      for (int j = 0; j < 4; ++j)
+      for (int j = 0; j < int(l.width); ++j)
         if (codeOf(l, code, j) != kWideEmpty) {
           EXPECT_TRUE(holds(wideLo(l, code, j)) && holds(wideHi(l, code, j))) << "wide node " << code;
         }
@@ -104,17 +108,18 @@ uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& cov
   return 1 + deepest;
 }
 
-void checkWideLayout(const std::vector<glm::vec3>& v) {
-  const TraceBvhLayout l = layoutTraceBvh(v, 4);
-  ASSERT_EQ(l.width, 4u);
-  ASSERT_EQ(l.wide.size() % kWideVec4s, 0u);
-  ASSERT_GE(l.wide.size(), kWideVec4s);
+void checkWideLayout(const std::vector<glm::vec3>& v, uint32_t width) {
+  SCOPED_TRACE("width " + std::to_string(width));
+  const TraceBvhLayout l = layoutTraceBvh(v, width);
+  ASSERT_EQ(l.width, width);
+  ASSERT_EQ(l.wide.size() % wideNodeVec4s(width), 0u);
+  ASSERT_GE(l.wide.size(), wideNodeVec4s(width));
   EXPECT_EQ(l.nodeBytes(), l.wide.size() * sizeof(glm::vec4));
   std::vector<int> covered(v.size() / 3, 0);
   const uint32_t depth = checkWide(l, 0, covered);
   for (size_t s = 0; s < covered.size(); ++s) EXPECT_EQ(covered[s], 1) << "slot " << s;
   EXPECT_EQ(depth, l.depth);
-  EXPECT_EQ(l.stack, 3 * depth);  // up to 3 children pushed a level
+  EXPECT_EQ(l.stack, (width - 1) * depth);  // up to width − 1 children pushed a level
   // The same triangles in the same order as the binary layout: the wide tree only regroups its nodes.
   const TraceBvhLayout b = layoutTraceBvh(v, 2);
   ASSERT_EQ(b.triangles.size(), l.triangles.size());
@@ -123,12 +128,16 @@ void checkWideLayout(const std::vector<glm::vec3>& v) {
   }
   if (v.size() >= 3 * 64) {
     EXPECT_LT(depth, b.depth);  // shallower (about half where the binary tree is balanced)
+    if (width == 8) {
+      EXPECT_LE(depth, layoutTraceBvh(v, 4).depth);
+    }
   }
 }
 
 void checkLayout(const std::vector<glm::vec3>& v, const std::string& what) {
   SCOPED_TRACE(what);
-  checkWideLayout(v);
+  checkWideLayout(v, 4);
+  checkWideLayout(v, 8);
   const TraceBvhLayout l = layoutTraceBvh(v);
   const size_t triangles = v.size() / 3;
   ASSERT_EQ(l.triangles.size(), 3 * triangles);
@@ -198,7 +207,7 @@ void leafSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o,
 // The same through the wide tree's boxes.
 void wideSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o, const glm::dvec3& d,
                     std::vector<uint32_t>& out) {
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < int(l.width); ++k) {
     const uint32_t code = codeOf(l, node, k);
     if (code == kWideEmpty) continue;
     const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
@@ -244,6 +253,7 @@ TEST(TraceBvh, BoxesLoseNoNearestHit) {
   const Scene scene = loadGltf(HYBRIDBENCH_SOURCE_DIR "/scenes/external/mcad-gears.glb");
   const TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles());
   const TraceBvhLayout wide = layoutTraceBvh(scene.worldTriangles(), 4);
+  const TraceBvhLayout wide8 = layoutTraceBvh(scene.worldTriangles(), 8);
   glm::vec3 lo, hi;
   scene.bounds(lo, hi);
   std::vector<uint32_t> all(l.triangles.size() / 3);
@@ -268,6 +278,10 @@ TEST(TraceBvh, BoxesLoseNoNearestHit) {
     wideSlotsAlong(wide, 0, o, d, wideSlots);
     double tWide = 1e30;
     EXPECT_EQ(nearestOf(wide, wideSlots, o, d, tWide), brute) << "ray " << r << " (width 4)";
+    std::vector<uint32_t> wide8Slots;
+    wideSlotsAlong(wide8, 0, o, d, wide8Slots);
+    double tWide8 = 1e30;
+    EXPECT_EQ(nearestOf(wide8, wide8Slots, o, d, tWide8), brute) << "ray " << r << " (width 8)";
     hits += brute >= 0;
   }
   EXPECT_GT(hits, 100);                         // the rays start inside the bounds: most meet a gear

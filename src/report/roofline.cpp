@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "base/text_format.h"
 #include "frame/renderer.h"
@@ -72,10 +73,10 @@ json rooflineOf(const Renderer& renderer, const json& run, const std::map<std::s
     }
   double rays = 0;
   if (run.contains("raybench")) rays = run["raybench"].value("rays_per_s", 0.0);
-  // Our BVH's rates were measured at each width: "compute" (2) and "compute-w4".
+  // Our BVH's rates were measured at each width: "compute" (2), "compute-w4" and "compute-w8".
   std::string backend = run.value("backend", std::string());
-  if (backend == "compute" && run.contains("params") && run["params"].value("bvh_width", 2) == 4)
-    backend = "compute-w4";
+  if (backend == "compute" && run.contains("params") && run["params"].value("bvh_width", 2) != 2)
+    backend = "compute-w" + std::to_string(run["params"].value("bvh_width", 2));
   return rooflineJson(works, medianMs, peakRates(peaks, rays, backend));
 }
 
