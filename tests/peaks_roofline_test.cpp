@@ -44,7 +44,8 @@ const std::vector<std::string> kFigures = {
     "memory_read", "memory_write",     "memory_copy", "atomic_add_distinct", "atomic_add_contended",
     "fma_fp32",    "raster_triangles", "raster_fill", "atomic_min_u64",      "dispatch_empty"};
 // On the scene, through every backend lavapipe has: the ray-tracing pipeline (unsuffixed, as the
-// NVIDIA GPUs have it too), ray query and our BVH in compute at both widths.
+// NVIDIA GPUs have it too), ray query, our BVH in compute at every width, and at widths 4 and 8
+// with persistent threads (lavapipe has compute subgroup ballots).
 const std::vector<std::string> kRayFigures = {"rays_camera",
                                               "rays_random_closest",
                                               "rays_random_occlusion",
@@ -60,7 +61,19 @@ const std::vector<std::string> kRayFigures = {"rays_camera",
                                               "rays_camera_compute_w4",
                                               "rays_random_closest_compute_w4",
                                               "rays_random_occlusion_compute_w4",
-                                              "rays_ao_compute_w4"};
+                                              "rays_ao_compute_w4",
+                                              "rays_camera_compute_w8",
+                                              "rays_random_closest_compute_w8",
+                                              "rays_random_occlusion_compute_w8",
+                                              "rays_ao_compute_w8",
+                                              "rays_camera_compute_w4_persistent",
+                                              "rays_random_closest_compute_w4_persistent",
+                                              "rays_random_occlusion_compute_w4_persistent",
+                                              "rays_ao_compute_w4_persistent",
+                                              "rays_camera_compute_w8_persistent",
+                                              "rays_random_closest_compute_w8_persistent",
+                                              "rays_random_occlusion_compute_w8_persistent",
+                                              "rays_ao_compute_w8_persistent"};
 
 // Which ray figures a peaks record holds: none (the cache), the driver's pipeline (a sweep or render
 // on a CPU device, gpu/peaks.h addRayPeaks) or every backend's (`peaks`).
@@ -107,7 +120,8 @@ void expectPeaksShape(const json& p, RayFigures which) {
     const double missed = p["figures"][mode].value("missed", -1.0);
     EXPECT_GE(missed, 0);
     EXPECT_LT(missed, p["figures"][mode].value("work", 0.0));
-    for (const char* backend : {"_rayquery", "_compute", "_compute_w4"})
+    for (const char* backend :
+         {"_rayquery", "_compute", "_compute_w4", "_compute_w8", "_compute_w4_persistent", "_compute_w8_persistent"})
       EXPECT_EQ(p["figures"][std::string(mode) + backend].value("missed", -2.0), missed) << backend;
   }
   EXPECT_EQ(p["figures"]["rays_random_closest"]["missed"], p["figures"]["rays_random_occlusion"]["missed"]);

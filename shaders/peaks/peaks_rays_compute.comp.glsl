@@ -1,10 +1,14 @@
 #version 460
 // The device's ray rates through our own BVH (backend=compute; peaks_rays.glsl.inc,
-// compute_occluded.glsl.inc), 8x8 rays a group. MODE 0 also writes each camera ray's t for MODE 3.
+// compute_occluded.glsl.inc), 8x8 rays a group, or persistent threads (PERSISTENT = 1). MODE 0 also
+// writes each camera ray's t for MODE 3.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 layout(local_size_x = 8, local_size_y = 8) in;
 #include "shared/gpu_types.h"
 #define HB_PEAKS_COMPUTE_MAIN
+#define HB_PEAKS_PERSISTENT 4  // the specialization constant's id, after the BVH's three
 #include "peaks_rays.glsl.inc"
 
 #define HB_BVH_NODES_BINDING HB_PEAKS_BVH_NODES

@@ -160,6 +160,7 @@
 #define HB_PEAKS_HITS 4u           // peaks_rays: the camera rays' t (MODE 3's origins)
 #define HB_PEAKS_BVH_NODES 5u      // peaks_rays_compute: our BVH (gpu::PrimaryBvhNode)
 #define HB_PEAKS_BVH_TRIANGLES 6u  // peaks_rays_compute: 3 vec4 per triangle, in leaf order
+#define HB_PEAKS_NEXT_RAY 7u       // peaks_rays_compute, persistent threads: the next ray to take
 #define HB_PEAKS_BINDING_COUNT 4u  // peaks.comp's
 
 #endif

@@ -21,6 +21,7 @@ int cmdPeaks(const std::string& device, const std::string& scene, bool json) {
   Peaks peaks = measurePeaks(ctx);
   const nlohmann::json deviceOnly = toJson(peaks, ctx.info());
   addRayPeaks(ctx, rayScene, peaks);  // scene-dependent: printed, not cached
+  for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const nlohmann::json j = toJson(peaks, ctx.info());
   // The cache (gpu/peaks.h cachedPeaks) takes the fresh figures, so later sweeps use them.
   const std::string path = peaksCachePath(ctx.info());

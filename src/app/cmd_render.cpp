@@ -119,6 +119,7 @@ int cmdRender(const RenderOptions& options) {
   bool peaksCached = false;
   Peaks peaks = cachedPeaks(ctx, &peaksCached);
   addRayPeaks(ctx, scene, peaks, ctx.info().type != "cpu");
+  for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   settings.rayRates = rayRatesOf(peaks, ctx.info(), settings.bvhWidth);
   Renderer renderer(ctx, scene, settings);
   renderer.renderFrame(false);                       // warm: pipelines and caches

@@ -330,6 +330,7 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
   bool peaksCached = false;
   Peaks peaks = cachedPeaks(ctx, &peaksCached);
   addRayPeaks(ctx, baseScene, peaks, ctx.info().type != "cpu");  // the scene's own: never cached
+  for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
   parent.send("context", context.dump());

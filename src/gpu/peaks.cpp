@@ -7,6 +7,10 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "base/errors.h"
 #include "base/text_format.h"
@@ -244,9 +248,15 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
   GpuScene gpuScene(ctx, scene);
   AccelerationStructures accel(ctx, gpuScene);
-  // Ours at both widths (bvh_width 2 and 4).
-  const TraceBvh bvh2 = everyBackend ? buildTraceBvh(ctx, scene, 2) : TraceBvh{};
-  const TraceBvh bvh4 = everyBackend ? buildTraceBvh(ctx, scene, 4) : TraceBvh{};
+  // Ours at every width (bvh_width 2, 4, 8), and at widths 4 and 8 with persistent threads.
+  struct Ours {
+    uint32_t width;
+    bool persistent;
+  };
+  std::vector<TraceBvh> bvhs;  // widths 2, 4, 8
+  if (everyBackend)
+    for (uint32_t w : {2u, 4u, 8u}) bvhs.push_back(buildTraceBvh(ctx, scene, w));
+  auto bvhOf = [&](uint32_t w) -> const TraceBvh& { return bvhs[w == 2 ? 0 : w == 4 ? 1 : 2]; };
   struct Params {
     glm::vec4 eye, forward, right, up, lo, hi;
   } params;
@@ -264,29 +274,39 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   const Buffer uniforms =
       uploadBuffer(ctx, &params, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
   const size_t rays = size_t(width) * height;
-  Buffer missed(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
+  Buffer missed(
+      ctx, rays * 4,
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   Buffer hits(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+  Buffer nextRay(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  // A backend: the driver's pipeline or ray query, or ours (`ours` set) in compute.
+  struct Backend {
+    std::string name;  // results' "backend": pipeline, rayquery, compute, compute-w4, compute-w8, compute-w4-persistent
+    std::string through;
+    bool pipeline = false;
+    std::optional<Ours> ours;
+  };
   // One set layout per backend: the driver's TLAS or our BVH.
-  enum Backend { kPipeline, kRayQuery, kCompute, kComputeWide };
-  auto isOurs = [](Backend b) { return b == kCompute || b == kComputeWide; };
-  auto makeSets = [&](Backend b) {
-    const VkShaderStageFlags st = b == kPipeline ? VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR)
-                                                 : VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT);
+  auto makeSets = [&](const Backend& b) {
+    const VkShaderStageFlags st = b.pipeline ? VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR)
+                                             : VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT);
     std::vector<Binding> bindings{
         {HB_PEAKS_DST, sb, st}, {HB_PEAKS_HITS, sb, st}, {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st}};
-    if (isOurs(b))
-      bindings.insert(bindings.end(), {{HB_PEAKS_BVH_NODES, sb, st}, {HB_PEAKS_BVH_TRIANGLES, sb, st}});
+    if (b.ours)
+      bindings.insert(bindings.end(),
+                      {{HB_PEAKS_BVH_NODES, sb, st}, {HB_PEAKS_BVH_TRIANGLES, sb, st}, {HB_PEAKS_NEXT_RAY, sb, st}});
     else
       bindings.push_back({HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st});
     auto sets = std::make_unique<DescriptorSets>(ctx, bindings);
     sets->writeBuffer(0, HB_PEAKS_DST, sb, missed.handle());
     sets->writeBuffer(0, HB_PEAKS_HITS, sb, hits.handle());
     sets->writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
-    if (isOurs(b)) {
-      const TraceBvh& bvh = b == kCompute ? bvh2 : bvh4;
+    if (b.ours) {
+      const TraceBvh& bvh = bvhOf(b.ours->width);
       sets->writeBuffer(0, HB_PEAKS_BVH_NODES, sb, bvh.nodes.handle());
       sets->writeBuffer(0, HB_PEAKS_BVH_TRIANGLES, sb, bvh.triangles.handle());
+      sets->writeBuffer(0, HB_PEAKS_NEXT_RAY, sb, nextRay.handle());
     } else {
       sets->writeAccelerationStructure(0, HB_PEAKS_TLAS, accel.tlas());
     }
@@ -303,60 +323,106 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
                          "facing the camera, occlusion rays as long as the bounds' diagonal"};
   // Ours first: its camera rays write the surfaces the AO rays of every backend start from.
   std::vector<Backend> backends;
-  if (everyBackend) backends.insert(backends.end(), {kCompute, kComputeWide});
-  if (ctx.info().rayTracingPipeline) backends.push_back(kPipeline);
-  if (ctx.info().rayQuery && everyBackend) backends.push_back(kRayQuery);
-  for (Backend b : backends) {
-    const std::unique_ptr<DescriptorSets> sets = makeSets(b);
-    const char* name = b == kCompute       ? "compute"
-                       : b == kComputeWide ? "compute-w4"
-                       : b == kPipeline    ? "pipeline"
-                                           : "rayquery";
-    const std::string suffix = b == kComputeWide ? "_compute_w4" : std::string("_") + name;
-    // The AO rays start where our BVH's camera rays met the scene: only where it ran.
-    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) {
+  if (everyBackend) {
+    backends.push_back({"compute", "our binary BVH in compute (backend=compute, bvh_width=2)", false, Ours{2, false}});
+    backends.push_back(
+        {"compute-w4", "our 4-wide BVH in compute (backend=compute, bvh_width=4)", false, Ours{4, false}});
+    backends.push_back(
+        {"compute-w8", "our 8-wide BVH in compute (backend=compute, bvh_width=8)", false, Ours{8, false}});
+    if (ctx.info().computeSubgroupBallot)
+      for (uint32_t w : {4u, 8u})
+        backends.push_back({"compute-w" + std::to_string(w) + "-persistent",
+                            "our " + std::to_string(w) +
+                                "-wide BVH in compute with persistent threads (each subgroup takes the next rays from "
+                                "a global counter; not a renderer option)",
+                            false, Ours{w, true}});
+  }
+  if (ctx.info().rayTracingPipeline) backends.push_back({"pipeline", "the driver's ray-tracing pipeline", true, {}});
+  if (ctx.info().rayQuery && everyBackend) backends.push_back({"rayquery", "the driver's ray query", false, {}});
+  // Persistent threads: enough groups of 64 to fill a large GPU (H200: 132 SMs, at most 32 groups of
+  // 64 threads each), fewer where the rays are fewer.
+  const uint32_t tiles = ((width + 7) / 8) * ((height + 7) / 8), persistentGroups = std::min(tiles, 4096u);
+  auto measure = [&](const Backend& b, const DescriptorSets& sets, uint32_t mode) {
+    std::string suffix = "_" + b.name;
+    std::replace(suffix.begin(), suffix.end(), '-', '_');
+    {
       std::unique_ptr<RaygenMissPipeline> rt;
       Pipeline compute(ctx);
-      if (b == kPipeline) {
-        rt = std::make_unique<RaygenMissPipeline>(ctx, sets->layout(), "peaks_rays.rgen", "shadows.rmiss",
+      if (b.pipeline) {
+        rt = std::make_unique<RaygenMissPipeline>(ctx, sets.layout(), "peaks_rays.rgen", "shadows.rmiss",
                                                   SpecConstants{{mode}});
       } else {
-        compute.createLayout({sets->layout()}, 2 * sizeof(uint32_t));
-        if (isOurs(b)) {  // 8x8 threads a group
-          const TraceBvh& bvh = b == kCompute ? bvh2 : bvh4;
-          compute.createCompute("peaks_rays_compute.comp",
-                                {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width}});
+        compute.createLayout({sets.layout()}, 2 * sizeof(uint32_t));
+        if (b.ours) {  // 8x8 threads a group
+          const TraceBvh& bvh = bvhOf(b.ours->width);
+          compute.createCompute("peaks_rays_compute.comp", {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u,
+                                                             bvh.width, b.ours->persistent ? 1u : 0u}});
         } else
           compute.createCompute("peaks_rays_rayquery.comp", {{mode}});
       }
-      VkDescriptorSet set = sets->set();
+      // Every ray writes 0 or 1: a ray left at 0xFFFFFFFF was not traced.
+      ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, missed.handle(), 0, VK_WHOLE_SIZE, ~0u); },
+                        "clearing the ray peaks' results");
+      const bool persistent = b.ours && b.ours->persistent;
+      VkDescriptorSet set = sets.set();
       const uint32_t size[2] = {width, height};
-      Peak peak =
-          makePeak(b == kPipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
-                   timeRepetitions(ctx, sizes,
-                                   [&](VkCommandBuffer cmd) {
-                                     const Pipeline& p = rt ? rt->pipeline() : compute;
-                                     vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
-                                     vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
-                                     if (rt) {
-                                       rt->traceRays(cmd, width, height);
-                                     } else {
-                                       vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
-                                       vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
-                                     }
-                                   }),
-                   std::string(what[mode]) + where + ", through " +
-                       (b == kCompute       ? "our binary BVH in compute (backend=compute)"
-                        : b == kComputeWide ? "our 4-wide BVH in compute (backend=compute, bvh_width=4)"
-                        : b == kPipeline    ? "the driver's ray-tracing pipeline"
-                                            : "the driver's ray query"));
-      peak.backend = name;
+      Peak peak = makePeak(
+          b.pipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
+          timeRepetitions(ctx, sizes,
+                          [&](VkCommandBuffer cmd) {
+                            if (persistent) {  // the counter back to the first ray, inside the timing
+                              vkCmdFillBuffer(cmd, nextRay.handle(), 0, 4, 0);
+                              memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                                            VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+                            }
+                            const Pipeline& p = rt ? rt->pipeline() : compute;
+                            vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
+                            vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
+                            if (rt) {
+                              rt->traceRays(cmd, width, height);
+                            } else {
+                              vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
+                              if (persistent)
+                                vkCmdDispatch(cmd, persistentGroups, 1, 1);
+                              else
+                                vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+                            }
+                          }),
+          std::string(what[mode]) + where + ", through " + b.through);
+      peak.backend = b.name;
       const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
       const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
       peak.missed = 0;
-      for (size_t i = 0; i < rays; ++i) peak.missed += m[i];
-      peaks.figures.push_back(std::move(peak));
+      for (size_t i = 0; i < rays; ++i) {
+        if (m[i] > 1)
+          throw DeviceError("the ray peak " + peak.key + " left ray " + std::to_string(i) +
+                            " untraced: a bug in its shader or the driver");
+        peak.missed += m[i];
+      }
+      return peak;
     }
+  };
+  for (const Backend& b : backends) {
+    const std::unique_ptr<DescriptorSets> sets = makeSets(b);
+    // The AO rays start where our BVH's camera rays met the scene: only where it ran.
+    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) peaks.figures.push_back(measure(b, *sets, mode));
+  }
+  // The first figure once more, last: a device whose clocks or load changed while the figures ran
+  // (the H200's first `peaks` on a cold machine once measured the driver's rays at 40 % of a second
+  // run's, while its figures before that point agreed) makes the figures disagree with each other.
+  // Beyond 5 % (run-to-run noise on the H200 is under 1 %), a warning says so.
+  if (!cpu && !backends.empty()) {
+    const std::unique_ptr<DescriptorSets> sets = makeSets(backends.front());
+    const Peak again = measure(backends.front(), *sets, 0);
+    const Peak& first = peaks.figures[peaks.figures.size() - backends.size() * (everyBackend ? 4 : 3)];
+    const double ratio = again.perSecond / first.perSecond;
+    if (std::abs(ratio - 1.0) > 0.05)
+      peaks.warnings.push_back("ray peaks: " + first.key + " measured " + format("%.3g", first.perSecond) +
+                               " rays/s first and " + format("%.3g", again.perSecond) + " last (" +
+                               format("%+.0f", 100.0 * (ratio - 1.0)) +
+                               " %): the device's speed changed while they ran (clocks, power or another "
+                               "process); measure again (hybridbench peaks)");
   }
 }
 
@@ -401,14 +467,17 @@ json toJson(const Peaks& peaks, const DeviceInfo& device) {
     if (!p.backend.empty()) figures[p.key]["backend"] = p.backend;
     if (p.missed >= 0) figures[p.key]["missed"] = p.missed;
   }
-  return {{"version", kPeaksVersion}, {"device", device.name},
-          {"uuid", device.uuid},      {"driver", device.driverName + " " + device.driverVersion},
-          {"timing", peaks.timing},   {"figures", figures}};
+  json j = {{"version", kPeaksVersion}, {"device", device.name},
+            {"uuid", device.uuid},      {"driver", device.driverName + " " + device.driverVersion},
+            {"timing", peaks.timing},   {"figures", figures}};
+  if (!peaks.warnings.empty()) j["warnings"] = peaks.warnings;
+  return j;
 }
 
 Peaks peaksFromJson(const json& j) {
   Peaks peaks;
   peaks.timing = j.value("timing", "");
+  peaks.warnings = j.value("warnings", std::vector<std::string>{});
   // A named copy: items() refers to its json, and a temporary's would end before the loop body
   // (C++20 extends the life of the range's outermost temporary only).
   const json figures = j.value("figures", json::object());

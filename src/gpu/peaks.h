@@ -23,13 +23,15 @@ struct Peak {
   double work = 0;          // units per repetition
   std::vector<double> ms;   // each repetition's time
   std::string description;  // what one repetition does, in words
-  std::string backend;      // ray figures: the tracer, pipeline | rayquery | compute ("" otherwise)
-  double missed = -1;       // ray figures: the rays that met nothing (-1 otherwise), equal across backends
+  std::string backend;  // ray figures: the tracer, pipeline | rayquery | compute[-w4|-w8][-persistent] ("" otherwise)
+  double missed = -1;   // ray figures: the rays that met nothing (-1 otherwise), equal across backends
 };
 
 struct Peaks {
   std::vector<Peak> figures;
   std::string timing;  // "gpu timestamps" or "host clock (CPU device)"
+  // What makes the figures doubtful (addRayPeaks: the device's speed changed while they ran).
+  std::vector<std::string> warnings;
   // The rate for a unit a pass counts (report/roofline.cpp): bytes -> the highest of read, write
   // and copy; atomics -> distinct 32-bit adds; atomics64 -> atomicMin on 64 bits; fma; triangles;
   // fragments; rays_coherent, rays_random, rays_occlusion, rays_ao (addRayPeaks), through

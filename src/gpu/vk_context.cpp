@@ -109,6 +109,8 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   d.fragmentSubgroupBallot = (sg.supportedStages & VK_SHADER_STAGE_FRAGMENT_BIT) &&
                              (sg.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) &&
                              (sg.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+  d.computeSubgroupBallot =
+      (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sg.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT);
   switch (p.vendorID) {
     case 0x10DE: d.vendor = "NVIDIA"; break;
     case 0x1002: d.vendor = "AMD"; break;

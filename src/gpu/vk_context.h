@@ -37,6 +37,7 @@ struct DeviceInfo {
   bool bufferInt64Atomics = false;  // set by VulkanContext (the device actually opened)
   bool shaderFloat64 = false;
   bool fragmentSubgroupBallot = false;  // ballot and arithmetic subgroup operations in fragment shaders
+  bool computeSubgroupBallot = false;   // ballot subgroup operations in compute shaders
   uint32_t timestampValidBits = 0;
   double timestampPeriodNs = 0;
   std::string rtBackends() const;  // "rayquery+pipeline", "pipeline", "none"
