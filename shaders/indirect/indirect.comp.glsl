@@ -1,7 +1,7 @@
 #version 460
 // Indirect light through ray queries (indirect_common.glsl.inc): photon tracing (METHOD = ldm or
-// raytraced, one thread per primary photon) or the gathered reference (one thread per pixel),
-// 64 threads a group over a 2D grid of groups (index = (y·groupsX + x)·64 + local).
+// raytraced, a group of 64 threads per primary photon) or the gathered reference (one thread per
+// pixel), 64 threads a group over a 2D grid of groups (group = y·groupsX + x).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_query : require
 #include "surface_constants.glsl.inc"

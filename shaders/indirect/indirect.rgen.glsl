@@ -1,7 +1,7 @@
 #version 460
 // Indirect light through the ray-tracing pipeline (devices without ray queries: the H100/H200),
 // indirect_common.glsl.inc: launched over (width, height) pixels for the gathered reference, or
-// over a 2D grid of primary photons (k = y·launchWidth + x). Closest hits come from
+// over (kPhotonLanes, primaries) for the photons (primary photon y, lane x). Closest hits come from
 // indirect.rchit.glsl as (t bits, triangle id); the miss shader sets the id to ~0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_ray_tracing : require
@@ -35,5 +35,5 @@ void main() {
   if (METHOD == kIndirectReference)
     gatherPixel(ivec2(gl_LaunchIDEXT.xy));
   else
-    photonTrace(gl_LaunchIDEXT.y * gl_LaunchSizeEXT.x + gl_LaunchIDEXT.x);
+    photonTrace(gl_LaunchIDEXT.y, gl_LaunchIDEXT.x);
 }

@@ -312,22 +312,23 @@ void IndirectPass::recordBuild(VkCommandBuffer cmd) const {
   if (ldm_) ldm_->record(cmd);
 }
 
-// count threads: photons (a 2D grid of 64-thread groups, or launch rows of 65536) or the pixels.
+// count: primary photons, kPhotonLanes threads each (indirect_common.glsl.inc: a 64-thread group a
+// photon in compute, a launch of (64, count) in the pipeline), or pixels, a thread each (64 a group,
+// or a launch of the image).
 void IndirectPass::recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count,
                                   bool pixels) const {
+  constexpr uint32_t kPhotonLanes = 64;  // indirect_common.glsl.inc
   VkDescriptorSet set = t.sets->set();
   const Pipeline& pl = p.pipeline();
   vkCmdBindPipeline(cmd, pl.bindPoint(), pl.handle());
   vkCmdBindDescriptorSets(cmd, pl.bindPoint(), pl.layout(), 0, 1, &set, 0, nullptr);
   if (p.rt) {
-    if (pixels) {
+    if (pixels)
       p.rt->traceRays(cmd, width_, height_);
-    } else {
-      const uint32_t w = std::min<uint32_t>(count, 65536u);
-      p.rt->traceRays(cmd, w, (count + w - 1) / w);
-    }
+    else
+      p.rt->traceRays(cmd, kPhotonLanes, count);
   } else {
-    const uint32_t groups = (count + 63) / 64, gx = std::min<uint32_t>(groups, 65535u);
+    const uint32_t groups = pixels ? (count + 63) / 64 : count, gx = std::min<uint32_t>(groups, 65535u);
     vkCmdDispatch(cmd, gx, (groups + gx - 1) / gx, 1);
   }
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
