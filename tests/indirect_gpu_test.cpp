@@ -357,35 +357,60 @@ TEST_F(IndirectGpuTest, OurBvhTracesThePhotonsAndTheReferenceAsTheDriversTracerD
 // after renderer.
 TEST_F(IndirectGpuTest, LdmIrradianceIsBitForBitDeterministic) {
   const Scene scene = diffuseBox("box-and-block", true);
-  const RenderSettings rs =
-      indirectSettings(48, 32, {{"method", "ldm"}, {"directions", 64}, {"photons", 8}, {"ldm_resolution", 64}});
-  std::vector<float> first, second, other;
-  {
-    Renderer r(*ctx, scene, rs);
-    r.renderFrame(true);
-    first = indirectPassOf(r)->readIrradiance();
-    r.renderFrame(true);
-    second = indirectPassOf(r)->readIrradiance();
+  std::map<std::string, std::vector<float>> bySplat;
+  for (const char* splat : {"compute", "raster"}) {  // both sum the slots in slot order
+    SCOPED_TRACE(splat);
+    const RenderSettings rs = indirectSettings(
+        48, 32, {{"method", "ldm"}, {"directions", 64}, {"photons", 8}, {"ldm_resolution", 64}, {"splat", splat}});
+    std::vector<float> first, second, other;
+    {
+      Renderer r(*ctx, scene, rs);
+      r.renderFrame(true);
+      first = indirectPassOf(r)->readIrradiance();
+      r.renderFrame(true);
+      second = indirectPassOf(r)->readIrradiance();
+    }
+    {
+      Renderer r(*ctx, scene, rs);
+      r.renderFrame(true);
+      other = indirectPassOf(r)->readIrradiance();
+    }
+    ASSERT_EQ(first.size(), size_t(48 * 32 * 4));
+    ASSERT_EQ(second.size(), first.size());
+    ASSERT_EQ(other.size(), first.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < first.size(); i += 4) lit += first[i] > 0.0f;
+    std::printf("box and block, ldm, splat=%s: %zu of %d pixels lit; frames %s, renderers %s\n", splat, lit, 48 * 32,
+                std::memcmp(first.data(), second.data(), first.size() * 4) == 0 ? "identical" : "DIFFER",
+                std::memcmp(first.data(), other.data(), first.size() * 4) == 0 ? "identical" : "DIFFER");
+    EXPECT_GT(lit, size_t(48 * 32 / 2));  // not vacuous: most of the box is lit indirectly
+    EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(first.data(), other.data(), first.size() * sizeof(float)), 0);
+    bySplat[splat] = first;
   }
-  {
-    Renderer r(*ctx, scene, rs);
-    r.renderFrame(true);
-    other = indirectPassOf(r)->readIrradiance();
+  // The two splats on a perspective view of a box: the same terms in the same order, but for a
+  // pixel centre on a quad's edge or a receiver off the photon's plane at the quad's edge
+  // (photon_splat.comp.glsl). How far apart they are is printed; the bound that holds them to
+  // each other is TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons's, where every receiver is on the
+  // photons' plane.
+  const std::vector<float>&c = bySplat["compute"], &r = bySplat["raster"];
+  double num = 0, den = 0, maxE = 0, maxDiff = 0;
+  size_t equal = 0;
+  for (size_t i = 0; i < c.size(); ++i) {
+    if (i % 4 == 3) continue;
+    num += (double(c[i]) - r[i]) * (double(c[i]) - r[i]);
+    den += double(r[i]) * r[i];
+    maxE = std::max(maxE, double(r[i]));
+    maxDiff = std::max(maxDiff, std::abs(double(c[i]) - r[i]));
+    equal += c[i] == r[i];
   }
-  ASSERT_EQ(first.size(), size_t(48 * 32 * 4));
-  ASSERT_EQ(second.size(), first.size());
-  ASSERT_EQ(other.size(), first.size());
-  size_t lit = 0;
-  for (size_t i = 0; i < first.size(); i += 4) lit += first[i] > 0.0f;
-  std::printf("box and block, ldm: %zu of %d pixels lit; frames %s, renderers %s\n", lit, 48 * 32,
-              std::memcmp(first.data(), second.data(), first.size() * 4) == 0 ? "identical" : "DIFFER",
-              std::memcmp(first.data(), other.data(), first.size() * 4) == 0 ? "identical" : "DIFFER");
-  EXPECT_GT(lit, size_t(48 * 32 / 2));  // not vacuous: most of the box is lit indirectly
-  EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0);
-  EXPECT_EQ(std::memcmp(first.data(), other.data(), first.size() * sizeof(float)), 0);
+  std::printf(
+      "box and block: compute vs raster splat: relative MSE %.3g, largest difference %.3g of max E, %zu of %zu "
+      "values equal\n",
+      num / den, maxDiff / maxE, equal, c.size() / 4 * 3);
 }
 
-// The splat (photon_splat.{vert,frag}.glsl) against the CPU's double sum of photon_ref.h
+// Both splats (photon_splat.comp.glsl; photon_splat.{vert,frag}.glsl) against the CPU's double sum of photon_ref.h
 // splatIrradiance over the GPU's own stored photons, at the pixels' own floor points. A floor and
 // a ceiling 2 m apart, an orthographic camera looking straight down from under the ceiling: every
 // pixel shows the floor, every stored photon lies on it (the ceiling's are hidden). The receivers
@@ -408,18 +433,36 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   cam.zfar = 10.0f;
   scene.cameras.push_back(cam);
   constexpr uint32_t W = 96, H = 96;
-  RenderSettings rs;
-  rs.width = W;
-  rs.height = H;
-  rs.lightCulling = false;  // the light tiles are frusta of a perspective view
-  rs.effects.add(EffectSource::Config, "test",
-                 {{"shadows", true}, {"indirect", {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}}}});
-  Renderer r(*ctx, scene, rs);
+  // Both splats (splat=compute, the default, and splat=raster) of the same photons.
+  auto settingsWith = [&](const char* splat) {
+    RenderSettings rs;
+    rs.width = W;
+    rs.height = H;
+    rs.lightCulling = false;  // the light tiles are frusta of a perspective view
+    rs.effects.add(EffectSource::Config, "test",
+                   {{"shadows", true},
+                    {"indirect", {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}, {"splat", splat}}}});
+    return rs;
+  };
+  std::vector<float> rasterE;
+  std::vector<gpu::Photon> rasterPhotons;
+  {
+    Renderer raster(*ctx, scene, settingsWith("raster"));
+    raster.renderFrame(true);
+    ASSERT_NE(indirectPassOf(raster), nullptr);
+    rasterE = indirectPassOf(raster)->readIrradiance();
+    rasterPhotons = indirectPassOf(raster)->readPhotons();
+  }
+  Renderer r(*ctx, scene, settingsWith("compute"));
   r.renderFrame(true);
   ASSERT_NE(indirectPassOf(r), nullptr);
   const IndirectPass& pass = *indirectPassOf(r);
   const std::vector<float> gpuE = pass.readIrradiance();
   const std::vector<gpu::Photon> photons = pass.readPhotons();
+  ASSERT_EQ(rasterPhotons.size(), photons.size());
+  ASSERT_EQ(std::memcmp(rasterPhotons.data(), photons.data(), photons.size() * sizeof(gpu::Photon)), 0)
+      << "the same photons under either splat";
+  ASSERT_EQ(rasterE.size(), gpuE.size());
   const std::vector<float> depth = r.readDepth();
   const ShadowReadback sh = shadowsOf(r)->readShadows();
   ASSERT_EQ(gpuE.size(), size_t(W * H * 4));
@@ -496,32 +539,41 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   // either side of 1 they are (1 − l²)² ≈ 0).
   double maxE = 0;
   for (const glm::dvec3& e : cpuE) maxE = std::max({maxE, e.x, e.y, e.z});
-  size_t lit = 0, bad = 0, outsideBase = 0;
-  double worst = 0, worstConditioning = 0;
-  for (size_t k = 0; k < cpuE.size(); ++k) {
-    lit += cpuE[k].x > 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const double want = cpuE[k][c], got = gpuE[4 * k + c];
-      const double diff = std::abs(got - want), base = 1e-3 * want + 1e-4 * maxE;
-      bad += diff > base + conditioning[k];
-      outsideBase += diff > base;
-      if (want > 1e-4 * maxE) {
-        worst = std::max(worst, diff / want);
-        worstConditioning = std::max(worstConditioning, conditioning[k] / want);
+  size_t lit = 0;
+  for (size_t k = 0; k < cpuE.size(); ++k) lit += cpuE[k].x > 0.0;
+  auto check = [&](const std::vector<float>& e, const char* splat) {
+    size_t bad = 0, outsideBase = 0;
+    double worst = 0, worstConditioning = 0;
+    for (size_t k = 0; k < cpuE.size(); ++k)
+      for (int c = 0; c < 3; ++c) {
+        const double want = cpuE[k][c], got = e[4 * k + c];
+        const double diff = std::abs(got - want), base = 1e-3 * want + 1e-4 * maxE;
+        bad += diff > base + conditioning[k];
+        outsideBase += diff > base;
+        if (want > 1e-4 * maxE) {
+          worst = std::max(worst, diff / want);
+          worstConditioning = std::max(worstConditioning, conditioning[k] / want);
+        }
       }
-    }
-  }
-  std::printf(
-      "floor under an orthographic camera, %ux%u: %llu stored photons (%llu on the floor, largest κ = "
-      "|du||dv|/|den| %.3g), %zu pixels lit, max E %.5g W/m^2; GPU positions within %.2g m of the double "
-      "reconstruction; GPU vs CPU double: largest relative difference %.3g (conditioning bound up to %.3g of E), "
-      "%zu channel values beyond 1e-3·E + 1e-4·max E, %zu beyond that plus the conditioning bound\n",
-      W, H, (unsigned long long)stored, (unsigned long long)onFloor, worstKappa, lit, maxE, reconstruction, worst,
-      worstConditioning, outsideBase, bad);
+    std::printf(
+        "floor under an orthographic camera, %ux%u, splat=%s: %llu stored photons (%llu on the floor, largest κ = "
+        "|du||dv|/|den| %.3g), %zu pixels lit, max E %.5g W/m^2; GPU positions within %.2g m of the double "
+        "reconstruction; GPU vs CPU double: largest relative difference %.3g (conditioning bound up to %.3g of E), "
+        "%zu channel values beyond 1e-3·E + 1e-4·max E, %zu beyond that plus the conditioning bound\n",
+        W, H, splat, (unsigned long long)stored, (unsigned long long)onFloor, worstKappa, lit, maxE, reconstruction,
+        worst, worstConditioning, outsideBase, bad);
+    return bad;
+  };
   EXPECT_GT(onFloor, 100u);
   EXPECT_GT(lit, size_t(W * H / 2));
   EXPECT_GT(maxE, 0.0);
-  EXPECT_EQ(bad, 0u);
+  EXPECT_EQ(check(gpuE, "compute"), 0u);
+  EXPECT_EQ(check(rasterE, "raster"), 0u);
+  // The two splats sum the same terms in the same order: each within the bound above of the
+  // double sum, so of each other; how many values are bit-equal is printed.
+  size_t equal = 0;
+  for (size_t i = 0; i < gpuE.size(); ++i) equal += std::memcmp(&gpuE[i], &rasterE[i], sizeof(float)) == 0;
+  std::printf("compute and raster splats: %zu of %zu values bit-equal\n", equal, gpuE.size());
 }
 
 // Nothing is built for the effect when it is off, or when it cannot act (the only light is

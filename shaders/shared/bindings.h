@@ -112,6 +112,13 @@
 #define HB_INDIRECT_FACES 19u           // PhotonFace per emitting image plane
 #define HB_INDIRECT_IRRADIANCE 20u      // the irradiance image (reference), written
 #define HB_INDIRECT_TEXTURES 24u        // bindless sampled textures: the last binding (after HB_SURFACE_BVH_*)
+// The compute splat's own buffers (splat=compute: photon_splat_bin.comp.glsl, photon_splat.comp.glsl),
+// in set 1 beside the indirect set.
+#define HB_SPLAT_BOXES 0u   // uvec2 per slot: its footprint's pixel box (x0 | y0 << 16, x1 | y1 << 16)
+#define HB_SPLAT_COARSE 1u  // uint per slot: the same box in coarse bins (x0 | y0 << 8 | x1 << 16 | y1 << 24)
+#define HB_SPLAT_COUNTS 2u  // uint per (bin, chunk): slots of the chunk that overlap the bin, then their start
+#define HB_SPLAT_BINS 3u    // uvec4 per bin: its list's start, count, whether it fit the list's capacity
+#define HB_SPLAT_LIST 4u    // uint: each bin's overlapping slots, in slot order, bin after bin
 
 // Layered depth maps' build (frame/passes/ldm_build.cpp): the build's set (ldm_build.vert/frag for
 // the hardware build, ldm_build_3dr.comp) and the sbuffer list's scan set (ldm_sbuffer.comp: 1-3).

@@ -335,6 +335,21 @@ struct PhotonFace {
   uint firstPrimary;       // face f's texels are primaries firstPrimary .. + side² − 1
   uint pad0, pad1;
 };
+// The compute splat (splat=compute): a slot chunk, a coarse bin's side and a gather tile's side.
+HB_CONST uint kSplatChunk = 65536u;  // slots a binning workgroup scans (256 rounds of 256)
+HB_CONST uint kSplatBin = 128u;      // pixels: a coarse bin's side by default (splat_bin), a multiple of the tile's
+HB_CONST uint kSplatTile = 16u;      // pixels: one 256-thread workgroup gathers a tile
+// The compute splat's push constants (photon_splat_bin.comp.glsl, photon_splat.comp.glsl).
+struct SplatConstants {
+  uint slots;     // photon slots
+  uint chunks;    // slot chunks of kSplatChunk
+  uint binsX;     // coarse bins of kSplatBin pixels across
+  uint binsY;     // and down
+  uint capacity;  // the list's entries
+  uint tilesX;    // gather tiles of kSplatTile pixels across
+  uint tilesY;    // and down
+  uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
+};
 struct IndirectConstants {
   uint directions;    // N
   uint resolution;    // R of the LDMs
@@ -359,6 +374,7 @@ static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
 static_assert(sizeof(Photon) == 64, "Photon layout");
 static_assert(sizeof(PhotonFace) == 64, "PhotonFace layout");
 static_assert(sizeof(IndirectConstants) == 64, "IndirectConstants layout");
+static_assert(sizeof(SplatConstants) == 32, "SplatConstants layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");

@@ -220,7 +220,14 @@ TEST(Effects, EachSettingOfTheSchemaIsWhatTheValidatorAcceptsWithItsDefault) {
         for (size_t at = 0; at <= a.size();) {
           const size_t bar = a.find(" | ", at);
           const std::string choice = a.substr(at, bar == std::string::npos ? std::string::npos : bar - at);
-          EXPECT_TRUE(accepts(*e, s.name, choice)) << e->name << "." << s.name << " " << choice;
+          int64_t number = 0;  // a choice of numbers ("32 | 64") is given as numbers
+          const auto [end, ec] = std::from_chars(choice.data(), choice.data() + choice.size(), number);
+          if (ec == std::errc() && end == choice.data() + choice.size()) {
+            EXPECT_TRUE(accepts(*e, s.name, number)) << e->name << "." << s.name << " " << choice;
+            EXPECT_FALSE(accepts(*e, s.name, number + 1)) << e->name << "." << s.name << " " << choice << " + 1";
+          } else {
+            EXPECT_TRUE(accepts(*e, s.name, choice)) << e->name << "." << s.name << " " << choice;
+          }
           at = bar == std::string::npos ? a.size() + 1 : bar + 3;
         }
         EXPECT_FALSE(accepts(*e, s.name, "no-such-choice")) << e->name << "." << s.name;

@@ -17,6 +17,8 @@ const char* toString(IndirectMethod m) {
   return "?";
 }
 
+const char* toString(IndirectSplat s) { return s == IndirectSplat::Raster ? "raster" : "compute"; }
+
 namespace {
 
 IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_reader::Where& where) {
@@ -31,6 +33,10 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
     s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
   if (value.contains("photons")) s.photons = uint32_t(readInt(value["photons"], where.key("photons"), 1, 1024));
   if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  if (value.contains("splat"))
+    s.splat = IndirectSplat(readChoice(value["splat"], where.key("splat"), {"compute", "raster"}));
+  if (value.contains("splat_bin"))
+    s.splatBin = uint32_t(readIntChoice(value["splat_bin"], where.key("splat_bin"), {32, 64, 128, 256}));
   readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
   readSquareSamples(value, where, s.samples);
   return s;
@@ -80,6 +86,8 @@ nlohmann::json IndirectSettings::toJson() const {
   }
   j["directions"] = directions;
   j["photons"] = photons;
+  j["splat"] = hb::toString(splat);
+  if (splat == IndirectSplat::Compute) j["splat_bin"] = splatBin;
   if (method == IndirectMethod::Ldm) {
     j["ldm_resolution"] = ldmResolution;
     j["bias"] = bias;
@@ -115,6 +123,11 @@ const EffectDef& indirectEffect() {
               {"ldm_resolution", "8..4096", "128", "R of each map"},
               {"photons", "1..1024", "16", "primary photons per face side (a point light emits 6 x photons^2)"},
               {"bias", "a number > 0", "1", "scale of the derived LDM bias"},
+              {"splat", "compute | raster", "\"compute\"",
+               "the photons binned into 16x16 tiles and gathered in slot order by compute, or drawn as quads "
+               "with additive blending (the paper's); both sum the same terms in the same order"},
+              {"splat_bin", "32 | 64 | 128 | 256", "128",
+               "splat=compute: the side in pixels of the coarse bins that list the photons for the 16x16 tiles"},
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "256", "reference rays per pixel"},

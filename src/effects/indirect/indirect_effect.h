@@ -33,6 +33,10 @@ namespace hb {
 
 enum class IndirectMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2 };
 const char* toString(IndirectMethod m);
+// How the photons reach the pixels: a compute pass that bins them into tiles and gathers them in
+// slot order (the default), or a quad a photon through the raster pipeline's additive blending.
+enum class IndirectSplat : uint32_t { Compute = 0, Raster = 1 };
+const char* toString(IndirectSplat s);
 
 struct IndirectSettings {
   IndirectMethod method = IndirectMethod::Ldm;
@@ -43,6 +47,8 @@ struct IndirectSettings {
   LdmList ldmList = LdmList::Max64;
   LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
   uint32_t samples = 256;
+  IndirectSplat splat = IndirectSplat::Compute;
+  uint32_t splatBin = 128;  // splat=compute: a coarse bin's side in pixels
   nlohmann::json toJson() const;
 };
 

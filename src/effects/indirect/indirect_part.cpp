@@ -1,10 +1,12 @@
 #include "effects/indirect/indirect_part.h"
 
+#include <cmath>
 #include <string>
 
 #include "effects/indirect/indirect_effect.h"
 #include "frame/base_parts.h"
 #include "frame/pass_work.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
@@ -22,8 +24,11 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
 
   const double pixels = double(f.settings.width) * f.settings.height;
   const double triangles = double(f.scene.triangleCount());
+  const uint32_t bin = indirect_->settings().indirect.splatBin;
+  const double bins = double((f.settings.width + bin - 1) / bin) * double((f.settings.height + bin - 1) / bin);
+  const double tilesABin = double(bin / gpu::kSplatTile) * double(bin / gpu::kSplatTile);
   // What each pass did, from the analysis frame's "indirect" record and the frame's sizes.
-  auto workOf = [pixels, triangles](const std::string& name, const nlohmann::json& a) {
+  auto workOf = [pixels, triangles, bins, tilesABin](const std::string& name, const nlohmann::json& a) {
     const nlohmann::json& in = a.contains("indirect") ? a["indirect"] : nlohmann::json::object();
     const double slots = figureAt(in, {"split_photons", "slots"});
     std::vector<WorkItem> items;
@@ -33,7 +38,29 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       items = {derived("bytes", 8 * slots, "at least one 8 B list node read per photon slot")};
     else if (name == kPhotonTracePass)
       items = {derived("rays_random", slots, "one ray per photon slot")};
-    else if (name == kPhotonSplatPass)
+    else if (name == kPhotonSplatPass && in.value("splat", "raster") == "compute") {
+      // The steps (photon_splat_bin.comp.glsl, photon_splat.comp.glsl): each slot's 64 B photon read
+      // and 12 B of boxes written; its 4 B coarse box read by every bin, counting and filling; each
+      // list entry written, then read with its 8 B box by every tile of its bin; the target written.
+      const double entries = figureAt(in, {"splat_bins", "entries"});
+      const double gather = tilesABin * entries * 12 + 16 * pixels;
+      const std::string byEntries =
+          "counted list entries (splat_bins.entries) x the tiles a bin x (4 B entry + 8 B box), "
+          "and the RGBA32F target written once";
+      return std::vector<PassWork>{
+          {name,
+           {derived("bytes", slots * 76 + 2 * bins * slots * 4 + entries * 4 + gather,
+                    "its steps' bytes together (photon_splat.*)")}},
+          {name + ".boxes", {derived("bytes", slots * 76, "each slot's 64 B photon read, 12 B of boxes written")}},
+          {name + ".count", {derived("bytes", bins * slots * 4, "each slot's 4 B coarse box read by every bin")}},
+          {name + ".scan",
+           {derived("bytes", bins * std::ceil(slots / gpu::kSplatChunk) * 4 * 3,
+                    "each (bin, chunk) count read twice and its start written once, by one workgroup")}},
+          {name + ".fill",
+           {derived("bytes", bins * slots * 4 + entries * 4,
+                    "each slot's coarse box read by every bin, each list entry written (splat_bins.entries)")}},
+          {name + ".gather", {derived("bytes", gather, byEntries)}}};
+    } else if (name == kPhotonSplatPass)
       items = {derived("triangles", 2 * slots, "one quad (two triangles) per photon slot"),
                derived("bytes", 16 * pixels + 64 * slots, "RGBA32F target written once, a 64 B photon read per slot")};
     else
@@ -64,8 +91,14 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     f.resources.publish("indirect.photons", indirect_->photonSlots(), "gpu::Photon per slot",
                         std::to_string(indirect_->slots()) + " slots (primaries x N)");
     add(kPhotonTracePass, traceReads, {"indirect.photons"}, &IndirectPass::recordTrace);
-    add(kPhotonSplatPass, {"indirect.photons", res::kFrameConstants}, {res::kIndirectIrradiance},
-        &IndirectPass::recordSplat);
+    FramePass splat;
+    splat.name = kPhotonSplatPass;
+    splat.reads = {"indirect.photons", res::kFrameConstants};
+    splat.writes = {res::kIndirectIrradiance};
+    splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
+    splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { indirect_->recordSplat(cmd, frame.timer); };
+    splat.work = [workOf](const nlohmann::json& a) { return workOf(kPhotonSplatPass, a); };
+    passes_.push_back(std::move(splat));
   }
 }
 

@@ -68,6 +68,18 @@ struct IndirectPass::Program {
   const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
 };
 
+// splat=compute (photon_splat_bin.comp.glsl, photon_splat.comp.glsl): per slot its pixel box and
+// coarse box, per (bin, chunk) a count and then its start, per bin its list's range, and the list.
+struct IndirectPass::ComputeSplat {
+  gpu::SplatConstants constants{};
+  Buffer boxes, coarse, counts, bins, list;
+  std::unique_ptr<DescriptorSets> sets;
+  std::vector<std::unique_ptr<Pipeline>> bin;  // MODE 0..3
+  Pipeline gather;
+  explicit ComputeSplat(const VulkanContext& c) : gather(c) {}
+  uint64_t bytes() const { return boxes.size() + coarse.size() + counts.size() + bins.size() + list.size(); }
+};
+
 IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                            const IndirectPassSettings& settings, uint32_t width, uint32_t height,
                            const IndirectInputs& in)
@@ -174,7 +186,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
           ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
           : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
                                VK_SHADER_STAGE_MISS_BIT_KHR);
-  const VkShaderStageFlags all = trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+  const VkShaderStageFlags all =
+      trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
   const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   bindings_ = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
                {HB_INDIRECT_LIGHTS, sb, trace},
@@ -194,7 +207,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                {HB_INDIRECT_PHOTONS, sb, all},
                {HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
                {HB_INDIRECT_FACES, sb, trace},
-               {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace},
+               {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace | VK_SHADER_STAGE_COMPUTE_BIT},
                {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
   if (settings_.computeBvh) {  // our BVH instead of the TLAS
     std::erase_if(bindings_, [](const Binding& b) { return b.binding == HB_SURFACE_TLAS; });
@@ -205,6 +218,59 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
   frame_ = makeTarget(s.method != IndirectMethod::Reference);
+  if (s.method != IndirectMethod::Reference && s.splat == IndirectSplat::Compute) {
+    if (!ctx.info().computeSubgroupBallot)
+      throw InputError("effects.indirect.splat=compute needs subgroup ballots in compute shaders, which device \"" +
+                       ctx.info().name + "\" lacks; use effects.indirect.splat=raster");
+    auto cs = std::make_unique<ComputeSplat>(ctx);
+    gpu::SplatConstants& k = cs->constants;
+    HB_ASSERT(slots() <= 0xFFFFFFFFull);
+    k.slots = uint32_t(slots());
+    k.chunks = uint32_t((slots() + gpu::kSplatChunk - 1) / gpu::kSplatChunk);
+    k.binPixels = s.splatBin;
+    k.binsX = (width + k.binPixels - 1) / k.binPixels;
+    k.binsY = (height + k.binPixels - 1) / k.binPixels;
+    k.tilesX = (width + gpu::kSplatTile - 1) / gpu::kSplatTile;
+    k.tilesY = (height + gpu::kSplatTile - 1) / gpu::kSplatTile;
+    if (k.binsX > 255 || k.binsY > 255)
+      throw InputError("effects.indirect.splat_bin=" + std::to_string(k.binPixels) + ": a " + std::to_string(width) +
+                       "x" + std::to_string(height) +
+                       " image has more than 255 bins a side, more than their 8-bit "
+                       "coordinates hold; raise splat_bin or use splat=raster");
+    // The list: room for every slot in 4 bins (the atrium's Fig. 10 photons reach about 1.3 of the
+    // 128-pixel bins each). A bin whose entries would not fit is gathered from every slot instead:
+    // slower, the same sum (photon_splat_bin.comp.glsl).
+    const uint64_t maxEntries = props.limits.maxStorageBufferRange / 4;
+    k.capacity = uint32_t(std::min<uint64_t>(std::max<uint64_t>(4 * slots(), 1u << 16), maxEntries));
+    const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    cs->boxes = Buffer(ctx, std::max<uint64_t>(8, slots() * 8), use, false, MemClass::Other);
+    cs->coarse = Buffer(ctx, std::max<uint64_t>(4, slots() * 4), use, false, MemClass::Other);
+    cs->counts = Buffer(ctx, uint64_t(k.binsX) * k.binsY * k.chunks * 4, use, false, MemClass::Other);
+    cs->bins =
+        Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
+    cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, use, false, MemClass::Other);
+    const VkShaderStageFlags st = VK_SHADER_STAGE_COMPUTE_BIT;
+    cs->sets = std::make_unique<DescriptorSets>(ctx, std::vector<Binding>{{HB_SPLAT_BOXES, sb, st},
+                                                                          {HB_SPLAT_COARSE, sb, st},
+                                                                          {HB_SPLAT_COUNTS, sb, st},
+                                                                          {HB_SPLAT_BINS, sb, st},
+                                                                          {HB_SPLAT_LIST, sb, st}});
+    cs->sets->writeBuffer(0, HB_SPLAT_BOXES, sb, cs->boxes.handle());
+    cs->sets->writeBuffer(0, HB_SPLAT_COARSE, sb, cs->coarse.handle());
+    cs->sets->writeBuffer(0, HB_SPLAT_COUNTS, sb, cs->counts.handle());
+    cs->sets->writeBuffer(0, HB_SPLAT_BINS, sb, cs->bins.handle());
+    cs->sets->writeBuffer(0, HB_SPLAT_LIST, sb, cs->list.handle());
+    for (uint32_t mode = 0; mode < 4; ++mode) {
+      auto p = std::make_unique<Pipeline>(ctx);
+      p->createLayout({frame_.sets->layout(), cs->sets->layout()}, sizeof(gpu::SplatConstants));
+      p->createCompute("photon_splat_bin.comp", SpecConstants{{mode}});
+      cs->bin.push_back(std::move(p));
+    }
+    cs->gather.createLayout({frame_.sets->layout(), cs->sets->layout()}, sizeof(gpu::SplatConstants));
+    cs->gather.createCompute("photon_splat.comp",
+                             SpecConstants{{uint32_t(settings.normals), uint32_t(settings.worldPos)}});
+    computeSplat_ = std::move(cs);
+  }
   splat_.createLayout({frame_.sets->layout()}, 0);
   {
     ShaderModule vert(ctx, "photon_splat.vert"), frag(ctx, "photon_splat.frag");
@@ -349,7 +415,11 @@ void IndirectPass::recordGatherInto(VkCommandBuffer cmd, const Program& p, const
   recordDispatch(cmd, p, t, width_ * height_, true);
 }
 
-void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t) const {
+void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const {
+  if (computeSplat_) {
+    recordComputeSplat(cmd, t, timer);
+    return;
+  }
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                 VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
@@ -382,8 +452,52 @@ void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t) const {
       VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
+// Boxes, counts, starts, lists, then the gather (photon_splat_bin.comp.glsl, photon_splat.comp.glsl),
+// each step reading what the one before wrote.
+std::vector<std::string> IndirectPass::splatSubPasses() const {
+  if (!computeSplat_) return {};
+  return {"photon_splat.boxes", "photon_splat.count", "photon_splat.scan", "photon_splat.fill", "photon_splat.gather"};
+}
+
+void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const {
+  const ComputeSplat& cs = *computeSplat_;
+  const gpu::SplatConstants& k = cs.constants;
+  auto step = [&]() {
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  };
+  // The photons (and the depth) before any step reads them; the target's last readers before the
+  // gather writes it.
+  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
+                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  const VkDescriptorSet sets[2] = {t.sets->set(), cs.sets->set()};
+  auto bind = [&](const Pipeline& p) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 2, sets, 0, nullptr);
+    vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof k, &k);
+  };
+  const uint32_t slotGroups = (k.slots + 255) / 256, gx = std::max(1u, std::min(slotGroups, 65535u));
+  const std::vector<std::string> names = splatSubPasses();
+  auto dispatch = [&](size_t i, const Pipeline& p, uint32_t x, uint32_t y) {
+    if (timer) timer->begin(cmd, names[i]);
+    bind(p);
+    vkCmdDispatch(cmd, x, y, 1);
+    if (timer) timer->end(cmd);
+    if (i + 1 < names.size()) step();
+  };
+  dispatch(0, *cs.bin[0], gx, (slotGroups + gx - 1) / gx);
+  dispatch(1, *cs.bin[1], k.chunks, k.binsX * k.binsY);
+  dispatch(2, *cs.bin[2], 1, 1);
+  dispatch(3, *cs.bin[3], k.chunks, k.binsX * k.binsY);
+  dispatch(4, cs.gather, k.tilesX, k.tilesY);
+  memoryBarrier(
+      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+}
+
 void IndirectPass::recordTrace(VkCommandBuffer cmd) const { recordTraceInto(cmd, *programs_.at(method()), frame_); }
-void IndirectPass::recordSplat(VkCommandBuffer cmd) const { recordSplatInto(cmd, frame_); }
+void IndirectPass::recordSplat(VkCommandBuffer cmd, GpuTimer* timer) const { recordSplatInto(cmd, frame_, timer); }
 void IndirectPass::recordGather(VkCommandBuffer cmd) const {
   recordGatherInto(cmd, *programs_.at(IndirectMethod::Reference), frame_);
 }
@@ -423,7 +537,7 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
     ctx_.submitAndWait(
         [&](VkCommandBuffer cmd) {
           recordTraceInto(cmd, p, scratch_);
-          recordSplatInto(cmd, scratch_);
+          recordSplatInto(cmd, scratch_, nullptr);
         },
         "the ray-traced photons");
     if (photons) *photons = readSlots(ctx_, scratch_.photons);
@@ -431,10 +545,26 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
   return readRgba(ctx_, scratch_.irradiance);
 }
 
+std::optional<IndirectPass::SplatStats> IndirectPass::splatStats() const {
+  if (!computeSplat_) return std::nullopt;
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx_, computeSplat_->bins);
+  SplatStats st;
+  st.bins = bytes.size() / 16;
+  st.capacity = computeSplat_->constants.capacity;
+  for (size_t b = 0; b < st.bins; ++b) {
+    uint32_t v[4];
+    std::memcpy(v, bytes.data() + 16 * b, sizeof v);
+    st.entries += v[1];
+    st.overCapacity += v[2] == 0;
+  }
+  return st;
+}
+
 IndirectMemory IndirectPass::memory() const {
   IndirectMemory m;
   if (ldm_) m.ldmBytes = ldm_->memoryBytes();
   m.photonBytes = frame_.photons.size();
+  if (computeSplat_) m.splatBytes = computeSplat_->bytes();
   m.faceBytes = faces_.size();
   m.directionBytes = directions_.size();
   m.targetBytes = uint64_t(width_) * height_ * 16;

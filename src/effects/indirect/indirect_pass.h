@@ -1,16 +1,21 @@
 // Single-bounce indirect light (effects/indirect/indirect_effect.h; Aalund et al. 2015 Sect. 3.4, 4.2): per frame
 //   ldm        the LDMs along the N directions ("indirect_ldm_build"), the photons traced
-//              ("photon_trace": shaders/indirect/indirect_common.glsl.inc) and splatted ("photon_splat":
-//              photon_splat.{vert,frag}.glsl, additive blending into an RGBA32F target);
+//              ("photon_trace": shaders/indirect/indirect_common.glsl.inc) and splatted ("photon_splat"):
+//              splat=compute bins the photons into 16x16 tiles and gathers them a tile a group in
+//              slot order (photon_splat_bin.comp.glsl, photon_splat.comp.glsl); splat=raster draws
+//              a quad a photon with additive blending into the RGBA32F target
+//              (photon_splat.{vert,frag}.glsl). Both sum the same terms in the same order;
 //   raytraced  the same photons traced by the ray tracer, splatted the same way;
 //   reference  the gathered single bounce per pixel ("indirect_gather").
 // irradiance() then holds E_indirect (rgb, W/m²) per pixel, which the shading pass reflects as
 // albedo·(1 − metallic)/π·E. Every photon has a fixed slot (primary · N + direction), written
-// every frame, and the splat is one draw over the slots: the result is deterministic. An analysis
+// every frame, and either splat sums the slots in slot order: the result is deterministic. An analysis
 // frame can compute the other methods on the same surface (computeWith).
 #pragma once
 #include <map>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -20,6 +25,7 @@
 #include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
 #include "gpu/gpu_textures.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
@@ -44,7 +50,10 @@ struct IndirectPassSettings {
 
 struct IndirectMemory {
   uint64_t ldmBytes = 0, photonBytes = 0, faceBytes = 0, directionBytes = 0, targetBytes = 0, textureBytes = 0;
-  uint64_t total() const { return ldmBytes + photonBytes + faceBytes + directionBytes + targetBytes + textureBytes; }
+  uint64_t splatBytes = 0;  // splat=compute: the boxes, bins and list
+  uint64_t total() const {
+    return ldmBytes + photonBytes + faceBytes + directionBytes + targetBytes + textureBytes + splatBytes;
+  }
 };
 
 // What became of the split photons of one trace (a readback of every slot) and their flux (W,
@@ -59,16 +68,19 @@ PhotonTally tallyPhotons(const std::vector<gpu::Photon>& photons);
 class IndirectPass {
  public:
   // Throws InputError when the settings cannot run here (directions; a photon buffer over the
-  // device's storage-buffer range; no ray tracer), DeviceError when the device cannot blend RGBA32F.
+  // device's storage-buffer range; no ray tracer; splat=compute without compute subgroup ballots),
+  // DeviceError when the device cannot blend RGBA32F.
   IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs);
   ~IndirectPass();
 
   bool buildsLdms() const { return bool(ldm_); }
-  void recordBuild(VkCommandBuffer cmd) const;   // "indirect_ldm_build"
-  void recordTrace(VkCommandBuffer cmd) const;   // "photon_trace" (ldm, raytraced)
-  void recordSplat(VkCommandBuffer cmd) const;   // "photon_splat"
-  void recordGather(VkCommandBuffer cmd) const;  // "indirect_gather" (reference)
+  void recordBuild(VkCommandBuffer cmd) const;  // "indirect_ldm_build"
+  void recordTrace(VkCommandBuffer cmd) const;  // "photon_trace" (ldm, raytraced)
+  // "photon_splat"; splat=compute times its steps inside it (splatSubPasses) where `timer` is given.
+  void recordSplat(VkCommandBuffer cmd, GpuTimer* timer = nullptr) const;
+  std::vector<std::string> splatSubPasses() const;  // "photon_splat.boxes", ... (splat=compute)
+  void recordGather(VkCommandBuffer cmd) const;     // "indirect_gather" (reference)
 
   const IndirectPassSettings& settings() const { return settings_; }
   IndirectMethod method() const { return settings_.indirect.method; }
@@ -91,6 +103,12 @@ class IndirectPass {
   double landingTolerance() const { return 0.70710678 * ldmPixel_ + 2.0 * gpu::kShadowTMin; }
   const LdmBuild* ldm() const { return ldm_.get(); }
   IndirectMemory memory() const;
+  // splat=compute, after a frame: the coarse bins' list entries (slot-bin pairs), the bins, and the
+  // bins whose entries passed the list's capacity (gathered from every slot instead).
+  struct SplatStats {
+    uint64_t entries = 0, bins = 0, overCapacity = 0, capacity = 0;
+  };
+  std::optional<SplatStats> splatStats() const;
 
  private:
   struct Target {
@@ -102,7 +120,7 @@ class IndirectPass {
   Target makeTarget(bool withPhotons);
   const Program& program(IndirectMethod method);
   void recordTraceInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
-  void recordSplatInto(VkCommandBuffer cmd, const Target& t) const;
+  void recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
   void recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
   void recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count, bool pixels) const;
 
@@ -119,6 +137,10 @@ class IndirectPass {
   std::vector<Binding> bindings_;
   Target frame_, scratch_;
   Pipeline splat_;
+  // splat=compute: the binning's buffers (set 1), its four steps and the gather.
+  struct ComputeSplat;
+  std::unique_ptr<ComputeSplat> computeSplat_;
+  void recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
   std::map<IndirectMethod, std::unique_ptr<Program>> programs_;
 };
 

@@ -17,10 +17,17 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
                                    std::vector<std::string>& summary) {
   nlohmann::json j = ind.settings().indirect.toJson();
   const IndirectMemory m = ind.memory();
-  j["memory_bytes"] = {
-      {"ldm", m.ldmBytes},       {"photons", m.photonBytes},   {"faces", m.faceBytes}, {"directions", m.directionBytes},
-      {"target", m.targetBytes}, {"textures", m.textureBytes}, {"total", m.total()}};
+  j["memory_bytes"] = {{"ldm", m.ldmBytes},       {"photons", m.photonBytes},
+                       {"faces", m.faceBytes},    {"directions", m.directionBytes},
+                       {"target", m.targetBytes}, {"textures", m.textureBytes},
+                       {"splat", m.splatBytes},   {"total", m.total()}};
   if (const LdmBuild* ldm = ind.ldm()) j["ldm"] = ldmJson(*ldm, ldm->links().size());
+  if (const auto st = ind.splatStats())  // splat=compute's binning, from the frame just rendered
+    j["splat_bins"] = {{"entries", st->entries},
+                       {"bins", st->bins},
+                       {"over_capacity", st->overCapacity},
+                       {"capacity", st->capacity},
+                       {"source", "counted: the coarse bins' ranges after the analysis frame"}};
   j["emitters"] = ind.emitters();
   j["flux_emitted_w"] = ind.emittedFlux();
   const IndirectMethod method = ind.method();

@@ -1,0 +1,171 @@
+#version 460
+// The compute splat's binning (splat=compute; effects/indirect/indirect_pass.cpp recordSplatInto),
+// four steps picked by MODE, 256 threads a group:
+//  MODE 0 (boxes)  a thread a slot: the pixel box of its footprint's quad x ± du/2 ± dv/2 (the raster
+//                  splat's, photon_splat.vert.glsl), one pixel wider on each side, clamped to the
+//                  image, and the same box in coarse bins of sc.binPixels; empty for a slot
+//                  that holds no stored photon or whose quad lies outside the image. A quad with a
+//                  corner behind the eye (w <= 0) takes the whole image.
+//  MODE 1 (count)  a group per (chunk, bin): the slots of the chunk whose coarse box holds the bin.
+//  MODE 2 (scan)   one group: the counts' exclusive prefix, bin after bin and chunk after chunk, so
+//                  bin b's slots are entries [start_b, start_b + count_b) of the list, in slot
+//                  order; a bin whose entries would pass the list's capacity is marked, and the
+//                  gather scans every slot for it instead (slower, the same sum).
+//  MODE 3 (fill)   a group per (chunk, bin): the chunk's overlapping slots written in slot order
+//                  (a subgroup ballot's prefix), so every entry's position is fixed: deterministic.
+// The slot a thread takes in a round is ordered by (gl_SubgroupID, gl_SubgroupInvocationID), so the
+// list's order is the slots' whatever the hardware's mapping of local indices to subgroups.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "shared/gpu_types.h"
+#include "shared/bindings.h"
+layout(local_size_x = 256) in;
+layout(constant_id = 0) const uint MODE = 0u;
+
+layout(set = 0, binding = HB_SURFACE_FRAME) uniform Frame { FrameConstants frame; };
+layout(set = 0, binding = HB_INDIRECT_PHOTONS) readonly buffer Photons { Photon photons[]; };
+layout(set = 1, binding = HB_SPLAT_BOXES) buffer Boxes { uvec2 boxes[]; };
+layout(set = 1, binding = HB_SPLAT_COARSE) buffer Coarse { uint coarse[]; };
+layout(set = 1, binding = HB_SPLAT_COUNTS) buffer Counts { uint counts[]; };
+layout(set = 1, binding = HB_SPLAT_BINS) buffer Bins { uvec4 bins[]; };
+layout(set = 1, binding = HB_SPLAT_LIST) buffer List { uint list[]; };
+layout(push_constant) uniform Push { SplatConstants sc; };
+
+const uvec2 kEmptyBox = uvec2(0xFFFFFFFFu, 0u);
+const uint kEmptyCoarse = 0x000000FFu;  // x0 = 255 > x1 = 0: holds no bin
+
+shared uint sCount;
+shared uint sSubgroupTotals[256];
+
+// The slot a thread takes in round `round` of its group's chunk (see the header).
+uint slotOf(uint round) {
+  return gl_WorkGroupID.x * kSplatChunk + round * 256u + gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID;
+}
+
+bool coarseHolds(uint box, uvec2 bin) {
+  const uvec4 b = uvec4(box & 0xFFu, (box >> 8) & 0xFFu, (box >> 16) & 0xFFu, box >> 24);
+  return bin.x >= b.x && bin.x <= b.z && bin.y >= b.y && bin.y <= b.w;
+}
+
+void writeBoxes() {
+  const uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationIndex;
+  if (k >= sc.slots) return;
+  const Photon p = photons[k];
+  if (floatBitsToUint(p.normalStatus.w) != kPhotonStored) {
+    boxes[k] = kEmptyBox;
+    coarse[k] = kEmptyCoarse;
+    return;
+  }
+  const ivec2 extent = ivec2(frame.extent.xy);
+  vec2 lo = vec2(1e30), hi = vec2(-1e30);
+  bool behind = false;
+  for (uint c = 0u; c < 4u; ++c) {
+    const vec2 corner = vec2((c == 1u || c == 2u) ? 0.5 : -0.5, c >= 2u ? 0.5 : -0.5);
+    const vec4 clip =
+        frame.viewProj * vec4(p.positionFluxR.xyz + corner.x * p.duFluxG.xyz + corner.y * p.dvFluxB.xyz, 1.0);
+    if (!(clip.w > 0.0)) behind = true;
+    const vec2 px = (clip.xy / clip.w * 0.5 + 0.5) * frame.extent.xy;
+    lo = min(lo, px);
+    hi = max(hi, px);
+  }
+  ivec2 a = ivec2(0), b = extent - 1;
+  if (!behind) {
+    // Pixels whose centre i + 0.5 lies in [lo, hi], one more on each side for the raster's snapping.
+    a = max(ivec2(ceil(clamp(lo, vec2(-2.0), vec2(extent + 2)) - 0.5)) - 1, ivec2(0));
+    b = min(ivec2(floor(clamp(hi, vec2(-2.0), vec2(extent + 2)) - 0.5)) + 1, extent - 1);
+  }
+  if (any(greaterThan(a, b))) {
+    boxes[k] = kEmptyBox;
+    coarse[k] = kEmptyCoarse;
+    return;
+  }
+  boxes[k] = uvec2(uint(a.x) | uint(a.y) << 16, uint(b.x) | uint(b.y) << 16);
+  const uvec2 ca = uvec2(a) / sc.binPixels, cb = uvec2(b) / sc.binPixels;
+  coarse[k] = ca.x | ca.y << 8 | cb.x << 16 | cb.y << 24;
+}
+
+void countChunk() {
+  const uvec2 bin = uvec2(gl_WorkGroupID.y % sc.binsX, gl_WorkGroupID.y / sc.binsX);
+  if (gl_LocalInvocationIndex == 0u) sCount = 0u;
+  barrier();
+  uint n = 0u;
+  for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
+    const uint s = slotOf(round);
+    if (s < sc.slots && coarseHolds(coarse[s], bin)) ++n;
+  }
+  n = subgroupAdd(n);
+  if (subgroupElect()) atomicAdd(sCount, n);
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) counts[gl_WorkGroupID.y * sc.chunks + gl_WorkGroupID.x] = sCount;
+}
+
+// One group: each thread takes a contiguous run of the (bin, chunk) counts, the runs' totals are
+// prefixed in shared memory, and each run written back as starts. Then each bin's range and fit.
+void scanCounts() {
+  const uint total = sc.binsX * sc.binsY * sc.chunks, per = (total + 255u) / 256u;
+  const uint first = gl_LocalInvocationIndex * per, last = min(first + per, total);
+  uint run = 0u;
+  for (uint i = first; i < last; ++i) run += counts[i];
+  sSubgroupTotals[gl_LocalInvocationIndex] = run;
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    uint acc = 0u;
+    for (uint t = 0u; t < 256u; ++t) {
+      const uint v = sSubgroupTotals[t];
+      sSubgroupTotals[t] = acc;
+      acc += v;
+    }
+    sCount = acc;  // every entry
+  }
+  barrier();
+  uint acc = sSubgroupTotals[gl_LocalInvocationIndex];
+  for (uint i = first; i < last; ++i) {
+    const uint v = counts[i];
+    counts[i] = acc;
+    acc += v;
+  }
+  memoryBarrierBuffer();
+  barrier();
+  const uint binCount = sc.binsX * sc.binsY;
+  for (uint b = gl_LocalInvocationIndex; b < binCount; b += 256u) {
+    const uint start = counts[b * sc.chunks];
+    const uint end = b + 1u < binCount ? counts[(b + 1u) * sc.chunks] : sCount;
+    bins[b] = uvec4(start, end - start, end <= sc.capacity ? 1u : 0u, 0u);
+  }
+}
+
+void fillChunk() {
+  const uint b = gl_WorkGroupID.y;
+  const uvec2 bin = uvec2(b % sc.binsX, b / sc.binsX);
+  if (bins[b].z == 0u) return;  // past the capacity: the gather scans every slot for this bin
+  uint at = counts[b * sc.chunks + gl_WorkGroupID.x];
+  for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
+    const uint s = slotOf(round);
+    const bool hit = s < sc.slots && coarseHolds(coarse[s], bin);
+    const uvec4 ballot = subgroupBallot(hit);
+    if (subgroupElect()) sSubgroupTotals[gl_SubgroupID] = subgroupBallotBitCount(ballot);
+    barrier();
+    uint before = 0u, all = 0u;
+    for (uint g = 0u; g < gl_NumSubgroups; ++g) {
+      const uint v = sSubgroupTotals[g];
+      before += g < gl_SubgroupID ? v : 0u;
+      all += v;
+    }
+    if (hit) list[at + before + subgroupBallotExclusiveBitCount(ballot)] = s;
+    at += all;
+    barrier();
+  }
+}
+
+void main() {
+  if (MODE == 0u)
+    writeBoxes();
+  else if (MODE == 1u)
+    countChunk();
+  else if (MODE == 2u)
+    scanCounts();
+  else
+    fillChunk();
+}
