@@ -341,13 +341,13 @@ HB_CONST uint kSplatBin = 128u;      // pixels: a coarse bin's side by default (
 HB_CONST uint kSplatTile = 16u;      // pixels: one 256-thread workgroup gathers a tile
 // The compute splat's push constants (photon_splat_bin.comp.glsl, photon_splat.comp.glsl).
 struct SplatConstants {
-  uint slots;     // photon slots
-  uint chunks;    // slot chunks of kSplatChunk
-  uint binsX;     // coarse bins of kSplatBin pixels across
-  uint binsY;     // and down
-  uint capacity;  // the list's entries
-  uint tilesX;    // gather tiles of kSplatTile pixels across
-  uint tilesY;    // and down
+  uint slots;      // photon slots
+  uint chunks;     // slot chunks of kSplatChunk
+  uint binsX;      // coarse bins of kSplatBin pixels across
+  uint binsY;      // and down
+  uint capacity;   // the list's entries
+  uint tilesX;     // gather tiles of kSplatTile pixels across
+  uint tilesY;     // and down
   uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
 };
 struct IndirectConstants {
