@@ -1,12 +1,13 @@
 #version 460
 // Photon splatting in compute (splat=compute; effects/indirect/indirect_pass.cpp recordSplatInto):
 // a 256-thread group per 16x16 tile, a thread per pixel. The tile's coarse bin lists, in slot order,
-// the slots whose footprint's box may reach it (photon_splat_bin.comp.glsl). The group takes them 256
-// at a time: each thread tests one slot's pixel box against the tile, the ones that reach it are
-// packed in shared memory in slot order (a subgroup ballot's prefix) with their quad's projected
-// corners, and every pixel then adds, in that order, the irradiance of each photon whose quad covers
-// its centre (the raster splat's coverage: photon_splat.vert.glsl draws that quad) at its own surface
-// point (photon_splat.glsl.inc, the raster splat's fragment stage's own expression). So each pixel
+// the slots whose footprint's box may reach it (photon_splat_bin.comp.glsl). The group takes them 128
+// at a time: a thread tests one slot's pixel box against the tile, and the photons that reach it are
+// packed in shared memory in slot order (a subgroup ballot's prefix), with what depends on the photon
+// alone (photon_splat.glsl.inc splatSetup) and the edges of its quad projected to pixels. Every pixel
+// then adds, in that order, the irradiance of each photon whose quad covers its centre (the raster
+// splat's coverage: photon_splat.vert.glsl draws that quad) at its own surface point (splatAt, the
+// raster splat's fragment stage's own expressions, set up per photon here). So each pixel
 // sums the same terms in the same order as the raster splat's additive blending, and the result is
 // deterministic. Differences from the raster splat: a pixel centre on the quad's edge counts here
 // (the rasterizer's top-left rule and sub-pixel snapping decide it there), and a quad with a corner
@@ -30,23 +31,14 @@ layout(push_constant) uniform Push { SplatConstants sc; };
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 
-shared Photon sPhotons[256];
-shared vec4 sCorners[256][2];  // the quad's corners in pixels: (c0, c1), (c2, c3)
-shared uint sBehind[256];      // 1: a corner behind the eye, no coverage test
+// A round's photons that reach the tile, in slot order: their setup (photon_splat.glsl.inc) and
+// their quad's four edges in pixels, A·x + B·y + C >= 0 inside (oriented so; a quad with a corner
+// behind the eye gets edges that hold every pixel).
+const uint kRound = 128u;  // entries a round: 120 B of shared memory each, 15 KiB in all
+shared vec4 sX[kRound], sN[kRound], sDvn[kRound], sNdu[kRound];
+shared vec2 sFlux[kRound];
+shared vec4 sEdgeA[kRound], sEdgeB[kRound], sEdgeC[kRound];  // component k: edge k's A, B, C
 shared uint sTotals[256];
-
-// Whether pixel centre q lies in the convex quad c0 c1 c2 c3 (either winding; on an edge counts).
-bool covers(vec4 c01, vec4 c23, vec2 q) {
-  const vec2 c[4] = vec2[](c01.xy, c01.zw, c23.xy, c23.zw);
-  bool pos = true, neg = true;
-  for (uint i = 0u; i < 4u; ++i) {
-    const vec2 a = c[i], d = c[(i + 1u) & 3u] - a, r = q - a;
-    const float e = d.x * r.y - d.y * r.x;
-    pos = pos && e >= 0.0;
-    neg = neg && e <= 0.0;
-  }
-  return pos != neg;  // both: a quad of no area, which the rasterizer draws nothing of
-}
 
 void main() {
   const uvec2 tile = gl_WorkGroupID.xy;
@@ -66,14 +58,46 @@ void main() {
   const uint e = gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID;  // the entry it tests
   const vec2 q = vec2(p) + 0.5;
   vec3 sum = vec3(0.0);
-  for (uint base = 0u; base < entries; base += 256u) {
+  for (uint base = 0u; base < entries; base += kRound) {
     uint slot = 0u;
     bool hit = false;
-    if (base + e < entries) {
+    if (e < kRound && base + e < entries) {
       slot = listed ? list[range.x + base + e] : base + e;
       const uvec2 bx = boxes[slot];
       const uvec2 a = uvec2(bx.x & 0xFFFFu, bx.x >> 16), b = uvec2(bx.y & 0xFFFFu, bx.y >> 16);
       hit = a.x <= t1.x && b.x >= t0.x && a.y <= t1.y && b.y >= t0.y;
+    }
+    // The photon's setup and its quad's edges; a footprint or quad of no area gives nothing (the
+    // rasterizer draws nothing of a quad of no area).
+    SplatSetup sp;
+    vec4 ea = vec4(0.0), eb = vec4(0.0), ec = vec4(1.0);
+    if (hit) {
+      const Photon ph = photons[slot];
+      hit = splatSetup(ph, sp);
+      vec2 c[4];
+      bool behind = false;
+      for (uint k = 0u; k < 4u; ++k) {  // photon_splat.vert.glsl's corners, in its order around the quad
+        const vec2 corner = vec2((k == 1u || k == 2u) ? 0.5 : -0.5, k >= 2u ? 0.5 : -0.5);
+        const vec4 clip =
+            frame.viewProj * vec4(ph.positionFluxR.xyz + corner.x * ph.duFluxG.xyz + corner.y * ph.dvFluxB.xyz, 1.0);
+        behind = behind || !(clip.w > 0.0);
+        c[k] = (clip.xy / clip.w * 0.5 + 0.5) * frame.extent.xy;
+      }
+      if (!behind) {
+        float twiceArea = 0.0;
+        for (uint k = 0u; k < 4u; ++k) {
+          const vec2 from = c[k], d = c[(k + 1u) & 3u] - from;
+          ea[k] = -d.y;
+          eb[k] = d.x;
+          ec[k] = d.y * from.x - d.x * from.y;
+          twiceArea += from.x * c[(k + 1u) & 3u].y - c[(k + 1u) & 3u].x * from.y;
+        }
+        hit = hit && twiceArea != 0.0;
+        const float orient = twiceArea < 0.0 ? -1.0 : 1.0;
+        ea *= orient;
+        eb *= orient;
+        ec *= orient;
+      }
     }
     const uvec4 ballot = subgroupBallot(hit);
     if (subgroupElect()) sTotals[gl_SubgroupID] = subgroupBallotBitCount(ballot);
@@ -86,28 +110,24 @@ void main() {
     }
     if (hit) {
       const uint at = before + subgroupBallotExclusiveBitCount(ballot);
-      const Photon ph = photons[slot];
-      sPhotons[at] = ph;
-      vec2 c[4];
-      bool behind = false;
-      for (uint k = 0u; k < 4u; ++k) {  // photon_splat.vert.glsl's corners, in its order around the quad
-        const vec2 corner = vec2((k == 1u || k == 2u) ? 0.5 : -0.5, k >= 2u ? 0.5 : -0.5);
-        const vec4 clip =
-            frame.viewProj * vec4(ph.positionFluxR.xyz + corner.x * ph.duFluxG.xyz + corner.y * ph.dvFluxB.xyz, 1.0);
-        behind = behind || !(clip.w > 0.0);
-        c[k] = (clip.xy / clip.w * 0.5 + 0.5) * frame.extent.xy;
-      }
-      sCorners[at][0] = vec4(c[0], c[1]);
-      sCorners[at][1] = vec4(c[2], c[3]);
-      sBehind[at] = behind ? 1u : 0u;
+      sX[at] = sp.xScale;
+      sN[at] = sp.nRoot;
+      sDvn[at] = sp.dvnArea;
+      sNdu[at] = sp.nduR;
+      sFlux[at] = sp.fluxGB;
+      sEdgeA[at] = ea;
+      sEdgeB[at] = eb;
+      sEdgeC[at] = ec;
     }
     memoryBarrierShared();
     barrier();
     if (receives)
       for (uint j = 0u; j < n; ++j) {
+        const vec4 cover = sEdgeA[j] * q.x + sEdgeB[j] * q.y + sEdgeC[j];
+        if (any(lessThan(cover, vec4(0.0)))) continue;
+        const SplatSetup s = SplatSetup(sX[j], sN[j], sDvn[j], sNdu[j], sFlux[j]);
         vec3 ej;
-        if ((sBehind[j] != 0u || covers(sCorners[j][0], sCorners[j][1], q)) && splatIrradiance(sPhotons[j], y, ny, ej))
-          sum += ej;
+        if (splatAt(s, y, ny, ej)) sum += ej;
       }
     barrier();
   }

@@ -21,7 +21,8 @@ void main() {
   if (!hasDepth(p)) discard;
   const vec3 y = worldPos(p);
   const vec3 ny = NORMALS == kNormalsGeometric ? geometricNormal(p, y) : reconstructNormal(p, y);
+  SplatSetup sp;
   vec3 e;
-  if (!splatIrradiance(photons[inPhoton], y, ny, e)) discard;
+  if (!splatSetup(photons[inPhoton], sp) || !splatAt(sp, y, ny, e)) discard;
   outIrradiance = vec4(e, 0.0);
 }
