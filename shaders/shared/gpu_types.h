@@ -343,7 +343,7 @@ HB_CONST uint kSplatTile = 16u;      // pixels: one 256-thread workgroup gathers
 struct SplatConstants {
   uint slots;      // photon slots
   uint chunks;     // slot chunks of kSplatChunk
-  uint binsX;      // coarse bins of kSplatBin pixels across
+  uint binsX;      // coarse bins of binPixels across
   uint binsY;      // and down
   uint capacity;   // the list's entries
   uint tilesX;     // gather tiles of kSplatTile pixels across
