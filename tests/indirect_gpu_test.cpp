@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -574,6 +575,63 @@ TEST_F(IndirectGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   size_t equal = 0;
   for (size_t i = 0; i < gpuE.size(); ++i) equal += std::memcmp(&gpuE[i], &rasterE[i], sizeof(float)) == 0;
   std::printf("compute and raster splats: %zu of %zu values bit-equal\n", equal, gpuE.size());
+}
+
+// effects.indirect.max_anisotropy (indirect_common.glsl.inc limitAnisotropy): every stored footprint's
+// longest axis over its shortest is at most k afterwards, where without it some are far beyond; the
+// photons are the same photons (same slots, status, position and flux: only du, dv change), so the
+// flux each deposits is unchanged. The ratio is σ1/σ2 of [du dv] in the plane of n, in double from
+// the stored floats. Slack: the GPU's float SVD of a 2x2 loses ε·σ1²/σ2² = ε·k² relative in σ2²
+// (the cancellation in mid − rad), 1e-6 at k = 4, and the stored floats move σ2 by ~ε·σ1: 1e-4
+// covers both a hundred times over.
+TEST_F(IndirectGpuTest, MaxAnisotropyWidensNeedleFootprintsAndKeepsTheirFlux) {
+  const Scene scene = diffuseBox("box-and-block", true);
+  constexpr double k = 4.0;
+  auto photonsWith = [&](double maxAnisotropy) {
+    Renderer r(
+        *ctx, scene,
+        indirectSettings(
+            48, 32, {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}, {"max_anisotropy", maxAnisotropy}}));
+    r.renderFrame(true);
+    return indirectPassOf(r)->readPhotons();
+  };
+  auto axisRatio = [](const gpu::Photon& p) {
+    const glm::dvec3 n = glm::normalize(glm::dvec3(p.normalStatus)), du(p.duFluxG), dv(p.dvFluxB);
+    glm::dvec3 t1 = du - n * glm::dot(n, du);
+    if (glm::dot(t1, t1) == 0.0) t1 = dv - n * glm::dot(n, dv);
+    t1 = glm::normalize(t1);
+    const glm::dvec3 t2 = glm::cross(n, t1);
+    const double ux = glm::dot(du, t1), uy = glm::dot(du, t2), vx = glm::dot(dv, t1), vy = glm::dot(dv, t2);
+    const double pp = ux * ux + vx * vx, q = uy * uy + vy * vy, r = ux * uy + vx * vy;
+    const double mid = 0.5 * (pp + q), rad = std::sqrt(0.25 * (pp - q) * (pp - q) + r * r);
+    const double l2 = std::max(mid - rad, 0.0);
+    return l2 > 0.0 ? std::sqrt((mid + rad) / l2) : std::numeric_limits<double>::infinity();
+  };
+  const std::vector<gpu::Photon> before = photonsWith(0.0), after = photonsWith(k);
+  ASSERT_EQ(before.size(), after.size());
+  size_t stored = 0, needles = 0, beyond = 0, sameOtherwise = 0;
+  double worstBefore = 0, worstAfter = 0;
+  for (size_t i = 0; i < before.size(); ++i) {
+    const gpu::Photon &a = before[i], &b = after[i];
+    sameOtherwise += std::memcmp(&a.positionFluxR, &b.positionFluxR, sizeof a.positionFluxR) == 0 &&
+                     a.duFluxG.w == b.duFluxG.w && a.dvFluxB.w == b.dvFluxB.w &&
+                     std::memcmp(&a.normalStatus, &b.normalStatus, sizeof a.normalStatus) == 0;
+    if (statusOf(a) != gpu::kPhotonStored) continue;
+    ++stored;
+    const double ra = axisRatio(a), rb = axisRatio(b);
+    needles += ra > k;
+    beyond += rb > k * (1.0 + 1e-4);
+    worstBefore = std::max(worstBefore, ra);
+    worstAfter = std::max(worstAfter, rb);
+  }
+  std::printf(
+      "box and block, raytraced: %zu stored photons, %zu with an axis ratio over %.0f (largest %.3g); with "
+      "max_anisotropy %.0f: %zu over it (largest %.6g)\n",
+      stored, needles, k, worstBefore, k, beyond, worstAfter);
+  EXPECT_EQ(sameOtherwise, before.size());  // the same photons: position, flux, normal and status
+  EXPECT_GT(stored, 1000u);
+  EXPECT_GT(needles, 0u);  // not vacuous: some footprints are needles
+  EXPECT_EQ(beyond, 0u);
 }
 
 // Nothing is built for the effect when it is off, or when it cannot act (the only light is

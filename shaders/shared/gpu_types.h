@@ -365,7 +365,7 @@ struct IndirectConstants {
   uint samplesSide;   // √samples
   uint faces;         // PhotonFace entries
   float ldmPixel;     // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
-  float pad2;
+  float maxAnisotropy;  // a stored footprint's longest axis over its shortest at most this (0: off)
 };
 
 #ifdef __cplusplus

@@ -35,6 +35,12 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
   if (value.contains("splat"))
     s.splat = IndirectSplat(readChoice(value["splat"], where.key("splat"), {"compute", "raster"}));
+  if (value.contains("max_anisotropy")) {
+    const json_reader::Where w = where.key("max_anisotropy");
+    s.maxAnisotropy = readNumber(value["max_anisotropy"], w, 0.0, 1e6, false);
+    if (s.maxAnisotropy > 0.0 && s.maxAnisotropy < 1.0)
+      w.fail("must be 0 (off) or at least 1 (a footprint's longest axis over its shortest)");
+  }
   if (value.contains("splat_bin"))
     s.splatBin = uint32_t(readIntChoice(value["splat_bin"], where.key("splat_bin"), {32, 64, 128, 256}));
   readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
@@ -87,6 +93,7 @@ nlohmann::json IndirectSettings::toJson() const {
   j["directions"] = directions;
   j["photons"] = photons;
   j["splat"] = hb::toString(splat);
+  j["max_anisotropy"] = maxAnisotropy;
   if (splat == IndirectSplat::Compute) j["splat_bin"] = splatBin;
   if (method == IndirectMethod::Ldm) {
     j["ldm_resolution"] = ldmResolution;
@@ -126,6 +133,9 @@ const EffectDef& indirectEffect() {
               {"splat", "compute | raster", "\"compute\"",
                "the photons binned into 16x16 tiles and gathered in slot order by compute, or drawn as quads "
                "with additive blending (the paper's); both sum the same terms in the same order"},
+              {"max_anisotropy", "0, or a number >= 1", "0",
+               "a stored photon's footprint at most this many times as long as it is wide: its short axis widened, "
+               "its long axis and its flux kept (0: off, the paper's footprints)"},
               {"splat_bin", "32 | 64 | 128 | 256", "128",
                "splat=compute: the side in pixels of the coarse bins that list the photons for the 16x16 tiles"},
               kLdmListSetting,

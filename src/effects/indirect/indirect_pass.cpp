@@ -176,6 +176,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     scene.bounds(lo, hi);
     const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-6) * (1.0 + 1e-6);
     c.ldmPixel = float(2.0 * radius / s.ldmResolution);  // the LDM's pixel (ldmMaps), for both methods
+    c.maxAnisotropy = float(s.maxAnisotropy);
     ldmPixel_ = c.ldmPixel;
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
