@@ -351,20 +351,20 @@ struct SplatConstants {
   uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
 };
 struct IndirectConstants {
-  uint directions;    // N
-  uint resolution;    // R of the LDMs
-  uint mapPixels;     // N·R²
-  uint ldmList;       // kLdmList*
-  uint ldmCapacity;   // the node pool
-  uint maxListSteps;  // a bounded walk of a pixel's list
-  float biasScale;    // scale of the derived LDM bias (ldm_trace.glsl.inc)
-  uint side;          // primary photons per face side
-  uvec2 ldmLinks;     // the LDM links buffer's device address (lo, hi)
-  uint primaries;     // primary photons in all
-  uint samples;       // reference: rays per pixel (a square)
-  uint samplesSide;   // √samples
-  uint faces;         // PhotonFace entries
-  float ldmPixel;     // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
+  uint directions;      // N
+  uint resolution;      // R of the LDMs
+  uint mapPixels;       // N·R²
+  uint ldmList;         // kLdmList*
+  uint ldmCapacity;     // the node pool
+  uint maxListSteps;    // a bounded walk of a pixel's list
+  float biasScale;      // scale of the derived LDM bias (ldm_trace.glsl.inc)
+  uint side;            // primary photons per face side
+  uvec2 ldmLinks;       // the LDM links buffer's device address (lo, hi)
+  uint primaries;       // primary photons in all
+  uint samples;         // reference: rays per pixel (a square)
+  uint samplesSide;     // √samples
+  uint faces;           // PhotonFace entries
+  float ldmPixel;       // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
   float maxAnisotropy;  // a stored footprint's longest axis over its shortest at most this (0: off)
 };
 

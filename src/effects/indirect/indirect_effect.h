@@ -48,7 +48,7 @@ struct IndirectSettings {
   LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
   uint32_t samples = 256;
   IndirectSplat splat = IndirectSplat::Compute;
-  uint32_t splatBin = 128;  // splat=compute: a coarse bin's side in pixels
+  uint32_t splatBin = 128;   // splat=compute: a coarse bin's side in pixels
   double maxAnisotropy = 0;  // a footprint's axis ratio at most this, its short axis widened (0: off)
   nlohmann::json toJson() const;
 };
