@@ -28,6 +28,7 @@ layout(set = 1, binding = HB_SPLAT_BINS) readonly buffer Bins { uvec4 bins[]; };
 layout(set = 1, binding = HB_SPLAT_LIST) readonly buffer List { uint list[]; };
 layout(push_constant) uniform Push { SplatConstants sc; };
 #include "photon_splat.glsl.inc"
+#include "splat_append.glsl.inc"
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 
@@ -38,7 +39,6 @@ const uint kRound = 128u;  // entries a round: 120 B of shared memory each, 15 K
 shared vec4 sX[kRound], sN[kRound], sDvn[kRound], sNdu[kRound];
 shared vec2 sFlux[kRound];
 shared vec4 sEdgeA[kRound], sEdgeB[kRound], sEdgeC[kRound];  // component k: edge k's A, B, C
-shared uint sTotals[256];
 
 void main() {
   const uvec2 tile = gl_WorkGroupID.xy;
@@ -99,17 +99,9 @@ void main() {
         ec *= orient;
       }
     }
-    const uvec4 ballot = subgroupBallot(hit);
-    if (subgroupElect()) sTotals[gl_SubgroupID] = subgroupBallotBitCount(ballot);
-    barrier();
-    uint before = 0u, n = 0u;
-    for (uint g = 0u; g < gl_NumSubgroups; ++g) {
-      const uint v = sTotals[g];
-      before += g < gl_SubgroupID ? v : 0u;
-      n += v;
-    }
+    uint n;
+    const uint at = appendPlace(hit, n);
     if (hit) {
-      const uint at = before + subgroupBallotExclusiveBitCount(ballot);
       sX[at] = sp.xScale;
       sN[at] = sp.nRoot;
       sDvn[at] = sp.dvnArea;

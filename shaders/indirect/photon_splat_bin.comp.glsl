@@ -21,6 +21,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
 #include "shared/bindings.h"
+#include "splat_append.glsl.inc"
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0u;
 
@@ -37,7 +38,7 @@ const uvec2 kEmptyBox = uvec2(0xFFFFFFFFu, 0u);
 const uint kEmptyCoarse = 0x000000FFu;  // x0 = 255 > x1 = 0: holds no bin
 
 shared uint sCount;
-shared uint sSubgroupTotals[256];
+shared uint sRunTotals[256];  // scanCounts: each thread's run of counts, then its prefix
 
 // The slot a thread takes in round `round` of its group's chunk (see the header).
 uint slotOf(uint round) {
@@ -108,19 +109,19 @@ void scanCounts() {
   const uint first = gl_LocalInvocationIndex * per, last = min(first + per, total);
   uint run = 0u;
   for (uint i = first; i < last; ++i) run += counts[i];
-  sSubgroupTotals[gl_LocalInvocationIndex] = run;
+  sRunTotals[gl_LocalInvocationIndex] = run;
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
     uint acc = 0u;
     for (uint t = 0u; t < 256u; ++t) {
-      const uint v = sSubgroupTotals[t];
-      sSubgroupTotals[t] = acc;
+      const uint v = sRunTotals[t];
+      sRunTotals[t] = acc;
       acc += v;
     }
     sCount = acc;  // every entry
   }
   barrier();
-  uint acc = sSubgroupTotals[gl_LocalInvocationIndex];
+  uint acc = sRunTotals[gl_LocalInvocationIndex];
   for (uint i = first; i < last; ++i) {
     const uint v = counts[i];
     counts[i] = acc;
@@ -144,16 +145,9 @@ void fillChunk() {
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
     const bool hit = s < sc.slots && coarseHolds(coarse[s], bin);
-    const uvec4 ballot = subgroupBallot(hit);
-    if (subgroupElect()) sSubgroupTotals[gl_SubgroupID] = subgroupBallotBitCount(ballot);
-    barrier();
-    uint before = 0u, all = 0u;
-    for (uint g = 0u; g < gl_NumSubgroups; ++g) {
-      const uint v = sSubgroupTotals[g];
-      before += g < gl_SubgroupID ? v : 0u;
-      all += v;
-    }
-    if (hit) list[at + before + subgroupBallotExclusiveBitCount(ballot)] = s;
+    uint all;
+    const uint place = appendPlace(hit, all);
+    if (hit) list[at + place] = s;
     at += all;
     barrier();
   }
