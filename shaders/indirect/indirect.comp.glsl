@@ -18,17 +18,6 @@ float depthAt(ivec2 p) { return fetchDepth(p); }
 
 #include "rayquery_occluded.glsl.inc"
 
-bool closestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) {
-  rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT, 0xFF, origin, tMin, dir, tMax);
-  while (rayQueryProceedEXT(rq)) {
-  }
-  t = 0.0;
-  id = 0u;
-  if (rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionTriangleEXT) return false;
-  t = rayQueryGetIntersectionTEXT(rq, true);
-  id = triangleId(uint(rayQueryGetIntersectionInstanceCustomIndexEXT(rq, true)),
-                  uint(rayQueryGetIntersectionGeometryIndexEXT(rq, true)),
-                  uint(rayQueryGetIntersectionPrimitiveIndexEXT(rq, true)));
-  return true;
-}
+#include "rayquery_closest.glsl.inc"
+
+bool closestHit(vec3 origin, vec3 dir, float tMin, float tMax, out float t, out uint id) { return rayQueryClosestHit(origin, dir, tMin, tMax, t, id); }
