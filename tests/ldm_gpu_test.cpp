@@ -12,6 +12,8 @@
 
 #include "frame/passes/ldm_build.h"
 #include "gpu_fixture.h"
+#include "reference/eq_partition.h"
+#include "scene/atrium.h"
 #include "scene/mesh_builder.h"
 
 namespace hb {
@@ -207,6 +209,79 @@ TEST_F(LdmGpuTest, AFullNodePoolIsCountedAndTheListsHoldWhatItHad) {
       EXPECT_EQ(entries, uint64_t(capacity));
       EXPECT_EQ(counters.unfinished, 0u);
     }
+}
+
+// The 3dr build's balance (ldm_build_3dr.comp.glsl): a pair rasterized by its own thread, a pair
+// split into listed 64-pixel chunks, and a pair whose chunks did not fit the list all give a pixel the
+// same fragment, bit for bit: both modes compute the view with the same `precise` expressions.
+// sbuffer's words (offsets, then each range's depths and triangle ids sorted by (depth, id)) do not
+// depend on arrival order, so they must be equal word for word whatever goes through the chunks: no
+// chunks at all, every pair through chunks, the default split, a list of 7 entries that overflows
+// in the middle of a pair, and chunks of 64 pixels instead of 512. On the atrium, whose triangles range from no pixel
+// centre to thousands in a 128² map. max64's lists must hold the same depths.
+TEST_F(LdmGpuTest, The3drBuildGivesTheSameListsWhicheverPairsGoThroughChunks) {
+  const Scene scene = makeAtrium(AtriumParams{});
+  GpuScene gpuScene(*ctx, scene);
+  const uint32_t R = 128;
+  const std::vector<gpu::LdmMap> maps = ldmMaps(scene, ldmDirections(8), R);
+  const uint64_t pixels = uint64_t(maps.size()) * R * R, capacity = 4 * pixels;
+  struct Case {
+    const char* name;
+    LdmBuildTuning tuning;
+  };
+  const Case cases[] = {{"no chunks", {.smallBox = ~0u}},
+                        {"every pair through chunks", {.smallBox = 0}},
+                        {"the default split", {}},
+                        {"a list of 7 chunks", {.chunkCapacity = 7}},
+                        {"chunks of 64 pixels", {.chunkPixels = 64}}};
+  for (const LdmList list : {LdmList::Sbuffer, LdmList::Max64}) {
+    std::vector<uint32_t> first;
+    std::vector<std::vector<float>> firstLists;
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(list == LdmList::Sbuffer ? "sbuffer, " : "max64, ") + c.name);
+      LdmBuild build(*ctx, gpuScene, scene, maps, R, uint32_t(capacity), LdmBuildMethod::Raster3d, list, c.tuning);
+      ctx->submitAndWait([&](VkCommandBuffer cmd) { build.record(cmd); });
+      const LdmCounters counters = build.readCounters();
+      std::printf("atrium 8 maps of 128², 3dr %s, %s: %llu fragments, %llu chunks, %llu pairs past the list\n",
+                  list == LdmList::Sbuffer ? "sbuffer" : "max64", c.name, (unsigned long long)counters.allocated,
+                  (unsigned long long)counters.chunks, (unsigned long long)counters.chunkOverflow);
+      EXPECT_EQ(counters.overflow, 0u);
+      if (c.tuning.smallBox == ~0u) {
+        EXPECT_EQ(counters.chunks, 0u);
+      } else {
+        EXPECT_GT(counters.chunks, 0u);
+      }
+      if (c.tuning.chunkCapacity == 7) {
+        EXPECT_GT(counters.chunkOverflow, 0u);
+      } else {
+        EXPECT_EQ(counters.chunkOverflow, 0u);
+      }
+      if (list == LdmList::Max64) {
+        std::vector<std::vector<float>> lists = build.readLists();
+        if (firstLists.empty()) {
+          firstLists = std::move(lists);
+        } else {
+          EXPECT_TRUE(lists == firstLists);
+        }
+        continue;
+      }
+      const std::vector<uint8_t> bytes = readbackBuffer(*ctx, build.links());
+      const uint32_t* w = reinterpret_cast<const uint32_t*>(bytes.data());
+      const uint32_t total = w[pixels];
+      ASSERT_EQ(total, counters.allocated);
+      std::vector<uint32_t> words(w, w + pixels + 1);                                                   // the offsets
+      words.insert(words.end(), w + 2 * pixels + 1, w + 2 * pixels + 1 + total);                        // the depths
+      words.insert(words.end(), w + 2 * pixels + 1 + capacity, w + 2 * pixels + 1 + capacity + total);  // the ids
+      if (first.empty()) {
+        first = std::move(words);
+      } else {
+        size_t differ = 0;
+        for (size_t k = 0; k < std::min(words.size(), first.size()); ++k) differ += words[k] != first[k];
+        EXPECT_EQ(words.size(), first.size());
+        EXPECT_EQ(differ, 0u);
+      }
+    }
+  }
 }
 
 }  // namespace

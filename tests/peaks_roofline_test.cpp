@@ -246,13 +246,31 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
     }
   }
   // Each kind of pass and sub-pass ran at least once.
-  for (const char* e : {"depth_prepass",  "light_culling",     "shadows",
-                        "shading",        "raster3d",          "raster3d.triangles",
-                        "raster3d.count", "raster3d.scan",     "raster3d.fill",
-                        "raster3d.tiles", "raster3d.resolve",  "raster3d.depth_copy",
-                        "raycast",        "raycast.resolve",   "raycast.depth_copy",
-                        "ldm_build",      "ambient_occlusion", "indirect_ldm_build",
-                        "photon_trace",   "photon_splat"})
+  for (const char* e : {"depth_prepass",
+                        "light_culling",
+                        "shadows",
+                        "shading",
+                        "raster3d",
+                        "raster3d.triangles",
+                        "raster3d.count",
+                        "raster3d.scan",
+                        "raster3d.fill",
+                        "raster3d.tiles",
+                        "raster3d.resolve",
+                        "raster3d.depth_copy",
+                        "raycast",
+                        "raycast.resolve",
+                        "raycast.depth_copy",
+                        "ldm_build",
+                        "ambient_occlusion",
+                        "indirect_ldm_build",
+                        "photon_trace",
+                        "photon_splat",
+                        "ldm_build.insert",
+                        "indirect_ldm_build.count",
+                        "indirect_ldm_build.scan",
+                        "indirect_ldm_build.fill",
+                        "indirect_ldm_build.sort"})
     EXPECT_TRUE(entriesSeen.count(e)) << e;
   // The roofline table and plot are written beside the results, and the accuracy report names
   // the fraction of the limit.

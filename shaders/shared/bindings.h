@@ -127,6 +127,7 @@
 #define HB_LDM_COUNTERS 2u       // the node pool's and the lists' counters
 #define HB_LDM_TRIANGLES 3u      // ldm_build=3dr: the world triangles, 3 vec4 each
 #define HB_LDM_BLOCK_SUMS 3u     // the scan set: per block of 4096 counts its sum
+#define HB_LDM_CHUNKS 4u         // ldm_build=3dr: the large pairs' 64-pixel chunks (gpu_types.h kLdmCounterChunks)
 
 // 3D rasterization (frame/passes/raster3d.cpp): raster3d_common.glsl.inc (raster3d.comp,
 // raster3d_tiles.comp, raster3d_scan.comp) share one set; raster3d_resolve.comp has its own.

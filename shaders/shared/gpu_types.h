@@ -265,7 +265,16 @@ HB_CONST uint kLdmCounterOverflow = 1u;    // fragments dropped: the node pool w
 HB_CONST uint kLdmCounterUnfinished = 2u;  // insertions cut at kLdmMaxInsertSteps
 HB_CONST uint kLdmCounterCasRetries = 3u;  // cas: compare-and-swaps that lost to another insertion
 HB_CONST uint kLdmCounterFp64 = 4u;        // 3dr build: edge values decided in double
-HB_CONST uint kLdmCounterCount = 5u;
+// 3dr build: a (triangle, map) pair whose pixel box holds more than kLdmSmallBox centres is not
+// rasterized by its own thread but split into chunks of kLdmChunk pixels of its box in row order,
+// each a workgroup's (one pixel a thread), listed in the chunk list (HB_LDM_CHUNKS: uvec2 (triangle,
+// map | chunk << 11); maps <= 2048, and a box of at most 4096² pixels has at most 2^18 chunks).
+HB_CONST uint kLdmCounterChunks = 5u;         // chunk entries the insert / count phase asked for
+HB_CONST uint kLdmCounterChunksFill = 6u;     // the same for the fill phase (sbuffer)
+HB_CONST uint kLdmCounterChunkOverflow = 7u;  // large pairs rasterized by their own thread: the chunk list was full
+HB_CONST uint kLdmCounterCount = 8u;
+HB_CONST uint kLdmSmallBox = 64u;  // pixel centres in a pair's box up to which its own thread rasterizes it
+HB_CONST uint kLdmChunk = 512u;    // pixels of a large pair's box a chunk holds (a workgroup of 64's)
 // The list layouts (ldm_insert.glsl.inc), in the links buffer at its device address:
 //   max64: uint64 links[maps·R² heads + capacity next links] as above.
 //   cas:   uint words[maps·R² heads | capacity next nodes | capacity depths (float bits)]; a head or

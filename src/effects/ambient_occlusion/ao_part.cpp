@@ -31,9 +31,12 @@ AoPart::AoPart(FrameBuilder& f) {
     build.name = kLdmBuildPass;
     build.reads = {res::kSceneVertices, res::kSceneIndices};
     build.writes = {"ambient_occlusion.ldm"};
-    build.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordBuild(cmd); };
+    build.subPasses = ao_->ldm()->subPasses(kLdmBuildPass);
+    build.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
+      ao_->recordBuild(cmd, frame.timer, kLdmBuildPass);
+    };
     build.work = [triangles = double(f.scene.triangleCount())](const nlohmann::json& a) {
-      return std::vector<PassWork>{{kLdmBuildPass, ldmBuildWork(a["ambient_occlusion"], triangles)}};
+      return ldmBuildWork(kLdmBuildPass, a["ambient_occlusion"], triangles);
     };
     passes_.push_back(std::move(build));
   }

@@ -53,7 +53,7 @@ class AoPass {
 
   // The LDM build (method ldm; timed as "ldm_build") and the AO computation ("ambient_occlusion").
   // After it, output() holds one float per pixel (AO in [0, 1], gpu::kAoSky, gpu::kAoNoNormal).
-  void recordBuild(VkCommandBuffer cmd) const;
+  void recordBuild(VkCommandBuffer cmd, GpuTimer* timer = nullptr, const std::string& pass = "") const;
   void recordAo(VkCommandBuffer cmd) const;
   bool buildsLdms() const { return bool(ldm_); }
 

@@ -32,9 +32,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     const nlohmann::json& in = a.contains("indirect") ? a["indirect"] : nlohmann::json::object();
     const double slots = figureAt(in, {"split_photons", "slots"});
     std::vector<WorkItem> items;
-    if (name == kIndirectLdmBuildPass)
-      items = ldmBuildWork(in, triangles);
-    else if (name == kPhotonTracePass && in.value("method", "") == "ldm")
+    if (name == kIndirectLdmBuildPass) return ldmBuildWork(name, in, triangles);
+    if (name == kPhotonTracePass && in.value("method", "") == "ldm")
       items = {derived("bytes", 8 * slots, "at least one 8 B list node read per photon slot")};
     else if (name == kPhotonTracePass)
       items = {derived("rays_random", slots, "one ray per photon slot")};
@@ -82,7 +81,16 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
     f.resources.publish("indirect.ldm", indirect_->ldm()->links(), "u64 or u32 list nodes", "counted per frame + 5 %");
-    add(kIndirectLdmBuildPass, {res::kSceneVertices, res::kSceneIndices}, {"indirect.ldm"}, &IndirectPass::recordBuild);
+    FramePass build;
+    build.name = kIndirectLdmBuildPass;
+    build.reads = {res::kSceneVertices, res::kSceneIndices};
+    build.writes = {"indirect.ldm"};
+    build.subPasses = indirect_->ldm()->subPasses(kIndirectLdmBuildPass);
+    build.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
+      indirect_->recordBuild(cmd, frame.timer, kIndirectLdmBuildPass);
+    };
+    build.work = [workOf](const nlohmann::json& a) { return workOf(kIndirectLdmBuildPass, a); };
+    passes_.push_back(std::move(build));
     traceReads.push_back("indirect.ldm");
   }
   if (indirect_->method() == IndirectMethod::Reference) {

@@ -375,8 +375,8 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
   return *programs_.emplace(method, std::move(p)).first->second;
 }
 
-void IndirectPass::recordBuild(VkCommandBuffer cmd) const {
-  if (ldm_) ldm_->record(cmd);
+void IndirectPass::recordBuild(VkCommandBuffer cmd, GpuTimer* timer, const std::string& pass) const {
+  if (ldm_) ldm_->record(cmd, timer, pass);
 }
 
 // count: primary photons, kPhotonLanes threads each (indirect_common.glsl.inc: a 64-thread group a

@@ -12,13 +12,16 @@
 namespace hb {
 
 namespace {
+constexpr uint32_t kChunkGroups = 4096;
+
 std::vector<Binding> bindingsFor(LdmBuildMethod method) {
   if (method == LdmBuildMethod::Raster3d) {
     const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
     return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
             {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
             {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
+            {HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
+            {HB_LDM_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
   }
   return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
           {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
@@ -28,7 +31,7 @@ std::vector<Binding> bindingsFor(LdmBuildMethod method) {
 
 LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                    std::vector<gpu::LdmMap> maps, uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method,
-                   LdmList list)
+                   LdmList list, LdmBuildTuning tuning)
     : ctx_(ctx),
       scene_(gpuScene),
       maps_(std::move(maps)),
@@ -36,6 +39,7 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
       nodeCapacity_(nodeCapacity),
       method_(method),
       list_(list),
+      tuning_(tuning),
       mapsBuffer_(uploadBuffer(ctx, maps_.data(), maps_.size() * sizeof(gpu::LdmMap),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other)),
       links_(ctx,
@@ -69,7 +73,13 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64
                           : list == LdmList::Cas ? gpu::kLdmListCas
                                                  : gpu::kLdmListSbuffer;
-  auto specFor = [&](uint32_t phase) { return SpecConstants{{resolution_, nodeCapacity_, pixels, listId, phase}}; };
+  // The chunk list: as asked, or 2·maps·R² entries (a build made without a counting build, as tests do).
+  chunkCapacity_ = std::max<uint32_t>(1, tuning.chunkCapacity ? tuning.chunkCapacity : 2 * pixels);
+  HB_ASSERT(tuning.chunkPixels >= 64 && tuning.chunkPixels % 64 == 0);
+  auto specFor = [&](uint32_t phase, uint32_t mode) {
+    return SpecConstants{{resolution_, nodeCapacity_, pixels, listId, phase, mode, tuning_.smallBox, chunkCapacity_,
+                          tuning_.chunkPixels}};
+  };
   if (method == LdmBuildMethod::Raster3d) {
     std::vector<glm::vec4> tris;
     for (const glm::vec3& v : scene.worldTriangles()) tris.emplace_back(v, 1.0f);
@@ -82,17 +92,25 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                               MemClass::Geometry);
     sets_.writeBuffer(0, HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
+    chunks_ = Buffer(ctx, uint64_t(chunkCapacity_) * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
+    sets_.writeBuffer(0, HB_LDM_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunks_.handle());
   }
+  auto makeChunks = [&](uint32_t phase) {
+    auto p = std::make_unique<Pipeline>(ctx);
+    p->createLayout({sets_.layout()}, sizeof(uint32_t));
+    p->createCompute("ldm_build_3dr.comp", specFor(phase, 1));
+    return p;
+  };
   auto makeBuild = [&](Pipeline& p, uint32_t phase) {
     if (method == LdmBuildMethod::Raster3d) {
       p.createLayout({sets_.layout()}, sizeof(uint32_t));
-      p.createCompute("ldm_build_3dr.comp", specFor(phase));
+      p.createCompute("ldm_build_3dr.comp", specFor(phase, 0));
       return;
     }
     p.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
     ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
     std::vector<VkSpecializationMapEntry> entries;
-    const SpecConstants spec = specFor(phase);
+    const SpecConstants spec = specFor(phase, 0);
     VkSpecializationInfo si = specializationInfo(spec, entries);
     RasterPipelineDesc desc;
     desc.layout = p.layout();
@@ -105,11 +123,16 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   };
   if (list != LdmList::Sbuffer) {
     makeBuild(pipeline_, gpu::kLdmPhaseInsert);
+    if (method == LdmBuildMethod::Raster3d) insertChunks_ = makeChunks(gpu::kLdmPhaseInsert);
     return;
   }
   makeBuild(pipeline_, gpu::kLdmPhaseCount);
   fill_ = std::make_unique<Pipeline>(ctx);
   makeBuild(*fill_, gpu::kLdmPhaseFill);
+  if (method == LdmBuildMethod::Raster3d) {
+    insertChunks_ = makeChunks(gpu::kLdmPhaseCount);
+    fillChunks_ = makeChunks(gpu::kLdmPhaseFill);
+  }
   const uint32_t blocks = (pixels + 4095) / 4096;
   blockSums_ = Buffer(ctx, std::max<uint32_t>(blocks, 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                       MemClass::Other);
@@ -131,13 +154,21 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
 
 LdmBuild::~LdmBuild() = default;
 
-void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const {
+void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const {
   VkDescriptorSet set = sets_.set();
   if (method_ == LdmBuildMethod::Raster3d) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
     if (triangleCount_ > 0) vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, uint32_t(maps_.size()), 1);
+    // The listed chunks (ldm_build_3dr.comp.glsl MODE 1): the pair pass's list, read after it.
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->layout(), 0, 1, &set, 0, nullptr);
+    vkCmdPushConstants(cmd, chunks->layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
+    // A grid-stride loop over the list: enough workgroups of 64 to fill a large GPU once.
+    vkCmdDispatch(cmd, std::min<uint32_t>(kChunkGroups, chunkCapacity_), 1, 1);
   } else {
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
     ri.renderArea = {{0, 0}, {resolution_, resolution_}};
@@ -155,17 +186,37 @@ void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const {
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void LdmBuild::record(VkCommandBuffer cmd) const {
-  vkCmdFillBuffer(cmd, links_.handle(), 0, VK_WHOLE_SIZE, 0);
+std::vector<std::string> LdmBuild::subPasses(const std::string& pass) const {
+  if (list_ != LdmList::Sbuffer) return {pass + ".insert"};
+  return {pass + ".count", pass + ".scan", pass + ".fill", pass + ".sort"};
+}
+
+void LdmBuild::record(VkCommandBuffer cmd, GpuTimer* timer, const std::string& pass) const {
+  const std::vector<std::string> steps = timer ? subPasses(pass) : std::vector<std::string>{};
+  size_t step = 0;
+  auto begin = [&] {
+    if (timer) timer->begin(cmd, steps[step++]);
+  };
+  auto end = [&] {
+    if (timer) timer->end(cmd);
+  };
+  // What must start at zero: sbuffer's counts and cursors, cas's heads (a node's next and depth are
+  // written before it is linked), every max64 link (a node's next link is atomicMax'ed from 0).
+  const uint64_t pixels = uint64_t(maps_.size()) * resolution_ * resolution_;
+  const VkDeviceSize cleared = list_ == LdmList::Sbuffer ? (2 * pixels + 1) * 4
+                               : list_ == LdmList::Cas   ? pixels * 4
+                                                         : VK_WHOLE_SIZE;
+  begin();
+  vkCmdFillBuffer(cmd, links_.handle(), 0, cleared, 0);
   vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  recordGeometry(cmd, pipeline_);
+  recordGeometry(cmd, pipeline_, insertChunks_.get());
+  end();
   if (list_ != LdmList::Sbuffer) return;
   // Counts → offsets (three scan stages), the fill pass, then each range sorted.
-  const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
-  const uint32_t blocks = (pixels + 4095) / 4096, groups = (pixels + 255) / 256;
+  const uint32_t blocks = uint32_t((pixels + 4095) / 4096), groups = uint32_t((pixels + 255) / 256);
   VkDescriptorSet set = scanSets_->set();
   auto stage = [&](uint32_t s, uint32_t x, uint32_t y) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->handle());
@@ -176,11 +227,17 @@ void LdmBuild::record(VkCommandBuffer cmd) const {
                       VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
                   VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
   };
+  begin();
   stage(0, blocks, 1);
   stage(1, 1, 1);
   stage(2, blocks, 1);
-  recordGeometry(cmd, *fill_);
+  end();
+  begin();
+  recordGeometry(cmd, *fill_, fillChunks_.get());
+  end();
+  begin();
   stage(3, std::min<uint32_t>(groups, 1024), (groups + 1023) / 1024);
+  end();
 }
 
 uint64_t LdmBuild::exactBytes(uint64_t fragments) const {
@@ -244,8 +301,9 @@ LdmCounters LdmBuild::readCounters() const {
   const std::vector<uint8_t> bytes = readbackBuffer(ctx_, counters_);
   uint32_t c[gpu::kLdmCounterCount];
   std::memcpy(c, bytes.data(), sizeof c);
-  return {c[gpu::kLdmCounterAllocated], c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished],
-          c[gpu::kLdmCounterCasRetries], c[gpu::kLdmCounterFp64]};
+  return {c[gpu::kLdmCounterAllocated],    c[gpu::kLdmCounterOverflow], c[gpu::kLdmCounterUnfinished],
+          c[gpu::kLdmCounterCasRetries],   c[gpu::kLdmCounterFp64],     c[gpu::kLdmCounterChunks],
+          c[gpu::kLdmCounterChunkOverflow]};
 }
 
 std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec3>& dirs, uint32_t resolution) {
@@ -266,18 +324,22 @@ std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuS
                                             const std::vector<glm::dvec3>& dirs, uint32_t resolution,
                                             LdmBuildMethod method, LdmList kind, const char* effect) {
   std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, resolution);
-  uint64_t fragments = 0;
+  uint64_t fragments = 0, chunks = 0;
   {
-    LdmBuild counting(ctx, gpuScene, scene, maps, resolution, 1, method, kind);
+    // A chunk list of one entry: every large pair is rasterized by its own thread, and counted.
+    LdmBuild counting(ctx, gpuScene, scene, maps, resolution, 1, method, kind, {.chunkCapacity = 1});
     ctx.submitAndWait([&](VkCommandBuffer cmd) { counting.record(cmd); }, "sizing the layered depth maps");
-    fragments = counting.readCounters().allocated;
+    const LdmCounters c = counting.readCounters();
+    fragments = c.allocated;
+    chunks = c.chunks;
   }
   const uint64_t capacity = std::max<uint64_t>(1, fragments + fragments / 20);
   if (capacity > 0xFFFFFFF0ull)
     throw InputError(std::string("effects.") + effect + ": " + std::to_string(fragments) +
                      " LDM fragments do not fit 32-bit node ids; lower directions or ldm_resolution");
-  return std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), resolution, uint32_t(capacity), method,
-                                    kind);
+  const uint64_t chunkCapacity = std::min<uint64_t>(chunks + chunks / 20 + 64, 0xFFFFFFF0ull);
+  return std::make_unique<LdmBuild>(ctx, gpuScene, scene, std::move(maps), resolution, uint32_t(capacity), method, kind,
+                                    LdmBuildTuning{.chunkCapacity = uint32_t(chunkCapacity)});
 }
 
 }  // namespace hb

@@ -14,6 +14,7 @@
 #include "effects/ldm_settings.h"
 
 #include "gpu/gpu_scene.h"
+#include "gpu/gpu_timer.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "shared/gpu_types.h"
@@ -21,11 +22,23 @@
 namespace hb {
 
 struct LdmCounters {
-  uint64_t allocated = 0;   // nodes asked for (= fragments)
-  uint64_t overflow = 0;    // fragments dropped because the pool was full
-  uint64_t unfinished = 0;  // insertions cut at kLdmMaxInsertSteps
-  uint64_t casRetries = 0;  // cas: compare-and-swaps another insertion won (then retried)
-  uint64_t fp64Edges = 0;   // 3dr build: edge values within their rounding bound, decided in double
+  uint64_t allocated = 0;      // nodes asked for (= fragments)
+  uint64_t overflow = 0;       // fragments dropped because the pool was full
+  uint64_t unfinished = 0;     // insertions cut at kLdmMaxInsertSteps
+  uint64_t casRetries = 0;     // cas: compare-and-swaps another insertion won (then retried)
+  uint64_t fp64Edges = 0;      // 3dr build: edge values within their rounding bound, decided in double
+  uint64_t chunks = 0;         // 3dr build: 64-pixel chunks of the large pairs' boxes (insert or count phase)
+  uint64_t chunkOverflow = 0;  // 3dr build: large pairs rasterized by their own thread (the chunk list was full)
+};
+
+// The 3dr build's balance (ldm_build_3dr.comp.glsl): a pair whose box holds more than smallBox pixel
+// centres goes to the chunk list (~0u: never, 0: every pair), which holds chunkCapacity entries (0:
+// 2·maps·R², what a build without a counting build gets, as tests make), each of chunkPixels
+// pixels (a multiple of 64: a workgroup's threads take chunkPixels / 64 each).
+struct LdmBuildTuning {
+  uint32_t smallBox = gpu::kLdmSmallBox;
+  uint32_t chunkCapacity = 0;
+  uint32_t chunkPixels = gpu::kLdmChunk;
 };
 
 class LdmBuild {
@@ -36,11 +49,16 @@ class LdmBuild {
   // shaders for the hardware build).
   LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, std::vector<gpu::LdmMap> maps,
            uint32_t resolution, uint32_t nodeCapacity, LdmBuildMethod method = LdmBuildMethod::Hardware,
-           LdmList list = LdmList::Max64);
+           LdmList list = LdmList::Max64, LdmBuildTuning tuning = {});
   ~LdmBuild();
 
-  // Clears the lists and draws them anew.
-  void record(VkCommandBuffer cmd) const;
+  // Clears the lists and draws them anew. With a timer, each step is a sub-pass of `pass` (subPasses).
+  void record(VkCommandBuffer cmd, GpuTimer* timer = nullptr, const std::string& pass = "") const;
+  // The timer entries record() opens inside `pass`: "<pass>.insert" (max64, cas) or "<pass>.count",
+  // ".scan", ".fill", ".sort" (sbuffer).
+  std::vector<std::string> subPasses(const std::string& pass) const;
+  uint32_t chunkCapacity() const { return chunkCapacity_; }
+  uint32_t triangleCount() const { return triangleCount_; }
 
   uint32_t mapCount() const { return uint32_t(maps_.size()); }
   const std::vector<gpu::LdmMap>& maps() const { return maps_; }
@@ -68,13 +86,17 @@ class LdmBuild {
   LdmBuildMethod method_;
   LdmList list_;
   uint32_t triangleCount_ = 0;
-  Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_, blockSums_;
+  LdmBuildTuning tuning_;
+  uint32_t chunkCapacity_ = 1;
+  Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_, chunks_, blockSums_;
   DescriptorSets sets_;
   Pipeline pipeline_;  // the build (sbuffer: its count pass)
   // sbuffer: the fill pass, and the scan's three stages and the sort (ldm_sbuffer.comp.glsl).
   std::unique_ptr<Pipeline> fill_, scan_[4];
+  // 3dr: the listed chunks' pass after each pair pass (the insert or count phase, and the fill phase).
+  std::unique_ptr<Pipeline> insertChunks_, fillChunks_;
   std::unique_ptr<DescriptorSets> scanSets_;
-  void recordGeometry(VkCommandBuffer cmd, const Pipeline& p) const;
+  void recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const;
 };
 
 // The N maps over the scene's bounding sphere: the AABB's centre and half its diagonal times
