@@ -297,6 +297,7 @@ HB_CONST uint kAoLdm = 0u;          // trace the LDMs along the N directions
 HB_CONST uint kAoRayTraced = 1u;    // ray trace the same N directions
 HB_CONST uint kAoReference = 2u;    // cosine-weighted Monte Carlo, `samples` stratified rays
 HB_CONST uint kAoHbao = 3u;         // screen space: horizon-based AO from the depth buffer
+HB_CONST uint kAoGtao = 4u;         // screen space: ground-truth-based AO (XeGTAO's slices)
 HB_CONST float kAoSky = -1.0;       // an AO value: the pixel sees the sky (no surface)
 HB_CONST float kAoNoNormal = -2.0;  // an AO value: no normal could be reconstructed (not shaded by AO)
 struct AoConstants {
@@ -311,8 +312,8 @@ struct AoConstants {
   uvec2 ldmLinks;     // the LDM links buffer's device address (lo, hi): it outgrows a binding
   uint ldmList;       // kLdmList*
   uint ldmCapacity;   // the node pool (cas: where the depths begin after the next links)
-  uint hbaoSteps;     // hbao: samples per screen direction
-  float hbaoRadius;   // hbao: the world radius of its kernel (d_max, or the scene's bounding radius)
+  uint hbaoSteps;     // hbao: samples per screen direction; gtao: per side of a slice
+  float hbaoRadius;   // hbao, gtao: the world radius of the kernel (d_max, or the scene's bounding radius)
   uint pad0, pad1;
 };
 

@@ -77,6 +77,8 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     std::cout << thesisTablesCsv(results);
   } else if (format == "svg") {
     std::cout << accuracyReportSvg(results);
+  } else if (format == "accuracy") {
+    std::cout << accuracyReportMarkdown(results);
   } else if (format == "roofline") {
     std::cout << rooflineMarkdown(results);
   } else if (format == "roofline-svg") {

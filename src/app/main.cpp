@@ -88,9 +88,9 @@ int main(int argc, char** argv) {
   tablesCmd
       ->add_option("--format", tablesFormat,
                    "md (thesis tables + accuracy-vs-time report + roofline table), csv (thesis tables), svg "
-                   "(accuracy-vs-time plot), roofline (the device's peaks and the roofline table), roofline-svg (the "
-                   "roofline plot)")
-      ->check(CLI::IsMember({"md", "csv", "svg", "roofline", "roofline-svg"}));
+                   "(accuracy-vs-time plot), accuracy (the accuracy-vs-time report alone), roofline (the device's "
+                   "peaks and the roofline table), roofline-svg (the roofline plot)")
+      ->check(CLI::IsMember({"md", "csv", "svg", "accuracy", "roofline", "roofline-svg"}));
   bool tablesAllowDuplicates = false;
   tablesCmd->add_flag("--allow-duplicates", tablesAllowDuplicates,
                       "read files that hold the same variant; every row is then named with its file");

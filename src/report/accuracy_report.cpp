@@ -136,25 +136,37 @@ AccuracyFront accuracyFront(const json& results) {
     }
   }
 
+  const bool ao = front.measure == AccuracyMeasure::AoError;
+  if (ao) front.time = "AO time: ldm_build + ambient_occlusion medians (ms)";
   for (const json& run : runs) {
     AccuracyPoint p;
     p.name = stringOr(at(run, "name"), "(unnamed)");
     p.ok = isOk(run);
     if (!p.ok) p.failure = stringOr(at(run, "error"), "status " + at(run, "status").dump());
     p.frameMs = medianOf(at(run, "frame_ms"));
+    p.timeMs = p.frameMs;
+    if (ao) {
+      const json& passes = at(run, "passes");
+      const double build = medianOf(at(passes, "ldm_build")), pass = medianOf(at(passes, "ambient_occlusion"));
+      p.timeMs = (std::isfinite(build) ? build : 0.0) + pass;
+      const json& dMax = at(at(run, "ambient_occlusion"), "d_max");
+      p.group = dMax.is_number() ? format("d_max = %g m", dMax.get<double>()) : "d_max = none";
+    }
     p.error = measureOf(run, front.measure);
+    if (std::find(front.groups.begin(), front.groups.end(), p.group) == front.groups.end())
+      front.groups.push_back(p.group);
     front.points.push_back(p);
   }
 
-  // O(n²) dominance test; sweeps have tens of runs.
-  auto eligible = [](const AccuracyPoint& p) { return p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error); };
+  // O(n²) dominance test within each group; sweeps have tens of runs.
+  auto eligible = [](const AccuracyPoint& p) { return p.ok && std::isfinite(p.timeMs) && std::isfinite(p.error); };
   for (AccuracyPoint& p : front.points) {
     if (!eligible(p)) continue;
     p.onFront = true;
     for (const AccuracyPoint& q : front.points) {
-      if (&q == &p || !eligible(q)) continue;
-      const bool noWorse = q.frameMs <= p.frameMs && q.error <= p.error;
-      const bool better = q.frameMs < p.frameMs || q.error < p.error;
+      if (&q == &p || !eligible(q) || q.group != p.group) continue;
+      const bool noWorse = q.timeMs <= p.timeMs && q.error <= p.error;
+      const bool better = q.timeMs < p.timeMs || q.error < p.error;
       if (noWorse && better) {
         p.onFront = false;
         break;
@@ -201,7 +213,7 @@ std::string accuracyReportMarkdown(const json& results) {
   std::string rule = "|---|--:|--:|--:|--:|--:|--:|--:|--:|--:";
   if (anyImage) out += " | Image error (FLIP)", rule += "|--:";
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
-  if (anyAo) out += " | AO error (MAE vs reference)", rule += "|--:";
+  if (anyAo) out += " | AO time (ms) | d_max (m) | AO error (MAE vs reference)", rule += "|--:|--:|--:";
   if (anyIndirect) out += " | Indirect error (relMSE vs reference)", rule += "|--:";
   if (anyRoofline) out += " | Fraction of the limit", rule += "|--:";
   out += " | Pareto |\n" + rule + "|:-:|\n";
@@ -211,7 +223,7 @@ std::string accuracyReportMarkdown(const json& results) {
     const json& run = runs[i];
     const AccuracyPoint& p = front.points[i];
     const int extra =
-        (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 1 : 0) + (anyIndirect ? 1 : 0) + (anyRoofline ? 1 : 0);
+        (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 3 : 0) + (anyIndirect ? 1 : 0) + (anyRoofline ? 1 : 0);
     out += "| " + escapeCell(p.name) + " | ";
     if (!p.ok) {
       failed.push_back(&p);
@@ -236,27 +248,34 @@ std::string accuracyReportMarkdown(const json& results) {
     if (anyImage) out += " | " + cell(numberAt(acc, "image_error"), "%.4g");
     if (anyShadow)
       out += " | " + cell(numberAt(sm, "wrongly_dark"), "%.0f") + " | " + cell(numberAt(sm, "wrongly_lit"), "%.0f");
-    if (anyAo) out += " | " + cell(numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae"), "%.4f");
+    if (anyAo) {
+      const json& a = at(run, "ambient_occlusion");
+      out += " | " + cell(front.measure == AccuracyMeasure::AoError ? p.timeMs : kNaN, "%.3f") + " | " +
+             (at(a, "d_max").is_number() ? format("%g", at(a, "d_max").get<double>()) : std::string(kDash)) + " | " +
+             cell(numberAt(at(a, "vs_reference"), "mae"), "%.4f");
+    }
     if (anyIndirect) out += " | " + cell(numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse"), "%.4f");
     if (anyRoofline) out += " | " + escapeCell(longestPassFraction(run));
-    const bool placed = std::isfinite(p.frameMs) && std::isfinite(p.error);
+    const bool placed = std::isfinite(p.timeMs) && std::isfinite(p.error);
     out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
   }
 
-  out += std::string("\nPareto front: frame time (median ms) against ") + accuracyMeasureLabel(front.measure) + " = " +
-         accuracyMeasureDefinition(front.measure) +
-         ". A run is on the front when no other ok run is at least as fast and at least as "
-         "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
-         "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
-         "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
-         "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
-         "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
-         "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
-         "variant reconstructs no normals)." +
-         std::string(anyRoofline ? " Fraction of the limit: the frame's longest pass with a measured peak, its "
-                                   "achieved rate over the device's peak for its bound (roofline.md)."
-                                 : "") +
-         "\n";
+  out +=
+      "\nPareto front: " + front.time + " against " + accuracyMeasureLabel(front.measure) + " = " +
+      accuracyMeasureDefinition(front.measure) + ". A run is on the front when no other ok run" +
+      (front.groups.size() > 1 ? std::string(" of the same d_max (each against its own reference)") : std::string()) +
+      " is at least as fast and at least as "
+      "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
+      "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
+      "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
+      "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
+      "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
+      "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
+      "variant reconstructs no normals)." +
+      std::string(anyRoofline ? " Fraction of the limit: the frame's longest pass with a measured peak, its "
+                                "achieved rate over the device's peak for its bound (roofline.md)."
+                              : "") +
+      "\n";
   if (!failed.empty()) {
     out += "\nFailed runs (not on the front):\n";
     for (const AccuracyPoint* p : failed) out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";
@@ -295,22 +314,36 @@ Axis niceAxis(double lo, double hi, int target) {
 std::string accuracyReportSvg(const json& results) {
   const AccuracyFront front = accuracyFront(results);
 
-  // Layout (px): plot area left 80..620, top 70..470; legend to the right.
-  constexpr double kW = 1040, kH = 540, kL = 80, kR = 620, kT = 70, kB = 470;
+  // Layout (px): plot area left 80..620, top 70..470; legend to the right, as tall as it needs.
+  constexpr double kW = 1040, kL = 80, kR = 620, kT = 70, kB = 470;
+  const double kH = std::max(540.0, kT + 30 + 18.0 * double(front.points.size()));
   std::vector<const AccuracyPoint*> pts;
   for (const AccuracyPoint& p : front.points)
-    if (p.ok && std::isfinite(p.frameMs) && std::isfinite(p.error)) pts.push_back(&p);
+    if (p.ok && std::isfinite(p.timeMs) && std::isfinite(p.error)) pts.push_back(&p);
+  // One group: the front red, the rest blue. Several: a colour a group, its front filled.
+  static constexpr const char* kGroupColors[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b"};
+  const bool grouped = front.groups.size() > 1;
+  auto groupColor = [&](const std::string& g) {
+    const size_t i = size_t(std::find(front.groups.begin(), front.groups.end(), g) - front.groups.begin());
+    return kGroupColors[i % std::size(kGroupColors)];
+  };
 
   double xMin = INFINITY, xMax = -INFINITY, yMax = 0;
   for (const AccuracyPoint* p : pts) {
-    xMin = std::min(xMin, p->frameMs);
-    xMax = std::max(xMax, p->frameMs);
+    xMin = std::min(xMin, p->timeMs);
+    xMax = std::max(xMax, p->timeMs);
     yMax = std::max(yMax, p->error);
   }
   if (pts.empty()) xMin = 0, xMax = 1;
   const Axis xa = niceAxis(xMin, xMax, 6);
   const Axis ya = niceAxis(0, yMax, 5);  // errors are ≥ 0; the axis starts at 0
-  auto px = [&](double x) { return kL + (x - xa.lo) / (xa.hi - xa.lo) * (kR - kL); };
+  // Times spanning more than 30x (AO from screen space to Monte Carlo) on a log axis, by decades.
+  const bool logX = xMin > 0 && xMax / xMin > 30;
+  const double decLo = logX ? std::floor(std::log10(xMin)) : 0, decHi = logX ? std::ceil(std::log10(xMax)) : 1;
+  auto px = [&](double x) {
+    return logX ? kL + (std::log10(x) - decLo) / (decHi - decLo) * (kR - kL)
+                : kL + (x - xa.lo) / (xa.hi - xa.lo) * (kR - kL);
+  };
   auto py = [&](double y) { return kB - (y - ya.lo) / (ya.hi - ya.lo) * (kB - kT); };
 
   std::string s =
@@ -320,15 +353,28 @@ std::string accuracyReportSvg(const json& results) {
       " font-family=\"sans-serif\" font-size=\"12\">\n"
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   s += format("<text x=\"%.0f\" y=\"28\" font-size=\"16\" font-weight=\"bold\">", kL) +
-       escapeXml("Accuracy vs frame time — " + contextLine(results)) + "</text>\n";
+       escapeXml("Accuracy vs time — " + contextLine(results)) + "</text>\n";
   s += format("<text x=\"%.0f\" y=\"48\">", kL) +
-       escapeXml("sweep " + sweepName(results) + "; red: Pareto front (lower-left is better)") + "</text>\n";
+       escapeXml("sweep " + sweepName(results) +
+                 (grouped ? "; a colour per group, filled: on its group's Pareto front (lower-left is better)"
+                          : "; red: Pareto front (lower-left is better)")) +
+       "</text>\n";
 
   // Grid, ticks and tick labels.
-  for (int i = 0; i <= kMaxTicks && xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
-    const double v = xa.lo + i * xa.step, x = px(v);
-    s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x, kT, x, kB);
-    s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18, xa.decimals, v);
+  if (logX) {
+    for (double d = decLo; d <= decHi && d - decLo <= kMaxTicks; ++d)
+      for (double m : {1.0, 2.0, 5.0}) {
+        const double v = m * std::pow(10.0, d), x = px(v);
+        if (x > kR + 0.5) break;
+        s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x, kT, x, kB);
+        s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%g</text>\n", x, kB + 18, v);
+      }
+  } else {
+    for (int i = 0; i <= kMaxTicks && xa.lo + i * xa.step <= xa.hi + 0.5 * xa.step; ++i) {
+      const double v = xa.lo + i * xa.step, x = px(v);
+      s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", x, kT, x, kB);
+      s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%.*f</text>\n", x, kB + 18, xa.decimals, v);
+    }
   }
   for (int i = 0; i <= kMaxTicks && ya.lo + i * ya.step <= ya.hi + 0.5 * ya.step; ++i) {
     const double v = ya.lo + i * ya.step, y = py(v);
@@ -339,23 +385,25 @@ std::string accuracyReportSvg(const json& results) {
       "<rect x=\"%.0f\" y=\"%.0f\" width=\"%.0f\" height=\"%.0f\" fill=\"none\" "
       "stroke=\"black\"/>\n",
       kL, kT, kR - kL, kB - kT);
-  s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">frame time, median (ms)</text>\n", 0.5 * (kL + kR),
-              kB + 42);
+  s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">", 0.5 * (kL + kR), kB + 42) +
+       escapeXml(front.time + (logX ? ", log scale" : "")) + "</text>\n";
   s += format("<text transform=\"translate(20 %.0f) rotate(-90)\" text-anchor=\"middle\">", 0.5 * (kT + kB)) +
        escapeXml(accuracyMeasureLabel(front.measure)) + "</text>\n";
 
   // Staircase through the front, sorted by time: right at the current error, then down — the
   // boundary of the region the front dominates.
-  std::vector<const AccuracyPoint*> fr;
-  for (const AccuracyPoint* p : pts)
-    if (p->onFront) fr.push_back(p);
-  std::sort(fr.begin(), fr.end(), [](auto* a, auto* b) {
-    return a->frameMs < b->frameMs || (a->frameMs == b->frameMs && a->error > b->error);
-  });
-  if (fr.size() > 1) {
-    s += format("<path d=\"M %.1f %.1f", px(fr[0]->frameMs), py(fr[0]->error));
-    for (size_t i = 1; i < fr.size(); ++i) s += format(" H %.1f V %.1f", px(fr[i]->frameMs), py(fr[i]->error));
-    s += "\" fill=\"none\" stroke=\"#d62728\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n";
+  for (const std::string& group : front.groups) {
+    std::vector<const AccuracyPoint*> fr;
+    for (const AccuracyPoint* p : pts)
+      if (p->onFront && p->group == group) fr.push_back(p);
+    std::sort(fr.begin(), fr.end(), [](auto* a, auto* b) {
+      return a->timeMs < b->timeMs || (a->timeMs == b->timeMs && a->error > b->error);
+    });
+    if (fr.size() < 2) continue;
+    s += format("<path d=\"M %.1f %.1f", px(fr[0]->timeMs), py(fr[0]->error));
+    for (size_t i = 1; i < fr.size(); ++i) s += format(" H %.1f V %.1f", px(fr[i]->timeMs), py(fr[i]->error));
+    s += format("\" fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n",
+                grouped ? groupColor(group) : "#d62728");
   }
 
   // Points numbered in results order, with a legend of full names.
@@ -367,13 +415,13 @@ std::string accuracyReportSvg(const json& results) {
   std::vector<std::pair<double, double>> labels;  // placed number labels, to avoid overprinting
   for (size_t i = 0; i < pts.size(); ++i) {
     const AccuracyPoint& p = *pts[i];
-    const char* color = p.onFront ? "#d62728" : "#1f77b4";
-    const double x = px(p.frameMs), y = py(p.error);
+    const char* color = grouped ? groupColor(p.group) : p.onFront ? "#d62728" : "#1f77b4";
+    const double x = px(p.timeMs), y = py(p.error);
     s += format(
-             "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.7\" "
+             "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"%s\" "
              "stroke=\"%s\"><title>",
-             x, y, color, color) +
-         escapeXml(p.name + format(": %.3f ms, %.4g", p.frameMs, p.error)) + "</title></circle>\n";
+             x, y, color, grouped && !p.onFront ? "0" : "0.7", color) +
+         escapeXml(p.name + format(": %.3f ms, %.4g", p.timeMs, p.error)) + "</title></circle>\n";
     double lx = x + 6;  // shift right past labels already placed at about the same spot
     // Each move takes lx past one placed label, so there are at most labels.size() of them.
     for (size_t pass = 0, moved = 1; moved && pass <= labels.size(); ++pass) {
@@ -384,7 +432,10 @@ std::string accuracyReportSvg(const json& results) {
     labels.emplace_back(lx, y - 6);
     s += format("<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"%s\">%zu</text>\n", lx, y - 6, color, i + 1);
     s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"%s\">", kR + 20, kT + 10 + 18.0 * i, color) +
-         escapeXml(format("%zu  ", i + 1) + p.name + (p.onFront ? " (front)" : "")) + "</text>\n";
+         escapeXml(format("%zu  ", i + 1) + p.name +
+                   (grouped && p.name.find(p.group.substr(0, 5)) == std::string::npos ? " [" + p.group + "]" : "") +
+                   (p.onFront ? " (front)" : "")) +
+         "</text>\n";
   }
   size_t row = pts.size();
   for (const AccuracyPoint& p : front.points)

@@ -41,13 +41,21 @@ struct AccuracyPoint {
   bool ok = false;       // status == "ok"
   std::string failure;   // the run's "error" (or status) when not ok
   double frameMs = 0;    // median frame_ms; NaN when absent
+  double timeMs = 0;     // the x coordinate: frameMs, or for AO the effect's own passes (AccuracyFront::time)
   double error = 0;      // the sweep's accuracy measure; NaN when absent or measure None
+  std::string group;     // runs are compared within their group only ("" for all; AO: "d_max = 1 m")
   bool onFront = false;  // false for failed runs and runs with a NaN coordinate
 };
 
 struct AccuracyFront {
   AccuracyMeasure measure = AccuracyMeasure::None;
+  // What timeMs is: "frame time, median (ms)", or with the AO error "AO time: ldm_build +
+  // ambient_occlusion medians (ms)" (the passes that differ between AO methods; the rest of the
+  // frame is the same for all). AO runs are grouped by d_max: each is measured against the
+  // reference of its own d_max, so only runs of one d_max are compared.
+  std::string time = "frame time, median (ms)";
   std::vector<AccuracyPoint> points;  // one per run, in results order
+  std::vector<std::string> groups;    // the distinct groups, in order of first appearance
 };
 
 // Chooses the measure and marks the front. Throws InputError when `results` is not a schema-1
@@ -60,9 +68,10 @@ AccuracyFront accuracyFront(const nlohmann::json& results);
 // some run carries them. Throws as accuracyFront.
 std::string accuracyReportMarkdown(const nlohmann::json& results);
 
-// A self-contained SVG 1.1 document: x = median frame time (ms), y = the accuracy measure (from
+// A self-contained SVG 1.1 document: x = the front's time (ms), y = the accuracy measure (from
 // 0), one <circle> per ok run with both coordinates, numbered, with a legend of full names; the
-// front in red joined by a staircase (the boundary of the dominated region). Title names
+// front in red joined by a staircase (the boundary of the dominated region); with several groups,
+// a colour and a staircase per group, its front filled, the rest hollow. Title names
 // context.device.name and context.resolution. Text is XML-escaped. Throws as accuracyFront.
 std::string accuracyReportSvg(const nlohmann::json& results);
 

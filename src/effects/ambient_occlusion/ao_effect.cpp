@@ -14,6 +14,7 @@ const char* toString(AoMethod m) {
     case AoMethod::RayTraced: return "raytraced";
     case AoMethod::Reference: return "reference";
     case AoMethod::Hbao: return "hbao";
+    case AoMethod::Gtao: return "gtao";
   }
   return "?";
 }
@@ -22,7 +23,7 @@ AoSettings aoSettingsOf(const nlohmann::json& value);
 
 namespace {
 
-constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao"};
+constexpr const char* kMethods[] = {"ldm", "raytraced", "reference", "hbao", "gtao"};
 
 AoSettings readAo(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
@@ -30,8 +31,8 @@ AoSettings readAo(const nlohmann::ordered_json& value, const json_reader::Where&
   if (!validateEffectValue(ambientOcclusionEffect(), value, where))
     return s;  // true, false or an object of its settings
   if (value.contains("method"))
-    s.method = AoMethod(
-        readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2], kMethods[3]}));
+    s.method = AoMethod(readChoice(value["method"], where.key("method"),
+                                   {kMethods[0], kMethods[1], kMethods[2], kMethods[3], kMethods[4]}));
   if (value.contains("steps")) s.steps = uint32_t(readInt(value["steps"], where.key("steps"), 1, 1024));
   if (value.contains("directions"))
     s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
@@ -50,7 +51,7 @@ void validateAo(const nlohmann::ordered_json& value, const json_reader::Where& w
 std::vector<FrameResource> aoNeedsOf(const nlohmann::json& value) {
   const AoMethod m = aoSettingsOf(value).method;
   if (m == AoMethod::Ldm) return {FrameResource::Depth, FrameResource::LayeredDepthMaps};
-  if (m == AoMethod::Hbao) return {FrameResource::Depth};
+  if (m == AoMethod::Hbao || m == AoMethod::Gtao) return {FrameResource::Depth};
   return {FrameResource::Depth, FrameResource::AccelerationStructures};
 }
 
@@ -100,7 +101,7 @@ nlohmann::json AoSettings::toJson() const {
                       {"ldm_list", hb::toString(ldmList)},
                       {"ldm_build", hb::toString(ldmBuild)}};
   if (method == AoMethod::Reference) j["samples"] = samples;
-  if (method == AoMethod::Hbao) j["steps"] = steps;
+  if (method == AoMethod::Hbao || method == AoMethod::Gtao) j["steps"] = steps;
   return j;
 }
 
@@ -129,9 +130,9 @@ const EffectDef& ambientOcclusionEffect() {
       .table = aoTableMarkdown,
       .settings =
           {
-              {"method", "ldm | raytraced | reference | hbao", "\"ldm\"",
+              {"method", "ldm | raytraced | reference | hbao | gtao", "\"ldm\"",
                "layered depth maps along N directions; the same N directions ray traced; cosine-weighted Monte "
-               "Carlo (the converged reference); screen-space HBAO"},
+               "Carlo (the converged reference); screen-space HBAO; screen-space GTAO (XeGTAO: N slices)"},
               {"directions", "1..2048", "64", "N, the LDM directions (each traced both ways)"},
               {"ldm_resolution", "8..4096", "128", "R: each map is R x R over the scene's bounding sphere"},
               {"d_max", "a number > 0, or null", "null", "obscurance: occluders farther than this (m) do not count"},

@@ -16,7 +16,7 @@
 //   ldm_build       "hardware" (one instanced draw over the N maps) | "3dr" (compute: one
 //                   thread per (triangle, map), orthographic 3D edge functions) default hardware
 //   samples         reference rays per pixel, a square 16..65536                  default 1024
-//   steps           hbao samples per screen direction, 1..1024                    default 32
+//   steps           hbao samples per screen direction, gtao per side of a slice  default 32
 // It acts when the scene has an ambient term; the frame then composes direct + ambient·AO.
 #pragma once
 #include <cstdint>
@@ -28,7 +28,11 @@
 
 namespace hb {
 
-enum class AoMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2, Hbao = 3 };
+enum class AoMethod : uint32_t { Ldm = 0, RayTraced = 1, Reference = 2, Hbao = 3, Gtao = 4 };
+
+// The analysis frame's converged reference: this many stratified cosine-weighted rays a pixel,
+// whatever `samples` the run's own method uses (a cheaper reference run is measured against it).
+inline constexpr uint32_t kAoReferenceSamples = 1024;
 const char* toString(AoMethod m);
 
 struct AoSettings {
@@ -39,9 +43,12 @@ struct AoSettings {
   double bias = 1.0;
   LdmList ldmList = LdmList::Max64;
   LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
-  uint32_t samples = 1024;
+  uint32_t samples = kAoReferenceSamples;
   uint32_t steps = 32;
   nlohmann::json toJson() const;
+  // Whether this is the analysis frame's own reference (method reference at kAoReferenceSamples):
+  // then its error against the reference is 0 by definition.
+  bool isTheReference() const { return method == AoMethod::Reference && samples == kAoReferenceSamples; }
 };
 
 // The settings of a value that passed validation (true: the defaults). Precondition: called for.

@@ -59,6 +59,9 @@ AoPart::AoPart(FrameBuilder& f) {
     else if (method == "hbao")
       item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 4,
                      "a 4 B depth texel per step per direction per pixel (most from cache)");
+    else if (method == "gtao")
+      item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 2 * 4,
+                     "a 4 B depth texel per step on each side of each slice per pixel (most from cache)");
     else if (method == "reference")
       item = derived("rays_ao", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
     else

@@ -47,7 +47,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   const AoSettings& ao = settings.ao;
   if ((ao.method == AoMethod::RayTraced || ao.method == AoMethod::Reference) && !tlas_)
     throw InputError(std::string("effects.ambient_occlusion.method=") + toString(ao.method) +
-                     " needs the ray tracer, which this frame has not (use method ldm or hbao)");
+                     " needs the ray tracer, which this frame has not (use method ldm, hbao or gtao)");
   std::vector<glm::dvec3> dirs;
   try {
     dirs = ldmDirections(ao.directions);
@@ -85,6 +85,12 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     c.ldmCapacity = ldm_->nodeCapacity();
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+  {
+    gpu::AoConstants r = c;  // the analysis frame's reference (computeWith)
+    r.samples = kAoReferenceSamples;
+    r.samplesSide = uint32_t(std::lround(std::sqrt(double(kAoReferenceSamples))));
+    scratchParams_ = uploadBuffer(ctx, &r, sizeof r, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
+  }
   const VkDeviceSize pixels = VkDeviceSize(width) * height;
   const VkBufferUsageFlags outUsage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
@@ -97,7 +103,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                          : VK_SHADER_STAGE_COMPUTE_BIT;
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
-  auto makeSets = [&](const Buffer& out) {
+  auto makeSets = [&](const Buffer& out, const Buffer& params) {
     auto sets = std::make_unique<DescriptorSets>(
         ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE, settings.computeBvh != nullptr));
     sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -119,13 +125,13 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     sets->writeBuffer(0, HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                       (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
     sets->writeBuffer(0, HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-    sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
+    sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.handle());
     return sets;
   };
-  sets_ = makeSets(output_);
+  sets_ = makeSets(output_, params_);
   if (tlas_) {
     scratch_ = Buffer(ctx, pixels * sizeof(float), outUsage, false, MemClass::Other);
-    scratchSets_ = makeSets(scratch_);
+    scratchSets_ = makeSets(scratch_, scratchParams_);
   }
   program(ao.method);  // the frame's own, created up front
 }
@@ -136,12 +142,14 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   auto it = programs_.find(method);
   if (it != programs_.end()) return *it->second;
   auto p = std::make_unique<Program>(ctx_);
-  if (method == AoMethod::Ldm || method == AoMethod::Hbao) {
-    HB_ASSERT(method == AoMethod::Hbao || ldm_);
+  if (method == AoMethod::Ldm || method == AoMethod::Hbao || method == AoMethod::Gtao) {
+    HB_ASSERT(method != AoMethod::Ldm || ldm_);
     p->compute.createLayout({sets_->layout()}, 0);
     p->compute.createCompute("ao_compute.comp",
                              SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
-                                            method == AoMethod::Ldm ? gpu::kAoLdm : gpu::kAoHbao}});
+                                            method == AoMethod::Ldm    ? gpu::kAoLdm
+                                            : method == AoMethod::Hbao ? gpu::kAoHbao
+                                                                       : gpu::kAoGtao}});
   } else {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
@@ -193,7 +201,8 @@ static std::vector<float> readFloats(const VulkanContext& ctx, const Buffer& b) 
 std::vector<float> AoPass::readAo() const { return readFloats(ctx_, output_); }
 
 std::vector<float> AoPass::computeWith(AoMethod method) {
-  if (method == settings_.ao.method) return readAo();
+  if (method == settings_.ao.method && (method != AoMethod::Reference || settings_.ao.isTheReference()))
+    return readAo();
   HB_ASSERT((method == AoMethod::RayTraced || method == AoMethod::Reference) && tlas_);
   const Program& p = program(method);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); },

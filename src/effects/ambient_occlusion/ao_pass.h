@@ -1,11 +1,12 @@
 // Ambient occlusion (effects/ambient_occlusion/ao_effect.h; Aalund et al. 2015 Sect. 3.3): per pixel, from
 // the same position and normal the shadow pass uses (shaders/surface.glsl.inc), the share of the
-// ambient light that arrives, by one of three methods of one meaning (shaders/ambient_occlusion/ao_common.glsl.inc):
+// ambient light that arrives, by one of five methods of one meaning (shaders/ambient_occlusion/ao_common.glsl.inc):
 //   ldm        layered depth maps along the N directions (LdmBuild, then a compute trace);
 //   raytraced  the same N directions through the ray tracer (ray query, or the ray-tracing
 //              pipeline on devices without it);
 //   reference  cosine-weighted stratified Monte Carlo through the ray tracer;
-//   hbao       screen space, horizon-based, from the depth buffer (the paper's comparison).
+//   hbao       screen space, horizon-based, from the depth buffer (the paper's comparison);
+//   gtao       screen space, ground-truth-based (XeGTAO's slices), from the depth buffer.
 // The frame's method writes output(); an analysis frame can compute the other methods on the same
 // surface (computeWith) to measure the frame's method against them.
 #pragma once
@@ -59,7 +60,8 @@ class AoPass {
 
   const Buffer& output() const { return output_; }
   std::vector<float> readAo() const;
-  // Analysis frames: the AO of `method` on the surface of the last frame (its own submission).
+  // Analysis frames: the AO of `method` on the surface of the last frame (its own submission);
+  // reference takes kAoReferenceSamples rays a pixel, whatever the frame's method uses.
   // Precondition: a tracer (inputs.tlas) for raytraced/reference.
   std::vector<float> computeWith(AoMethod method);
   bool canTrace() const { return tlas_ != VK_NULL_HANDLE; }
@@ -80,7 +82,7 @@ class AoPass {
   uint32_t width_, height_;
   VkAccelerationStructureKHR tlas_;
   std::unique_ptr<LdmBuild> ldm_;
-  Buffer directions_, params_, output_, scratch_, placeholder_;
+  Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_;
   std::unique_ptr<DescriptorSets> sets_, scratchSets_;
   std::map<AoMethod, std::unique_ptr<Program>> programs_;
 };

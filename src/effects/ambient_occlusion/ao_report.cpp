@@ -45,7 +45,8 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
     return a;
   }
   for (AoMethod ref : {AoMethod::RayTraced, AoMethod::Reference}) {
-    if (ref == ao.settings().ao.method) {  // the method is its own reference: no error by definition
+    // The method is its own reference (a reference run at the reference's samples): no error by definition.
+    if (ref == ao.settings().ao.method && (ref != AoMethod::Reference || ao.settings().ao.isTheReference())) {
       a[std::string("vs_") + toString(ref)] = {
           {"mae", 0.0}, {"rmse", 0.0}, {"bias", 0.0}, {"flip", 0.0}, {"itself", true}};
       continue;

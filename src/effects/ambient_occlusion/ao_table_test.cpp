@@ -65,5 +65,37 @@ TEST(AoTable, TheAccuracyReportOfAnAoSweepMeasuresTheAoError) {
   EXPECT_NE(accuracyReportMarkdown(results()).find("AO error (MAE vs reference)"), std::string::npos);
 }
 
+// AO runs are compared within their d_max only (each against the reference of its own d_max), by
+// the AO's own time (ldm_build + ambient_occlusion), not the frame's. Frame times here are chosen
+// to contradict: by frame time "b" would dominate "a"; by AO time "a" dominates "b". "c" has the
+// largest error and time of all, yet is its own d_max's front.
+TEST(AoTable, TheAoFrontIsPerDMaxAndOnTheAoTime) {
+  auto ao = [](double dMax, double mae) {
+    return json{{"method", "ldm"}, {"d_max", dMax}, {"vs_reference", {{"mae", mae}}}};
+  };
+  const json r = {
+      {"schema_version", 1},
+      {"runs",
+       {aoRun("a", 10.0, ao(1.0, 0.02), {{"ldm_build", {{"median", 1.0}}}, {"ambient_occlusion", {{"median", 1.0}}}}),
+        aoRun("b", 1.0, ao(1.0, 0.03), {{"ambient_occlusion", {{"median", 3.0}}}}),
+        aoRun("c", 20.0, ao(2.0, 0.05), {{"ambient_occlusion", {{"median", 5.0}}}})}}};
+  const AccuracyFront f = accuracyFront(r);
+  ASSERT_EQ(f.points.size(), 3u);
+  EXPECT_DOUBLE_EQ(f.points[0].timeMs, 2.0);
+  EXPECT_DOUBLE_EQ(f.points[1].timeMs, 3.0);
+  EXPECT_EQ(f.points[0].group, "d_max = 1 m");
+  EXPECT_EQ(f.points[2].group, "d_max = 2 m");
+  EXPECT_EQ(f.groups.size(), 2u);
+  EXPECT_TRUE(f.points[0].onFront);
+  EXPECT_FALSE(f.points[1].onFront);
+  EXPECT_TRUE(f.points[2].onFront);
+  const std::string md = accuracyReportMarkdown(r);
+  EXPECT_NE(md.find("AO time: ldm_build + ambient_occlusion medians (ms)"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 2.000 | 1 | 0.0200 |"), std::string::npos) << md;
+  const std::string svg = accuracyReportSvg(r);
+  EXPECT_NE(svg.find("[d_max = 2 m] (front)"), std::string::npos) << svg;
+  EXPECT_NE(svg.find("fill-opacity=\"0\""), std::string::npos) << svg;  // b, off its front: hollow
+}
+
 }  // namespace
 }  // namespace hb

@@ -114,7 +114,7 @@ TEST(Effects, AmbientOcclusionNeedsAnAmbientTermAndBuildsOnlyWhatItsMethodUses) 
 TEST(Effects, AmbientOcclusionSettingsAreCheckedWithWhereAndHowToFix) {
   EXPECT_EQ(
       inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"method": "hbao2"})"); }),
-      R"(--set ambient_occlusion={"method": "hbao2"}: effects.ambient_occlusion.method: "hbao2" is not one of "ldm", "raytraced", "reference", "hbao")");
+      R"(--set ambient_occlusion={"method": "hbao2"}: effects.ambient_occlusion.method: "hbao2" is not one of "ldm", "raytraced", "reference", "hbao", "gtao")");
   EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"directions": 0})"); }).find("directions"),
             std::string::npos);
   EXPECT_NE(inputErrorOf([] { parseEffectSet(R"(ambient_occlusion={"samples": 1000})"); }).find("is not a square"),
