@@ -271,7 +271,9 @@ TEST_F(IndirectGpuTest, OurBvhTracesThePhotonsAndTheReferenceAsTheDriversTracerD
     rs.bvhWidth = width;
     Renderer r(*ctx, scene, rs);
     EXPECT_EQ(r.traceBvh() != nullptr, backend == RtBackend::Compute);
-    r.renderFrame(true);
+    // The wide trees' photons alone are compared: a plain frame writes them (an analysis frame
+    // would also compute what this test does not read).
+    r.renderFrame(width == 2);
     ASSERT_NE(indirectPassOf(r), nullptr);
     if (width != 2) {
       wide[width] = indirectPassOf(r)->readPhotons();
