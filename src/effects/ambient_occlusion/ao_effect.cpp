@@ -133,14 +133,15 @@ const EffectDef& ambientOcclusionEffect() {
               {"method", "ldm | raytraced | reference | hbao | gtao", "\"ldm\"",
                "layered depth maps along N directions; the same N directions ray traced; cosine-weighted Monte "
                "Carlo (the converged reference); screen-space HBAO; screen-space GTAO (XeGTAO: N slices)"},
-              {"directions", "1..2048", "64", "N, the LDM directions (each traced both ways)"},
+              {"directions", "1..2048", "64",
+               "N: the LDM directions (each traced both ways); hbao: screen directions; gtao: slices"},
               {"ldm_resolution", "8..4096", "128", "R: each map is R x R over the scene's bounding sphere"},
               {"d_max", "a number > 0, or null", "null", "obscurance: occluders farther than this (m) do not count"},
               {"bias", "a number > 0", "1", "scale of the derived slope-scaled LDM bias"},
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "1024", "reference rays per pixel (side x side strata)"},
-              {"steps", "1..1024", "32", "hbao samples per screen direction"},
+              {"steps", "1..1024", "32", "hbao: samples per screen direction; gtao: samples on each side of a slice"},
           },
   };
   return def;
