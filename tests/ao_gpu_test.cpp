@@ -139,6 +139,7 @@ TEST_F(AoGpuTest, LdmListsEqualTheExactLdmThroughTheSamePixelLines) {
 // gtao under open sky integrates the unoccluded slice in closed form, exactly 1 over all slice
 // angles about the view vector; N = 64 evenly rotated slices (the default directions) leave a
 // quadrature error that a double evaluation of the same formula bounds by 9.79e-5 over normals
+// (src/effects/ambient_occlusion/gtao_quadrature_test.cpp prints it and holds it to this constant)
 // tilted up to 89.5 degrees from the view vector (any azimuth, view vectors up to 60 degrees off
 // the axis, three rotations); the ground's samples add hbao's rounding (1.3e-4 in a horizon's
 // sine, above) on each side of a slice.

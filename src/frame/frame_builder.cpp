@@ -1,6 +1,8 @@
 #include "frame/frame_builder.h"
 
 #include "base/errors.h"
+#include "frame/pass_work.h"
+#include "frame/passes/ldm_build.h"
 
 namespace hb {
 
@@ -33,6 +35,21 @@ std::vector<std::string> surfaceReads(const SurfaceInputs& surface) {
   std::vector<std::string> reads = {res::kFrameConstants, res::kDepth};
   if (surface.hitIds) reads.insert(reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   return reads;
+}
+
+FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* name, const char* resource,
+                       const char* effect) {
+  frame.resources.publish(resource, ldm.links(), "u64 or u32 list nodes", "counted per frame + 5 %");
+  FramePass pass;
+  pass.name = name;
+  pass.reads = {res::kSceneVertices, res::kSceneIndices};
+  pass.writes = {resource};
+  pass.subPasses = ldm.subPasses(name);
+  pass.record = [&ldm, name](VkCommandBuffer cmd, const PassFrame& f) { ldm.record(cmd, f.timer, name); };
+  pass.work = [name, effect, triangles = double(frame.scene.triangleCount())](const nlohmann::json& a) {
+    return ldmBuildWork(name, a.contains(effect) ? a[effect] : nlohmann::json::object(), triangles);
+  };
+  return pass;
 }
 
 }  // namespace hb

@@ -94,4 +94,11 @@ SurfaceBindings surfaceBindings(const FrameBuilder& frame, const SurfaceInputs& 
 // buffer with its rays and triangles where the primary gives them.
 std::vector<std::string> surfaceReads(const SurfaceInputs& surface);
 
+class LdmBuild;
+// An effect's layered depth maps as a frame pass: publishes ldm's lists as `resource`, rebuilds them
+// every frame timed as `name` with their steps as sub-passes (LdmBuild::subPasses), and takes its
+// work from the analysis record's `effect` entry (pass_work.h ldmBuildWork).
+FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* name, const char* resource,
+                       const char* effect);
+
 }  // namespace hb

@@ -24,22 +24,8 @@ AoPart::AoPart(FrameBuilder& f) {
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
-  if (ao_->buildsLdms()) {
-    f.resources.publish("ambient_occlusion.ldm", ao_->ldm()->links(), "u64 or u32 list nodes",
-                        "counted per frame + 5 %");
-    FramePass build;
-    build.name = kLdmBuildPass;
-    build.reads = {res::kSceneVertices, res::kSceneIndices};
-    build.writes = {"ambient_occlusion.ldm"};
-    build.subPasses = ao_->ldm()->subPasses(kLdmBuildPass);
-    build.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
-      ao_->recordBuild(cmd, frame.timer, kLdmBuildPass);
-    };
-    build.work = [triangles = double(f.scene.triangleCount())](const nlohmann::json& a) {
-      return ldmBuildWork(kLdmBuildPass, a["ambient_occlusion"], triangles);
-    };
-    passes_.push_back(std::move(build));
-  }
+  if (ao_->buildsLdms())
+    passes_.push_back(ldmBuildPass(f, *ao_->ldm(), kLdmBuildPass, "ambient_occlusion.ldm", "ambient_occlusion"));
   FramePass pass;
   pass.name = kAmbientOcclusionPass;
   pass.reads = surfaceReads(surface);

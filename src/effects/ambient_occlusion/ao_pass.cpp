@@ -169,10 +169,6 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   return *programs_.emplace(method, std::move(p)).first->second;
 }
 
-void AoPass::recordBuild(VkCommandBuffer cmd, GpuTimer* timer, const std::string& pass) const {
-  if (ldm_) ldm_->record(cmd, timer, pass);
-}
-
 void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, const DescriptorSets& sets) const {
   VkDescriptorSet set = sets.set();
   const Pipeline& pl = p.pipeline();

@@ -52,9 +52,8 @@ class AoPass {
          uint32_t width, uint32_t height, const AoInputs& inputs);
   ~AoPass();
 
-  // The LDM build (method ldm; timed as "ldm_build") and the AO computation ("ambient_occlusion").
+  // The AO computation ("ambient_occlusion"; the LDM build, ldm(), is its own pass: ldmBuildPass).
   // After it, output() holds one float per pixel (AO in [0, 1], gpu::kAoSky, gpu::kAoNoNormal).
-  void recordBuild(VkCommandBuffer cmd, GpuTimer* timer = nullptr, const std::string& pass = "") const;
   void recordAo(VkCommandBuffer cmd) const;
   bool buildsLdms() const { return bool(ldm_); }
 

@@ -23,16 +23,14 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
   const double pixels = double(f.settings.width) * f.settings.height;
-  const double triangles = double(f.scene.triangleCount());
   const uint32_t bin = indirect_->settings().indirect.splatBin;
   const double bins = double((f.settings.width + bin - 1) / bin) * double((f.settings.height + bin - 1) / bin);
   const double tilesABin = double(bin / gpu::kSplatTile) * double(bin / gpu::kSplatTile);
   // What each pass did, from the analysis frame's "indirect" record and the frame's sizes.
-  auto workOf = [pixels, triangles, bins, tilesABin](const std::string& name, const nlohmann::json& a) {
+  auto workOf = [pixels, bins, tilesABin](const std::string& name, const nlohmann::json& a) {
     const nlohmann::json& in = a.contains("indirect") ? a["indirect"] : nlohmann::json::object();
     const double slots = figureAt(in, {"split_photons", "slots"});
     std::vector<WorkItem> items;
-    if (name == kIndirectLdmBuildPass) return ldmBuildWork(name, in, triangles);
     if (name == kPhotonTracePass && in.value("method", "") == "ldm")
       items = {derived("bytes", 8 * slots, "at least one 8 B list node read per photon slot")};
     else if (name == kPhotonTracePass)
@@ -80,17 +78,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   traceReads.push_back(res::kTlas);
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
-    f.resources.publish("indirect.ldm", indirect_->ldm()->links(), "u64 or u32 list nodes", "counted per frame + 5 %");
-    FramePass build;
-    build.name = kIndirectLdmBuildPass;
-    build.reads = {res::kSceneVertices, res::kSceneIndices};
-    build.writes = {"indirect.ldm"};
-    build.subPasses = indirect_->ldm()->subPasses(kIndirectLdmBuildPass);
-    build.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
-      indirect_->recordBuild(cmd, frame.timer, kIndirectLdmBuildPass);
-    };
-    build.work = [workOf](const nlohmann::json& a) { return workOf(kIndirectLdmBuildPass, a); };
-    passes_.push_back(std::move(build));
+    passes_.push_back(ldmBuildPass(f, *indirect_->ldm(), kIndirectLdmBuildPass, "indirect.ldm", "indirect"));
     traceReads.push_back("indirect.ldm");
   }
   if (indirect_->method() == IndirectMethod::Reference) {

@@ -375,10 +375,6 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
   return *programs_.emplace(method, std::move(p)).first->second;
 }
 
-void IndirectPass::recordBuild(VkCommandBuffer cmd, GpuTimer* timer, const std::string& pass) const {
-  if (ldm_) ldm_->record(cmd, timer, pass);
-}
-
 // count: primary photons, kPhotonLanes threads each (indirect_common.glsl.inc: a 64-thread group a
 // photon in compute, a launch of (64, count) in the pipeline), or pixels, a thread each (64 a group,
 // or a launch of the image).

@@ -75,8 +75,6 @@ class IndirectPass {
   ~IndirectPass();
 
   bool buildsLdms() const { return bool(ldm_); }
-  // "indirect_ldm_build"; with a timer, its steps are sub-passes of `pass` (LdmBuild::subPasses).
-  void recordBuild(VkCommandBuffer cmd, GpuTimer* timer = nullptr, const std::string& pass = "") const;
   void recordTrace(VkCommandBuffer cmd) const;  // "photon_trace" (ldm, raytraced)
   // "photon_splat"; splat=compute times its steps inside it (splatSubPasses) where `timer` is given.
   void recordSplat(VkCommandBuffer cmd, GpuTimer* timer = nullptr) const;
