@@ -23,12 +23,14 @@ layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
 layout(constant_id = 7) const uint AMBIENT = 0;      // 1: ambient occlusion runs (the ambient term)
 layout(constant_id = 8) const uint ONE_WORD = 1;     // 1: at most 32 lights a pixel, one visibility word
 layout(constant_id = 9) const uint PERSPECTIVE = 1;  // 1: a perspective view, v = the eye minus the point
+layout(constant_id = 10) const uint ENVIRONMENT = 0;  // 1: add the environment light (HB_SHADE_FRAG_ENVIRONMENT)
 
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = HB_SHADE_FRAG_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
 layout(set = 0, binding = HB_SHADE_FRAG_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
 layout(set = 0, binding = HB_SHADE_FRAG_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
 layout(set = 0, binding = HB_SHADE_FRAG_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+layout(set = 0, binding = HB_SHADE_FRAG_ENVIRONMENT) readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"

@@ -29,6 +29,7 @@ layout(constant_id = 7) const uint ONE_WORD = 1;    // 1: at most 32 lights a pi
 layout(constant_id = 8) const uint AA_STORED = 0;    // anti-aliasing: stored samples (planes after the centre's)
 layout(constant_id = 9) const uint CSAA = 0;         // 1: csaa-4-12 (AA_STORED = 4)
 layout(constant_id = 10) const uint PLANE_STRIDE = 0;  // entries from one plane to the next
+layout(constant_id = 11) const uint ENVIRONMENT = 0;   // 1: add the environment light (HB_SHADE_VB_ENVIRONMENT)
 
 #include "shading_bindings.glsl.inc"
 layout(set = 0, binding = HB_SHADE_VB_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
@@ -39,6 +40,7 @@ layout(set = 0, binding = HB_SHADE_VB_COLOR, rgba16f) uniform writeonly image2D 
 layout(set = 0, binding = HB_SHADE_VB_REF_NORMAL, rgba32f) uniform writeonly image2D refNormalImage;
 layout(set = 0, binding = HB_SHADE_VB_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
 layout(set = 0, binding = HB_SHADE_VB_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+layout(set = 0, binding = HB_SHADE_VB_ENVIRONMENT) readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
 layout(set = 0, binding = HB_SHADE_VB_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"

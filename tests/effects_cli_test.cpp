@@ -110,4 +110,42 @@ TEST_F(EffectsCli, SceneInfoShowsWhatTheSceneCallsFor) {
   EXPECT_EQ(j["effects"], (json{{"shadows", false}}));
 }
 
+// A config's environment (its image relative to the config) lights the frame through the
+// environment_light effect: render.json carries its settings, the environment as resolved and its
+// errors against the same directions ray traced and the reference, with the images beside; a
+// missing image is exit 2 in one line naming the key, and nothing is written.
+TEST_F(EffectsCli, AConfigsEnvironmentLightsTheFrameAndAMissingImageIsExit2) {
+  fs::create_directories(dir / "cfg");
+  fs::copy_file(fs::path(HYBRIDBENCH_SOURCE_DIR) / "scenes/environments/sky.hdr", dir / "cfg" / "sky.hdr");
+  const fs::path gltf = planeGltf({{"shadows", true}}, "plane-env.gltf");
+  json cfg = {{"name", "env"},
+              {"scene", gltf.string()},
+              {"environment", {{"image", "sky.hdr"}, {"rotation", 30}}},
+              {"effects", {{"environment_light", {{"method", "ldm"}, {"directions", 8}, {"ldm_resolution", 32}}}}}};
+  writeFile(dir / "cfg" / "env.json", cfg.dump(1));
+  const json report = render({(dir / "cfg" / "env.json").string()}, "env");
+  ASSERT_TRUE(report.is_object());
+  EXPECT_TRUE(ran(report, "environment_ldm_build"));
+  EXPECT_TRUE(ran(report, "environment_light"));
+  const json& e = report["environment_light"];
+  EXPECT_EQ(e["method"], "ldm");
+  EXPECT_EQ(e["environment"]["image"], (dir / "cfg" / "sky.hdr").lexically_normal().string());
+  EXPECT_EQ(e["environment"]["image_size"], json::array({128, 64}));
+  EXPECT_TRUE(e["vs_raytraced"]["rel_mse"].is_number()) << e.dump();
+  EXPECT_TRUE(e["vs_reference"]["rel_mse"].is_number()) << e.dump();
+  for (const char* png : {"environment.png", "environment_raytraced.png", "environment_reference.png",
+                          "environment_error_vs_reference.png"})
+    EXPECT_TRUE(fs::exists(dir / "env" / png)) << png;
+
+  cfg["environment"]["image"] = "nowhere.hdr";
+  writeFile(dir / "cfg" / "missing.json", cfg.dump(1));
+  const RunResult r =
+      run({"render", (dir / "cfg" / "missing.json").string(), "--size", "64x36", "--out", (dir / "missing").string()});
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("environment.image: '"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nowhere.hdr' does not exist"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "missing" / "render.json"));
+}
+
 }  // namespace

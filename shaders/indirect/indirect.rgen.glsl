@@ -34,6 +34,8 @@ bool occluded(vec3 origin, vec3 dir, float tMin, float tMax) {
 void main() {
   if (METHOD == kIndirectReference)
     gatherPixel(ivec2(gl_LaunchIDEXT.xy));
+  else if (BOUNCE >= 2u)
+    bounceTrace(gl_LaunchIDEXT.y * 64u + gl_LaunchIDEXT.x);  // a launch of (64, slots / 64)
   else
     photonTrace(gl_LaunchIDEXT.y, gl_LaunchIDEXT.x);
 }

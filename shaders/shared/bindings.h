@@ -40,7 +40,8 @@
 #define HB_SHADE_FRAG_VISIBILITY_IDS 8u  // ID_MATCH: (id, t bits) per pixel
 #define HB_SHADE_FRAG_AO 9u              // ambient occlusion per pixel (frame.ambient.w = 1)
 #define HB_SHADE_FRAG_INDIRECT 10u       // the indirect light image (INDIRECT = 1)
-#define HB_SHADE_FRAG_TEXTURES 11u       // bindless sampled textures: the last binding
+#define HB_SHADE_FRAG_ENVIRONMENT 11u    // the environment light per pixel, vec4 (ENVIRONMENT = 1)
+#define HB_SHADE_FRAG_TEXTURES 12u       // bindless sampled textures: the last binding
 // shading_visbuffer.comp.glsl (from the visibility buffer, in compute)
 #define HB_SHADE_VB_VISIBILITY_IDS 8u   // (id, t bits) per pixel
 #define HB_SHADE_VB_RAYS 9u             // uniform Raster3dConstants: the pixels' rays
@@ -50,7 +51,8 @@
 #define HB_SHADE_VB_REF_NORMAL 13u      // the reference normal target (analysis), written
 #define HB_SHADE_VB_AO 14u              // ambient occlusion per pixel (frame.ambient.w = 1)
 #define HB_SHADE_VB_INDIRECT 15u        // the indirect light image (INDIRECT = 1)
-#define HB_SHADE_VB_TEXTURES 16u        // bindless sampled textures: the last binding
+#define HB_SHADE_VB_ENVIRONMENT 16u     // the environment light per pixel, vec4 (ENVIRONMENT = 1)
+#define HB_SHADE_VB_TEXTURES 17u        // bindless sampled textures: the last binding
 
 // Surfaces: what the shared includes declare (surface.glsl.inc, depth_texel.glsl.inc,
 // ldm_trace.glsl.inc) and the ray tracer's `tlas`, at the same numbers in every set that has them:
@@ -93,9 +95,10 @@
 
 // Ambient occlusion (effects/ambient_occlusion/ao_pass.cpp): ao_common.glsl.inc, with the HB_SURFACE_*
 // bindings (HB_SURFACE_TLAS only where the frame has a ray tracer).
-#define HB_AO_DIRECTIONS 14u  // the N directions, vec4 each
-#define HB_AO_OUT 17u         // AO per pixel, written
-#define HB_AO_PARAMS 18u      // uniform AoConstants
+#define HB_AO_DIRECTIONS 14u   // the N directions, vec4 each
+#define HB_AO_OUT 17u          // AO per pixel, written
+#define HB_AO_PARAMS 18u       // uniform AoConstants
+#define HB_AO_ENVIRONMENT 19u  // environment light (RADIANCE = 1): the equirectangular map, vec4 per texel
 
 // Indirect light and its photon splat (effects/indirect/indirect_pass.cpp): indirect_common.glsl.inc,
 // indirect.rchit.glsl and photon_splat.*.glsl share one set, with the HB_SURFACE_* bindings.

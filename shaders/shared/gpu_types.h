@@ -301,20 +301,22 @@ HB_CONST uint kAoGtao = 4u;         // screen space: ground-truth-based AO (XeGT
 HB_CONST float kAoSky = -1.0;       // an AO value: the pixel sees the sky (no surface)
 HB_CONST float kAoNoNormal = -2.0;  // an AO value: no normal could be reconstructed (not shaded by AO)
 struct AoConstants {
-  uint directions;    // N
-  uint resolution;    // R: each LDM is R×R
-  uint mapPixels;     // N·R²: where the next links begin in the LDM links buffer
-  uint samples;       // reference rays per pixel (a square)
-  float dMax;         // obscurance distance; 0: none (occlusion)
-  float biasScale;    // scale of the derived LDM bias (ao_common.glsl.inc)
-  uint maxListSteps;  // a bounded walk of a pixel's list (the node pool)
-  uint samplesSide;   // √samples
-  uvec2 ldmLinks;     // the LDM links buffer's device address (lo, hi): it outgrows a binding
-  uint ldmList;       // kLdmList*
-  uint ldmCapacity;   // the node pool (cas: where the depths begin after the next links)
-  uint hbaoSteps;     // hbao: samples per screen direction; gtao: per side of a slice
-  float hbaoRadius;   // hbao, gtao: the world radius of the kernel (d_max, or the scene's bounding radius)
-  uint pad0, pad1;
+  uint directions;           // N
+  uint resolution;           // R: each LDM is R×R
+  uint mapPixels;            // N·R²: where the next links begin in the LDM links buffer
+  uint samples;              // reference rays per pixel (a square)
+  float dMax;                // obscurance distance; 0: none (occlusion)
+  float biasScale;           // scale of the derived LDM bias (ao_common.glsl.inc)
+  uint maxListSteps;         // a bounded walk of a pixel's list (the node pool)
+  uint samplesSide;          // √samples
+  uvec2 ldmLinks;            // the LDM links buffer's device address (lo, hi): it outgrows a binding
+  uint ldmList;              // kLdmList*
+  uint ldmCapacity;          // the node pool (cas: where the depths begin after the next links)
+  uint hbaoSteps;            // hbao: samples per screen direction; gtao: per side of a slice
+  float hbaoRadius;          // hbao, gtao: the world radius of the kernel (d_max, or the scene's bounding radius)
+  uint envWidth, envHeight;  // environment light (RADIANCE = 1): the map's size (1 x 1: a uniform colour)
+  vec4 envScale;             // rgb: color·intensity (scene.h Environment)
+  vec4 envRotation;          // cos, sin of the rotation about +y; zw unused
 };
 
 // Single-bounce indirect light (indirect_common.glsl.inc; effects/indirect/indirect_effect.h).
@@ -361,29 +363,32 @@ struct SplatConstants {
   uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
 };
 struct IndirectConstants {
-  uint directions;      // N
-  uint resolution;      // R of the LDMs
-  uint mapPixels;       // N·R²
-  uint ldmList;         // kLdmList*
-  uint ldmCapacity;     // the node pool
-  uint maxListSteps;    // a bounded walk of a pixel's list
-  float biasScale;      // scale of the derived LDM bias (ldm_trace.glsl.inc)
-  uint side;            // primary photons per face side
-  uvec2 ldmLinks;       // the LDM links buffer's device address (lo, hi)
-  uint primaries;       // primary photons in all
-  uint samples;         // reference: rays per pixel (a square)
-  uint samplesSide;     // √samples
-  uint faces;           // PhotonFace entries
-  float ldmPixel;       // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
-  float maxAnisotropy;  // a stored footprint's longest axis over its shortest at most this (0: off)
+  uint directions;        // N
+  uint resolution;        // R of the LDMs
+  uint mapPixels;         // N·R²
+  uint ldmList;           // kLdmList*
+  uint ldmCapacity;       // the node pool
+  uint maxListSteps;      // a bounded walk of a pixel's list
+  float biasScale;        // scale of the derived LDM bias (ldm_trace.glsl.inc)
+  uint side;              // primary photons per face side
+  uvec2 ldmLinks;         // the LDM links buffer's device address (lo, hi)
+  uint primaries;         // primary photons in all
+  uint samples;           // reference: rays per pixel (a square)
+  uint samplesSide;       // √samples
+  uint faces;             // PhotonFace entries
+  float ldmPixel;         // 2r/R: an LDM pixel's side (m), for the landing test's tolerance
+  float maxAnisotropy;    // a stored footprint's longest axis over its shortest at most this (0: off)
+  uint bounces;           // K: diffuse bounces (indirect_common.glsl.inc bounceTrace; reference: path length)
+  uint bounceDirections;  // M: the directions at the second bounce, halving at each further one
+  uint pad0, pad1;
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(AoConstants) == 64, "AoConstants layout");
+static_assert(sizeof(AoConstants) == 96, "AoConstants layout");
 static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
 static_assert(sizeof(Photon) == 64, "Photon layout");
 static_assert(sizeof(PhotonFace) == 64, "PhotonFace layout");
-static_assert(sizeof(IndirectConstants) == 64, "IndirectConstants layout");
+static_assert(sizeof(IndirectConstants) == 80, "IndirectConstants layout");
 static_assert(sizeof(SplatConstants) == 32, "SplatConstants layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");

@@ -18,6 +18,7 @@ void applySceneOverrides(const Config& config, Scene& scene) {
     scene.lightsSource = "config";
   }
   if (config.ambient) scene.ambient = *config.ambient;
+  if (config.environment) scene.environment = *config.environment;
   if (config.camera.autoFrame) return;  // completeScene makes it
   if (config.camera.explicitPose) {
     scene.cameras.insert(scene.cameras.begin(), cameraFromSpec(config.camera));

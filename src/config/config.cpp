@@ -18,6 +18,7 @@
 #include "effects/effects.h"
 #include "scene/ambient_json.h"
 #include "scene/camera.h"
+#include "scene/environment.h"
 
 namespace hb {
 
@@ -37,9 +38,9 @@ constexpr uint32_t kCpuMaxWidth = 480, kCpuMaxHeight = 270, kCpuWarmup = 2, kCpu
 constexpr int64_t kCpuAoDirections = 64, kCpuAoResolution = 128, kCpuAoSamples = 256, kCpuAoSteps = 32;
 constexpr int64_t kCpuIndirectSamples = 64, kCpuIndirectPhotons = 4;  // the gathered reference and photons a face side
 
-const std::vector<std::string_view> kTopKeys = {"name",     "description", "scene",      "scene_params", "camera",
-                                                "lights",   "ambient",     "resolution", "effects",      "frames",
-                                                "defaults", "variants",    "grid",       "notes"};
+const std::vector<std::string_view> kTopKeys = {"name",   "description", "scene",       "scene_params", "camera",
+                                                "lights", "ambient",     "environment", "resolution",   "effects",
+                                                "frames", "defaults",    "variants",    "grid",         "notes"};
 
 // Floats print as the shortest decimal that reads back to the same float (0.1f → 0.1, not
 // 0.10000000149011612), so the effective config reads like the file it came from.
@@ -335,6 +336,9 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
       top.key("scene_params").key("lights").fail("cannot be combined with an explicit \"lights\" list; remove one");
   }
   if (doc.contains("ambient")) c.ambient = readAmbient(doc["ambient"], top.key("ambient"));
+  if (doc.contains("environment"))
+    c.environment =
+        readEnvironment(doc["environment"], top.key("environment"), std::filesystem::path(c.sourceName).parent_path());
   if (doc.contains("effects")) {
     validateEffects(doc["effects"], top.key("effects"));  // the schema of effects/effects.h
     c.effects = nlohmann::json(doc["effects"]);
@@ -465,6 +469,7 @@ nlohmann::json toJson(const Config& c) {
     j["lights"] = "scene";
   }
   if (c.ambient) j["ambient"] = toJson(*c.ambient);
+  if (c.environment) j["environment"] = toJson(*c.environment);
   j["effects"] = c.effects;  // as the file says: what it leaves out stays the scene's (or the default)
   j["frames"] = {{"warmup", c.warmupFrames}, {"measured", c.measuredFrames}};
   j["defaults"] = toJson(c.defaults);
@@ -532,6 +537,8 @@ Config lowerForCpuDevice(Config c, const CpuFrameOverrides& given) {
                {"ldm_resolution", kCpuAoResolution},
                {"samples", kCpuIndirectSamples},
                {"photons", kCpuIndirectPhotons}});
+    capEffect(effects, "environment_light",
+              {{"directions", kCpuAoDirections}, {"ldm_resolution", kCpuAoResolution}, {"samples", kCpuAoSamples}});
   };
   capAo(c.effects);
   capAo(c.defaults.effects);

@@ -36,6 +36,10 @@
 //   "ambient": {"color": [r,g,b], "intensity": x},  // the sky's ambient term (scene.h Ambient),
 //                                     // replacing the scene's extras.ambient; lights the frame
 //                                     // only through effects.ambient_occlusion
+//   "environment": {"image": "sky.hdr", "color": [r,g,b], "intensity": x, "rotation": deg},
+//                                     // light from every direction (scene/environment.h),
+//                                     // replacing the scene's extras.environment; lights the
+//                                     // frame only through effects.environment_light
 //   "effects": {"shadows": true, "ambient_occlusion": {...}},  // effects/effects.h: what to
 //                                     // simulate; over the scene's extras.effects, under a variant's
 //                                     // params.effects and --set. shadows false: no BLAS/TLAS, no
@@ -273,6 +277,7 @@ struct Config {
   AtriumParams sceneParams;  // meaningful for the atrium only (atrium.h)
   CameraSpec camera;
   std::optional<Ambient> ambient;            // "ambient": replaces the scene's ambient term (scene.h)
+  std::optional<Environment> environment;    // "environment": replaces the scene's (scene.h)
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights
   // The "effects" object as the file gives it (validated): keys it leaves out stay the scene's
   // or the built-in default (effects/effects.h). An EffectsRequest layer of source Config.

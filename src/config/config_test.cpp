@@ -233,7 +233,8 @@ TEST(ConfigErrors, UnknownTopLevelKeySuggestsTheClosest) {
 
 TEST(ConfigErrors, UnknownKeyFarFromAnyListsTheAllowedKeys) {
   std::string e = errorOfText(R"({"name": "n", "effects": {"bloom": true}})");
-  EXPECT_EQ(e, R"(x.json: effects: unknown key "bloom" (allowed: shadows, ambient_occlusion, indirect))");
+  EXPECT_EQ(
+      e, R"(x.json: effects: unknown key "bloom" (allowed: shadows, ambient_occlusion, indirect, environment_light))");
 }
 
 TEST(ConfigErrors, UnknownParamKeyNamesTheVariantPath) {

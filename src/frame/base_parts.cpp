@@ -250,7 +250,8 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
                    s.shading == ShadingMethod::Visbuffer,
                    r.buffer(res::kVisibilityRays),
                    r.buffer(res::kAmbientOcclusion),
-                   r.image(res::kIndirectIrradiance)};
+                   r.image(res::kIndirectIrradiance),
+                   r.buffer(res::kEnvironmentLight)};
   // What this frame does not use is specialised away (shading.h): the shadow pass's words per
   // pixel (tile lists hold at most 32 lights; masks and z-bins one bit per scene light), the view.
   const uint32_t listMode = lists ? f.constants.lists.x : gpu::kListTile;
@@ -267,7 +268,7 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   pass.reads = {res::kFrameConstants, res::kDepth, res::kSceneVertices, res::kSceneIndices};
   for (const char* optional :
        {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility, res::kVisibility,
-        res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance})
+        res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance, res::kEnvironmentLight})
     if (r.has(optional)) pass.reads.push_back(optional);
   if (!lists) pass.reads.push_back(res::kLights);
   pass.writes = {res::kColor, res::kRefNormals};

@@ -23,6 +23,7 @@ namespace res {
 inline constexpr const char* kShadowVisibility = "shadows.visibility";     // words per pixel: lights visible
 inline constexpr const char* kAmbientOcclusion = "ambient_occlusion";      // float per pixel
 inline constexpr const char* kIndirectIrradiance = "indirect.irradiance";  // RGBA32F, W/m²
+inline constexpr const char* kEnvironmentLight = "environment_light";      // vec4 per pixel (env_effect.h)
 }  // namespace res
 
 class PrimaryPart : public FramePart {

@@ -34,6 +34,8 @@ double measureOf(const json& run, AccuracyMeasure m) {
   switch (m) {
     case AccuracyMeasure::AoError: return numberAt(at(at(run, "ambient_occlusion"), "vs_reference"), "mae");
     case AccuracyMeasure::IndirectError: return numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse");
+    case AccuracyMeasure::EnvironmentError:
+      return numberAt(at(at(run, "environment_light"), "vs_reference"), "rel_mse");
     case AccuracyMeasure::ImageError: return numberAt(acc, "image_error");
     case AccuracyMeasure::ShadowMismatchRate: {
       const json& sm = at(acc, "shadow_mismatches");
@@ -80,6 +82,8 @@ const char* accuracyMeasureLabel(AccuracyMeasure m) {
   switch (m) {
     case AccuracyMeasure::AoError: return "AO error (MAE vs the Monte Carlo reference)";
     case AccuracyMeasure::IndirectError: return "indirect error (relative MSE vs the gathered reference)";
+    case AccuracyMeasure::EnvironmentError:
+      return "environment light error (relative MSE vs the Monte Carlo reference)";
     case AccuracyMeasure::ImageError: return "image error (FLIP mean)";
     case AccuracyMeasure::ShadowMismatchRate: return "shadow mismatch rate";
     case AccuracyMeasure::RayDeficit: return "ray deficit (1 − traced/oracle, ≥ 0)";
@@ -94,6 +98,10 @@ std::string accuracyMeasureDefinition(AccuracyMeasure m) {
       return "indirect.vs_reference.rel_mse, the relative mean squared error of the indirect irradiance's "
              "luminance against the gathered single bounce (cosine-weighted rays per pixel) on the same surface "
              "(0 for the reference itself)";
+    case AccuracyMeasure::EnvironmentError:
+      return "environment_light.vs_reference.rel_mse, the relative mean squared error of the environment light's "
+             "luminance against 1024 stratified cosine-weighted rays per pixel, each weighted by the environment, on "
+             "the same surface (0 for the reference itself)";
     case AccuracyMeasure::AoError:
       return "ambient_occlusion.vs_reference.mae, the mean absolute error of the AO image against 1024 "
              "stratified cosine-weighted rays per pixel on the same surface (0 for the reference itself)";
@@ -122,8 +130,9 @@ AccuracyFront accuracyFront(const json& results) {
 
   // The first measure that every ok run with a frame time carries, so all points share a scale.
   front.measure = AccuracyMeasure::None;
-  for (AccuracyMeasure m : {AccuracyMeasure::AoError, AccuracyMeasure::IndirectError, AccuracyMeasure::ImageError,
-                            AccuracyMeasure::ShadowMismatchRate, AccuracyMeasure::RayDeficit}) {
+  for (AccuracyMeasure m :
+       {AccuracyMeasure::AoError, AccuracyMeasure::EnvironmentError, AccuracyMeasure::IndirectError,
+        AccuracyMeasure::ImageError, AccuracyMeasure::ShadowMismatchRate, AccuracyMeasure::RayDeficit}) {
     bool all = true, any = false;
     for (const json& run : runs) {
       if (!isOk(run) || !std::isfinite(medianOf(at(run, "frame_ms")))) continue;
@@ -137,7 +146,14 @@ AccuracyFront accuracyFront(const json& results) {
   }
 
   const bool ao = front.measure == AccuracyMeasure::AoError;
+  const bool env = front.measure == AccuracyMeasure::EnvironmentError;
+  // Indirect light of several bounce counts: each run is measured against the reference of its own
+  // K, so the fronts are per K (as AO's are per d_max).
+  bool perBounces = false;
+  if (front.measure == AccuracyMeasure::IndirectError)
+    for (const json& run : runs) perBounces = perBounces || numberAt(at(run, "indirect"), "bounces") > 1;
   if (ao) front.time = "AO time: ldm_build + ambient_occlusion medians (ms)";
+  if (env) front.time = "environment light time: environment_ldm_build + environment_light medians (ms)";
   for (const json& run : runs) {
     AccuracyPoint p;
     p.name = stringOr(at(run, "name"), "(unnamed)");
@@ -151,6 +167,15 @@ AccuracyFront accuracyFront(const json& results) {
       p.timeMs = (std::isfinite(build) ? build : 0.0) + pass;
       const json& dMax = at(at(run, "ambient_occlusion"), "d_max");
       p.group = dMax.is_number() ? format("d_max = %g m", dMax.get<double>()) : "d_max = none";
+    }
+    if (perBounces) {
+      const double k = numberAt(at(run, "indirect"), "bounces");
+      p.group = std::isfinite(k) ? format("bounces = %g", k) : "bounces = 1";
+    }
+    if (env) {
+      const json& passes = at(run, "passes");
+      const double build = medianOf(at(passes, "environment_ldm_build"));
+      p.timeMs = (std::isfinite(build) ? build : 0.0) + medianOf(at(passes, "environment_light"));
     }
     p.error = measureOf(run, front.measure);
     if (std::find(front.groups.begin(), front.groups.end(), p.group) == front.groups.end())
@@ -194,12 +219,13 @@ std::string accuracyReportMarkdown(const json& results) {
   const AccuracyFront front = accuracyFront(results);
   const json& runs = results["runs"];
 
-  bool anyImage = false, anyShadow = false, anyAo = false, anyIndirect = false, anyRoofline = false;
+  bool anyImage = false, anyShadow = false, anyAo = false, anyIndirect = false, anyRoofline = false, anyEnv = false;
   for (const json& run : runs) {
     anyRoofline = anyRoofline || at(run, "roofline").is_object();
     const json& acc = at(run, "accuracy");
     anyAo = anyAo || at(at(run, "ambient_occlusion"), "vs_reference").is_object();
     anyIndirect = anyIndirect || at(at(run, "indirect"), "vs_reference").is_object();
+    anyEnv = anyEnv || at(at(run, "environment_light"), "vs_reference").is_object();
     anyImage = anyImage || at(acc, "image_error").is_number();
     anyShadow = anyShadow || at(acc, "shadow_mismatches").is_object();
   }
@@ -215,6 +241,7 @@ std::string accuracyReportMarkdown(const json& results) {
   if (anyShadow) out += " | Wrongly dark | Wrongly lit", rule += "|--:|--:";
   if (anyAo) out += " | AO time (ms) | d_max (m) | AO error (MAE vs reference)", rule += "|--:|--:|--:";
   if (anyIndirect) out += " | Indirect error (relMSE vs reference)", rule += "|--:";
+  if (anyEnv) out += " | Environment time (ms) | Environment error (relMSE vs reference)", rule += "|--:|--:";
   if (anyRoofline) out += " | Fraction of the limit", rule += "|--:";
   out += " | Pareto |\n" + rule + "|:-:|\n";
 
@@ -222,8 +249,8 @@ std::string accuracyReportMarkdown(const json& results) {
   for (size_t i = 0; i < runs.size(); ++i) {
     const json& run = runs[i];
     const AccuracyPoint& p = front.points[i];
-    const int extra =
-        (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 3 : 0) + (anyIndirect ? 1 : 0) + (anyRoofline ? 1 : 0);
+    const int extra = (anyImage ? 1 : 0) + (anyShadow ? 2 : 0) + (anyAo ? 3 : 0) + (anyIndirect ? 1 : 0) +
+                      (anyEnv ? 2 : 0) + (anyRoofline ? 1 : 0);
     out += "| " + escapeCell(p.name) + " | ";
     if (!p.ok) {
       failed.push_back(&p);
@@ -255,27 +282,32 @@ std::string accuracyReportMarkdown(const json& results) {
              cell(numberAt(at(a, "vs_reference"), "mae"), "%.4f");
     }
     if (anyIndirect) out += " | " + cell(numberAt(at(at(run, "indirect"), "vs_reference"), "rel_mse"), "%.4f");
+    if (anyEnv)
+      out += " | " + cell(front.measure == AccuracyMeasure::EnvironmentError ? p.timeMs : kNaN, "%.3f") + " | " +
+             cell(numberAt(at(at(run, "environment_light"), "vs_reference"), "rel_mse"), "%.5f");
     if (anyRoofline) out += " | " + escapeCell(longestPassFraction(run));
     const bool placed = std::isfinite(p.timeMs) && std::isfinite(p.error);
     out += std::string(" | ") + (p.onFront ? "**yes**" : placed ? "no" : kDash) + " |\n";
   }
 
-  out +=
-      "\nPareto front: " + front.time + " against " + accuracyMeasureLabel(front.measure) + " = " +
-      accuracyMeasureDefinition(front.measure) + ". A run is on the front when no other ok run" +
-      (front.groups.size() > 1 ? std::string(" of the same d_max (each against its own reference)") : std::string()) +
-      " is at least as fast and at least as "
-      "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
-      "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
-      "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
-      "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
-      "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
-      "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
-      "variant reconstructs no normals)." +
-      std::string(anyRoofline ? " Fraction of the limit: the frame's longest pass with a measured peak, its "
-                                "achieved rate over the device's peak for its bound (roofline.md)."
-                              : "") +
-      "\n";
+  out += "\nPareto front: " + front.time + " against " + accuracyMeasureLabel(front.measure) + " = " +
+         accuracyMeasureDefinition(front.measure) + ". A run is on the front when no other ok run" +
+         (front.groups.size() > 1 ? std::string(front.groups[0].rfind("bounces", 0) == 0 ? " of the same bounce count"
+                                                                                         : " of the same d_max") +
+                                        " (each against its own reference)"
+                                  : std::string()) +
+         " is at least as fast and at least as "
+         "accurate, and strictly better in one. Surplus rays (1 − ray efficiency) are wasted "
+         "work, not error, and do not enter the measure. Culling FP rate: stored (tile, light) pairs whose "
+         "light misses the tile's depth-bounded frustum (the thesis's measure); lights reaching no pixel: "
+         "stored pairs whose light reaches none of the tile's pixels (what depth slices cut). False "
+         "negatives: lights a tile had to keep and lost (the frustum's lights; with depth slices, the "
+         "lights reaching a pixel). \"—\": the results do not carry the figure (normal errors: the "
+         "variant reconstructs no normals)." +
+         std::string(anyRoofline ? " Fraction of the limit: the frame's longest pass with a measured peak, its "
+                                   "achieved rate over the device's peak for its bound (roofline.md)."
+                                 : "") +
+         "\n";
   if (!failed.empty()) {
     out += "\nFailed runs (not on the front):\n";
     for (const AccuracyPoint* p : failed) out += "- " + escapeCell(p->name) + ": " + escapeCell(p->failure) + "\n";

@@ -30,7 +30,15 @@
 
 namespace hb {
 
-enum class AccuracyMeasure { AoError, IndirectError, ImageError, ShadowMismatchRate, RayDeficit, None };
+enum class AccuracyMeasure {
+  AoError,
+  EnvironmentError,
+  IndirectError,
+  ImageError,
+  ShadowMismatchRate,
+  RayDeficit,
+  None
+};
 
 // Short axis label ("image error (FLIP mean)") and a one-sentence definition for the report.
 const char* accuracyMeasureLabel(AccuracyMeasure m);

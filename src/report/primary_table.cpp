@@ -21,7 +21,7 @@ double primaryPassMs(const json& run) {
   return std::nan("");
 }
 
-std::string coverageCell(const json& primary) {
+std::string primaryCoverageCell(const json& primary) {
   const json& c = at(primary, "coverage_check");
   if (!c.is_object()) return "—";
   return numberCell(numberAt(c, "double_covers"), "%.0f") + " / " + numberCell(numberAt(c, "holes"), "%.0f");
@@ -29,7 +29,7 @@ std::string coverageCell(const json& primary) {
 
 // a / b as "0.50x" (the Speed-up column's format); "—" unless both are finite and positive (a ray
 // cast's paper estimate is 0: it has none, and is not free).
-std::string ratioCell(double a, double b) {
+std::string primaryRatioCell(double a, double b) {
   if (!std::isfinite(a) || !std::isfinite(b) || a <= 0 || b <= 0) return "—";
   return numberCell(a / b, "%.2fx");
 }
@@ -148,9 +148,9 @@ std::string primaryTableMarkdown(const json& results) {
     double ops = numberAt(p, "paper_scalar_ops_estimate");
     if (std::isnan(ops)) ops = kPaper3drSetupOps * setups + kPaper3drPixelOps * tested;
     const json* ref = reference2dr(runs, run);
-    const std::string vs2drTime = ref ? ratioCell(ms, primaryPassMs(*ref)) : "—";
-    const std::string vs2drOps = ref ? ratioCell(numberAt(p, "paper_scalar_ops_estimate"),
-                                                 numberAt(at(*ref, "primary"), "paper_scalar_ops_estimate"))
+    const std::string vs2drTime = ref ? primaryRatioCell(ms, primaryPassMs(*ref)) : "—";
+    const std::string vs2drOps = ref ? primaryRatioCell(numberAt(p, "paper_scalar_ops_estimate"),
+                                                        numberAt(at(*ref, "primary"), "paper_scalar_ops_estimate"))
                                      : "—";
     o << "| " << escapeCell(at(run, "name").is_string() ? at(run, "name").get<std::string>() : "?") << " | " << method
       << " | " << numberCell(ms, "%.3f") << " | " << numberCell(hardwareMs / ms, "%.2fx") << " | " << vs2drTime << " | "
@@ -158,7 +158,7 @@ std::string primaryTableMarkdown(const json& results) {
       << " | " << numberCell(numberAt(p, "edge_evaluations_per_pixel"), "%.1f") << " | "
       << numberCell(numberAt(p, "atomics_per_pixel"), "%.2f") << " | "
       << numberCell(100.0 * numberAt(p, "fp64_fallback_rate"), "%.4f %%") << " | " << numberCell(ops * 1e-6, "%.1f")
-      << " | " << vs2drOps << " | " << coverageCell(p) << " | "
+      << " | " << vs2drOps << " | " << primaryCoverageCell(p) << " | "
       << numberCell(numberAt(at(p, "against_ray_cast"), "not_ties"), "%.0f") << " | " << emptyBins << " |"
       << (anyBvh ? bvhCells(p) : "") << "\n";
   }

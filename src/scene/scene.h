@@ -84,6 +84,21 @@ struct Ambient {
   bool operator==(const Ambient&) const = default;
 };
 
+// Light from every direction that varies with direction: the radiance arriving along a unit
+// direction d is intensity·color·image(R_y(−rotation)·d), image an equirectangular map (linear
+// RGB, row 0 looks up +y, column u at azimuth φ = 2π(u + 0.5)/width − π measured from −z towards
+// +x) or 1 everywhere for a uniform colour. It lights the frame only through the
+// environment_light effect (effects/environment_light/env_effect.h), which traces its visibility.
+// A scene's extras.environment or a config's "environment" (scene/environment.h).
+struct Environment {
+  std::string image;  // the .hdr file as resolved (absolute); "" for a uniform colour
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  float rotationDegrees = 0.0f;  // about +y, counter-clockwise seen from above
+  uint32_t width = 1, height = 1;
+  std::vector<glm::vec3> texels{glm::vec3(1.0f)};  // width·height, linear RGB, row-major, top row first
+};
+
 // How a camera maps pixels to rays (shaders/camera_ray.glsl.inc is the one definition).
 // Perspective and orthographic are planar (the hardware rasterizer can draw them); the paraboloid
 // (a hemisphere in a disk, 3DR paper Section 3.5) and latlong (the full sphere, equirectangular)
@@ -123,7 +138,8 @@ struct Scene {
   // effects/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
   nlohmann::json effects;
   std::string effectsOrigin;
-  std::optional<Ambient> ambient;  // none: nothing for ambient occlusion to darken
+  std::optional<Ambient> ambient;          // none: nothing for ambient occlusion to darken
+  std::optional<Environment> environment;  // none: no environment light
 
   uint64_t triangleCount() const;                   // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances

@@ -7,6 +7,7 @@
 #include "base/errors.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
+#include "scene/environment.h"
 #include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
@@ -23,7 +24,8 @@ std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas, bool compu
                             {HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages}};
+                            {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
+                            {HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
   if (tlas) b.push_back({HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
   if (computeBvh) {  // backend=compute: our BVH (compute_occluded.glsl.inc)
     b.push_back({HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
@@ -45,23 +47,29 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                uint32_t width, uint32_t height, const AoInputs& in)
     : ctx_(ctx), settings_(settings), width_(width), height_(height), tlas_(in.tlas) {
   const AoSettings& ao = settings.ao;
+  const Environment* env = settings.environment;
+  const std::string effect = std::string("effects.") + settings.effect;
   if ((ao.method == AoMethod::RayTraced || ao.method == AoMethod::Reference) && !tlas_)
-    throw InputError(std::string("effects.ambient_occlusion.method=") + toString(ao.method) +
-                     " needs the ray tracer, which this frame has not (use method ldm, hbao or gtao)");
+    throw InputError(effect + ".method=" + toString(ao.method) + " needs the ray tracer, which this frame has not (" +
+                     (env ? "turn shadows on, or use method ldm)" : "use method ldm, hbao or gtao)"));
+  HB_ASSERT(!env || ao.method == AoMethod::Ldm || ao.method == AoMethod::RayTraced || ao.method == AoMethod::Reference);
   std::vector<glm::dvec3> dirs;
   try {
     dirs = ldmDirections(ao.directions);
   } catch (const std::invalid_argument& e) {
-    throw InputError(std::string("effects.ambient_occlusion.directions: ") + e.what());
+    throw InputError(effect + ".directions: " + e.what());
   }
   std::vector<glm::vec4> packed;
   for (const glm::dvec3& d : dirs) packed.emplace_back(glm::vec3(d), 0.0f);
+  if (env) {  // the radiance along +v_i, then along −v_i (ao_common.glsl.inc RADIANCE)
+    for (double sign : {1.0, -1.0})
+      for (const glm::dvec3& d : dirs) packed.emplace_back(glm::vec3(environmentRadiance(*env, sign * d)), 0.0f);
+  }
   directions_ = uploadBuffer(ctx, packed.data(), packed.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                              MemClass::Other);
   uint32_t maxSteps = 1;
   if (ao.method == AoMethod::Ldm) {
-    ldm_ =
-        makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, "ambient_occlusion");
+    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, settings.effect);
     maxSteps = ldm_->nodeCapacity();
   }
   gpu::AoConstants c{};
@@ -79,6 +87,18 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
     scene.bounds(lo, hi);
     c.hbaoRadius = ao.dMax ? float(*ao.dMax) : std::max(0.5f * glm::length(hi - lo), 1e-6f);
   }
+  if (env) {
+    c.envWidth = env->width;
+    c.envHeight = env->height;
+    c.envScale = glm::vec4(env->color * env->intensity, 0.0f);
+    const double a = double(env->rotationDegrees) * 3.14159265358979323846 / 180.0;
+    c.envRotation = glm::vec4(float(std::cos(a)), float(std::sin(a)), 0.0f, 0.0f);
+    std::vector<glm::vec4> texels;
+    texels.reserve(env->texels.size());
+    for (const glm::vec3& t : env->texels) texels.emplace_back(t, 0.0f);
+    environment_ = uploadBuffer(ctx, texels.data(), texels.size() * sizeof(glm::vec4),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other);
+  }
   if (ldm_) {
     c.ldmLinks = glm::uvec2(uint32_t(ldm_->links().address()), uint32_t(ldm_->links().address() >> 32));
     c.ldmList = uint32_t(ldm_->list());  // LdmList's values are the shaders' kLdmList*
@@ -94,7 +114,8 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   const VkDeviceSize pixels = VkDeviceSize(width) * height;
   const VkBufferUsageFlags outUsage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  output_ = Buffer(ctx, pixels * sizeof(float), outUsage, false, MemClass::Other);
+  const VkDeviceSize outBytes = pixels * sizeof(float) * (env ? 4 : 1);
+  output_ = Buffer(ctx, outBytes, outUsage, false, MemClass::Other);
   placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
 
   const bool rayQuery = ctx.info().rayQuery;
@@ -126,11 +147,14 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                       (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
     sets->writeBuffer(0, HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
     sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.handle());
+    // Without an environment HB_AO_ENVIRONMENT is never read (RADIANCE = 0).
+    sets->writeBuffer(0, HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                      (env ? environment_ : placeholder_).handle());
     return sets;
   };
   sets_ = makeSets(output_, params_);
   if (tlas_) {
-    scratch_ = Buffer(ctx, pixels * sizeof(float), outUsage, false, MemClass::Other);
+    scratch_ = Buffer(ctx, outBytes, outUsage, false, MemClass::Other);
     scratchSets_ = makeSets(scratch_, scratchParams_);
   }
   program(ao.method);  // the frame's own, created up front
@@ -142,6 +166,7 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   auto it = programs_.find(method);
   if (it != programs_.end()) return *it->second;
   auto p = std::make_unique<Program>(ctx_);
+  const uint32_t radiance = settings_.environment ? 1u : 0u;  // ao_common.glsl.inc RADIANCE
   if (method == AoMethod::Ldm || method == AoMethod::Hbao || method == AoMethod::Gtao) {
     HB_ASSERT(method != AoMethod::Ldm || ldm_);
     p->compute.createLayout({sets_->layout()}, 0);
@@ -149,11 +174,12 @@ const AoPass::Program& AoPass::program(AoMethod method) {
                              SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
                                             method == AoMethod::Ldm    ? gpu::kAoLdm
                                             : method == AoMethod::Hbao ? gpu::kAoHbao
-                                                                       : gpu::kAoGtao}});
+                                                                       : gpu::kAoGtao,
+                                            radiance}});
   } else {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
-                              method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced}};
+                              method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced, radiance}};
     if (settings_.computeBvh) {
       SpecConstants withStack = spec;
       for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64, false)) withStack.values.push_back(v);  // 8x8 threads
@@ -201,8 +227,7 @@ std::vector<float> AoPass::computeWith(AoMethod method) {
     return readAo();
   HB_ASSERT((method == AoMethod::RayTraced || method == AoMethod::Reference) && tlas_);
   const Program& p = program(method);
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); },
-                     "ambient occlusion for the analysis");
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); }, "an analysis reference");
   return readFloats(ctx_, scratch_);
 }
 
@@ -214,6 +239,7 @@ AoMemory AoPass::memory() const {
   }
   m.directionBytes = directions_.size();
   m.outputBytes = output_.size();
+  m.environmentBytes = settings_.environment ? environment_.size() : 0;
   return m;
 }
 

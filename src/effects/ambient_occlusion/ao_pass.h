@@ -38,11 +38,17 @@ struct AoPassSettings {
   // backend=compute: raytraced and reference trace through this BVH (compute_occluded.glsl.inc)
   // instead of the TLAS; null: the device's ray query or ray-tracing pipeline.
   const TraceBvh* computeBvh = nullptr;
+  // Environment light (effects/environment_light/env_effect.h): the same methods (ldm, raytraced,
+  // reference) weighing each direction by this environment's radiance (ao_common.glsl.inc
+  // RADIANCE); output() then holds 4 floats a pixel. Null: ambient occlusion.
+  const Environment* environment = nullptr;
+  // The name its errors and LDM build go by ("ambient_occlusion", "environment_light").
+  const char* effect = "ambient_occlusion";
 };
 
 struct AoMemory {
-  uint64_t ldmLinkBytes = 0, ldmMapBytes = 0, directionBytes = 0, outputBytes = 0;
-  uint64_t total() const { return ldmLinkBytes + ldmMapBytes + directionBytes + outputBytes; }
+  uint64_t ldmLinkBytes = 0, ldmMapBytes = 0, directionBytes = 0, outputBytes = 0, environmentBytes = 0;
+  uint64_t total() const { return ldmLinkBytes + ldmMapBytes + directionBytes + outputBytes + environmentBytes; }
 };
 
 class AoPass {
@@ -53,7 +59,8 @@ class AoPass {
   ~AoPass();
 
   // The AO computation ("ambient_occlusion"; the LDM build, ldm(), is its own pass: ldmBuildPass).
-  // After it, output() holds one float per pixel (AO in [0, 1], gpu::kAoSky, gpu::kAoNoNormal).
+  // After it, output() holds one float per pixel (AO in [0, 1], gpu::kAoSky, gpu::kAoNoNormal), or
+  // with an environment 4 (rgb, w = 1 or the status).
   void recordAo(VkCommandBuffer cmd) const;
   bool buildsLdms() const { return bool(ldm_); }
 
@@ -64,6 +71,7 @@ class AoPass {
   // Precondition: a tracer (inputs.tlas) for raytraced/reference.
   std::vector<float> computeWith(AoMethod method);
   bool canTrace() const { return tlas_ != VK_NULL_HANDLE; }
+  uint32_t channels() const { return settings_.environment ? 4u : 1u; }
   const VulkanContext& context() const { return ctx_; }
 
   const AoPassSettings& settings() const { return settings_; }
@@ -81,7 +89,7 @@ class AoPass {
   uint32_t width_, height_;
   VkAccelerationStructureKHR tlas_;
   std::unique_ptr<LdmBuild> ldm_;
-  Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_;
+  Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_, environment_;
   std::unique_ptr<DescriptorSets> sets_, scratchSets_;
   std::map<AoMethod, std::unique_ptr<Program>> programs_;
 };

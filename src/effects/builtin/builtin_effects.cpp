@@ -2,6 +2,7 @@
 // rest: docs/contributing.md "Adding an effect or a pass").
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "effects/effects.h"
+#include "effects/environment_light/env_effect.h"
 #include "effects/indirect/indirect_effect.h"
 #include "effects/shadows/shadows_effect.h"
 
@@ -12,6 +13,7 @@ std::vector<const EffectDef*> builtinEffects() {
       &shadowsEffect(),
       &ambientOcclusionEffect(),
       &indirectEffect(),
+      &environmentLightEffect(),
   };
 }
 

@@ -36,14 +36,18 @@ const EffectState& stateOf(const FramePlan& plan, const std::string& name) {
 TEST(Effects, DefaultsCallForShadowsAndTheFrameHasEveryPassInFrameOrder) {
   const FramePlan plan = planFrame(sceneWithLights({pointLight()}), {});
   EXPECT_EQ(plan.passes, (std::vector<std::string>{"depth_prepass", "light_culling", "shadows", "shading"}));
-  // Ambient occlusion and indirect light are off unless called for: their passes are listed with that reason.
-  const std::string off = "effects.ambient_occlusion is off (default)", offInd = "effects.indirect is off (default)";
+  // Ambient occlusion, indirect and environment light are off unless called for: their passes are
+  // listed with that reason.
+  const std::string off = "effects.ambient_occlusion is off (default)", offInd = "effects.indirect is off (default)",
+                    offEnv = "effects.environment_light is off (default)";
   EXPECT_EQ(plan.skipped, (std::vector<std::pair<std::string, std::string>>{{"ldm_build", off},
                                                                             {"ambient_occlusion", off},
                                                                             {"indirect_ldm_build", offInd},
                                                                             {"photon_trace", offInd},
                                                                             {"photon_splat", offInd},
-                                                                            {"indirect_gather", offInd}}));
+                                                                            {"indirect_gather", offInd},
+                                                                            {"environment_ldm_build", offEnv},
+                                                                            {"environment_light", offEnv}}));
   EXPECT_FALSE(plan.needs(FrameResource::LayeredDepthMaps));
   EXPECT_TRUE(plan.needs(FrameResource::AccelerationStructures));
   const EffectState& s = stateOf(plan, "shadows");
@@ -60,7 +64,8 @@ TEST(Effects, PrecedenceIsDefaultThenSceneThenConfigThenSet) {
   EXPECT_EQ(stateOf(plan, "shadows").source, EffectSource::Scene);
   EXPECT_FALSE(plan.needs(FrameResource::AccelerationStructures));  // nothing allocated for an effect that is off
   EXPECT_FALSE(plan.hasPass("shadows"));
-  ASSERT_EQ(plan.skipped.size(), 7u);  // shadows, then AO's 2 and the indirect light's 4 passes (off by default)
+  // shadows, then AO's 2, the indirect light's 4 and the environment light's 2 passes (off by default)
+  ASSERT_EQ(plan.skipped.size(), 9u);
   EXPECT_EQ(plan.skipped[0].first, "shadows");
   EXPECT_EQ(plan.skipped[0].second, "effects.shadows is off (scene: scene.gltf)");
 

@@ -43,8 +43,17 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   }
   if (value.contains("splat_bin"))
     s.splatBin = uint32_t(readIntChoice(value["splat_bin"], where.key("splat_bin"), {32, 64, 128, 256}));
+  if (value.contains("bounces")) s.bounces = uint32_t(readInt(value["bounces"], where.key("bounces"), 1, 4));
+  if (value.contains("bounce_directions"))
+    s.bounceDirections = uint32_t(readInt(value["bounce_directions"], where.key("bounce_directions"), 1, 2048));
   readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
   readSquareSamples(value, where, s.samples);
+  // Beyond the first bounce a photon needs the surface it landed on (its normal and albedo): the
+  // ray tracer returns it, and of the LDM lists only sbuffer's hold triangle ids.
+  if (s.bounces > 1 && s.method == IndirectMethod::Ldm && s.ldmList != LdmList::Sbuffer)
+    where.key("bounces").fail(std::to_string(s.bounces) +
+                              " bounces with method ldm need ldm_list \"sbuffer\" (its lists hold the triangle ids "
+                              "a photon bounces off); set \"ldm_list\": \"sbuffer\" or \"bounces\": 1");
   return s;
 }
 
@@ -85,10 +94,15 @@ IndirectSettings indirectSettingsOf(const nlohmann::json& value) {
 }
 
 nlohmann::json IndirectSettings::toJson() const {
-  nlohmann::json j = {{"method", hb::toString(method)}};
+  nlohmann::json j = {{"method", hb::toString(method)}, {"bounces", bounces}};
   if (method == IndirectMethod::Reference) {
     j["samples"] = samples;
     return j;
+  }
+  if (bounces > 1) {
+    j["bounce_directions"] = bounceDirections;
+    j["directions_per_bounce"] = nlohmann::json::array();
+    for (uint32_t b = 1; b <= bounces; ++b) j["directions_per_bounce"].push_back(directionsAtBounce(b));
   }
   j["directions"] = directions;
   j["photons"] = photons;
@@ -141,6 +155,10 @@ const EffectDef& indirectEffect() {
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "256", "reference rays per pixel"},
+              {"bounces", "1..4", "1",
+               "K, the diffuse bounces: each landing photon splits again (reference: paths of K bounces)"},
+              {"bounce_directions", "1..2048", "8",
+               "M: the directions a photon splits into at its second bounce, halving at each further one"},
           },
   };
   return def;

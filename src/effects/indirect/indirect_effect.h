@@ -19,6 +19,10 @@
 //   bias            scale of the derived LDM bias (ldm_trace.glsl.inc), > 0   default 1
 //   ldm_list, ldm_build   as effects.ambient_occlusion's
 //   samples         reference rays per pixel, a square 16..65536              default 256
+//   bounces         K, the diffuse bounces (Sect. 6 "Multiple Bounces"), 1..4   default 1
+//   bounce_directions  M: a photon landing after bounce b >= 1 splits again into
+//                   M_{b+1} = max(1, M >> (b − 1)) of the N directions (halving per bounce), an
+//                   evenly strided subset turned by a hash of its slot, 1..2048   default 8
 // It acts when the scene has a point or spot light (directional lights emit no photons here: the
 // paper's method is for point lights); the frame then composes direct + ambient·AO + indirect,
 // the indirect light reflected as Lambertian: albedo·(1 − metallic)/π · E_indirect.
@@ -50,6 +54,15 @@ struct IndirectSettings {
   IndirectSplat splat = IndirectSplat::Compute;
   uint32_t splatBin = 128;   // splat=compute: a coarse bin's side in pixels
   double maxAnisotropy = 0;  // a footprint's axis ratio at most this, its short axis widened (0: off)
+  uint32_t bounces = 1;
+  uint32_t bounceDirections = 8;
+  // The directions a photon landing after bounce b - 1 splits into at bounce b (1-based): N at the
+  // first, then min(N, max(1, M >> (b − 2))).
+  uint32_t directionsAtBounce(uint32_t b) const {
+    if (b <= 1) return directions;
+    const uint32_t m = bounceDirections >> (b - 2);
+    return m < 1 ? 1 : (m > directions ? directions : m);
+  }
   nlohmann::json toJson() const;
 };
 

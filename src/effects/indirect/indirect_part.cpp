@@ -85,7 +85,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     add(kIndirectGatherPass, traceReads, {res::kIndirectIrradiance}, &IndirectPass::recordGather);
   } else {
     f.resources.publish("indirect.photons", indirect_->photonSlots(), "gpu::Photon per slot",
-                        std::to_string(indirect_->slots()) + " slots (primaries x N)");
+                        std::to_string(indirect_->slots()) + " slots (primaries x N, then each further bounce's)");
     add(kPhotonTracePass, traceReads, {"indirect.photons"}, &IndirectPass::recordTrace);
     FramePass splat;
     splat.name = kPhotonSplatPass;

@@ -131,11 +131,14 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(ctx.physical(), &props);
   const uint64_t photonBytes = slots() * sizeof(gpu::Photon);
-  if (photonBytes > props.limits.maxStorageBufferRange)
-    throw InputError("effects.indirect: " + std::to_string(slots()) + " photon slots (" + std::to_string(primaries_) +
-                     " primaries x " + std::to_string(s.directions) + " directions, " +
+  if (photonBytes > props.limits.maxStorageBufferRange || slots() > 0xFFFFFFFFull) {
+    std::string shape = std::to_string(primaries_) + " primaries x " + std::to_string(s.directions) + " directions";
+    for (uint32_t b = 2; b <= s.bounces; ++b) shape += " x " + std::to_string(s.directionsAtBounce(b));
+    throw InputError("effects.indirect: " + std::to_string(slots()) + " photon slots (" + shape + ", " +
                      std::to_string(photonBytes >> 20) + " MiB) exceed this device's storage-buffer range of " +
-                     std::to_string(props.limits.maxStorageBufferRange >> 20) + " MiB; lower photons or directions");
+                     std::to_string(props.limits.maxStorageBufferRange >> 20) + " MiB; lower photons or directions" +
+                     (s.bounces > 1 ? ", bounces or bounce_directions" : ""));
+  }
 
   std::vector<glm::vec4> packed;
   for (const glm::dvec3& d : dirs) packed.emplace_back(glm::vec3(d), 0.0f);
@@ -177,6 +180,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     const double radius = std::max(0.5 * glm::length(glm::dvec3(hi) - glm::dvec3(lo)), 1e-6) * (1.0 + 1e-6);
     c.ldmPixel = float(2.0 * radius / s.ldmResolution);  // the LDM's pixel (ldmMaps), for both methods
     c.maxAnisotropy = float(s.maxAnisotropy);
+    c.bounces = s.bounces;
+    c.bounceDirections = s.bounceDirections;
     ldmPixel_ = c.ldmPixel;
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
@@ -290,7 +295,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     splat_.pipeline_ = createRasterPipeline(ctx, desc);
     splat_.bindPoint_ = VK_PIPELINE_BIND_POINT_GRAPHICS;
   }
-  program(s.method);  // the frame's own, created up front
+  for (uint32_t b = 1; b <= (s.method == IndirectMethod::Reference ? 1 : s.bounces); ++b)
+    program(s.method, b);  // the frame's own, created up front
 }
 
 IndirectPass::~IndirectPass() = default;
@@ -351,15 +357,27 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   return t;
 }
 
-const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
-  auto it = programs_.find(method);
+uint64_t IndirectPass::bounceSlots(uint32_t bounce) const {
+  uint64_t n = uint64_t(primaries_) * settings_.indirect.directions;
+  for (uint32_t b = 2; b <= bounce; ++b) n *= settings_.indirect.directionsAtBounce(b);
+  return n;
+}
+
+uint64_t IndirectPass::bounceFirstSlot(uint32_t bounce) const {
+  uint64_t first = 0;
+  for (uint32_t b = 1; b < bounce; ++b) first += bounceSlots(b);
+  return first;
+}
+
+const IndirectPass::Program& IndirectPass::program(IndirectMethod method, uint32_t bounce) {
+  auto it = programs_.find({method, bounce});
   if (it != programs_.end()) return *it->second;
   HB_ASSERT(method != IndirectMethod::Ldm || ldm_);
   auto p = std::make_unique<Program>(ctx_);
   const uint32_t m = method == IndirectMethod::Ldm         ? gpu::kIndirectLdm
                      : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
                                                            : gpu::kIndirectReference;
-  const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m}};
+  const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m, bounce}};
   if (const TraceBvh* bvh = settings_.computeBvh) {  // 64 threads a group
     SpecConstants withStack = spec;
     for (uint32_t v : traceBvhSpec(*bvh, 64, true)) withStack.values.push_back(v);
@@ -372,7 +390,7 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method) {
     p->rt = std::make_unique<RaygenMissPipeline>(ctx_, frame_.sets->layout(), "indirect.rgen", "indirect.rmiss", spec,
                                                  "indirect.rchit");
   }
-  return *programs_.emplace(method, std::move(p)).first->second;
+  return *programs_.emplace(std::pair{method, bounce}, std::move(p)).first->second;
 }
 
 // count: primary photons, kPhotonLanes threads each (indirect_common.glsl.inc: a 64-thread group a
@@ -401,8 +419,15 @@ void IndirectPass::recordDispatch(VkCommandBuffer cmd, const Program& p, const T
                 VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void IndirectPass::recordTraceInto(VkCommandBuffer cmd, const Program& p, const Target& t) const {
-  recordDispatch(cmd, p, t, primaries_, false);
+void IndirectPass::recordTraceInto(VkCommandBuffer cmd, IndirectMethod method, const Target& t) const {
+  recordDispatch(cmd, *programs_.at({method, 1u}), t, primaries_, false);
+  // Bounces 2..K: a thread per slot, 64 a group (a 64-lane launch row in the pipeline); each
+  // retraces its chain, so the dispatches do not depend on each other.
+  for (uint32_t b = 2; b <= settings_.indirect.bounces; ++b) {
+    const uint64_t groups = (bounceSlots(b) + 63) / 64;
+    HB_ASSERT(groups <= 0xFFFFFFFFull);
+    recordDispatch(cmd, *programs_.at({method, b}), t, uint32_t(groups), false);
+  }
 }
 
 void IndirectPass::recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const {
@@ -493,10 +518,10 @@ void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuT
       VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void IndirectPass::recordTrace(VkCommandBuffer cmd) const { recordTraceInto(cmd, *programs_.at(method()), frame_); }
+void IndirectPass::recordTrace(VkCommandBuffer cmd) const { recordTraceInto(cmd, method(), frame_); }
 void IndirectPass::recordSplat(VkCommandBuffer cmd, GpuTimer* timer) const { recordSplatInto(cmd, frame_, timer); }
 void IndirectPass::recordGather(VkCommandBuffer cmd) const {
-  recordGatherInto(cmd, *programs_.at(IndirectMethod::Reference), frame_);
+  recordGatherInto(cmd, *programs_.at({IndirectMethod::Reference, 1u}), frame_);
 }
 
 static std::vector<float> readRgba(const VulkanContext& ctx, const Image& img) {
@@ -528,12 +553,13 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
   HB_ASSERT(m != IndirectMethod::Ldm);
   if (!scratch_.sets) scratch_ = makeTarget(true);
   const Program& p = program(m);
+  for (uint32_t b = 2; m != IndirectMethod::Reference && b <= settings_.indirect.bounces; ++b) program(m, b);
   if (m == IndirectMethod::Reference) {
     ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordGatherInto(cmd, p, scratch_); }, "the gathered indirect light");
   } else {
     ctx_.submitAndWait(
         [&](VkCommandBuffer cmd) {
-          recordTraceInto(cmd, p, scratch_);
+          recordTraceInto(cmd, m, scratch_);
           recordSplatInto(cmd, scratch_, nullptr);
         },
         "the ray-traced photons");

@@ -95,7 +95,11 @@ class IndirectPass {
   // over every texel, in double (reference/photon_ref.h), before any range window.
   double emittedFlux() const { return emittedFlux_; }
   uint32_t primaries() const { return primaries_; }
-  uint64_t slots() const { return uint64_t(primaries_) * settings_.indirect.directions; }
+  // Photon slots in all: bounce 1's P·N, then each further bounce's P·N·M_2···M_b
+  // (indirect_common.glsl.inc bounceTrace), in that order.
+  uint64_t slots() const { return bounceFirstSlot(settings_.indirect.bounces + 1); }
+  uint64_t bounceSlots(uint32_t bounce) const;      // bounce >= 1
+  uint64_t bounceFirstSlot(uint32_t bounce) const;  // where bounce's slots begin (bounces + 1: the end)
   uint32_t emitters() const { return emitters_; }
   // The landing test's LDM term, (√2/2)·s_ldm + 2·kShadowTMin (indirect_common.glsl.inc
   // landsVisible): how far off the surface an LDM-traced photon may land.
@@ -117,8 +121,9 @@ class IndirectPass {
   };
   struct Program;
   Target makeTarget(bool withPhotons);
-  const Program& program(IndirectMethod method);
-  void recordTraceInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
+  const Program& program(IndirectMethod method, uint32_t bounce = 1);
+  // Every bounce's trace (programs created: program(method, b) for b = 1..bounces).
+  void recordTraceInto(VkCommandBuffer cmd, IndirectMethod method, const Target& t) const;
   void recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
   void recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
   void recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count, bool pixels) const;
@@ -140,7 +145,7 @@ class IndirectPass {
   struct ComputeSplat;
   std::unique_ptr<ComputeSplat> computeSplat_;
   void recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
-  std::map<IndirectMethod, std::unique_ptr<Program>> programs_;
+  std::map<std::pair<IndirectMethod, uint32_t>, std::unique_ptr<Program>> programs_;  // (method, bounce)
 };
 
 }  // namespace hb

@@ -49,6 +49,28 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
         {"flux_escaped_w", t.fluxEscaped},
         {"flux_grazing_w", t.fluxGrazing},
         {"discarded_share", t.slots ? double(t.hidden + t.escaped + t.grazing) / double(t.slots) : 0.0}};
+    // With bounces: each bounce's own tally (its slots: IndirectPass::bounceFirstSlot). Bounce b
+    // reflects what bounce b − 1 landed (stored, hidden, grazing) times the albedo it met.
+    const uint32_t bounces = ind.settings().indirect.bounces;
+    if (bounces > 1) {
+      j["split_photons"]["per_bounce"] = nlohmann::json::array();
+      for (uint32_t b = 1; b <= bounces; ++b) {
+        const auto first = photons.begin() + std::ptrdiff_t(ind.bounceFirstSlot(b));
+        const PhotonTally tb =
+            tallyPhotons(std::vector<gpu::Photon>(first, first + std::ptrdiff_t(ind.bounceSlots(b))));
+        j["split_photons"]["per_bounce"].push_back({{"bounce", b},
+                                                    {"directions", ind.settings().indirect.directionsAtBounce(b)},
+                                                    {"slots", tb.slots},
+                                                    {"stored", tb.stored},
+                                                    {"hidden", tb.hidden},
+                                                    {"escaped", tb.escaped},
+                                                    {"grazing", tb.grazing},
+                                                    {"empty", tb.empty},
+                                                    {"flux_reflected_w", tb.fluxReflected()},
+                                                    {"flux_stored_w", tb.fluxStored},
+                                                    {"flux_landed_w", tb.fluxStored + tb.fluxHidden + tb.fluxGrazing}});
+      }
+    }
   }
   const float scale = indirectScale(mine);
   j["image_scale"] = scale;

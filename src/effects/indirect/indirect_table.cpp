@@ -23,11 +23,14 @@ std::string indirectTableMarkdown(const json& results) {
        "not see, left the scene, or grazing). Errors are on the irradiance's luminance over every pixel: relative "
        "MSE (mean squared error over the reference's mean square), the total light against the reference's (1: as "
        "much light), and FLIP of both tone-mapped alike, against the same photons ray traced (the LDM "
-       "approximation alone) and against the gathered single bounce (the photon method itself).\n\n"
-    << "| Run | Method | N | Map | Photons / face | Image | LDM build (ms) | Photon tracing (ms) | Splatting (ms) | "
+       "approximation alone) and against the gathered reference of as many bounces (the photon method itself). K: "
+       "the diffuse bounces (a photon splits into N directions at the first, bounce_directions at the second, "
+       "halving after).\n\n"
+    << "| Run | Method | K | N | Map | Photons / face | Image | LDM build (ms) | Photon tracing (ms) | Splatting (ms) "
+       "| "
        "Frame (ms) | Slots | Splatted | Discarded | MB | relMSE vs raytraced | Total vs raytraced | relMSE vs "
        "reference | Total vs reference | FLIP vs reference |\n"
-    << "|---|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    << "|---|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const json& run : results["runs"]) {
     const json& a = at(run, "indirect");
     if (!a.is_object()) continue;
@@ -45,7 +48,8 @@ std::string indirectTableMarkdown(const json& results) {
     const json& vr = at(a, "vs_raytraced");
     const json& vf = at(a, "vs_reference");
     const bool selfRt = method == "raytraced", selfRef = method == "reference";
-    o << "| " << escapeCell(name) << " | " << method << " | "
+    const double bounces = at(a, "bounces").is_number() ? numberAt(a, "bounces") : 1.0;  // before bounces: 1
+    o << "| " << escapeCell(name) << " | " << method << " | " << numberCell(bounces, "%.0f") << " | "
       << (photons ? numberCell(numberAt(a, "directions"), "%.0f") : "—") << " | "
       << (method == "ldm" ? numberCell(numberAt(a, "ldm_resolution"), "%.0f") + "²" : "—") << " | "
       << (photons ? numberCell(perFace, "%.0f") + "²" : "—") << " | " << image << " | "

@@ -27,6 +27,7 @@ std::vector<Binding> shadingBindings() {
           {HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
+          {HB_SHADE_FRAG_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
           {HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
 }
 }  // namespace
@@ -73,6 +74,9 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // stands in only where the format matches, so a 1x1 RGBA32F one does.
   sets_.writeImage(0, HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                    (in.indirect ? in.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
+  // Without an environment HB_SHADE_FRAG_ENVIRONMENT is never read (ENVIRONMENT = 0); any buffer will do.
+  sets_.writeBuffer(0, HB_SHADE_FRAG_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                    (in.environment ? in.environment : &scene.indices())->handle());
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
     sets_.writeImage(0, HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                      VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
@@ -167,7 +171,7 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
                       in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode, in_.ambientOcclusion ? 1u : 0u,
-                      in_.visibilityWords <= 1 ? 1u : 0u, in_.perspective ? 1u : 0u}};
+                      in_.visibilityWords <= 1 ? 1u : 0u, in_.perspective ? 1u : 0u, in_.environment ? 1u : 0u}};
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -222,6 +226,7 @@ std::vector<Binding> visbufferBindings() {
           {HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
           {HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
+          {HB_SHADE_VB_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
           {HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true}};
 }
 }  // namespace
@@ -257,6 +262,8 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
                 (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
   v.writeImage(0, HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                (in_.indirect ? in_.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
+  v.writeBuffer(0, HB_SHADE_VB_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                (in_.environment ? in_.environment : &scene.indices())->handle());
   for (uint32_t i = 0; i < textures_.images().size(); ++i)
     v.writeImage(0, HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
                  VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
@@ -264,10 +271,11 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scen
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
     p->createLayout({v.layout()}, 0);
-    p->createCompute("shading_visbuffer.comp",
-                     {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u,
-                       in_.listMode, in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u,
-                       aaStoredSamples(in_.aa), in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride}});
+    p->createCompute(
+        "shading_visbuffer.comp",
+        {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u, in_.listMode,
+          in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u, aaStoredSamples(in_.aa),
+          in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride, in_.environment ? 1u : 0u}});
   }
 }
 

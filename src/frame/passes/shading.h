@@ -5,6 +5,7 @@
 #pragma once
 #include <memory>
 
+#include "config/config.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_textures.h"
 #include "gpu/vk_pipeline.h"
@@ -37,6 +38,9 @@ struct ShadingInputs {
   // The indirect light's irradiance (IndirectPass::irradiance, RGBA32F, GENERAL layout), or null:
   // added as albedo·(1 − metallic)/π·E.
   const Image* indirect = nullptr;
+  // The environment light (AoPass::output with an environment: rgb, w = 1 or < 0 per pixel), or
+  // null: added as albedo·(1 − metallic)·rgb.
+  const Buffer* environment = nullptr;
   // Visibility words per pixel the shadow pass writes (1 for tile lists or at most 32 lights):
   // with 1 the word is read once before the light walk (a specialisation constant).
   uint32_t visibilityWords = 1;

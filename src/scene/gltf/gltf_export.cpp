@@ -14,6 +14,7 @@
 
 #include "base/errors.h"
 #include "scene/ambient_json.h"
+#include "scene/environment.h"
 #include "scene/gltf/gltf_io.h"
 
 namespace hb {
@@ -63,6 +64,7 @@ class Exporter {
     tinygltf::Value::Object extras;
     if (!scene_.effects.is_null()) extras["effects"] = toValue(scene_.effects);
     if (scene_.ambient) extras["ambient"] = toValue(toJson(*scene_.ambient));
+    if (scene_.environment) extras["environment"] = toValue(toJson(*scene_.environment));
     if (!extras.empty()) gscene.extras = tinygltf::Value(std::move(extras));
     model_.scenes.push_back(std::move(gscene));
     model_.defaultScene = 0;

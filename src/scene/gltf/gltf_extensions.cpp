@@ -51,15 +51,23 @@ void checkExtensions(const tinygltf::Model& model, const std::string& path, Gltf
   for (const Unreadable& u : kRefused)
     if (contains(model.extensionsRequired, u.name) || contains(model.extensionsUsed, u.name))
       throw InputError(path + ": uses " + u.name + " (" + u.what + "), which hybridbench does not read; " + u.fix);
+  // Image-based light: its prefiltered cube maps and spherical harmonics are not what the
+  // environment light traces (an equirectangular radiance map), so the scene loads without it.
+  constexpr const char* kImageBasedLight = "EXT_lights_image_based";
+  if (contains(model.extensionsRequired, kImageBasedLight) || contains(model.extensionsUsed, kImageBasedLight))
+    warnings.messages.push_back(path +
+                                ": ignores EXT_lights_image_based (its cube maps and spherical harmonics are "
+                                "not read); give the environment as an equirectangular .hdr in "
+                                "scenes[s].extras.environment or a config's \"environment\"");
   std::vector<std::string> unknownRequired, ignored;
   for (const std::string& e : model.extensionsRequired)
-    if (!contains(kRead, e)) unknownRequired.push_back(e);
+    if (!contains(kRead, e) && e != kImageBasedLight) unknownRequired.push_back(e);
   if (!unknownRequired.empty())
     throw InputError(path + ": requires " + joined(unknownRequired) +
                      ", which hybridbench does not read (extensionsRequired: a reader that ignores it draws the "
                      "wrong thing); re-export it without");
   for (const std::string& e : model.extensionsUsed)
-    if (!contains(kRead, e)) ignored.push_back(e);
+    if (!contains(kRead, e) && e != kImageBasedLight) ignored.push_back(e);
   if (!ignored.empty())
     warnings.messages.push_back(path + ": ignores the optional extension(s) " + joined(ignored) +
                                 " (materials and textures render as their core glTF values)");

@@ -2,7 +2,12 @@
 // ignores in one warning (gltf_extensions.cpp).
 #include <gtest/gtest.h>
 
+#include "scene/environment.h"
 #include "scene/gltf/gltf_test_util.h"
+
+#ifndef HYBRIDBENCH_SOURCE_DIR
+#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/environments/)"
+#endif
 
 namespace hb::gltf_test {
 namespace {
@@ -80,6 +85,34 @@ TEST(GltfModes, StripsAndFansLoadAsTriangleListsAndPointsAloneAreRefused) {
   points.doc["meshes"][0]["primitives"][0]["mode"] = 0;
   points.scene({points.node({{"mesh", 0}})});
   expectInputError(points.writeGltf(dir / "points.gltf"), {"meshes[0].primitives[0] (mode 0)", "points or lines"});
+}
+
+// A glTF scene's extras.environment, its image relative to the glTF file; EXT_lights_image_based
+// loads with one warning line that says where the environment goes instead.
+TEST(GltfExtensions, AGltfSceneCarriesItInExtrasAndImageBasedLightIsOneWarning) {
+  TestDir dir;
+  fs::copy_file(fs::path(HYBRIDBENCH_SOURCE_DIR) / "scenes/environments/sky.hdr", dir / "sky.hdr");
+  GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 10}});
+  b.doc["scenes"][0]["extras"]["environment"] = {{"image", "sky.hdr"}, {"intensity", 0.5}};
+  b.doc["extensionsUsed"].push_back("EXT_lights_image_based");
+  b.doc["extensionsRequired"] = {"EXT_lights_image_based"};
+  GltfLoadWarnings warnings;
+  const Scene s = loadGltf(b.writeGltf(dir / "env.gltf").string(), &warnings);
+  ASSERT_TRUE(s.environment.has_value());
+  EXPECT_EQ(s.environment->width, 128u);
+  EXPECT_FLOAT_EQ(s.environment->intensity, 0.5f);
+  ASSERT_EQ(warnings.messages.size(), 1u);
+  EXPECT_NE(warnings.messages[0].find("ignores EXT_lights_image_based"), std::string::npos) << warnings.messages[0];
+  EXPECT_NE(warnings.messages[0].find("extras.environment"), std::string::npos) << warnings.messages[0];
+
+  GltfBuilder missing = quadWithLight({{"type", "point"}, {"intensity", 10}});
+  missing.doc["scenes"][0]["extras"]["environment"] = {{"image", "nowhere.hdr"}};
+  try {
+    loadGltf(missing.writeGltf(dir / "missing.gltf").string());
+    ADD_FAILURE() << "a missing image loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("scenes[0].extras.environment.image"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

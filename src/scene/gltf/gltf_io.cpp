@@ -22,6 +22,7 @@
 #include "base/input_file.h"
 #include "effects/effects.h"
 #include "scene/ambient_json.h"
+#include "scene/environment.h"
 #include "scene/gltf/gltf_load_internal.h"
 #include "scene/gltf/gltf_structure.h"
 
@@ -110,7 +111,8 @@ nlohmann::json rawLightsJson(const nlohmann::json& doc) {
 
 // The effects the scene calls for: scenes[s].extras.effects of the scene that is loaded, checked
 // against the effects schema (effects/effects.h) with the file and key path in every message; and
-// its ambient term, scenes[s].extras.ambient (scene/ambient_json.h).
+// its ambient term, scenes[s].extras.ambient (scene/ambient_json.h), and its environment,
+// scenes[s].extras.environment (scene/environment.h).
 void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path, Scene& scene) {
   if (!doc.is_object() || !doc.contains("scenes") || !doc["scenes"].is_array() || model.scenes.empty()) return;
   const size_t s = static_cast<size_t>(model.defaultScene >= 0 ? model.defaultScene : 0);
@@ -121,6 +123,10 @@ void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, c
   if (gscene["extras"].contains("ambient"))
     scene.ambient = readAmbient(nlohmann::ordered_json(gscene["extras"]["ambient"]),
                                 json_reader::Where{path, extrasPath + ".ambient"});
+  if (gscene["extras"].contains("environment"))
+    scene.environment = readEnvironment(nlohmann::ordered_json(gscene["extras"]["environment"]),
+                                        json_reader::Where{path, extrasPath + ".environment"},
+                                        std::filesystem::path(path).parent_path());
   if (!gscene["extras"].contains("effects")) return;
   const nlohmann::json& effects = gscene["extras"]["effects"];
   validateEffects(effects, json_reader::Where{path, "scenes[" + std::to_string(s) + "].extras.effects"});
