@@ -84,9 +84,9 @@ TEST_F(DepthPrepassTest, ClearsToZeroWhereThereIsNoGeometry) {
   EXPECT_EQ(t.passMs[0].first, "depth_prepass");
   EXPECT_EQ(t.passMs[1].first, "shading");
   EXPECT_GE(t.passMs[0].second, 0.0);
-  // light_culling and shadows, ambient occlusion's two and the indirect light's four (off unless
-  // called for), each with its reason
-  EXPECT_EQ(renderer.passesSkipped().size(), 8u);
+  // light_culling and shadows, ambient occlusion's two, the indirect light's four and the
+  // environment light's two (off unless called for), each with its reason
+  EXPECT_EQ(renderer.passesSkipped().size(), 10u);
 }
 
 }  // namespace

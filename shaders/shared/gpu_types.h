@@ -320,6 +320,8 @@ struct AoConstants {
 };
 
 // Single-bounce indirect light (indirect_common.glsl.inc; effects/indirect/indirect_effect.h).
+HB_CONST uint kFootprintRotated = 0u;   // the incoming directional differentials rotated d1 -> d2 (the paper's)
+HB_CONST uint kFootprintCell = 1u;      // differentials spanning the split direction's share of the sphere
 HB_CONST uint kIndirectLdm = 0u;        // split photons traced through the LDMs
 HB_CONST uint kIndirectRayTraced = 1u;  // the same photons traced by the ray tracer
 HB_CONST uint kIndirectReference = 2u;  // gathered: cosine-weighted rays to lit surfaces
@@ -380,7 +382,8 @@ struct IndirectConstants {
   float maxAnisotropy;    // a stored footprint's longest axis over its shortest at most this (0: off)
   uint bounces;           // K: diffuse bounces (indirect_common.glsl.inc bounceTrace; reference: path length)
   uint bounceDirections;  // M: the directions at the second bounce, halving at each further one
-  uint pad0, pad1;
+  uint footprint;         // kFootprint*: the split photons' directional differentials
+  uint pad1;
 };
 
 #ifdef __cplusplus

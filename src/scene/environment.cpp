@@ -90,6 +90,9 @@ Environment readEnvironment(const nlohmann::ordered_json& value, const json_read
   if (!std::filesystem::is_regular_file(p, ec))
     w.fail("'" + e.image + "' does not exist or is not a file; give the path of a Radiance .hdr, relative to " +
            (baseDir.empty() ? std::string("the working directory") : "'" + baseDir.string() + "'"));
+  // A flat 4096 x 2048 map is 32 MiB after its header; a larger file cannot be one we accept.
+  if (std::filesystem::file_size(p, ec) > (kEnvironmentMaxTexels * 4 + (1u << 20)) || ec)
+    w.fail("'" + e.image + "' is larger than a 4096 x 2048 Radiance .hdr can be; downsample it");
   if (!stbi_is_hdr(e.image.c_str()))
     w.fail("'" + e.image +
            "' is not a Radiance .hdr (RGBE) file; convert it, e.g. with ImageMagick: convert in.exr out.hdr");

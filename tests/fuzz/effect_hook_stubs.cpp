@@ -26,5 +26,8 @@ std::string aoTableMarkdown(const nlohmann::json&) { notInAFuzzTarget(); }
 std::unique_ptr<FramePart> buildIndirect(FrameBuilder&) { notInAFuzzTarget(); }
 void reportIndirect(EffectReport&) { notInAFuzzTarget(); }
 std::string indirectTableMarkdown(const nlohmann::json&) { notInAFuzzTarget(); }
+std::unique_ptr<FramePart> buildEnvironmentLight(FrameBuilder&) { notInAFuzzTarget(); }
+void reportEnvironmentLight(EffectReport&) { notInAFuzzTarget(); }
+std::string environmentTableMarkdown(const nlohmann::json&) { notInAFuzzTarget(); }
 
 }  // namespace hb

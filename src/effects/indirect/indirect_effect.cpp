@@ -43,17 +43,13 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   }
   if (value.contains("splat_bin"))
     s.splatBin = uint32_t(readIntChoice(value["splat_bin"], where.key("splat_bin"), {32, 64, 128, 256}));
+  if (value.contains("footprint"))
+    s.cellFootprint = readChoice(value["footprint"], where.key("footprint"), {"rotated", "cell"}) == 1;
   if (value.contains("bounces")) s.bounces = uint32_t(readInt(value["bounces"], where.key("bounces"), 1, 4));
   if (value.contains("bounce_directions"))
     s.bounceDirections = uint32_t(readInt(value["bounce_directions"], where.key("bounce_directions"), 1, 2048));
   readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
   readSquareSamples(value, where, s.samples);
-  // Beyond the first bounce a photon needs the surface it landed on (its normal and albedo): the
-  // ray tracer returns it, and of the LDM lists only sbuffer's hold triangle ids.
-  if (s.bounces > 1 && s.method == IndirectMethod::Ldm && s.ldmList != LdmList::Sbuffer)
-    where.key("bounces").fail(std::to_string(s.bounces) +
-                              " bounces with method ldm need ldm_list \"sbuffer\" (its lists hold the triangle ids "
-                              "a photon bounces off); set \"ldm_list\": \"sbuffer\" or \"bounces\": 1");
   return s;
 }
 
@@ -108,6 +104,7 @@ nlohmann::json IndirectSettings::toJson() const {
   j["photons"] = photons;
   j["splat"] = hb::toString(splat);
   j["max_anisotropy"] = maxAnisotropy;
+  j["footprint"] = cellFootprint ? "cell" : "rotated";
   if (splat == IndirectSplat::Compute) j["splat_bin"] = splatBin;
   if (method == IndirectMethod::Ldm) {
     j["ldm_resolution"] = ldmResolution;
@@ -155,6 +152,9 @@ const EffectDef& indirectEffect() {
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "256", "reference rays per pixel"},
+              {"footprint", "rotated | cell", "\"rotated\"",
+               "a split photon's directional differentials: the incoming ones rotated onto its direction (the "
+               "paper's), or spanning its direction's share of the sphere"},
               {"bounces", "1..4", "1",
                "K, the diffuse bounces: each landing photon splits again (reference: paths of K bounces)"},
               {"bounce_directions", "1..2048", "8",

@@ -19,6 +19,9 @@
 //   bias            scale of the derived LDM bias (ldm_trace.glsl.inc), > 0   default 1
 //   ldm_list, ldm_build   as effects.ambient_occlusion's
 //   samples         reference rays per pixel, a square 16..65536              default 256
+//   footprint       "rotated" (the paper's: the incoming directional differentials rotated onto
+//                   the split direction) | "cell" (spanning the split direction's share of the
+//                   sphere, 2π/N: indirect_common.glsl.inc splitDifferentials)      default rotated
 //   bounces         K, the diffuse bounces (Sect. 6 "Multiple Bounces"), 1..4   default 1
 //   bounce_directions  M: a photon landing after bounce b >= 1 splits again into
 //                   M_{b+1} = max(1, M >> (b − 1)) of the N directions (halving per bounce), an
@@ -52,8 +55,9 @@ struct IndirectSettings {
   LdmBuildMethod ldmBuild = LdmBuildMethod::Hardware;
   uint32_t samples = 256;
   IndirectSplat splat = IndirectSplat::Compute;
-  uint32_t splatBin = 128;   // splat=compute: a coarse bin's side in pixels
-  double maxAnisotropy = 0;  // a footprint's axis ratio at most this, its short axis widened (0: off)
+  uint32_t splatBin = 128;     // splat=compute: a coarse bin's side in pixels
+  double maxAnisotropy = 0;    // a footprint's axis ratio at most this, its short axis widened (0: off)
+  bool cellFootprint = false;  // footprint "cell" (else "rotated", the paper's)
   uint32_t bounces = 1;
   uint32_t bounceDirections = 8;
   // The directions a photon landing after bounce b - 1 splits into at bounce b (1-based): N at the

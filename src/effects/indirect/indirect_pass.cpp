@@ -97,6 +97,12 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     throw DeviceError("device \"" + ctx.info().name +
                       "\" cannot blend into or store RGBA32F images, which photon "
                       "splatting needs; use effects.indirect.method=reference or another device");
+  // Beyond the first bounce a photon needs the surface it landed on (its normal and albedo): the
+  // ray tracer returns it, and of the LDM lists only sbuffer's hold triangle ids.
+  if (s.bounces > 1 && s.method == IndirectMethod::Ldm && s.ldmList != LdmList::Sbuffer)
+    throw InputError("effects.indirect.bounces: " + std::to_string(s.bounces) +
+                     " bounces with method ldm need ldm_list \"sbuffer\" (its lists hold the triangle ids a photon "
+                     "bounces off); set \"ldm_list\": \"sbuffer\" or \"bounces\": 1");
   std::vector<glm::dvec3> dirs;
   try {
     dirs = ldmDirections(s.directions);
@@ -182,6 +188,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     c.maxAnisotropy = float(s.maxAnisotropy);
     c.bounces = s.bounces;
     c.bounceDirections = s.bounceDirections;
+    c.footprint = s.cellFootprint ? gpu::kFootprintCell : gpu::kFootprintRotated;
     ldmPixel_ = c.ldmPixel;
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
