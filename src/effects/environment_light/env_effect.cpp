@@ -6,7 +6,7 @@ namespace hb {
 
 namespace {
 
-constexpr const char* kMethods[] = {"ldm", "raytraced", "reference"};
+constexpr const char* kEnvironmentMethods[] = {"ldm", "raytraced", "reference"};
 
 AoSettings readEnvironmentLight(const nlohmann::ordered_json& value, const json_reader::Where& where) {
   using namespace json_reader;
@@ -14,7 +14,8 @@ AoSettings readEnvironmentLight(const nlohmann::ordered_json& value, const json_
   if (!validateEffectValue(environmentLightEffect(), value, where)) return s;
   static constexpr AoMethod kAoMethods[] = {AoMethod::Ldm, AoMethod::RayTraced, AoMethod::Reference};
   if (value.contains("method"))
-    s.method = kAoMethods[readChoice(value["method"], where.key("method"), {kMethods[0], kMethods[1], kMethods[2]})];
+    s.method = kAoMethods[readChoice(value["method"], where.key("method"),
+                                     {kEnvironmentMethods[0], kEnvironmentMethods[1], kEnvironmentMethods[2]})];
   if (value.contains("directions"))
     s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
   if (value.contains("ldm_resolution"))
