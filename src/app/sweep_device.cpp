@@ -28,6 +28,7 @@
 #include "frame/ray_backend.h"
 #include "frame/renderer.h"
 #include "gpu/vk_resources.h"
+#include "report/all_tables.h"
 #include "report/roofline.h"
 #include "report/stats.h"
 #include "report/tables.h"
@@ -561,7 +562,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   write();
   if (!progress) progress.emplace(variants.size(), console);
   progress->update(variants.size(), "done");
-  if (!console.shared()) console.print(thesisTablesMarkdown(results));  // concurrent: in tables.md only
+  if (!console.shared()) console.print(allTablesMarkdown(results));  // concurrent: in tables.md only
   console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
                        options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));

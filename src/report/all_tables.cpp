@@ -1,23 +1,68 @@
 #include "report/all_tables.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "base/text_format.h"
 #include "effects/effects.h"
 #include "report/aa_table.h"
 #include "report/many_lights_table.h"
 #include "report/primary_table.h"
+#include "report/results_json.h"
 #include "report/tables.h"
 
 namespace hb {
 
-std::string allTablesMarkdown(const nlohmann::json& results) {
-  std::string out = thesisTablesMarkdown(results);
+using nlohmann::json;
+
+std::string variantTableMarkdown(const json& results) {
+  using namespace results;  // at, numberAt, medianOf, escapeCell
+  requireResultsFile(results);
+  std::string out =
+      "## Runs\n\nNo table of a work this tool reproduces has rows for these runs: each run with its frame time "
+      "(median of the measured frames, and the coefficient of variation) and its passes' medians.\n\n"
+      "| Run | Status | Frame (ms, median) | CV | Passes (ms, median) |\n|---|---|---:|---:|---|\n";
+  for (const json& run : results["runs"]) {
+    const std::string name = at(run, "name").is_string() ? at(run, "name").get<std::string>() : "?";
+    const std::string status = at(run, "status").is_string() ? at(run, "status").get<std::string>() : "?";
+    std::string passes;
+    const json& p = at(run, "passes");
+    if (p.is_object())
+      for (const auto& [pass, stats] : p.items()) {
+        if (pass.find('.') != std::string::npos) continue;  // sub-passes: inside their pass
+        const double ms = medianOf(stats);
+        if (std::isfinite(ms)) passes += (passes.empty() ? "" : ", ") + pass + " " + numberCell(ms, "%.3f");
+      }
+    out += "| " + escapeCell(name) + " | " + escapeCell(status) + " | " +
+           numberCell(medianOf(at(run, "frame_ms")), "%.3f") + " | " +
+           numberCell(numberAt(at(run, "frame_ms"), "cv"), "%.4f") + " | " + escapeCell(passes.empty() ? "—" : passes) +
+           " |\n";
+  }
+  return out;
+}
+
+std::string allTablesMarkdown(const json& results) {
+  const std::vector<ThesisRow> rows = thesisRows(results);  // throws InputError for a file of another kind
+  const bool thesis = std::any_of(rows.begin(), rows.end(), [](const ThesisRow& r) { return r.status != "missing"; });
+  std::string out;
+  if (thesis) {
+    out = thesisTablesMarkdown(results);
+  } else {
+    out = "# Tables\n\n" + resultsHeaderLine(results) + "\n";
+    for (const std::string& caveat : results::timingCaveats(results)) out += "\nCaveat: " + caveat + "\n";
+  }
+  bool any = thesis;
   auto add = [&](const std::string& table) {
-    if (!table.empty()) out += "\n" + table;
+    if (table.empty()) return;
+    out += "\n" + table;
+    any = true;
   };
   add(primaryTableMarkdown(results));
   add(aaTableMarkdown(results));
   for (const EffectDef* e : allEffects())
     if (e->table) add(e->table(results));
   add(manyLightsTableMarkdown(results));
+  if (!any) out += "\n" + variantTableMarkdown(results);
   return out;
 }
 

@@ -1,6 +1,8 @@
-// tables.md: every table a results file has rows for — the thesis's Tables 5.1/5.2, the primary-
-// visibility table, each effect's own table (effects/effect.h EffectDef::table, in effect order),
-// the many-lights table — as `sweep` writes it and `tables` prints it.
+// tables.md: the tables of what a results file's runs study — the thesis's Tables 5.1/5.2 where
+// some run is one of their rows (the thesis's frame: direct light and shadows, 10 lights), the
+// primary-visibility and anti-aliasing tables, each effect's own table (effects/effect.h
+// EffectDef::table, in effect order), the many-lights table — as `sweep` prints and writes it and
+// `tables` prints it. A file that no table has rows for gets the per-variant table instead.
 #pragma once
 #include <string>
 
@@ -10,5 +12,7 @@ namespace hb {
 
 // Throws InputError when `results` is not a results file.
 std::string allTablesMarkdown(const nlohmann::json& results);
+// Every run: its status, its frame time (median and CV) and its top-level passes' medians.
+std::string variantTableMarkdown(const nlohmann::json& results);
 
 }  // namespace hb

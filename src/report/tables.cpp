@@ -51,12 +51,30 @@ std::string stringAt(const json& j, const char* key) {
 
 // Median of a stats block: the recorded one, else recomputed from its samples.
 
+// The thesis's frame is direct light with shadows: a run that also computed another effect
+// (ambient occlusion, indirect or environment light: render.json's "effects" block, or the
+// effect's own key in results written before it) is another study's frame and never stands in for
+// a thesis row.
+bool isThesisFrame(const json& run) {
+  const json& effects = at(run, "effects");
+  if (effects.is_object())
+    for (const auto& [name, state] : effects.items())
+      if (name != "shadows" && state.is_object() && state.value("runs", false)) return false;
+  for (const char* key : {"ambient_occlusion", "indirect", "environment_light"})
+    if (at(run, key).is_object()) return false;
+  return true;
+}
+
 // Params match a configuration. Without light culling there are no tiles to test against an
 // AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway). A run with
 // an option beyond the thesis (the per-pixel range test, depth slices, a scaled t_min) is not the thesis's method
 // and never stands in for one of its rows.
 bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
   if (const auto it = params.find("range_test"); it != params.end() && *it == true) return false;
+  if (const auto it = params.find("aa"); it != params.end() && *it != "none") return false;
+  // The thesis's scenes have 10 lights; a light-count study is the many-lights table's.
+  if (const auto it = params.find("light_count"); it != params.end() && it->is_number() && it->get<double>() != 10)
+    return false;
   if (const auto it = params.find("depth_slices"); it != params.end() && it->is_number() && it->get<double>() != 0)
     return false;
   if (const auto it = params.find("t_min"); it != params.end() && *it != "constant") return false;
@@ -78,7 +96,7 @@ const json* pickRun(const json& runs, const ThesisConfig& c, size_t& matches) {
   matches = 0;
   for (const json& run : runs) {
     bool aabbExact = false;
-    if (!paramsMatch(at(run, "params"), c, aabbExact)) continue;
+    if (!isThesisFrame(run) || !paramsMatch(at(run, "params"), c, aabbExact)) continue;
     ++matches;
     // A successful run first; then the run the config named after this row (a config that runs
     // Table 5.1's last row and Table 5.2's 8x8 row apart, with the same parameters, names them so);
@@ -99,7 +117,7 @@ std::string bytes(double b) {
   return format("%.2f MiB", b / (1024 * 1024));
 }
 
-std::string headerLine(const json& results) {
+std::string headerLineOf(const json& results) {
   const json& ctx = at(results, "context");
   const json& device = at(ctx, "device");
   const json& scene = at(ctx, "scene");
@@ -167,9 +185,11 @@ std::vector<ThesisRow> thesisRows(const json& results) {
   return rows;
 }
 
+std::string resultsHeaderLine(const json& results) { return headerLineOf(results); }
+
 std::string thesisTablesMarkdown(const json& results) {
   const std::vector<ThesisRow> rows = thesisRows(results);
-  std::string out = "# Thesis tables\n\n" + headerLine(results) + "\n\n";
+  std::string out = "# Thesis tables\n\n" + headerLineOf(results) + "\n\n";
   out +=
       "Thesis: RTX 2060 SUPER, 1920x1080, Sponza, 10 point lights (its shadow pass takes ~92 % "
       "of the frame).\n";

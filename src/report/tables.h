@@ -43,6 +43,8 @@ std::vector<ThesisRow> thesisRows(const nlohmann::json& results);
 // Markdown: a header line (device, driver, resolution, scene, git revision), then both tables
 // with our figures, the thesis's, and the extra columns; footnotes for notes.
 std::string thesisTablesMarkdown(const nlohmann::json& results);
+// The header line alone (device, driver, ray tracing, resolution, scene, revision).
+std::string resultsHeaderLine(const nlohmann::json& results);
 
 // CSV (RFC 4180): a header, then one row per table row (9), empty cells where a figure is absent.
 std::string thesisTablesCsv(const nlohmann::json& results);

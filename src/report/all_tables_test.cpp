@@ -1,0 +1,80 @@
+// Each study prints its own tables (all_tables.h): the thesis's Tables 5.1/5.2 only where some run
+// is one of their rows, never a frame of another study under their labels; the effect tables for
+// those effects; and the per-variant table where no table has rows.
+#include "report/all_tables.h"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "report/tables.h"
+
+namespace hb {
+namespace {
+
+using nlohmann::json;
+
+json thesisFixture() {
+  std::ifstream in(HYBRIDBENCH_SOURCE_DIR "/tests/fixtures/results-fixture.json");
+  EXPECT_TRUE(in.good()) << "fixture not found";
+  return json::parse(in);
+}
+
+// The thesis's best configuration (Table 5.2's 8x8 row) with ambient occlusion computed too: the
+// layered-depth-maps sweeps' frame.
+json aoResults() {
+  json results = thesisFixture();
+  json run = results["runs"][0];
+  run["name"] = "ldm 512 x 256^2";
+  run["params"] = {{"tile_size", 8}, {"light_culling", true}, {"aabb", true}, {"normal_culling", "improved"}};
+  run["effects"] = {{"shadows", {{"runs", true}}}, {"ambient_occlusion", {{"runs", true}}}};
+  run["ambient_occlusion"] = {{"method", "ldm"}, {"directions", 512}, {"ldm_resolution", 256}};
+  results["runs"] = json::array({run});
+  return results;
+}
+
+TEST(AllTables, AThesisSweepPrintsTheThesisTables) {
+  const std::string md = allTablesMarkdown(thesisFixture());
+  EXPECT_NE(md.find("## Table 5.1"), std::string::npos);
+  EXPECT_NE(md.find("## Table 5.2"), std::string::npos);
+  EXPECT_EQ(md.find("## Runs"), std::string::npos);
+}
+
+TEST(AllTables, AnAoSweepPrintsItsTableAndNoThesisTables) {
+  const json results = aoResults();
+  const std::string md = allTablesMarkdown(results);
+  EXPECT_EQ(md.find("Table 5.1"), std::string::npos) << md;
+  EXPECT_EQ(md.find("missing (not in results)"), std::string::npos) << md;
+  EXPECT_NE(md.find("## Ambient occlusion"), std::string::npos) << md;
+  EXPECT_NE(md.find("# Tables"), std::string::npos) << md;
+  // The AO frame never stands in for the 8x8 row, whatever its parameters.
+  for (const ThesisRow& r : thesisRows(results)) EXPECT_EQ(r.status, "missing") << r.label;
+}
+
+TEST(AllTables, ALightCountOrAntiAliasingStudyIsNotTheThesis) {
+  for (const auto& [key, value] : std::vector<std::pair<std::string, json>>{{"light_count", 100}, {"aa", "msaa4"}}) {
+    json results = thesisFixture();
+    for (json& run : results["runs"]) run["params"][key] = value;
+    for (const ThesisRow& r : thesisRows(results)) EXPECT_EQ(r.status, "missing") << key << ": " << r.label;
+    json thesis = thesisFixture();
+    for (json& run : thesis["runs"]) run["params"]["light_count"] = 10;  // the thesis's own count matches
+    EXPECT_EQ(thesisRows(thesis)[0].status, "ok");
+  }
+}
+
+TEST(AllTables, RunsNoTableHasRowsForGetThePerVariantTable) {
+  json results = thesisFixture();
+  for (json& run : results["runs"]) run["params"]["depth_slices"] = 32;  // beyond the thesis, no other table
+  const std::string md = allTablesMarkdown(results);
+  EXPECT_EQ(md.find("Table 5.1"), std::string::npos) << md;
+  EXPECT_NE(md.find("## Runs"), std::string::npos) << md;
+  // One row per run, with its frame median and its top-level passes.
+  size_t rows = 0;
+  for (size_t at = md.find("\n| "); at != std::string::npos; at = md.find("\n| ", at + 1)) ++rows;
+  EXPECT_EQ(rows, 1 + results["runs"].size()) << md;  // the header and a row per run
+  EXPECT_NE(md.find("| baseline_t8 | ok | 4.000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("shadows "), std::string::npos) << md;
+}
+
+}  // namespace
+}  // namespace hb
