@@ -256,6 +256,21 @@ TEST_F(IndirectSplatGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   std::printf("compute and raster splats: %zu of %zu values bit-equal\n", equal, gpuE.size());
 }
 
+// A stored footprint's longest axis over its shortest: σ1/σ2 of [du dv] in the plane of n, in double
+// from the stored floats.
+double axisRatio(const gpu::Photon& p) {
+  const glm::dvec3 n = glm::normalize(glm::dvec3(p.normalStatus)), du(p.duFluxG), dv(p.dvFluxB);
+  glm::dvec3 t1 = du - n * glm::dot(n, du);
+  if (glm::dot(t1, t1) == 0.0) t1 = dv - n * glm::dot(n, dv);
+  t1 = glm::normalize(t1);
+  const glm::dvec3 t2 = glm::cross(n, t1);
+  const double ux = glm::dot(du, t1), uy = glm::dot(du, t2), vx = glm::dot(dv, t1), vy = glm::dot(dv, t2);
+  const double pp = ux * ux + vx * vx, q = uy * uy + vy * vy, r = ux * uy + vx * vy;
+  const double mid = 0.5 * (pp + q), rad = std::sqrt(0.25 * (pp - q) * (pp - q) + r * r);
+  const double l2 = std::max(mid - rad, 0.0);
+  return l2 > 0.0 ? std::sqrt((mid + rad) / l2) : std::numeric_limits<double>::infinity();
+}
+
 // effects.indirect.max_anisotropy (indirect_common.glsl.inc limitAnisotropy): every stored footprint's
 // longest axis over its shortest is at most k afterwards, where without it some are far beyond; the
 // photons are the same photons (same slots, status, position and flux: only du, dv change), so the
@@ -273,18 +288,6 @@ TEST_F(IndirectSplatGpuTest, MaxAnisotropyWidensNeedleFootprintsAndKeepsTheirFlu
             48, 32, {{"method", "raytraced"}, {"directions", 64}, {"photons", 8}, {"max_anisotropy", maxAnisotropy}}));
     r.renderFrame(true);
     return indirectPassOf(r)->readPhotons();
-  };
-  auto axisRatio = [](const gpu::Photon& p) {
-    const glm::dvec3 n = glm::normalize(glm::dvec3(p.normalStatus)), du(p.duFluxG), dv(p.dvFluxB);
-    glm::dvec3 t1 = du - n * glm::dot(n, du);
-    if (glm::dot(t1, t1) == 0.0) t1 = dv - n * glm::dot(n, dv);
-    t1 = glm::normalize(t1);
-    const glm::dvec3 t2 = glm::cross(n, t1);
-    const double ux = glm::dot(du, t1), uy = glm::dot(du, t2), vx = glm::dot(dv, t1), vy = glm::dot(dv, t2);
-    const double pp = ux * ux + vx * vx, q = uy * uy + vy * vy, r = ux * uy + vx * vy;
-    const double mid = 0.5 * (pp + q), rad = std::sqrt(0.25 * (pp - q) * (pp - q) + r * r);
-    const double l2 = std::max(mid - rad, 0.0);
-    return l2 > 0.0 ? std::sqrt((mid + rad) / l2) : std::numeric_limits<double>::infinity();
   };
   const std::vector<gpu::Photon> before = photonsWith(0.0), after = photonsWith(k);
   ASSERT_EQ(before.size(), after.size());
@@ -330,18 +333,6 @@ TEST_F(IndirectSplatGpuTest, CellFootprintsChangeOnlyTheFootprintsAndLeaveFewerN
     photons = pass.readPhotons();
     const std::vector<float> mine = pass.readIrradiance(), reference = pass.computeWith(IndirectMethod::Reference);
     return indirectErrors(mine, reference, 48, 32).relMse;
-  };
-  auto axisRatio = [](const gpu::Photon& p) {
-    const glm::dvec3 n = glm::normalize(glm::dvec3(p.normalStatus)), du(p.duFluxG), dv(p.dvFluxB);
-    glm::dvec3 t1 = du - n * glm::dot(n, du);
-    if (glm::dot(t1, t1) == 0.0) t1 = dv - n * glm::dot(n, dv);
-    t1 = glm::normalize(t1);
-    const glm::dvec3 t2 = glm::cross(n, t1);
-    const double ux = glm::dot(du, t1), uy = glm::dot(du, t2), vx = glm::dot(dv, t1), vy = glm::dot(dv, t2);
-    const double pp = ux * ux + vx * vx, q = uy * uy + vy * vy, r = ux * uy + vx * vy;
-    const double mid = 0.5 * (pp + q), rad = std::sqrt(0.25 * (pp - q) * (pp - q) + r * r);
-    const double l2 = std::max(mid - rad, 0.0);
-    return l2 > 0.0 ? std::sqrt((mid + rad) / l2) : std::numeric_limits<double>::infinity();
   };
   std::vector<gpu::Photon> rotated, cell;
   const double rotatedError = run("rotated", rotated), cellError = run("cell", cell);

@@ -24,37 +24,46 @@ AoPart::AoPart(FrameBuilder& f) {
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
-  if (ao_->buildsLdms())
-    passes_.push_back(ldmBuildPass(f, *ao_->ldm(), kLdmBuildPass, "ambient_occlusion.ldm", "ambient_occlusion"));
+  passes_ = aoFramePasses(f, *ao_, surface,
+                          {ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
+                           res::kAmbientOcclusion});
+}
+
+std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& ao, const SurfaceInputs& surface,
+                                     const AoPassNames& names) {
+  std::vector<FramePass> passes;
+  if (ao.buildsLdms()) passes.push_back(ldmBuildPass(f, *ao.ldm(), names.buildPass, names.ldmResource, names.effect));
   FramePass pass;
-  pass.name = kAmbientOcclusionPass;
+  pass.name = names.pass;
   pass.reads = surfaceReads(surface);
-  if (ao_->buildsLdms()) pass.reads.push_back("ambient_occlusion.ldm");
+  if (ao.buildsLdms()) pass.reads.push_back(names.ldmResource);
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
-  if (as.computeBvh) pass.reads.push_back(res::kTraceBvh);
-  pass.writes = {res::kAmbientOcclusion};
-  pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { ao_->recordAo(cmd); };
-  pass.work = [pixels = double(f.settings.width) * f.settings.height](const nlohmann::json& a) {
-    const nlohmann::json& ao = a.contains("ambient_occlusion") ? a["ambient_occlusion"] : nlohmann::json::object();
-    const double directions = figureAt(ao, {"directions"});
-    const double lit = pixels - figureAt(ao, {"pixels_sky"}) - figureAt(ao, {"pixels_without_normal"});
-    const std::string method = ao.value("method", "");
+  if (ao.settings().computeBvh) pass.reads.push_back(res::kTraceBvh);
+  pass.writes = {names.output};
+  pass.record = [&ao](VkCommandBuffer cmd, const PassFrame&) { ao.recordAo(cmd); };
+  pass.work = [pixels = double(f.settings.width) * f.settings.height, effect = std::string(names.effect),
+               name = std::string(names.pass)](const nlohmann::json& a) {
+    const nlohmann::json& e = a.contains(effect) ? a[effect] : nlohmann::json::object();
+    const double directions = figureAt(e, {"directions"});
+    const double lit = pixels - figureAt(e, {"pixels_sky"}) - figureAt(e, {"pixels_without_normal"});
+    const std::string method = e.value("method", "");
     WorkItem item;
     if (method == "raytraced")
       item = derived("rays_ao", lit * directions, "one ray per direction per pixel with a surface");
     else if (method == "hbao")
-      item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 4,
+      item = derived("bytes", lit * directions * figureAt(e, {"steps"}) * 4,
                      "a 4 B depth texel per step per direction per pixel (most from cache)");
     else if (method == "gtao")
-      item = derived("bytes", lit * directions * figureAt(ao, {"steps"}) * 2 * 4,
+      item = derived("bytes", lit * directions * figureAt(e, {"steps"}) * 2 * 4,
                      "a 4 B depth texel per step on each side of each slice per pixel (most from cache)");
     else if (method == "reference")
-      item = derived("rays_ao", lit * figureAt(ao, {"samples"}), "one ray per sample per pixel with a surface");
+      item = derived("rays_ao", lit * figureAt(e, {"samples"}), "one ray per sample per pixel with a surface");
     else
       item = derived("bytes", lit * directions * 8, "at least one 8 B list node read per direction per pixel");
-    return std::vector<PassWork>{{kAmbientOcclusionPass, {item}}};
+    return std::vector<PassWork>{{name, {item}}};
   };
-  passes_.push_back(std::move(pass));
+  passes.push_back(std::move(pass));
+  return passes;
 }
 
 AoPass* aoPassOf(const Renderer& renderer) {

@@ -23,6 +23,25 @@ class AoPart : public FramePart {
   std::unique_ptr<AoPass> ao_;
 };
 
+// The frame's passes of an AoPass, for ambient occlusion and the environment light alike: its LDM
+// build (where its method builds maps) and its own pass, which reads the frame's surface, the maps
+// and the ray tracer it uses and writes `output`; its work is counted from report[effect] (the
+// analysis frame's pixels, directions and samples).
+struct AoPassNames {
+  const char* effect;       // its key in the results: "ambient_occlusion", "environment_light"
+  const char* buildPass;    // "ldm_build", "environment_ldm_build"
+  const char* ldmResource;  // "ambient_occlusion.ldm", ...
+  const char* pass;         // "ambient_occlusion", "environment_light"
+  const char* output;       // the frame resource it writes
+};
+std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& pass, const SurfaceInputs& surface,
+                                     const AoPassNames& names);
+
+// What an AoPass's report says of it whatever it computes (ao_report.cpp): pixels_sky and
+// pixels_without_normal counted from its output `values` (their status channel), the tracer of its
+// ray-traced methods, memory_bytes and its LDM lists.
+void addAoPassFacts(nlohmann::json& report, const AoPass& pass, const std::vector<float>& values);
+
 // The frame's AO pass; null when the effect does not run.
 AoPass* aoPassOf(const Renderer& renderer);
 std::unique_ptr<FramePart> buildAmbientOcclusion(FrameBuilder& frame);

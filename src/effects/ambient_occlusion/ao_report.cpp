@@ -18,25 +18,7 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
                              std::vector<std::string>& summary) {
   nlohmann::json a = ao.settings().ao.toJson();
   const std::vector<float> mine = ao.readAo();
-  uint64_t sky = 0, noNormal = 0;
-  for (float v : mine) {
-    sky += v == gpu::kAoSky;
-    noNormal += v == gpu::kAoNoNormal;
-  }
-  a["pixels_sky"] = sky;
-  a["pixels_without_normal"] = noNormal;
-  // What traces the raytraced and reference methods' rays (backend=compute: our BVH).
-  a["tracer"] = !ao.canTrace()                 ? "none"
-                : ao.settings().computeBvh     ? "compute"
-                : ao.context().info().rayQuery ? "rayquery"
-                                               : "pipeline";
-  const AoMemory m = ao.memory();
-  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes},
-                       {"ldm_maps", m.ldmMapBytes},
-                       {"directions", m.directionBytes},
-                       {"output", m.outputBytes},
-                       {"total", m.total()}};
-  if (const LdmBuild* ldm = ao.ldm()) a["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
+  addAoPassFacts(a, ao, mine);
   write("ao.png", aoToImage(mine, w, h),
         {{"Description", std::string("ambient occlusion (") + toString(ao.settings().ao.method) +
                              "): grey = AO, white unoccluded; sky blue; magenta no normal"}});
@@ -64,6 +46,30 @@ static nlohmann::json aoJson(AoPass& ao, uint32_t w, uint32_t h, const ImageWrit
     summary.push_back(line);
   }
   return a;
+}
+
+void addAoPassFacts(nlohmann::json& a, const AoPass& pass, const std::vector<float>& values) {
+  const size_t channels = pass.channels();
+  uint64_t sky = 0, noNormal = 0;
+  for (size_t i = channels - 1; i < values.size(); i += channels) {
+    sky += values[i] == gpu::kAoSky;
+    noNormal += values[i] == gpu::kAoNoNormal;
+  }
+  a["pixels_sky"] = sky;
+  a["pixels_without_normal"] = noNormal;
+  // What traces the raytraced and reference methods' rays (backend=compute: our BVH).
+  a["tracer"] = !pass.canTrace()                 ? "none"
+                : pass.settings().computeBvh     ? "compute"
+                : pass.context().info().rayQuery ? "rayquery"
+                                                 : "pipeline";
+  const AoMemory m = pass.memory();
+  a["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes},
+                       {"ldm_maps", m.ldmMapBytes},
+                       {"directions", m.directionBytes},
+                       {"output", m.outputBytes},
+                       {"total", m.total()}};
+  if (m.environmentBytes) a["memory_bytes"]["environment"] = m.environmentBytes;
+  if (const LdmBuild* ldm = pass.ldm()) a["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
 }
 
 void reportAmbientOcclusion(EffectReport& r) {

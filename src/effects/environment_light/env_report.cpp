@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "analysis/effect_report.h"
-#include "analysis/ldm_report.h"
 #include "base/text_format.h"
+#include "effects/ambient_occlusion/ao_part.h"
 #include "effects/environment_light/env_effect.h"
 #include "effects/environment_light/env_part.h"
 #include "effects/indirect/indirect_analysis.h"
@@ -30,22 +30,7 @@ nlohmann::json environmentJson(AoPass& pass, const Scene& scene, uint32_t w, uin
   j["environment"] = toJson(env);
   j["environment"]["image_size"] = {env.width, env.height};
   const std::vector<float> mine = pass.readAo();
-  uint64_t sky = 0, noNormal = 0;
-  for (size_t i = 3; i < mine.size(); i += 4) {
-    sky += mine[i] == gpu::kAoSky;
-    noNormal += mine[i] == gpu::kAoNoNormal;
-  }
-  j["pixels_sky"] = sky;
-  j["pixels_without_normal"] = noNormal;
-  j["tracer"] = !pass.canTrace()                 ? "none"
-                : pass.settings().computeBvh     ? "compute"
-                : pass.context().info().rayQuery ? "rayquery"
-                                                 : "pipeline";
-  const AoMemory m = pass.memory();
-  j["memory_bytes"] = {{"ldm_links", m.ldmLinkBytes},    {"ldm_maps", m.ldmMapBytes},
-                       {"directions", m.directionBytes}, {"environment", m.environmentBytes},
-                       {"output", m.outputBytes},        {"total", m.total()}};
-  if (const LdmBuild* ldm = pass.ldm()) j["ldm"] = ldmJson(*ldm, m.ldmLinkBytes);
+  addAoPassFacts(j, pass, mine);
   const float scale = indirectScale(mine);
   j["image_scale"] = scale;
   write("environment.png", indirectToImage(mine, w, h, scale),
