@@ -18,7 +18,9 @@ PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libti
   nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev vulkan-validationlayers vulkan-tools
   libssl-dev libglvnd0 libglx0 libegl1 libgl1 libopengl0
   clang libclang-rt-14-dev llvm  # the fuzzers: clang, libFuzzer's runtime, llvm-symbolizer
-  clang-format)                  # scripts/format.sh --check (CI)
+  clang-format                   # scripts/format.sh --check (CI)
+  libdraco-dev libmeshoptimizer-dev  # compressed glTF: KHR_draco_mesh_compression, EXT_meshopt_compression
+  chromium)                      # the HTML report's browser test (headless, driven by playwright-core)
 # node and npm run the glTF validator test; a node that brings its own npm (NodeSource's) is kept,
 # since Debian's npm package conflicts with it.
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then PACKAGES+=(nodejs npm); fi
@@ -53,12 +55,15 @@ if [ ${#missing[@]} -gt 0 ] || [ $mesa_ok = 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends -t bookworm-backports mesa-vulkan-drivers
 fi
 
-# The Khronos glTF Validator for the tests: the version pinned in tools/package.json (integrity in
-# tools/package-lock.json) into tools/node_modules/ (git-ignored); nothing to do when it is there.
-# Without the npm registry the run goes on and that one test fails, saying how to install it.
-if ! node scripts/validate-gltf.mjs --check-installed >/dev/null 2>&1; then
+# The npm tools the tests run (the Khronos glTF Validator, playwright-core, gltfpack,
+# @gltf-transform/cli): the versions pinned in tools/package.json (integrity in
+# tools/package-lock.json) into tools/node_modules/ (git-ignored); nothing to do when they are there.
+# Without the npm registry the run goes on and the tests that use them fail, saying how to install them.
+if ! node scripts/validate-gltf.mjs --check-installed >/dev/null 2>&1 ||
+  ! [ -x tools/node_modules/.bin/gltfpack ] || ! [ -x tools/node_modules/.bin/gltf-transform ] ||
+  ! [ -d tools/node_modules/playwright-core ]; then
   npm ci --prefix tools --no-audit --no-fund >/dev/null ||
-    echo "setup.sh: could not install gltf-validator (is the npm registry reachable?); the glTF validator test fails until 'npm ci --prefix tools' succeeds" >&2
+    echo "setup.sh: could not install the npm test tools (is the npm registry reachable?); the tests that use them fail until 'npm ci --prefix tools' succeeds" >&2
 fi
 
 if [ "${HYBRIDBENCH_SKIP_BUILD:-0}" != 1 ]; then
