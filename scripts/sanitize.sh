@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Set-up if needed, then the unit tests beside the code (src/**/*_test.cpp: no device needed)
-# under two sanitizer builds of the target hybridbench_cpu_tests, warnings as errors:
+# under two sanitizer builds, warnings as errors:
 #  1. build-asan/: AddressSanitizer (leak detection on) and UndefinedBehaviorSanitizer, every test.
 #     Unoptimised (Debug): with the sanitizers it compiles five times faster than -O2, and the
 #     tests run in one shard a core.
-#  2. build-tsan/: ThreadSanitizer (it cannot share a build with ASan), Debug at -O1, the tests
+#  2. build-tsan/: ThreadSanitizer (it cannot share a build with ASan), Debug at -O1, target
+#     hybridbench_tsan_tests (the four test files of TSAN_TESTS in CMakeLists.txt), the tests
 #     that run code on several threads ($tsan_tests below: parallelFor and the analyses that use
 #     it, each compared bit for bit with its serial run in analysis_threads_test.cpp), in one
 #     process with HYBRIDBENCH_THREADS=4 whatever the cores. On 2 cores its cold build takes 7.3
@@ -28,14 +29,14 @@ HYBRIDBENCH_SKIP_BUILD=1 bash scripts/setup.sh
 tsan_tests='ParallelFor.*:AnalysisThreads.*:CullingAnalysis.*:RayAccounting.*:ReferenceSurface.*:Oracle.*'
 tsan_tests+=':NormalAccuracy.*:CompareShadows.*'
 
-build() {  # build dir, HYBRIDBENCH_SANITIZE value
+build() {  # build dir, HYBRIDBENCH_SANITIZE value, target
   cmake -S . -B "$1" -DCMAKE_BUILD_TYPE=Debug -DHYBRIDBENCH_SANITIZE="$2" -DHYBRIDBENCH_WERROR=ON >/dev/null
-  cmake --build "$1" -j"$(nproc)" --target hybridbench_cpu_tests
+  cmake --build "$1" -j"$(nproc)" --target "$3"
 }
 
 failed=0
 if [[ " $sanitizers " == *" address "* ]]; then
-  build build-asan address
+  build build-asan address hybridbench_cpu_tests
   export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:check_initialization_order=1:strict_string_checks=1}"
   export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
   shards=$(nproc)
@@ -58,12 +59,22 @@ fi
 
 if [[ " $sanitizers " == *" thread "* ]]; then
   start=$SECONDS
-  build build-tsan thread
+  build build-tsan thread hybridbench_tsan_tests
   built=$SECONDS
+  # Each suite of the filter must have tests in the binary: a suite whose file is missing from
+  # TSAN_TESTS (CMakeLists.txt) would otherwise be skipped without a word.
+  listed=$(build-tsan/hybridbench_tsan_tests --gtest_list_tests --gtest_filter="$tsan_tests")
+  for suite in ${tsan_tests//:/ }; do
+    if ! grep -qx "${suite%.\*}\." <<<"$listed"; then
+      echo "sanitize.sh: the ThreadSanitizer filter names $suite but hybridbench_tsan_tests has no such test;" \
+        "add its file to TSAN_TESTS in CMakeLists.txt" >&2
+      failed=1
+    fi
+  done
   log=build-tsan/tsan.log
   if TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1:exitcode=66:second_deadlock_stack=1}" \
     HYBRIDBENCH_THREADS="${HYBRIDBENCH_THREADS:-4}" \
-    build-tsan/hybridbench_cpu_tests --gtest_filter="$tsan_tests" "$@" >"$log" 2>&1; then
+    build-tsan/hybridbench_tsan_tests --gtest_filter="$tsan_tests" "$@" >"$log" 2>&1; then
     echo "sanitize.sh: ThreadSanitizer: $(grep -E '^\[  PASSED  \]' "$log") (build $((built - start)) s, run $((SECONDS - built)) s)"
   else
     failed=1
