@@ -29,7 +29,8 @@ target_compile_options(hybridfuzzcore PUBLIC $<TARGET_PROPERTY:hybridcore,INTERF
                        -fno-omit-frame-pointer)
 target_link_options(hybridfuzzcore PUBLIC -fsanitize=address,undefined)
 target_link_libraries(hybridfuzzcore
-                      PUBLIC nlohmann_json::nlohmann_json stb OpenSSL::Crypto Threads::Threads)
+                      PUBLIC nlohmann_json::nlohmann_json stb OpenSSL::Crypto Threads::Threads draco::draco
+                             meshoptimizer::meshoptimizer)
 
 foreach(name gltf config)
   add_executable(fuzz_${name} ${CMAKE_SOURCE_DIR}/tests/fuzz/fuzz_${name}.cpp)

@@ -140,6 +140,10 @@ struct Scene {
   std::string effectsOrigin;
   std::optional<Ambient> ambient;          // none: nothing for ambient occlusion to darken
   std::optional<Environment> environment;  // none: no environment light
+  // The glTF extensions its geometry was decoded from (KHR_draco_mesh_compression,
+  // EXT_meshopt_compression, KHR_mesh_quantization), comma-joined; empty when none. Not hashed:
+  // it says how the file was stored, not what renders.
+  std::string compression;
 
   uint64_t triangleCount() const;                   // over instances (a mesh instanced twice counts twice)
   void bounds(glm::vec3& lo, glm::vec3& hi) const;  // world-space AABB over instances

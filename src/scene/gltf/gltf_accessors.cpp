@@ -1,5 +1,6 @@
 // glTF accessors: validation of their bufferView/buffer byte ranges and reading of their
 // elements (Loader members declared in gltf_load_internal.h).
+#include <algorithm>
 #include <cstring>
 
 #include "base/errors.h"
@@ -24,18 +25,30 @@ std::string componentTypeName(int componentType) {
   return std::to_string(componentType) + " (" + name + ")";
 }
 
-float readComponent(const uint8_t* p, int componentType) {
+// One component as a float: normalized integers map to [0, 1] (unsigned) or [-1, 1] (signed,
+// max(c / (2^(n-1) - 1), -1)), glTF 2.0 §3.11; others are their integer value (quantized
+// positions, KHR_mesh_quantization, whose node transform scales them back).
+float readComponent(const uint8_t* p, int componentType, bool normalized) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_FLOAT: {
       float f;
       std::memcpy(&f, p, 4);
       return f;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return static_cast<float>(*p) / 255.0f;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? static_cast<float>(*p) / 255.0f : float(*p);
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const auto c = static_cast<int8_t>(*p);
+      return normalized ? std::max(static_cast<float>(c) / 127.0f, -1.0f) : float(c);
+    }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       uint16_t u;
       std::memcpy(&u, p, 2);
-      return static_cast<float>(u) / 65535.0f;
+      return normalized ? static_cast<float>(u) / 65535.0f : float(u);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t c;
+      std::memcpy(&c, p, 2);
+      return normalized ? std::max(static_cast<float>(c) / 32767.0f, -1.0f) : float(c);
     }
     default: HB_ASSERT(false);
   }
@@ -99,6 +112,7 @@ AccessorView Loader::accessor(int index, const std::string& field, int type,
   out.stride = stride;
   out.elementSize = elementSize;
   out.componentType = acc.componentType;
+  out.normalized = acc.normalized;
   return out;
 }
 
@@ -108,7 +122,7 @@ std::vector<glm::vec<N, float>> Loader::readVectors(const AccessorView& view) co
   const size_t componentSize = view.elementSize / N;
   for (size_t i = 0; i < view.count; ++i)
     for (int c = 0; c < N; ++c)
-      out[i][c] = readComponent(view.data + i * view.stride + c * componentSize, view.componentType);
+      out[i][c] = readComponent(view.data + i * view.stride + c * componentSize, view.componentType, view.normalized);
   return out;
 }
 

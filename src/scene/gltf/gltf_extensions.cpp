@@ -1,8 +1,7 @@
 // Which glTF extensions the loader reads, and what it says about the others. glTF files name
 // every extension they use in extensionsUsed and, where a reader that ignores one would draw the
 // wrong thing, also in extensionsRequired (glTF 2.0 §3.12). tinygltf accepts any of them silently,
-// so a Draco-compressed mesh would otherwise fail later with a generic accessor message (or load
-// with nothing to draw).
+// so a required one the loader does not read would otherwise load as the wrong thing.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -13,27 +12,14 @@
 namespace hb::gltf_detail {
 namespace {
 
-// Read by the loader.
-const std::vector<std::string> kRead = {"KHR_lights_punctual"};
-
-struct Unreadable {
-  const char* name;
-  const char* what;  // what the file holds that the loader cannot read
-  const char* fix;
-};
-
-// Extensions that replace the data the loader reads (geometry or images): refused whether required
-// or only used, since a file may list one as used with no fallback for some primitives.
-const Unreadable kRefused[] = {
-    {"KHR_draco_mesh_compression", "Draco-compressed meshes",
-     "re-export it without mesh compression (Blender's glTF exporter: untick Compression)"},
-    {"EXT_meshopt_compression", "meshopt-compressed buffers", "re-export it without meshopt compression"},
-    {"KHR_mesh_quantization", "quantized (integer) vertex attributes",
-     "re-export it with float positions, normals and texture coordinates"},
-    {"KHR_texture_basisu", "KTX2 / Basis Universal textures", "re-export it with PNG or JPEG textures"},
-    {"EXT_texture_webp", "WebP textures", "re-export it with PNG or JPEG textures"},
-    {"EXT_texture_avif", "AVIF textures", "re-export it with PNG or JPEG textures"},
-};
+// Read by the loader: compressed geometry is decoded (gltf_compression.cpp), quantized attributes
+// read as integers (gltf_accessors.cpp) and texture transforms applied to the texture coordinates
+// (gltf_meshes.cpp).
+const std::vector<std::string> kRead = {"KHR_lights_punctual", "KHR_draco_mesh_compression", "EXT_meshopt_compression",
+                                        "KHR_mesh_quantization", "KHR_texture_transform"};
+// Images in formats no Debian library this tool links decodes: a texture that has only such a
+// source renders with its material's factors, and one warning line counts them (gltf_materials.cpp).
+const std::vector<std::string> kImageFormats = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
 
 bool contains(const std::vector<std::string>& list, const std::string& name) {
   return std::find(list.begin(), list.end(), name) != list.end();
@@ -48,9 +34,6 @@ std::string joined(const std::vector<std::string>& names) {
 }  // namespace
 
 void checkExtensions(const tinygltf::Model& model, const std::string& path, GltfLoadWarnings& warnings) {
-  for (const Unreadable& u : kRefused)
-    if (contains(model.extensionsRequired, u.name) || contains(model.extensionsUsed, u.name))
-      throw InputError(path + ": uses " + u.name + " (" + u.what + "), which hybridbench does not read; " + u.fix);
   // Image-based light: its prefiltered cube maps and spherical harmonics are not what the
   // environment light traces (an equirectangular radiance map), so the scene loads without it.
   constexpr const char* kImageBasedLight = "EXT_lights_image_based";
@@ -61,13 +44,13 @@ void checkExtensions(const tinygltf::Model& model, const std::string& path, Gltf
                                 "scenes[s].extras.environment or a config's \"environment\"");
   std::vector<std::string> unknownRequired, ignored;
   for (const std::string& e : model.extensionsRequired)
-    if (!contains(kRead, e) && e != kImageBasedLight) unknownRequired.push_back(e);
+    if (!contains(kRead, e) && !contains(kImageFormats, e) && e != kImageBasedLight) unknownRequired.push_back(e);
   if (!unknownRequired.empty())
     throw InputError(path + ": requires " + joined(unknownRequired) +
                      ", which hybridbench does not read (extensionsRequired: a reader that ignores it draws the "
                      "wrong thing); re-export it without");
   for (const std::string& e : model.extensionsUsed)
-    if (!contains(kRead, e) && e != kImageBasedLight) ignored.push_back(e);
+    if (!contains(kRead, e) && !contains(kImageFormats, e) && e != kImageBasedLight) ignored.push_back(e);
   if (!ignored.empty())
     warnings.messages.push_back(path + ": ignores the optional extension(s) " + joined(ignored) +
                                 " (materials and textures render as their core glTF values)");

@@ -411,17 +411,20 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
   if (bytes.size() > std::numeric_limits<uint32_t>::max())  // tinygltf takes 32-bit sizes
     throw InputError(path + ": is larger than 4 GiB, more than glTF can hold; split the scene");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-  const auto size = static_cast<unsigned int>(bytes.size());
 
   // The fields' JSON types first: tinygltf would skip a field of the wrong type without a word.
   const nlohmann::json doc = rawDocument(bytes, binary);
   gltf_detail::checkGltfStructure(doc, path);
 
+  // Compressed geometry: the few JSON fields tinygltf 2.7 refuses are rewritten, and decoded after.
+  const gltf_detail::CompressedInput compressed = gltf_detail::prepareCompressed(doc, bytes, binary);
+  if (!compressed.bytes.empty()) bytes = compressed.bytes;
   tinygltf::TinyGLTF gltf;
   tinygltf::Model model;
   gltf.SetImageLoader(gltf_detail::checkedImageLoader, &model);
   gltf.SetFsCallbacks(
       {&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readRegularFile, &tinygltf::WriteWholeFile, nullptr});
+  const auto size = static_cast<unsigned int>(bytes.size());
   std::string err, warn;
   bool ok = false;
   if (bytes.empty())
@@ -437,9 +440,12 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
   if (model.asset.version.rfind("2.", 0) != 0)
     throw InputError(path + ": asset.version: '" + model.asset.version + "' is not 2.x; re-export it as glTF 2.0");
 
+  const std::string compression = gltf_detail::decodeCompressed(model, compressed, path);
+
   GltfLoadWarnings local;
   const nlohmann::json rawLights = rawLightsJson(doc);
   Scene scene = gltf_detail::Loader(path, model, rawLights).load(warnings ? *warnings : local);
+  scene.compression = compression;
   readSceneEffects(doc, model, path, scene);
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();
   if (!warnings)

@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <initializer_list>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,11 +26,24 @@ bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::strin
                         int height, const unsigned char* bytes, int size, void* userData);
 
 // A validated accessor: `count` elements of `elementSize` bytes, `stride` apart from `data`.
-// The file's extensions against what the loader reads (gltf_extensions.cpp): one that changes
-// what is drawn and that the loader cannot read (Draco, meshopt, quantized attributes, KTX2/WebP
-// textures, any unknown required one) is an InputError naming it and how to re-export; optional
-// ones the loader ignores go into one warning line.
+// The file's extensions against what the loader reads (gltf_extensions.cpp): an unknown required
+// one is an InputError naming it; optional ones the loader ignores go into one warning line.
 void checkExtensions(const tinygltf::Model& model, const std::string& path, GltfLoadWarnings& warnings);
+
+// ---- compressed geometry (gltf_compression.cpp) ----
+// What prepareCompressed changed in a file so that tinygltf parses it, for decodeCompressed.
+struct CompressedInput {
+  std::vector<uint8_t> bytes;                             // the file to parse instead; empty: the file as it is
+  std::map<size_t, uint64_t> fallbackBuffers;             // EXT_meshopt_compression fallback buffer → byteLength
+  std::map<std::pair<size_t, size_t>, int> dracoIndices;  // (mesh, primitive) of a Draco one → indices accessor
+};
+// `doc` is the file's JSON (null when it does not parse: nothing changes); `bytes` the file.
+CompressedInput prepareCompressed(const nlohmann::json& doc, std::span<const uint8_t> bytes, bool binary);
+// Decodes every EXT_meshopt_compression bufferView into its buffer and every Draco primitive into
+// plain accessors (its indices restored from `input`), so that the Loader reads them as any
+// others. Returns the compression extensions the file used, comma-joined ("" when none). Throws
+// InputError (file, mesh, extension, what does not decode) on a truncated or corrupt stream.
+std::string decodeCompressed(tinygltf::Model& model, const CompressedInput& input, const std::string& path);
 
 struct AccessorView {
   const uint8_t* data = nullptr;
@@ -36,6 +51,7 @@ struct AccessorView {
   size_t stride = 0;
   size_t elementSize = 0;
   int componentType = 0;
+  bool normalized = false;  // integer components map to [0, 1] or [-1, 1] (glTF 2.0 §3.11)
 };
 
 // Converts one parsed tinygltf::Model into an hb::Scene, checking every index and byte range it
@@ -64,7 +80,8 @@ class Loader {
   //   bufferView.byteOffset + bufferView.byteLength <= buffer size
   // must hold, all in 64-bit arithmetic after bounding count so nothing can overflow.
   AccessorView accessor(int index, const std::string& field, int type, std::initializer_list<int> componentTypes) const;
-  // Reads float, or normalized unsigned byte/short, vectors (instantiated for N = 2 and 3).
+  // Reads float or integer vectors, normalized or not (KHR_mesh_quantization; instantiated for
+  // N = 2 and 3).
   template <int N>
   std::vector<glm::vec<N, float>> readVectors(const AccessorView& view) const;
   // Reads unsigned byte/short/int indices.
@@ -95,6 +112,7 @@ class Loader {
   GltfLoadWarnings* warnings_ = nullptr;
   Scene scene_;
   int defaultMaterial_ = -1;
+  std::vector<int> textureSlot_;  // glTF texture → Scene::textures index; -1: not decoded (KTX2, WebP, AVIF)
   std::string firstSkippedPrimitive_, firstSkippedCamera_;
   std::vector<uint8_t> onPath_;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 #include "scene/gltf/gltf_load_internal.h"
 
@@ -13,6 +14,21 @@ namespace hb::gltf_detail {
 // then decodes with tinygltf's stb loader, which expands every image to RGBA.
 bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::string* err, std::string* warn, int width,
                         int height, const unsigned char* bytes, int size, void* userData) {
+  // KTX2 / Basis Universal, WebP and AVIF: no decoder is linked (see loadTextures). The image is
+  // left empty, its format named in mimeType, and its textures render with their factors.
+  if (size >= 12) {
+    const auto has = [&](size_t at, const char* magic) {
+      return std::memcmp(bytes + at, magic, std::strlen(magic)) == 0;
+    };
+    const char* format = has(0, "\xABKTX 20\xBB")                   ? "image/ktx2"
+                         : has(0, "RIFF") && has(8, "WEBP")         ? "image/webp"
+                         : has(4, "ftypavif") || has(4, "ftypavis") ? "image/avif"
+                                                                    : nullptr;
+    if (format != nullptr) {
+      image->mimeType = format;
+      return true;
+    }
+  }
   const auto* model = static_cast<const tinygltf::Model*>(userData);
   if (image->bufferView >= 0) {
     const tinygltf::BufferView& view = model->bufferViews[static_cast<size_t>(image->bufferView)];
@@ -28,15 +44,33 @@ bool checkedImageLoader(tinygltf::Image* image, const int imageIndex, std::strin
 }
 
 void Loader::loadTextures() {
+  // Textures whose only source is an image in a format no linked library decodes, by extension.
+  std::map<std::string, size_t> undecoded;
+  auto extensionOf = [](const std::string& mimeType) {
+    return mimeType == "image/ktx2"   ? "KHR_texture_basisu"
+           : mimeType == "image/webp" ? "EXT_texture_webp"
+           : mimeType == "image/avif" ? "EXT_texture_avif"
+                                      : "";
+  };
+  textureSlot_.assign(model_.textures.size(), -1);
   for (size_t t = 0; t < model_.textures.size(); ++t) {
     const tinygltf::Texture& tex = model_.textures[t];
     const std::string field = "textures[" + std::to_string(t) + "].source";
-    if (tex.source < 0)
-      fail(field, "the texture has no PNG/JPEG source image (only extension sources?)",
-           "give it a source image that stb can decode (PNG or JPEG)");
+    if (tex.source < 0) {  // only an extension's source (no PNG/JPEG fallback)
+      const char* e = nullptr;
+      for (const char* candidate : {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"})
+        if (e == nullptr && tex.extensions.count(candidate)) e = candidate;
+      if (e == nullptr) fail(field, "the texture has no source image", "give it a PNG or JPEG source image");
+      ++undecoded[e];
+      continue;
+    }
     size_t i = checkIndex(tex.source, model_.images.size(), field, "images");
     const tinygltf::Image& image = model_.images[i];
     const std::string imageField = "images[" + std::to_string(i) + "]";
+    if (const std::string e = extensionOf(image.mimeType); !e.empty() && image.image.empty()) {
+      ++undecoded[e];
+      continue;
+    }
     const size_t pixels =
         static_cast<size_t>(std::max(image.width, 0)) * static_cast<size_t>(std::max(image.height, 0));
     const size_t bytesPerChannel = image.bits == 16 ? 2 : 1;
@@ -67,13 +101,26 @@ void Loader::loadTextures() {
       }
       std::memcpy(&out.rgba[p * 4], channel, 4);
     }
+    textureSlot_[t] = static_cast<int>(scene_.textures.size());
     scene_.textures.push_back(std::move(out));
+  }
+  if (!undecoded.empty()) {
+    std::string list;
+    size_t total = 0;
+    for (const auto& [e, n] : undecoded) {
+      list += (list.empty() ? "" : ", ") + e + " (" + std::to_string(n) + ")";
+      total += n;
+    }
+    warnings_->messages.push_back(path_ + ": " + std::to_string(total) + " texture(s) in " + list +
+                                  " not decoded (hybridbench decodes PNG and JPEG); their materials render with "
+                                  "their factors");
   }
 }
 
 int Loader::textureIndex(const tinygltf::TextureInfo& info, const std::string& field) const {
   if (info.index < 0) return -1;
-  return static_cast<int>(checkIndex(info.index, model_.textures.size(), field, "textures"));
+  // -1 also for a texture that was not decoded: the material's factors alone then apply.
+  return textureSlot_[checkIndex(info.index, model_.textures.size(), field, "textures")];
 }
 
 void Loader::loadMaterials() {

@@ -42,6 +42,27 @@ std::vector<uint32_t> triangleList(const std::vector<uint32_t>& v, int mode) {
   return out;
 }
 
+// KHR_texture_transform of one texture slot as the 2x3 matrix the extension defines,
+// T(offset) * R(rotation) * S(scale), applied to (u, v, 1); identity when the slot has none.
+glm::dmat3x2 textureTransform(const tinygltf::ExtensionMap& extensions) {
+  glm::dmat3x2 m(1.0);
+  auto it = extensions.find("KHR_texture_transform");
+  if (it == extensions.end() || !it->second.IsObject()) return m;
+  const tinygltf::Value& t = it->second;
+  auto pair = [&](const char* key, glm::dvec2 otherwise) {
+    const tinygltf::Value& v = t.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 2 || !v.Get(0).IsNumber() || !v.Get(1).IsNumber()) return otherwise;
+    return glm::dvec2(v.Get(0).GetNumberAsDouble(), v.Get(1).GetNumberAsDouble());
+  };
+  const glm::dvec2 offset = pair("offset", glm::dvec2(0.0)), scale = pair("scale", glm::dvec2(1.0));
+  const double r = t.Get("rotation").IsNumber() ? t.Get("rotation").GetNumberAsDouble() : 0.0;
+  // Columns of translation * rotation * scale, rotation = [cos sin; -sin cos] (row-major in the spec).
+  m[0] = glm::dvec2(std::cos(r) * scale.x, -std::sin(r) * scale.x);
+  m[1] = glm::dvec2(std::sin(r) * scale.y, std::cos(r) * scale.y);
+  m[2] = offset;
+  return m;
+}
+
 bool drawsTriangles(int mode) {
   return mode == -1 || mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
          mode == TINYGLTF_MODE_TRIANGLE_FAN;
@@ -74,8 +95,13 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
   const int positionAccessor = attribute("POSITION");
   if (positionAccessor < 0) fail(field + ".attributes", "has no POSITION", "give every primitive a POSITION accessor");
   const std::string positionField = field + ".attributes.POSITION";
-  std::vector<glm::vec3> positions =
-      readVectors<3>(accessor(positionAccessor, positionField, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+  // Integer positions, normals and texture coordinates are KHR_mesh_quantization's: positions
+  // normalized or not (the node transform scales them back), normals normalized signed.
+  constexpr int kByte = TINYGLTF_COMPONENT_TYPE_BYTE, kUByte = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                kShort = TINYGLTF_COMPONENT_TYPE_SHORT, kUShort = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  std::vector<glm::vec3> positions = readVectors<3>(
+      accessor(positionAccessor, positionField, TINYGLTF_TYPE_VEC3, {kFloat, kByte, kUByte, kShort, kUShort}));
   for (size_t i = 0; i < positions.size(); ++i)
     if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
       fail(positionField, "vertex " + std::to_string(i) + " is not finite (NaN or Inf)",
@@ -84,8 +110,13 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
 
   std::vector<glm::vec3> normals;
   if (int a = attribute("NORMAL"); a >= 0) {
-    normals =
-        readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT}));
+    normals = readVectors<3>(accessor(a, field + ".attributes.NORMAL", TINYGLTF_TYPE_VEC3, {kFloat, kByte, kShort}));
+    // Quantized normals are unit only to their precision (and a filter's octahedral decode to
+    // 1/2^15): the shaders expect unit normals, as a float file gives them.
+    for (glm::vec3& n : normals) {
+      const float length = glm::length(n);
+      n = length > 0.0f && std::isfinite(length) ? n / length : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
     if (normals.size() != vertexCount)
       fail(field + ".attributes.NORMAL",
            "count " + std::to_string(normals.size()) + " differs from POSITION's " + std::to_string(vertexCount),
@@ -93,10 +124,10 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
   }
   std::vector<glm::vec2> uvs;
   if (int a = attribute("TEXCOORD_0"); a >= 0) {
-    // The spec allows normalized unsigned byte/short texture coordinates besides float.
-    uvs = readVectors<2>(accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2,
-                                  {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT}));
+    // The core spec allows normalized unsigned byte/short texture coordinates besides float;
+    // KHR_mesh_quantization also signed and unnormalized ones.
+    uvs = readVectors<2>(
+        accessor(a, field + ".attributes.TEXCOORD_0", TINYGLTF_TYPE_VEC2, {kFloat, kByte, kUByte, kShort, kUShort}));
     if (uvs.size() != vertexCount)
       fail(field + ".attributes.TEXCOORD_0",
            "count " + std::to_string(uvs.size()) + " differs from POSITION's " + std::to_string(vertexCount),
@@ -130,6 +161,18 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
          std::to_string(indices.size()) + " vertices do not make whole triangles",
          "give TRIANGLES primitives a multiple of 3 indices (or vertices)");
   if (normals.empty()) normals = areaWeightedNormals(positions, indices);
+  if (!uvs.empty() && prim.material >= 0 && static_cast<size_t>(prim.material) < model_.materials.size()) {
+    // KHR_texture_transform (what gltfpack writes to scale quantized texture coordinates back),
+    // applied to the coordinates themselves: the scene has one set per vertex and a primitive's
+    // vertices are its own. The base colour's transform wins; the metallic-roughness texture's is
+    // used only when the base colour has no texture.
+    const tinygltf::PbrMetallicRoughness& pbr =
+        model_.materials[static_cast<size_t>(prim.material)].pbrMetallicRoughness;
+    const glm::dmat3x2 t = textureTransform(pbr.baseColorTexture.index >= 0 ? pbr.baseColorTexture.extensions
+                                                                            : pbr.metallicRoughnessTexture.extensions);
+    if (t != glm::dmat3x2(1.0))
+      for (glm::vec2& uv : uvs) uv = glm::vec2(t * glm::dvec3(glm::dvec2(uv), 1.0));
+  }
 
   Primitive out;
   if (scene_.vertices.size() + vertexCount > std::numeric_limits<uint32_t>::max() ||

@@ -102,6 +102,8 @@ nlohmann::json sceneInfoJson(const Scene& scene) {
   j["lights"] = std::move(lights);
   // What the scene calls for (extras.effects); {} when it says nothing (the defaults apply).
   j["effects"] = scene.effects.is_null() ? nlohmann::json::object() : scene.effects;
+  // How the file stored its geometry: null when plainly, else the compression extensions it used.
+  j["compression"] = scene.compression.empty() ? nlohmann::json(nullptr) : nlohmann::json(scene.compression);
 
   if (scene.triangleCount() > 0) {
     glm::vec3 lo, hi;
@@ -137,6 +139,7 @@ std::string sceneInfoText(const Scene& scene) {
   }
   out << "effects    " << (scene.effects.is_null() ? std::string("(none: the defaults apply)") : scene.effects.dump())
       << "\n";
+  if (!scene.compression.empty()) out << "compressed " << scene.compression << "\n";
   if (j["bounds"].is_null()) {
     out << "bounds     (empty)\n";
   } else {
