@@ -32,11 +32,14 @@ struct GltfLoadWarnings {
 // no material use a "default" material appended to Scene::materials.
 // Points and lines are skipped (a scene of nothing else is refused), and so are cameras of an
 // unknown type: they are counted in *warnings if given, otherwise one line per kind goes to stderr,
-// as does one line naming the optional extensions the loader ignores. Extensions it cannot read
-// (Draco, meshopt, quantized attributes, KTX2/WebP/AVIF textures, any unknown required one) are
-// refused by name (gltf_extensions.cpp).
+// as does one line naming the optional extensions the loader ignores, and one counting the
+// textures it cannot decode (KTX2, WebP, AVIF: their materials keep their factors). Compressed
+// geometry is decoded (Draco, meshopt: gltf_compression.cpp; Scene::compression names it),
+// quantized attributes read as KHR_mesh_quantization defines them and KHR_texture_transform
+// applied to the texture coordinates; an unknown required extension is refused by name.
 // Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file (or
-// a folder), malformed JSON or not glTF, a field of the wrong JSON type (gltf_structure.h), a file
+// a folder), malformed JSON or not glTF, a truncated or corrupt compressed stream (naming the mesh
+// and the extension), a field of the wrong JSON type (gltf_structure.h), a file
 // with nothing to draw (no scene and no nodes, a scene without nodes, no node with a mesh), an index that points past
 // its array, an accessor that does not fit its bufferView or buffer, an unsupported component type or accessor type, a
 // vertex index past the primitive's vertex count, non-finite positions, a light range <= 0, a cycle in the node graph,
@@ -67,7 +70,7 @@ void exportGltf(const Scene& scene, const std::string& path);
 std::string sceneInfoText(const Scene& scene);
 
 // The same summary as JSON: {name, triangles, vertices, indices, meshes, instances, materials,
-// textures, cameras, lights: {total, point, spot, directional, range_min, range_max,
+// textures, cameras, compression (null or the extensions), lights: {total, point, spot, directional, range_min, range_max,
 // ranges_from_eq41, list: [{name, type, range, range_from_eq41, intensity, cast_shadows}]},
 // bounds: {min: [x,y,z], max: [x,y,z], size_m: [x,y,z]} or null for a scene with no instances}.
 nlohmann::json sceneInfoJson(const Scene& scene);
