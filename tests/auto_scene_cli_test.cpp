@@ -61,7 +61,9 @@ TEST_F(AutoScene, AGltfWithNoCameraAndNoLightsRendersWithAutomaticOnesAndSaysSo)
   const json j = renderJson({"--scene", bare.string()}, dir / "bare-out", r);
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   ASSERT_TRUE(j.is_object());
-  EXPECT_NE(r.err.find("has no camera: automatic camera"), std::string::npos) << r.err;
+  // The cube's centre is inside the cube, and a free point beside it is in the open: outside.
+  EXPECT_NE(r.err.find("is open ("), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("so an automatic camera outside at"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("has no lights: 10 automatic point lights"), std::string::npos) << r.err;
   EXPECT_EQ(j["camera"]["source"], "auto");
   EXPECT_EQ(j["lights"]["source"], "auto");
@@ -79,6 +81,39 @@ TEST_F(AutoScene, AGltfWithNoCameraAndNoLightsRendersWithAutomaticOnesAndSaysSo)
   for (size_t i = 0; i < size_t(color.width) * color.height; ++i)
     lit += color.px[4 * i] + color.px[4 * i + 1] + color.px[4 * i + 2] > 24;
   EXPECT_GE(lit, 169u) << lit << " lit pixels";
+}
+
+// The atrium exported bare is an interior: the centre of its bounds is enclosed, so the automatic
+// camera stands inside, and sees nothing but the building.
+TEST_F(AutoScene, AnInteriorExportedBareIsSeenFromInside) {
+  const fs::path atrium = dir / "atrium-bare.glb";
+  const RunResult ex = run({"scene", "export", "atrium", atrium.string(), "--no-camera", "--no-lights"});
+  ASSERT_EQ(ex.exitCode, 0) << ex.err;
+  RunResult r;
+  const json j = renderJson({"--scene", atrium.string()}, dir / "atrium-out", r);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  EXPECT_EQ(j["camera"]["source"], "auto");
+  // The centre of the bounds, (0, 6, 0), is free and enclosed; the eye stands 1.7 m above the
+  // courtyard floor (y = 0) below it and looks level (auto_scene.h).
+  const std::string inside = "the centre of its bounds is enclosed";
+  ASSERT_NE(r.err.find(inside), std::string::npos) << r.err;
+  const std::string at = "an automatic camera inside at (0, 1.7, 0) looking along (";
+  const size_t along = r.err.find(at);
+  ASSERT_NE(along, std::string::npos) << r.err;
+  const std::string direction = r.err.substr(along + at.size(), r.err.find(')', along + at.size()) - along - at.size());
+  EXPECT_EQ(direction.substr(direction.find(", ") + 2, 3), "0, ") << direction;  // level: y = 0
+  EXPECT_NE(r.err.find("the longest free level direction ("), std::string::npos) << r.err;
+  // No pixel sees the background. A ray from the eye that leaves the building must first reach
+  // the height of the courtyard beams' tops, 11.3 m, over the open courtyard (|x| < 14.5 m,
+  // |z| < 3.7 m): everywhere else at that height are the walls, the beams and the gallery roofs
+  // (src/scene/atrium.cpp). The farthest such point from the eye, (±14.5, 11.3, ±3.7), is 9.6 m up
+  // at 14.96 m: 32.7° above level, the least a ray out can rise. A level view of yfov 60° rises at
+  // most 30° (its top edge), so every pixel meets the building. The depth image paints cleared
+  // depth (nothing drawn) (16, 24, 88) and every drawn pixel grey (r = g = b).
+  const hb::ImageRGBA8 depth = hb::readPng(dir / "atrium-out" / "depth.png");
+  size_t background = 0;
+  for (size_t i = 0; i < size_t(depth.width) * depth.height; ++i) background += depth.px[4 * i] != depth.px[4 * i + 2];
+  EXPECT_EQ(background, 0u) << "of " << depth.width * depth.height << " pixels";
 }
 
 // `scene export --no-camera --no-lights` writes such a file from any built-in.
