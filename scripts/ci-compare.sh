@@ -7,7 +7,8 @@
 # CONFIG defaults to the config the baseline was swept with (its context.config is a full config),
 # so a baseline alone is enough. Writes OUTDIR (default out/ci-compare) with the new results.json,
 # compare.md (a Markdown table for the job summary; appended to $GITHUB_STEP_SUMMARY when set) and
-# compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower).
+# compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower) and
+# report.html (hybridbench report: the new results' page with the comparison B/A plotted).
 # Exit: 0 no regression, 1 a frame or pass time slower than the baseline beyond the threshold
 # (hybridbench compare --gate all: a pass gates too, unless its median is under --min-ms on both
 # sides), 2 bad input (missing baseline, config or device).
@@ -55,11 +56,17 @@ rm -rf "$out/sweep"
 "$hb" compare "$baseline" "$out/sweep/results.json" --format junit "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
 "$hb" compare "$baseline" "$out/sweep/results.json" --format md "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
 status=$?
+# The page of the new sweep with the comparison (hybridbench report): the job's artifact to open.
+# shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
+if ! "$hb" report "$out/sweep/results.json" --compare "$baseline" --out "$out/report.html" "${gate[@]}" \
+  ${COMPARE_ARGS:-}; then
+  echo "ci-compare: report.html not written (see the line above); compare.md stands" >&2
+fi
 cat "$out/compare.md"
 if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/compare.md" >> "$GITHUB_STEP_SUMMARY"; fi
 case $status in
   0) echo "ci-compare: no regression against $baseline" ;;
-  1) echo "ci-compare: REGRESSION against $baseline (see $out/compare.md, $out/compare.junit.xml)" ;;
+  1) echo "ci-compare: REGRESSION against $baseline (see $out/compare.md, $out/report.html)" ;;
   *) echo "ci-compare: compare refused the pair (exit $status)" >&2 ;;
 esac
 exit $status

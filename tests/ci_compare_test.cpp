@@ -175,6 +175,13 @@ TEST_F(CiCompareDefaults, FailsOnAShadingPassTwiceAsSlowAndPassesTheRunAgainstIt
             variants.size())
       << slowJunit;
   EXPECT_EQ(occurrencesOf(slowJunit, "<failure"), variants.size()) << slowJunit;
+  // report.html beside compare.md: the new run's page with the comparison, whose B/A plot marks
+  // the same rows slower (a verdict label per row; in the A/A page none).
+  const std::string slowPage = readFile(dir / "slow" / "report.html");
+  EXPECT_NE(slowPage.find("<section id=\"compare\">"), std::string::npos);
+  EXPECT_EQ(occurrencesOf(slowPage, "data-pass=\"shading\">"), variants.size());
+  EXPECT_EQ(occurrencesOf(slowPage, ">slower</text>"), variants.size());
+  EXPECT_EQ(occurrencesOf(readFile(dir / "aa" / "report.html"), ">slower</text>"), 0u);
 
   // The other direction is no regression: against a baseline whose shading pass is 2x slower, the
   // new run's is 2x faster (B/A 0.500, verdict "faster"), and the recipe passes.

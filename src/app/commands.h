@@ -34,6 +34,16 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
 // format: md (a Markdown table), json or junit (formatCompareJunit).
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
 
+// `report`: the page of a results file (report/html_report.h) written to out, with the images of
+// the variants found beside the results file; with compare, the comparison against that base.
+struct ReportOptions {
+  std::string results;  // results.json
+  std::string compare;  // base results.json (A), or empty
+  std::string out;      // the page to write (its folder must exist)
+  CompareOptions compareOptions;
+};
+int cmdReport(const ReportOptions& options);
+
 // --no-camera / --no-lights leave them out: a file like most glTF assets, for the automatic ones.
 int cmdSceneExport(const std::string& name, const std::string& out, bool noCamera = false, bool noLights = false);
 int cmdSceneInfo(const std::string& path, bool json);

@@ -119,6 +119,20 @@ int main(int argc, char** argv) {
                    "variant and pass, failed when slower)")
       ->check(CLI::IsMember({"md", "json", "junit"}));
 
+  ReportOptions report;
+  std::string reportGate = "frame";
+  auto* reportCmd = app.add_subcommand(
+      "report", "write one HTML page of a results file: context, tables, times, plots, images (report.html)");
+  reportCmd->add_option("results", report.results, "results.json")->required();
+  reportCmd->add_option("--compare", report.compare, "base results.json (A): add the comparison B/A against it");
+  reportCmd->add_option("--out", report.out, "the page to write, e.g. report.html")->required();
+  reportCmd->add_option("--threshold", report.compareOptions.thresholdPct, "as compare's (default 5)");
+  reportCmd->add_option("--alpha", report.compareOptions.alpha, "as compare's (default 0.05)");
+  reportCmd->add_option("--gate", reportGate, "as compare's: frame (default), passes or all")
+      ->check(CLI::IsMember({"frame", "passes", "all"}));
+  reportCmd->add_option("--min-ms", report.compareOptions.minMs, "as compare's (default 0.02)");
+  reportCmd->add_flag("--force", report.compareOptions.force, "compare even when scenes or configs differ");
+
   auto* sceneCmd = app.add_subcommand("scene", "export, inspect or list scenes");
   sceneCmd->require_subcommand(1);
   std::string exportName, exportOut, infoPath;
@@ -177,6 +191,12 @@ int main(int argc, char** argv) {
                                                    : CompareGate::Frame;
     }
     if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
+    if (*reportCmd) {
+      report.compareOptions.gate = reportGate == "all"      ? CompareGate::All
+                                   : reportGate == "passes" ? CompareGate::Passes
+                                                            : CompareGate::Frame;
+      return cmdReport(report);
+    }
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
     if (*listCmd) return cmdSceneList(listDir, listJson);

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include "base/errors.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
+#include "report/html_report.h"
 #include "report/roofline.h"
 #include "report/tables.h"
 
@@ -100,6 +102,40 @@ void writeSweepOutputs(const std::string& dir, const json& results) {
   writeFileAtomic((fs::path(dir) / "accuracy.svg").string(), accuracyReportSvg(results));
   writeFileAtomic((fs::path(dir) / "roofline.md").string(), rooflineMarkdown(results));
   writeFileAtomic((fs::path(dir) / "roofline.svg").string(), rooflineSvg(results));
+  HtmlReportInput page;
+  page.results = &results;
+  page.source = "results.json";
+  page.images = variantImages(dir, dir, results);
+  writeFileAtomic((fs::path(dir) / "report.html").string(), htmlReport(page));
+}
+
+std::map<std::string, std::vector<ReportImage>> variantImages(const std::string& resultsDir,
+                                                              const std::string& reportDir, const json& results) {
+  std::map<std::string, std::vector<ReportImage>> out;
+  if (!results.contains("runs") || !results["runs"].is_array()) return out;
+  // Both made absolute and normal, so that the relative path does not depend on how they were named.
+  const fs::path from = fs::weakly_canonical(fs::absolute(reportDir));
+  for (const json& run : results["runs"]) {
+    if (!run.is_object() || !run.contains("name") || !run["name"].is_string()) continue;
+    const std::string name = run["name"].get<std::string>();
+    const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(resultsDir) / slug(name)));
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) continue;
+    std::vector<std::string> files;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder, ec))
+      if (e.is_regular_file(ec) && e.path().extension() == ".png") files.push_back(e.path().filename().string());
+    // The colour image first (what the variant looks like), then by name: heatmaps and error maps
+    // of one kind sit together (rays, rays_oracle; flip_error).
+    std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+      return std::make_pair(a != "color.png", a) < std::make_pair(b != "color.png", b);
+    });
+    for (const std::string& file : files) {
+      std::string label = file.substr(0, file.size() - 4);
+      std::replace(label.begin(), label.end(), '_', ' ');
+      out[name].push_back({(folder / file).lexically_relative(from).generic_string(), label});
+    }
+  }
+  return out;
 }
 
 }  // namespace hb

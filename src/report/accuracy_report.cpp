@@ -462,10 +462,10 @@ std::string accuracyReportSvg(const json& results) {
     const AccuracyPoint& p = *pts[i];
     const char* color = grouped ? groupColor(p.group) : p.onFront ? "#d62728" : "#1f77b4";
     const double x = px(p.timeMs), y = py(p.error);
-    s += format(
-             "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"%s\" "
-             "stroke=\"%s\"><title>",
-             x, y, color, grouped && !p.onFront ? "0" : "0.7", color) +
+    // data-variant: the run a point stands for, for a page that shows this plot (html_report.h).
+    s += "<circle data-variant=\"" + escapeXml(p.name) + "\" " +
+         format("cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"%s\" stroke=\"%s\"><title>", x, y, color,
+                grouped && !p.onFront ? "0" : "0.7", color) +
          escapeXml(p.name + format(": %.3f ms, %.4g", p.timeMs, p.error)) + "</title></circle>\n";
     double lx = x + 6;  // shift right past labels already placed at about the same spot
     // Each move takes lx past one placed label, so there are at most labels.size() of them.

@@ -1,0 +1,52 @@
+#include "app/sweep_results.h"
+
+#include <unistd.h>
+#include <filesystem>
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+namespace hb {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+void touchImageFile(const fs::path& p) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << "x";
+}
+
+// A sweep's folder: results beside one folder per variant (slug of its name), and a page written
+// elsewhere: each image's path is taken from the page's folder, colour first.
+TEST(SweepResults, VariantImagesArePathsFromThePagesFolderColourFirst) {
+  const fs::path root = fs::temp_directory_path() / ("hb-variant-images-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  const fs::path sweep = root / "out" / "sweep", pages = root / "pages";
+  touchImageFile(sweep / "light-culling-aabb" / "rays.png");
+  touchImageFile(sweep / "light-culling-aabb" / "color.png");
+  touchImageFile(sweep / "light-culling-aabb" / "flip_error.png");
+  touchImageFile(sweep / "light-culling-aabb" / "notes.txt");  // not an image
+  fs::create_directories(sweep / "empty");
+  fs::create_directories(pages);
+  const json results = {{"runs", {{{"name", "light culling + AABB"}}, {{"name", "empty"}}, {{"name", "gone"}}}}};
+
+  const auto images = variantImages(sweep.string(), pages.string(), results);
+  ASSERT_EQ(images.size(), 1u);  // "empty" and "gone" have none
+  const std::vector<ReportImage>& v = images.at("light culling + AABB");
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].href, "../out/sweep/light-culling-aabb/color.png");
+  EXPECT_EQ(v[0].label, "color");
+  EXPECT_EQ(v[1].label, "flip error");
+  EXPECT_EQ(v[2].label, "rays");
+  for (const ReportImage& image : v) EXPECT_TRUE(fs::is_regular_file(pages / image.href)) << image.href;
+
+  // The page beside the results: paths inside the folder.
+  const auto beside = variantImages(sweep.string(), sweep.string(), results);
+  EXPECT_EQ(beside.at("light culling + AABB")[0].href, "light-culling-aabb/color.png");
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace hb

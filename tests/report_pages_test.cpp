@@ -1,0 +1,47 @@
+// The committed report pages (README.md and results/README.md link them) are what `hybridbench
+// report` writes today from the committed results beside them, byte for byte: the page records no
+// time of writing, so a difference means the page is stale.
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tool_process.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommittedPage {
+  const char* page;
+  const char* args;  // from the repository root, without --out
+};
+
+// The H100 thesis sweep (its images were not kept) and the sweep at 608c60f against it.
+constexpr CommittedPage kCommittedPages[] = {
+    {"results/h100/thesis/report.html", "report results/h100/thesis/results.json"},
+    {"results/h100/thesis-608c60f/report.html",
+     "report results/h100/thesis-608c60f/results.json --compare results/h100/thesis/results.json"},
+};
+
+TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
+  const fs::path scratch = fs::temp_directory_path() / ("hb-report-pages-" + std::to_string(::getpid()));
+  fs::create_directories(scratch);
+  for (const CommittedPage& p : kCommittedPages) {
+    const fs::path fresh = scratch / "report.html";
+    const std::string regenerate = std::string("hybridbench ") + p.args + " --out " + p.page;
+    // From the repository root, as the page names its results by the path given.
+    const std::string cmd = std::string("cd '") + HYBRIDBENCH_SOURCE_DIR + "' && '" + HYBRIDBENCH_BINARY + "' " +
+                            p.args + " --out '" + fresh.string() + "'";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const std::string committed = hb::testing::readFile(fs::path(HYBRIDBENCH_SOURCE_DIR) / p.page);
+    EXPECT_FALSE(committed.empty()) << p.page << " is missing; write it with: " << regenerate;
+    EXPECT_TRUE(committed == hb::testing::readFile(fresh))
+        << p.page
+        << " differs from what report writes now; regenerate it from the repository root with: " << regenerate;
+  }
+  fs::remove_all(scratch);
+}
+
+}  // namespace
