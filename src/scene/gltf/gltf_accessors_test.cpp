@@ -128,9 +128,54 @@ TEST(GltfLoadErrors, UnsupportedComponentTypeNamesTheAccessor) {
 
   GltfBuilder c;
   c.quad();
-  c.doc["accessors"][0]["componentType"] = kU16;  // quantized positions (KHR_mesh_quantization)
+  c.doc["accessors"][0]["componentType"] = kU32;  // 32-bit integers are not positions even quantized
   c.scene({c.node({{"mesh", 0}})});
-  expectInputError(c.writeGltf(dir / "u16pos.gltf"), {"attributes.POSITION", "componentType 5123", "FLOAT"});
+  expectInputError(c.writeGltf(dir / "u32pos.gltf"), {"attributes.POSITION", "componentType 5125", "FLOAT"});
+}
+
+// KHR_mesh_quantization as gltfpack writes it: unnormalized integer positions scaled back by the
+// node, normalized signed-byte normals, normalized u16 texture coordinates whose range
+// KHR_texture_transform scales back.
+TEST(GltfQuantized, IntegerAttributesReadAsTheExtensionDefinesThem) {
+  TestDir dir;
+  GltfBuilder b;
+  const int pos = b.accessor(b.view(std::vector<int16_t>{0, 0, 0, 1000, 0, 0, 1000, -1000, 0}), 5122, "VEC3", 3);
+  // (0, 127, 0) is +Y; (-128, 0, 0) clamps to -1 (glTF 2.0 §3.11: max(c / 127, -1)); the third
+  // is not unit (quantized): it loads normalised. Byte VEC3 elements are 4-byte aligned (stride 4).
+  const int view = b.view(std::vector<int8_t>{0, 127, 0, 0, -128, 0, 0, 0, 90, 90, 0, 0});
+  b.doc["bufferViews"][static_cast<size_t>(view)]["byteStride"] = 4;
+  const int nrm = b.accessor(view, 5120, "VEC3", 3);
+  b.doc["accessors"][static_cast<size_t>(nrm)]["normalized"] = true;
+  const int uv = b.accessor(b.view(std::vector<uint16_t>{0, 0, 65535, 0, 65535, 65535}), kU16, "VEC2", 3);
+  b.doc["accessors"][static_cast<size_t>(uv)]["normalized"] = true;
+  b.doc["meshes"] = {
+      {{"primitives", {{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", uv}}}, {"material", 0}}}}}};
+  b.doc["materials"] = {
+      {{"pbrMetallicRoughness",
+        {{"baseColorTexture",
+          {{"index", 0},
+           {"extensions", {{"KHR_texture_transform", {{"offset", {0.25, 0.5}}, {"scale", {2.0, 4.0}}}}}}}}}}}};
+  b.doc["images"] = {{{"uri",
+                       "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8Dw"
+                       "HwAFBQIAX8jx0gAAAABJRU5ErkJggg=="}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["extensionsUsed"] = {"KHR_mesh_quantization", "KHR_texture_transform"};
+  b.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+  b.scene({b.node({{"mesh", 0}, {"scale", {0.001, 0.001, 0.001}}})});
+  GltfLoadWarnings warnings;
+  const Scene s = loadGltf(b.writeGltf(dir / "quantized.gltf").string(), &warnings);
+  EXPECT_TRUE(warnings.messages.empty()) << warnings.messages[0];
+  ASSERT_EQ(s.vertices.size(), 3u);
+  EXPECT_EQ(s.vertices[1].position, glm::vec3(1000, 0, 0));  // the node's scale brings it to 1 m
+  EXPECT_EQ(s.vertices[2].position, glm::vec3(1000, -1000, 0));
+  EXPECT_EQ(s.vertices[0].normal, glm::vec3(0, 1, 0));
+  EXPECT_EQ(s.vertices[1].normal, glm::vec3(-1, 0, 0));
+  EXPECT_NEAR(glm::length(s.vertices[2].normal), 1.0f, 1e-6f);
+  // uv' = offset + scale * uv: (0, 0) → (0.25, 0.5); (1, 1) → (2.25, 4.5).
+  EXPECT_EQ(s.vertices[0].uv, glm::vec2(0.25f, 0.5f));
+  EXPECT_EQ(s.vertices[2].uv, glm::vec2(2.25f, 4.5f));
+  ASSERT_EQ(s.instances.size(), 1u);
+  EXPECT_FLOAT_EQ(s.instances[0].transform[0][0], 0.001f);
 }
 
 }  // namespace
