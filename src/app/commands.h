@@ -31,6 +31,11 @@ int cmdRender(const RenderOptions& options);
 // did not fit one sweep); refused unless every file was measured on a device of the same name.
 // A variant in two files is refused unless allowDuplicates; then each row's name carries its file.
 int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates = false);
+// `merge`: the parts of one sweep (`sweep --shard K/N`, one folder each) as one results folder in
+// out: every variant of the config once, in config order, with its images. Throws InputError when
+// the parts' config, scene hash, revision or device name differ (force: devices may, and each run
+// records its own), a variant is in no part or in two, or out holds results (force: moved aside).
+int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool force);
 // format: md (a Markdown table), json or junit (formatCompareJunit).
 int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
 

@@ -76,6 +76,20 @@ int main(int argc, char** argv) {
   sweepCmd->add_option("--worker-variants", sweep.workerVariants)->group("");
   sweepCmd->add_flag("--dry-run", sweep.dryRun,
                      "print the variants with their parameters, the frame count and a time estimate; run nothing");
+  sweepCmd->add_option("--shard", sweep.shard,
+                       "K/N: run only the K-th (from 0) of N parts of the variants, balanced by estimated cost; "
+                       "merge the parts with 'hybridbench merge' (docs/fleet.md)");
+
+  std::vector<std::string> mergeDirs;
+  std::string mergeOut;
+  bool mergeForce = false;
+  auto* mergeCmd =
+      app.add_subcommand("merge", "combine the folders of a sweep's parts (sweep --shard K/N) into one results folder");
+  mergeCmd->add_option("dirs", mergeDirs, "the parts' output folders (each holds results.json)")->required();
+  mergeCmd->add_option("--out", mergeOut, "the merged results folder")->required();
+  mergeCmd->add_flag("--force", mergeForce,
+                     "merge parts from devices of different names (each run records its own), and move earlier "
+                     "results in --out to --out/previous-<time>/");
 
   std::vector<std::string> tablesPaths;
   std::string tablesFormat = "md";
@@ -185,6 +199,7 @@ int main(int argc, char** argv) {
       return cmdSweep(sweep);
     }
     if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates);
+    if (*mergeCmd) return cmdMerge(mergeDirs, mergeOut, mergeForce);
     if (*compareCmd) {
       compareOpts.gate = compareGate == "all"      ? CompareGate::All
                          : compareGate == "passes" ? CompareGate::Passes

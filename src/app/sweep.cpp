@@ -14,6 +14,7 @@
 #include "app/sweep_console.h"
 #include "app/sweep_device.h"
 #include "app/sweep_results.h"
+#include "app/sweep_shard.h"
 #include "base/errors.h"
 #include "base/version.h"
 #include "config/config_overrides.h"
@@ -33,6 +34,7 @@ int cmdSweep(const SweepOptions& options) {
   if (options.retryFailed && !options.resume)
     throw InputError("sweep --retry-failed runs again what an earlier sweep left; it needs --resume --out DIR");
   if (options.frames == 0) throw InputError("--frames 0: a sweep needs at least 1 measured frame");
+  if (!options.shard.empty()) (void)parseShard(options.shard);  // a bad K/N before anything else
   ConfigOverrides overrides;
   overrides.scene = options.scene;
   overrides.sets = options.sets;
@@ -60,6 +62,9 @@ int cmdSweep(const SweepOptions& options) {
     chosen.push_back(devices[resolveDevice(devices, options.device)]);
   }
   if (chosen.empty()) throw DeviceError("no Vulkan device found; install a driver (lavapipe: mesa-vulkan-drivers)");
+  if (!options.shard.empty() && chosen.size() > 1)
+    throw InputError("--shard " + options.shard + " with --device " + options.device +
+                     ": a part runs on one device; start one sweep per part and device (docs/fleet.md)");
   catchSweepInterrupts();
   if (options.workerFd >= 0) {  // this process is one device's worker (sweep_worker.h)
     if (chosen.size() != 1 || options.out.empty())

@@ -33,6 +33,8 @@ struct SweepOptions {
   // (0: the default, kVariantTimeoutFloorS or kFrameLimitS a frame, whichever is longer).
   double variantTimeout = 0;
   bool retryFailed = false;  // with --resume: run again the variants that timed out or crashed
+  // "K/N": run only the K-th of N parts of the variants (sweep_shard.h); empty: all of them.
+  std::string shard;
   // Hidden: this process is a sweep's worker (sweep_worker.h): it runs the variants numbered in
   // workerVariants ("0,3,4", positions in the config's order) and sends them to workerFd.
   int workerFd = -1;

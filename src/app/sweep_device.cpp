@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <sstream>
 
@@ -20,6 +21,7 @@
 #include "app/run_context.h"
 #include "app/scene_setup.h"
 #include "app/sweep_results.h"
+#include "app/sweep_shard.h"
 #include "app/sweep_worker.h"
 #include "base/errors.h"
 #include "base/text_format.h"
@@ -249,12 +251,38 @@ Config configForDevice(Config config, const SweepOptions& options, const DeviceI
 }
 
 void printDryRun(const SweepOptions& options, Config config, const DeviceInfo& device, const std::string& outDir) {
+  const Config asGiven = config;
   config = configForDevice(config, options, device);
-  const std::vector<Variant> variants = expandVariants(config);
+  const std::vector<Variant> all = expandVariants(config);
+  std::vector<size_t> positions(all.size());  // the variants this sweep runs: all, or its --shard's
+  for (size_t k = 0; k < all.size(); ++k) positions[k] = k;
+  std::string part;
+  if (!options.shard.empty()) {
+    const ShardSpec spec = parseShard(options.shard);
+    SceneCache probe;
+    const ShardPlan plan =
+        planShards(asGiven, expandVariants(asGiven), probe.get(config, config.defaults).lights.size(), spec.count);
+    positions = plan.parts[spec.index];
+    const double total = std::accumulate(plan.partCosts.begin(), plan.partCosts.end(), 0.0);
+    std::printf("shard %zu/%zu: %zu of %zu variants; every part's estimated cost (%s):\n", spec.index, spec.count,
+                positions.size(), all.size(), shardContext(spec, plan, all)["cost_model"].get<std::string>().c_str());
+    for (size_t p = 0; p < spec.count; ++p)
+      std::printf("  part %zu/%zu: %s, cost %.4g (%.1f %%)%s\n", p, spec.count,
+                  countOf(plan.parts[p].size(), "variant").c_str(), plan.partCosts[p],
+                  total > 0 ? 100.0 * plan.partCosts[p] / total : 0.0, p == spec.index ? "  <- this part" : "");
+    part = format(" (shard %zu/%zu)", spec.index, spec.count);
+  }
+  std::vector<Variant> variants;
+  for (size_t k : positions) variants.push_back(all[k]);
   std::printf("dry run: nothing is written (to %s or anywhere); a few frames render for the estimate\n",
               outDir.c_str());
-  std::printf("sweep %s on %s: %s, %u warm-up + %u measured frames each\n", config.name.c_str(), device.name.c_str(),
-              countOf(variants.size(), "variant").c_str(), config.warmupFrames, config.measuredFrames);
+  std::printf("sweep %s%s on %s: %s, %u warm-up + %u measured frames each\n", config.name.c_str(), part.c_str(),
+              device.name.c_str(), countOf(variants.size(), "variant").c_str(), config.warmupFrames,
+              config.measuredFrames);
+  if (variants.empty()) {
+    std::printf("this part is empty (more parts than variants): its sweep writes a results.json without runs\n");
+    return;
+  }
   if (device.type == "cpu") std::printf("note: %s\n", config.notes.back().c_str());
   std::printf("scene: %s\n", config.scene.c_str());
   const json defaults = toJson(config.defaults);
@@ -264,7 +292,7 @@ void printDryRun(const SweepOptions& options, Config config, const DeviceInfo& d
     const json params = toJson(variants[i].params);
     for (auto it = params.begin(); it != params.end(); ++it)
       if (!defaults.contains(it.key()) || defaults[it.key()] != it.value()) diff[it.key()] = it.value();
-    std::printf("%4zu. %s: %s\n", i + 1, variants[i].name.c_str(),
+    std::printf("%4zu. %s: %s\n", positions[i] + 1, variants[i].name.c_str(),
                 diff.empty() ? "(the defaults)" : diff.dump().c_str());
   }
   const uint64_t frames = uint64_t(variants.size()) * (config.warmupFrames + config.measuredFrames + 1);
@@ -386,7 +414,21 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   // The scene of the config's defaults names the results file's scene (variants may scale it). It
   // loads before anything is printed or created: a scene refused is one line and no folder.
   SceneCache scenes;
-  (void)scenes.get(config, config.defaults);
+  const size_t sceneLights = scenes.get(config, config.defaults).lights.size();
+  // The variants this sweep runs: all, or the part --shard names. The parts are planned on the
+  // config as given, before a CPU device lowers it, so every machine of a fleet plans the same.
+  std::vector<bool> mine(variants.size(), true);
+  json shard;  // context.shard
+  std::string part;
+  if (!options.shard.empty()) {
+    const ShardSpec spec = parseShard(options.shard);
+    const ShardPlan plan = planShards(asGiven, expandVariants(asGiven), sceneLights, spec.count);
+    mine.assign(variants.size(), false);
+    for (size_t k : plan.parts[spec.index]) mine[k] = true;
+    shard = shardContext(spec, plan, variants);
+    part = format(" (shard %zu/%zu)", spec.index, spec.count);
+  }
+  const size_t mineCount = size_t(std::count(mine.begin(), mine.end(), true));
   if (device.type == "cpu") console.print("note: " + config.notes.back() + "\n");
   fs::create_directories(outDir);
   const std::string resultsPath = (fs::path(outDir) / "results.json").string();
@@ -413,6 +455,16 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
       throw InputError(resultsPath +
                        ": --resume needs the same config (frame counts included) and device as the interrupted sweep; "
                        "use another --out");
+    const json oldShard = oc.value("shard", json());
+    const std::string was = oldShard.is_object() ? format("--shard %zu/%zu", oldShard.value("index", size_t(0)),
+                                                          oldShard.value("count", size_t(0)))
+                                                 : std::string("no --shard");
+    const std::string now = shard.is_object()
+                                ? format("--shard %zu/%zu", shard["index"].get<size_t>(), shard["count"].get<size_t>())
+                                : std::string("no --shard");
+    if (was != now)
+      throw InputError(resultsPath + ": --resume needs the same part as the interrupted sweep, which ran with " + was +
+                       " (this one: " + now + "); use another --out");
     if (old.contains("context")) resumedContext = old["context"];  // until a worker sends today's
     std::map<std::string, json> kept;
     for (const json& run : old.value("runs", json::array())) {
@@ -422,17 +474,17 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
         kept[run.value("name", "")] = run;
     }
     for (size_t k = 0; k < variants.size(); ++k)
-      if (kept.count(variants[k].name)) slots[k] = kept[variants[k].name];
+      if (mine[k] && kept.count(variants[k].name)) slots[k] = kept[variants[k].name];
     size_t done = 0, failed = 0;
     for (const json& run : slots)
       if (!run.is_null()) (run.value("status", "") == "ok" ? done : failed)++;
     console.print(format(
-        "resume: %zu of %zu variants already done%s\n", done, variants.size(),
+        "resume: %zu of %zu variants already done%s\n", done, mineCount,
         failed ? format(", %zu that timed out or crashed kept (--retry-failed runs them again)", failed).c_str() : ""));
   }
 
-  console.print(format("sweep %s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n",
-                       config.name.c_str(), device.name.c_str(), variants.size(), config.warmupFrames,
+  console.print(format("sweep %s%s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n",
+                       config.name.c_str(), part.c_str(), device.name.c_str(), mineCount, config.warmupFrames,
                        config.measuredFrames, outDir.c_str()));
   json results;
   results["schema_version"] = 1;
@@ -453,11 +505,15 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   bool interrupted = false;
   // Workers, one after another: each runs the variants still to do until they are done or it
   // ends; a variant it did not finish is recorded and the next worker starts after it.
+  bool contextAsked = false;
   while (!interrupted) {
     std::vector<size_t> todo;
     for (size_t k = 0; k < variants.size(); ++k)
-      if (slots[k].is_null()) todo.push_back(k);
-    if (todo.empty()) break;
+      if (mine[k] && slots[k].is_null()) todo.push_back(k);
+    // An empty part (more parts than variants) still starts one worker, with no variants, for the
+    // context (device, scene, revision) that `merge` checks.
+    if (todo.empty() && (results.contains("context") || contextAsked)) break;
+    contextAsked = true;
     const std::vector<std::string> args = workerArgs(options, device, outDir, todo);
     WorkerProcess worker(args, [&](int fd) {
       SweepOptions o = options;
@@ -494,8 +550,9 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
           context["timing_caveat_shared_device"] =
               "this device also ran the sweep(s) of " + joinNames(sharing) +
               " at the same time: its times include their work; only the counts and accuracy are this sweep's own";
+        if (shard.is_object()) context["shard"] = shard;
         results["context"] = context;
-        if (!progress) progress.emplace(variants.size(), console);
+        if (!progress) progress.emplace(mineCount, console);
       } else if (kind == "variant") {
         current = std::stol(payload);
         lastStep = "start";
@@ -556,18 +613,19 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   if (interrupted || gInterrupted) {
     write();
     console.print(format("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n",
-                         finished, variants.size(), outDir.c_str(), outDir.c_str()));
+                         finished, mineCount, outDir.c_str(), outDir.c_str()));
     return 130;
   }
   write();
-  if (!progress) progress.emplace(variants.size(), console);
-  progress->update(variants.size(), "done");
+  if (!progress) progress.emplace(mineCount, console);
+  progress->update(mineCount, "done");
   if (!console.shared()) console.print(allTablesMarkdown(results));  // concurrent: in tables.md only
   console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
                        options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
-  size_t lost = 0;  // this sweep's and those --resume kept
-  for (const json& run : slots) lost += run.value("status", "") == "timeout" || run.value("status", "") == "crashed";
+  size_t lost = 0;               // this sweep's and those --resume kept
+  for (const json& run : slots)  // null: another part's variant (--shard)
+    lost += run.is_object() && (run.value("status", "") == "timeout" || run.value("status", "") == "crashed");
   if (lost) {
     std::fprintf(stderr,
                  "hybridbench: %s%zu variant(s) timed out or crashed (status \"timeout\" or \"crashed\" in "
