@@ -21,6 +21,7 @@ PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libti
   clang-format                   # scripts/format.sh --check (CI)
   libdraco-dev libmeshoptimizer-dev  # compressed glTF: KHR_draco_mesh_compression, EXT_meshopt_compression
   libcmark-gfm-dev libcmark-gfm-extensions-dev  # report.html: the tables' Markdown to HTML
+  python3-yaml shellcheck        # docs/fleet/'s scheduler examples (tests/fleet_examples_test.py)
   chromium)                      # the HTML report's browser test (headless, driven by playwright-core)
 # node and npm run the glTF validator test; a node that brings its own npm (NodeSource's) is kept,
 # since Debian's npm package conflicts with it.
