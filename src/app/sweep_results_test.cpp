@@ -25,6 +25,7 @@ TEST(SweepResults, VariantImagesArePathsFromThePagesFolderColourFirst) {
   fs::remove_all(root);
   const fs::path sweep = root / "out" / "sweep", pages = root / "pages";
   touchImageFile(sweep / "light-culling-aabb" / "rays.png");
+  touchImageFile(sweep / "light-culling-aabb" / "ao.png");  // before "color" by name
   touchImageFile(sweep / "light-culling-aabb" / "color.png");
   touchImageFile(sweep / "light-culling-aabb" / "flip_error.png");
   touchImageFile(sweep / "light-culling-aabb" / "notes.txt");  // not an image
@@ -35,11 +36,12 @@ TEST(SweepResults, VariantImagesArePathsFromThePagesFolderColourFirst) {
   const auto images = variantImages(sweep.string(), pages.string(), results);
   ASSERT_EQ(images.size(), 1u);  // "empty" and "gone" have none
   const std::vector<ReportImage>& v = images.at("light culling + AABB");
-  ASSERT_EQ(v.size(), 3u);
+  ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[0].href, "../out/sweep/light-culling-aabb/color.png");
   EXPECT_EQ(v[0].label, "color");
-  EXPECT_EQ(v[1].label, "flip error");
-  EXPECT_EQ(v[2].label, "rays");
+  EXPECT_EQ(v[1].label, "ao");
+  EXPECT_EQ(v[2].label, "flip error");
+  EXPECT_EQ(v[3].label, "rays");
   for (const ReportImage& image : v) EXPECT_TRUE(fs::is_regular_file(pages / image.href)) << image.href;
 
   // The page beside the results: paths inside the folder.
