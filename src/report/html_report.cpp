@@ -36,7 +36,24 @@ std::string reportText(const json& j, const char* key) {
 // cmark-gfm with its table extension. Raw HTML in the text is not passed through (cmark's safe
 // default), so a variant name cannot inject markup. hardBreaks: each line of a paragraph stays a
 // line (compare's header lines).
-std::string markdownToHtml(const std::string& markdown, bool hardBreaks) {
+// The Markdown the report writers produce holds names as they are (a variant may be called
+// "16x16 <tiles>"): cmark's safe mode would drop "<tiles>" as raw HTML and decode "&amp;", so
+// outside code spans '<' and '&' are backslash-escaped into text (CommonMark 2.4).
+std::string markdownTextAsText(const std::string& markdown) {
+  std::string out;
+  out.reserve(markdown.size());
+  bool code = false;
+  for (char c : markdown) {
+    if (c == '`') code = !code;
+    if (c == '\n') code = false;  // the writers' code spans never span lines
+    if (!code && (c == '<' || c == '&')) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string markdownToHtml(const std::string& text, bool hardBreaks) {
+  const std::string markdown = markdownTextAsText(text);
   static std::once_flag registered;  // the registry is global and not thread-safe
   std::call_once(registered, [] { cmark_gfm_core_extensions_ensure_registered(); });
   const int options = CMARK_OPT_DEFAULT | (hardBreaks ? CMARK_OPT_HARDBREAKS : 0);

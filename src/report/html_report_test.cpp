@@ -82,6 +82,14 @@ TEST(HtmlReport, NamesAndContextAreEscaped) {
   EXPECT_EQ(html.find("GPU <b>"), std::string::npos);
   EXPECT_NE(html.find("&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; &apos;co&apos;"), std::string::npos);
   EXPECT_NE(html.find("GPU &lt;b&gt;"), std::string::npos);
+  // In the Markdown tables too (here compare's), a name is shown whole, as text: not dropped as raw
+  // HTML, its "&" not read as an entity.
+  json base = r;
+  base["runs"][1]["name"] = evil;
+  const std::string compared = reportPage(r, {}, &base);
+  EXPECT_EQ(compared.find("<script"), std::string::npos);
+  EXPECT_EQ(htmlOccurrences(compared, "<td>&lt;script&gt;alert(&quot;x&quot;)&lt;/script&gt; &amp; 'co'</td>"),
+            r["runs"][1]["passes"].size() + 1);  // its frame and each pass
 }
 
 TEST(HtmlReport, FailedRunsAreListedAtTheTopAndHaveNoPoint) {
