@@ -174,8 +174,7 @@ TEST_F(SweepShard, ThreePartsAtOnceMergeIntoWhatOneSweepGivesAndMergeRefusesPart
     if (e.path().extension() != ".png") continue;
     ++images;
     const fs::path other = merged / fs::relative(e.path(), whole);
-    ASSERT_TRUE(fs::exists(other)) << other;
-    EXPECT_TRUE(readFile(e.path()) == readFile(other)) << other;
+    EXPECT_TRUE(fs::exists(other) && readFile(e.path()) == readFile(other)) << other;
   }
   EXPECT_GE(images, 5u * 3u);  // every variant writes at least colour, depth and FLIP error
   // The tables regenerate from the merged file, and what merge wrote is what `tables` prints.
@@ -234,7 +233,8 @@ TEST_F(SweepShard, ThreePartsAtOnceMergeIntoWhatOneSweepGivesAndMergeRefusesPart
   ASSERT_EQ(shardRunNames(mj), configNames);
   const std::string own = a["context"]["device"].value("name", "");
   for (const json& run : mj["runs"])
-    EXPECT_EQ(run["device"].value("name", ""), run.value("name", "") == "16x16 at 96x54" ? "Other GPU" : own)
+    EXPECT_EQ(run.contains("device") && run["device"].is_object() ? run["device"].value("name", "") : "(none)",
+              run.value("name", "") == "16x16 at 96x54" ? "Other GPU" : own)
         << run.value("name", "");
   EXPECT_EQ(mj["context"]["mixed_devices"].size(), 2u);
 }
