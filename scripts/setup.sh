@@ -20,6 +20,7 @@ PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libti
   clang libclang-rt-14-dev llvm  # the fuzzers: clang, libFuzzer's runtime, llvm-symbolizer
   clang-format                   # scripts/format.sh --check (CI)
   libdraco-dev libmeshoptimizer-dev  # compressed glTF: KHR_draco_mesh_compression, EXT_meshopt_compression
+  libwebp-dev libavif-dev        # glTF textures: EXT_texture_webp, EXT_texture_avif
   libcmark-gfm-dev libcmark-gfm-extensions-dev  # report.html: the tables' Markdown to HTML
   python3-yaml shellcheck        # docs/fleet/'s scheduler examples (tests/fleet_examples_test.py)
   chromium)                      # the HTML report's browser test (headless, driven by playwright-core)

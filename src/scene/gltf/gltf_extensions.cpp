@@ -13,13 +13,14 @@ namespace hb::gltf_detail {
 namespace {
 
 // Read by the loader: compressed geometry is decoded (gltf_compression.cpp), quantized attributes
-// read as integers (gltf_accessors.cpp) and texture transforms applied to the texture coordinates
-// (gltf_meshes.cpp).
-const std::vector<std::string> kRead = {"KHR_lights_punctual", "KHR_draco_mesh_compression", "EXT_meshopt_compression",
-                                        "KHR_mesh_quantization", "KHR_texture_transform"};
-// Images in formats no Debian library this tool links decodes: a texture that has only such a
+// read as integers (gltf_accessors.cpp), texture transforms applied to the texture coordinates
+// (gltf_meshes.cpp), WebP and AVIF images decoded (gltf_materials.cpp).
+const std::vector<std::string> kRead = {
+    "KHR_lights_punctual",   "KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization",
+    "KHR_texture_transform", "EXT_texture_webp",           "EXT_texture_avif"};
+// KTX2 / Basis Universal images, which no Debian library transcodes: a texture that has only such a
 // source renders with its material's factors, and one warning line counts them (gltf_materials.cpp).
-const std::vector<std::string> kImageFormats = {"KHR_texture_basisu", "EXT_texture_webp", "EXT_texture_avif"};
+const std::vector<std::string> kImageFormats = {"KHR_texture_basisu"};
 
 bool contains(const std::vector<std::string>& list, const std::string& name) {
   return std::find(list.begin(), list.end(), name) != list.end();

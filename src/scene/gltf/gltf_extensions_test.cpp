@@ -1,5 +1,8 @@
 // Required extensions the loader cannot read are named in one line (exit 2 from the tool), optional
-// ones it ignores in one warning, textures it cannot decode in another (gltf_extensions.cpp).
+// ones it ignores in one warning (gltf_extensions.cpp); WebP and AVIF textures decode, KTX2 ones
+// leave their factors and one warning (gltf_materials.cpp).
+#include <webp/encode.h>
+
 #include <gtest/gtest.h>
 
 #include "scene/environment.h"
@@ -12,35 +15,76 @@
 namespace hb::gltf_test {
 namespace {
 
-// A texture whose only image is KTX2, WebP or AVIF (no linked library decodes them) is not a
+// A texture whose only image is KTX2 / Basis Universal (no Debian library transcodes it) is not a
 // refusal: its material renders with its factors, and one warning line counts such textures.
-TEST(GltfExtensions, TexturesWeCannotDecodeLeaveTheFactorsAndOneWarning) {
+TEST(GltfExtensions, Ktx2TexturesLeaveTheFactorsAndOneWarning) {
   TestDir dir;
   GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 10}});
-  // Two textures: a WebP image (its RIFF/WEBP header is all the loader looks at) named by
-  // EXT_texture_webp with no core source, and a KTX2 one as the core source.
-  std::vector<uint8_t> webp = {'R', 'I', 'F', 'F', 4, 0, 0, 0, 'W', 'E', 'B', 'P', 'V', 'P', '8', ' '};
+  // Two textures with a KTX2 image (its header is all the loader looks at): one named by
+  // KHR_texture_basisu alone, one as the core source.
   std::vector<uint8_t> ktx2 = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A, 0, 0, 0, 0};
-  b.doc["images"] = {{{"bufferView", b.view(webp)}, {"mimeType", "image/webp"}},
-                     {{"bufferView", b.view(ktx2)}, {"mimeType", "image/ktx2"}}};
-  b.doc["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}},
-                       {{"source", 1}, {"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}}};
+  b.doc["images"] = {{{"bufferView", b.view(ktx2)}, {"mimeType", "image/ktx2"}}};
+  b.doc["textures"] = {{{"extensions", {{"KHR_texture_basisu", {{"source", 0}}}}}},
+                       {{"source", 0}, {"extensions", {{"KHR_texture_basisu", {{"source", 0}}}}}}};
   b.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   b.doc["materials"][0]["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", 1}};
-  b.doc["extensionsUsed"] = {"KHR_lights_punctual", "EXT_texture_webp", "KHR_texture_basisu"};
-  b.doc["extensionsRequired"] = {"EXT_texture_webp"};
+  b.doc["extensionsUsed"] = {"KHR_lights_punctual", "KHR_texture_basisu"};
+  b.doc["extensionsRequired"] = {"KHR_texture_basisu"};
   GltfLoadWarnings warnings;
-  const Scene s = loadGltf(b.writeGltf(dir / "webp.gltf").string(), &warnings);
+  const Scene s = loadGltf(b.writeGltf(dir / "ktx2.gltf").string(), &warnings);
   EXPECT_TRUE(s.textures.empty());
   ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_EQ(s.materials[0].baseColorTexture, -1);
   EXPECT_EQ(s.materials[0].metallicRoughnessTexture, -1);
   EXPECT_EQ(s.materials[0].baseColorFactor, glm::vec4(1, 0, 0, 1));
   ASSERT_EQ(warnings.messages.size(), 1u);
-  EXPECT_NE(warnings.messages[0].find("2 texture(s) in EXT_texture_webp (1), KHR_texture_basisu (1) not decoded"),
-            std::string::npos)
+  EXPECT_NE(warnings.messages[0].find("2 texture(s) in KHR_texture_basisu (2) not decoded"), std::string::npos)
       << warnings.messages[0];
   EXPECT_NE(warnings.messages[0].find("their factors"), std::string::npos) << warnings.messages[0];
+}
+
+// An EXT_texture_webp image decodes (libwebp) to the texels it was encoded from: lossless WebP
+// (libwebp's own encoder here) is exact, so every texel is compared for equality, with no warning.
+// Its bytes cut short, or a file that only looks like AVIF, is one InputError naming the image.
+TEST(GltfExtensions, WebpTexturesDecodeToTheirTexelsAndBrokenImagesAreNamed) {
+  TestDir dir;
+  // 3x2 texels, every channel different, alpha included (none 0: libwebp's encoder drops the colour
+  // of fully transparent texels unless told to keep it).
+  const std::vector<uint8_t> texels = {255, 0,  0,  255, 0,  255, 0,  200, 0,  0,   255, 100,
+                                       10,  20, 30, 40,  50, 60,  70, 80,  90, 100, 110, 1};
+  uint8_t* encoded = nullptr;
+  const size_t size = WebPEncodeLosslessRGBA(texels.data(), 3, 2, 3 * 4, &encoded);
+  ASSERT_GT(size, 0u);
+  const std::vector<uint8_t> webp(encoded, encoded + size);
+  WebPFree(encoded);
+  auto withImage = [&](const std::vector<uint8_t>& bytes, const char* mimeType, const char* extension) {
+    GltfBuilder b = quadWithLight({{"type", "point"}, {"intensity", 10}});
+    b.doc["images"] = {{{"bufferView", b.view(bytes)}, {"mimeType", mimeType}}};
+    b.doc["textures"] = {{{"extensions", {{extension, {{"source", 0}}}}}}};
+    b.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual", extension};
+    b.doc["extensionsRequired"] = {extension};
+    return b;
+  };
+  GltfLoadWarnings warnings;
+  const Scene s =
+      loadGltf(withImage(webp, "image/webp", "EXT_texture_webp").writeGltf(dir / "webp.gltf").string(), &warnings);
+  EXPECT_TRUE(warnings.messages.empty()) << warnings.messages[0];
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].width, 3u);
+  EXPECT_EQ(s.textures[0].height, 2u);
+  EXPECT_EQ(s.textures[0].rgba, texels);
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].baseColorTexture, 0);
+
+  const std::vector<uint8_t> truncated(webp.begin(), webp.begin() + static_cast<std::ptrdiff_t>(webp.size() / 2));
+  expectInputError(withImage(truncated, "image/webp", "EXT_texture_webp").writeGlb(dir / "truncated.glb"),
+                   {"images[0]", "WebP", "(truncated or corrupt)"});
+  std::vector<uint8_t> avif(64, 0xFF);  // an ftyp box of brand avif, then nothing an AVIF holds
+  const std::string ftyp = std::string("\0\0\0\x18", 4) + "ftypavif";
+  std::copy(ftyp.begin(), ftyp.end(), avif.begin());
+  expectInputError(withImage(avif, "image/avif", "EXT_texture_avif").writeGlb(dir / "corrupt.glb"),
+                   {"images[0]", "AVIF", "does not decode", "(truncated or corrupt)"});
 }
 
 TEST(GltfExtensions, AnUnknownRequiredExtensionIsNamedAndOptionalOnesAreAWarning) {
