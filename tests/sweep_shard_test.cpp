@@ -194,7 +194,8 @@ TEST_F(SweepShard, ThreePartsAtOnceMergeIntoWhatOneSweepGivesAndMergeRefusesPart
     return copy;
   };
   auto refused = [&](const std::vector<std::string>& args, const std::string& names) {
-    const fs::path out = dir / "refused";
+    static int calls = 0;  // a fresh --out each, so that one wrongly accepted merge fails only its own case
+    const fs::path out = dir / ("refused" + std::to_string(++calls));
     std::vector<std::string> all = {"merge"};
     all.insert(all.end(), args.begin(), args.end());
     all.insert(all.end(), {"--out", out.string()});
