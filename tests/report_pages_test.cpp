@@ -18,11 +18,15 @@ struct CommittedPage {
   const char* args;  // from the repository root, without --out
 };
 
-// The H100 thesis sweep (its images were not kept) and the sweep at 608c60f against it.
+// The H100 thesis sweep (its images were not kept), the sweep at 608c60f against it, and the H200
+// thesis sweep merged from three parts against the same sweep whole.
 constexpr CommittedPage kCommittedPages[] = {
     {"results/h100/thesis/report.html", "report results/h100/thesis/results.json"},
     {"results/h100/thesis-608c60f/report.html",
      "report results/h100/thesis-608c60f/results.json --compare results/h100/thesis/results.json"},
+    // The H200 thesis sweep as three parts merged (#35), against the same sweep whole.
+    {"results/h200/fleet-35/thesis-merged/report-vs-whole.html",
+     "report results/h200/fleet-35/thesis-merged/results.json --compare results/h200/fleet-35/thesis-whole/results.json"},
 };
 
 TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
