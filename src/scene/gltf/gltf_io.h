@@ -28,12 +28,13 @@ struct GltfLoadWarnings {
 // -Z). Missing NORMALs are computed (area-weighted), missing TEXCOORD_0 is (0,0), missing indices
 // are 0..n-1, a point/spot light with no range gets rangeFromIntensity(intensity) (thesis eq.
 // 4.1), a directional light gets range 0. Light extras {"castShadows": false} turn its shadows off.
-// Textures are decoded to RGBA8; the ones used as base colour are flagged sRGB. Primitives with
+// Textures (PNG, JPEG, WebP, AVIF) are decoded to RGBA8; the ones used as base colour are flagged
+// sRGB. Primitives with
 // no material use a "default" material appended to Scene::materials.
 // Points and lines are skipped (a scene of nothing else is refused), and so are cameras of an
 // unknown type: they are counted in *warnings if given, otherwise one line per kind goes to stderr,
 // as does one line naming the optional extensions the loader ignores, and one counting the
-// textures it cannot decode (KTX2, WebP, AVIF: their materials keep their factors). Compressed
+// textures it cannot decode (KTX2 / Basis Universal: their materials keep their factors). Compressed
 // geometry is decoded (Draco, meshopt: gltf_compression.cpp; Scene::compression names it),
 // quantized attributes read as KHR_mesh_quantization defines them and KHR_texture_transform
 // applied to the texture coordinates; an unknown required extension is refused by name.
@@ -70,9 +71,9 @@ void exportGltf(const Scene& scene, const std::string& path);
 std::string sceneInfoText(const Scene& scene);
 
 // The same summary as JSON: {name, triangles, vertices, indices, meshes, instances, materials,
-// textures, cameras, compression (null or the extensions), lights: {total, point, spot, directional, range_min, range_max,
-// ranges_from_eq41, list: [{name, type, range, range_from_eq41, intensity, cast_shadows}]},
-// bounds: {min: [x,y,z], max: [x,y,z], size_m: [x,y,z]} or null for a scene with no instances}.
+// textures, cameras, compression (null or the extensions), lights: {total, point, spot, directional, range_min,
+// range_max, ranges_from_eq41, list: [{name, type, range, range_from_eq41, intensity, cast_shadows}]}, bounds: {min:
+// [x,y,z], max: [x,y,z], size_m: [x,y,z]} or null for a scene with no instances}.
 nlohmann::json sceneInfoJson(const Scene& scene);
 
 // SHA-256 (hex) of the scene's content: vertices, indices, meshes' primitives, instances,
