@@ -14,7 +14,8 @@
 # sides), 2 bad input (missing baseline, config or device).
 # HYBRIDBENCH (default: hybridbench on PATH, else build/hybridbench), SWEEP_ARGS (e.g. "--frames
 # 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3", or "--gate frame" to gate on frames
-# only) may be set.
+# only) may be set. RESULTS=FILE compares that results.json instead of sweeping (e.g. what
+# `hybridbench merge` wrote from a fleet's parts, docs/fleet.md); CONFIG is then not used.
 set -uo pipefail
 
 if [ $# -lt 1 ] || [ $# -gt 3 ]; then
@@ -34,7 +35,11 @@ if [ ! -f "$baseline" ]; then
   exit 2
 fi
 mkdir -p "$out" || exit 2
-if [ -z "$config" ]; then
+if [ -n "${RESULTS:-}" ] && [ ! -f "$RESULTS" ]; then
+  echo "ci-compare: RESULTS='$RESULTS' does not exist; give the results.json to compare (e.g. hybridbench merge's)" >&2
+  exit 2
+fi
+if [ -z "$config" ] && [ -z "${RESULTS:-}" ]; then
   # The baseline's own config: results.json keeps the full effective config under context.config.
   config="$out/baseline-config.json"
   python3 -c 'import json,sys; json.dump(json.load(open(sys.argv[1]))["context"]["config"], open(sys.argv[2], "w"), indent=2)' \
@@ -47,18 +52,24 @@ case " ${COMPARE_ARGS:-} " in
   *) gate=(--gate all) ;;
 esac
 
-echo "ci-compare: sweeping $config on this machine's GPU into $out/sweep"
-rm -rf "$out/sweep"
-# shellcheck disable=SC2086  # SWEEP_ARGS is a list of options
-"$hb" sweep "$config" --no-images --out "$out/sweep" ${SWEEP_ARGS:-} || exit 2
+if [ -n "${RESULTS:-}" ]; then
+  candidate="$RESULTS"
+  echo "ci-compare: comparing $candidate (RESULTS) with $baseline; no sweep"
+else
+  echo "ci-compare: sweeping $config on this machine's GPU into $out/sweep"
+  rm -rf "$out/sweep"
+  # shellcheck disable=SC2086  # SWEEP_ARGS is a list of options
+  "$hb" sweep "$config" --no-images --out "$out/sweep" ${SWEEP_ARGS:-} || exit 2
+  candidate="$out/sweep/results.json"
+fi
 
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-"$hb" compare "$baseline" "$out/sweep/results.json" --format junit "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
-"$hb" compare "$baseline" "$out/sweep/results.json" --format md "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
+"$hb" compare "$baseline" "$candidate" --format junit "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
+"$hb" compare "$baseline" "$candidate" --format md "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
 status=$?
 # The page of the new sweep with the comparison (hybridbench report): the job's artifact to open.
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-if ! "$hb" report "$out/sweep/results.json" --compare "$baseline" --out "$out/report.html" "${gate[@]}" \
+if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" "${gate[@]}" \
   ${COMPARE_ARGS:-}; then
   echo "ci-compare: report.html not written (see the line above); compare.md stands" >&2
 fi

@@ -66,11 +66,13 @@ class CiCompareDefaults : public hb::testing::ToolTest {
   }
 
   // The recipe as a CI job runs it with nothing set but the binary: exit status of the script.
-  int recipe(const fs::path& baseline, const fs::path& out) {
+  // With `results` (RESULTS=...), the recipe compares that file and sweeps nothing (a fleet's merge).
+  int recipe(const fs::path& baseline, const fs::path& out, const fs::path& results = {}) {
     const std::string script = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scripts/ci-compare.sh";
-    const std::string cmd = "env -u COMPARE_ARGS -u SWEEP_ARGS -u GITHUB_STEP_SUMMARY HYBRIDBENCH='" + stub.string() +
-                            "' bash '" + script + "' '" + baseline.string() + "' '' '" + out.string() + "' > '" +
-                            out.string() + ".log' 2>&1";
+    const std::string given = results.empty() ? "-u RESULTS" : "RESULTS='" + results.string() + "'";
+    const std::string cmd = "env -u COMPARE_ARGS -u SWEEP_ARGS -u GITHUB_STEP_SUMMARY " + given + " HYBRIDBENCH='" +
+                            stub.string() + "' bash '" + script + "' '" + baseline.string() + "' '' '" + out.string() +
+                            "' > '" + out.string() + ".log' 2>&1";
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
@@ -198,6 +200,24 @@ TEST_F(CiCompareDefaults, FailsOnAShadingPassTwiceAsSlowAndPassesTheRunAgainstIt
       "[ ci-compare ] %zu variants: A/A exit 0; shading halved in the baseline: exit 1, %zu failures; "
       "doubled: exit 0\n",
       variants.size(), failures.size());
+}
+
+// RESULTS: the merged results of a fleet's parts are gated as a sweep's would be, with no sweep of
+// the recipe's own (the stand-in records every sweep it is asked for: none here).
+TEST_F(CiCompareDefaults, GatesAGivenResultsFileWithoutSweeping) {
+  const json run = readJson(kMeasuredRun);
+  ASSERT_TRUE(run.is_object() && run.contains("runs")) << kMeasuredRun;
+  writeFile(dir / "shading-halved.json", withShadingScaled(run, 0.5).dump());
+  EXPECT_EQ(recipe(dir / "shading-halved.json", dir / "given", kMeasuredRun), 1) << readFile(dir / "given.log");
+  EXPECT_FALSE(fs::exists(dir / "sweep-args")) << readFile(dir / "sweep-args");
+  EXPECT_FALSE(fs::exists(dir / "given" / "sweep"));
+  const std::string md = readFile(dir / "given" / "compare.md");
+  EXPECT_EQ(linesStartingWith(md, "- slower: ").size(), run["runs"].size()) << md;
+  EXPECT_NE(readFile(dir / "given" / "report.html").find("<section id=\"compare\">"), std::string::npos);
+  // The run against itself passes; a RESULTS that does not exist is bad input, before anything else.
+  EXPECT_EQ(recipe(kMeasuredRun, dir / "given-aa", kMeasuredRun), 0) << readFile(dir / "given-aa.log");
+  EXPECT_EQ(recipe(kMeasuredRun, dir / "missing", dir / "no-such.json"), 2) << readFile(dir / "missing.log");
+  EXPECT_NE(readFile(dir / "missing.log").find("RESULTS="), std::string::npos) << readFile(dir / "missing.log");
 }
 
 }  // namespace

@@ -115,8 +115,8 @@ def main():
         check("hybridbench merge parts/part-* --out out/merged" in steps.get("merge", {}).get("run", ""),
               "actions: the merge step")
         compare = steps.get("ci-compare", {}).get("run", "")
-        check("hybridbench compare" in compare and "out/merged/results.json" in compare,
-              "actions: the ci-compare step compares the merged results")
+        check("scripts/ci-compare.sh" in compare and "RESULTS=out/merged/results.json" in compare,
+              "actions: the ci-compare step runs scripts/ci-compare.sh on the merged results")
         run = next((s["run"] for s in sweep.get("steps", []) if "--shard" in s.get("run", "")), "")
         check('--shard "${{ matrix.shard }}/${{ strategy.job-total }}"' in run,
               "actions: --shard from the matrix and strategy.job-total")

@@ -213,8 +213,8 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
   }
   writeSweepOutputs(outDir.string(), merged);
   std::printf(
-      "merged %s from %s into %s: results.json, results.csv, tables.md, accuracy.md, accuracy.svg, "
-      "roofline.md, roofline.svg and each variant's images\n",
+      "merged %s from %s into %s: report.html (open it), results.json, results.csv, tables.md, accuracy.md, "
+      "accuracy.svg, roofline.md, roofline.svg and each variant's images\n",
       countOf(slots.size(), "run").c_str(), countOf(shards.size(), "folder").c_str(), out.c_str());
   return kExitOk;
 }

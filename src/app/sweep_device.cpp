@@ -620,8 +620,10 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   if (!progress) progress.emplace(mineCount, console);
   progress->update(mineCount, "done");
   if (!console.shared()) console.print(allTablesMarkdown(results));  // concurrent: in tables.md only
-  console.print(format("wrote %s/results.json, results.csv, tables.md, accuracy.md, accuracy.svg%s\n", outDir.c_str(),
-                       options.images ? " and images per variant" : ""));
+  console.print(
+      format("wrote %s/report.html (one page with everything: open it), results.json, results.csv, tables.md, "
+             "accuracy.md, accuracy.svg%s\n",
+             outDir.c_str(), options.images ? " and images per variant" : ""));
   if (failures) console.print(format("%zu variant(s) failed: see status \"error\" in results.json\n", failures));
   size_t lost = 0;               // this sweep's and those --resume kept
   for (const json& run : slots)  // null: another part's variant (--shard)
