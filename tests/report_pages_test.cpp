@@ -26,7 +26,8 @@ constexpr CommittedPage kCommittedPages[] = {
      "report results/h100/thesis-608c60f/results.json --compare results/h100/thesis/results.json"},
     // The H200 thesis sweep as three parts merged (#35), against the same sweep whole.
     {"results/h200/fleet-35/thesis-merged/report-vs-whole.html",
-     "report results/h200/fleet-35/thesis-merged/results.json --compare results/h200/fleet-35/thesis-whole/results.json"},
+     "report results/h200/fleet-35/thesis-merged/results.json --compare "
+     "results/h200/fleet-35/thesis-whole/results.json"},
 };
 
 TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
