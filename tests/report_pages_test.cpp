@@ -28,6 +28,12 @@ constexpr CommittedPage kCommittedPages[] = {
     {"results/h200/fleet-35/thesis-merged/report-vs-whole.html",
      "report results/h200/fleet-35/thesis-merged/results.json --compare "
      "results/h200/fleet-35/thesis-whole/results.json"},
+    // Its folders' own pages (what sweep and merge write; no images were kept).
+    {"results/h200/fleet-35/thesis-whole/report.html", "report results/h200/fleet-35/thesis-whole/results.json"},
+    {"results/h200/fleet-35/thesis-merged/report.html", "report results/h200/fleet-35/thesis-merged/results.json"},
+    {"results/h200/fleet-35/shard-0/report.html", "report results/h200/fleet-35/shard-0/results.json"},
+    {"results/h200/fleet-35/shard-1/report.html", "report results/h200/fleet-35/shard-1/results.json"},
+    {"results/h200/fleet-35/shard-2/report.html", "report results/h200/fleet-35/shard-2/results.json"},
 };
 
 TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
