@@ -34,25 +34,32 @@ constexpr CommittedPage kCommittedPages[] = {
     {"results/h200/fleet-35/shard-0/report.html", "report results/h200/fleet-35/shard-0/results.json"},
     {"results/h200/fleet-35/shard-1/report.html", "report results/h200/fleet-35/shard-1/results.json"},
     {"results/h200/fleet-35/shard-2/report.html", "report results/h200/fleet-35/shard-2/results.json"},
+    // The same on three GPUs of one host at once, and the CI config's page with its images (#35).
+    {"results/h200/fleet-35-x4/thesis-merged/report-vs-whole.html",
+     "report results/h200/fleet-35-x4/thesis-merged/results.json --compare "
+     "results/h200/fleet-35-x4/thesis-whole/results.json"},
+    {"results/h200/fleet-35-x4/ci-images/report.html", "report results/h200/fleet-35-x4/ci-images/results.json"},
 };
 
 TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
-  const fs::path scratch = fs::temp_directory_path() / ("hb-report-pages-" + std::to_string(::getpid()));
-  fs::create_directories(scratch);
   for (const CommittedPage& p : kCommittedPages) {
-    const fs::path fresh = scratch / "report.html";
+    // Written beside the committed page (then removed): a page names its images by their path from
+    // its own folder, so a page written elsewhere would name them otherwise.
+    const fs::path committedPath = fs::path(HYBRIDBENCH_SOURCE_DIR) / p.page;
+    const fs::path fresh = committedPath.parent_path() / (".report-pages-test-" + std::to_string(::getpid()) + ".html");
     const std::string regenerate = std::string("hybridbench ") + p.args + " --out " + p.page;
     // From the repository root, as the page names its results by the path given.
     const std::string cmd = std::string("cd '") + HYBRIDBENCH_SOURCE_DIR + "' && '" + HYBRIDBENCH_BINARY + "' " +
-                            p.args + " --out '" + fresh.string() + "'";
+                            p.args + " --out '" + fresh.string() + "' > /dev/null";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-    const std::string committed = hb::testing::readFile(fs::path(HYBRIDBENCH_SOURCE_DIR) / p.page);
+    const std::string written = hb::testing::readFile(fresh);
+    fs::remove(fresh);
+    const std::string committed = hb::testing::readFile(committedPath);
     EXPECT_FALSE(committed.empty()) << p.page << " is missing; write it with: " << regenerate;
-    EXPECT_TRUE(committed == hb::testing::readFile(fresh))
+    EXPECT_TRUE(committed == written)
         << p.page
         << " differs from what report writes now; regenerate it from the repository root with: " << regenerate;
   }
-  fs::remove_all(scratch);
 }
 
 }  // namespace
