@@ -85,6 +85,13 @@ TEST(GltfExtensions, WebpTexturesDecodeToTheirTexelsAndBrokenImagesAreNamed) {
   std::copy(ftyp.begin(), ftyp.end(), avif.begin());
   expectInputError(withImage(avif, "image/avif", "EXT_texture_avif").writeGlb(dir / "corrupt.glb"),
                    {"images[0]", "AVIF", "does not decode", "(truncated or corrupt)"});
+  // The file is valid glTF; its texture is not: the line blames the image alone.
+  try {
+    (void)loadGltf((dir / "truncated.glb").string());
+    ADD_FAILURE() << "truncated.glb loaded";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("not a valid glTF"), std::string::npos) << e.what();
+  }
 }
 
 TEST(GltfExtensions, AnUnknownRequiredExtensionIsNamedAndOptionalOnesAreAWarning) {

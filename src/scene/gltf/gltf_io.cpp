@@ -433,6 +433,9 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
     ok = gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, baseDir);
   else
     ok = gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size, baseDir);
+  // An image our loader refused (gltf_materials.cpp checkedImageLoader: "images[N]..."): the file is
+  // valid glTF, its texture is not; the line says so and names the image.
+  if (!ok && err.rfind("images[", 0) == 0) throw InputError(path + ": " + oneLine(err));
   if (!ok)
     throw InputError(path + ": not a valid glTF 2.0 " + (binary ? "binary (.glb)" : "JSON (.gltf)") +
                      " file: " + oneLine(err.empty() ? warn : err) +
