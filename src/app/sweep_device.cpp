@@ -483,8 +483,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
         failed ? format(", %zu that timed out or crashed kept (--retry-failed runs them again)", failed).c_str() : ""));
   }
 
-  console.print(format("sweep %s%s on %s: %zu variants, %u warm-up + %u measured frames each -> %s\n",
-                       config.name.c_str(), part.c_str(), device.name.c_str(), mineCount, config.warmupFrames,
+  console.print(format("sweep %s%s on %s: %s, %u warm-up + %u measured frames each -> %s\n", config.name.c_str(),
+                       part.c_str(), device.name.c_str(), countOf(mineCount, "variant").c_str(), config.warmupFrames,
                        config.measuredFrames, outDir.c_str()));
   json results;
   results["schema_version"] = 1;
