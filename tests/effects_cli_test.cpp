@@ -148,4 +148,41 @@ TEST_F(EffectsCli, AConfigsEnvironmentLightsTheFrameAndAMissingImageIsExit2) {
   EXPECT_FALSE(fs::exists(dir / "missing" / "render.json"));
 }
 
+// A --set that names some of an effect's settings changes only those: the Cornell box's own
+// "indirect": {"directions": 128} stays 128 under --set effects.indirect={"bounces":2,...}, so a
+// comparison of 1 bounce against 2 changes one setting (docs/usage.md "Precedence"). Bounces with
+// method ldm need sbuffer lists: the tool takes them where no layer chose a list, and says so;
+// a list the user chose is refused in one line naming the --set, before anything is written.
+TEST_F(EffectsCli, ASetOfSomeSettingsKeepsTheScenesOthersAndBouncesTakeSbufferUnlessAListWasChosen) {
+  const std::string cornell = (fs::path(HYBRIDBENCH_SOURCE_DIR) / "scenes/cornell-box.gltf").string();
+  // Small photons and maps keep lavapipe's run short; they are --set, so they do not touch directions.
+  const std::string set = R"(effects.indirect={"bounces":2,"photons":2,"ldm_resolution":16})";
+  const RunResult r =
+      run({"render", "--scene", cornell, "--size", "32x32", "--set", set, "--out", (dir / "bounces").string()});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const json report = json::parse(readFile(dir / "bounces" / "render.json"), nullptr, false);
+  ASSERT_FALSE(report.is_discarded());
+  const json& indirect = report["effects"]["indirect"];
+  EXPECT_EQ(indirect["runs"], true);
+  EXPECT_EQ(indirect["value"]["directions"], 128) << indirect.dump();  // the scene's, kept
+  EXPECT_EQ(indirect["value"]["method"], "ldm") << indirect.dump();
+  EXPECT_EQ(indirect["value"]["bounces"], 2) << indirect.dump();
+  EXPECT_EQ(indirect["value"]["ldm_list"], "sbuffer") << indirect.dump();
+  EXPECT_EQ(indirect["settings_from"]["directions"], cornell) << indirect.dump();
+  EXPECT_EQ(indirect["settings_from"]["bounces"], "--set " + set) << indirect.dump();
+  EXPECT_EQ(indirect["settings_from"]["ldm_list"], "chosen by the tool") << indirect.dump();
+  ASSERT_EQ(indirect["notes"].size(), 1u) << indirect.dump();
+  EXPECT_NE(r.out.find("note: effects.indirect.ldm_list: \"sbuffer\", chosen by the tool"), std::string::npos) << r.out;
+
+  // The user chose another list: refused, one line naming that --set and the fix; nothing written.
+  const std::string chosen = R"(effects.indirect={"bounces":2,"ldm_list":"max64"})";
+  const RunResult refused =
+      run({"render", "--scene", cornell, "--size", "32x32", "--set", chosen, "--out", (dir / "refused").string()});
+  EXPECT_EQ(refused.exitCode, 2) << refused.err;
+  EXPECT_EQ(std::count(refused.err.begin(), refused.err.end(), '\n'), 1) << refused.err;
+  EXPECT_NE(refused.err.find("ldm_list is \"max64\" (--set " + chosen + ")"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("set \"ldm_list\": \"sbuffer\""), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir / "refused" / "render.json"));
+}
+
 }  // namespace

@@ -167,6 +167,8 @@ int cmdRender(const RenderOptions& options) {
                 : e.calledFor ? "called for, skipped"
                               : "off",
                 toString(e.source), e.origin.empty() ? "" : ": ", e.origin.c_str());
+  for (const EffectState& e : renderer.plan().effects)
+    for (const std::string& note : e.notes) std::printf("note: %s\n", note.c_str());
   for (const auto& [pass, why] : renderer.passesSkipped()) std::printf("skipped %s: %s\n", pass.c_str(), why.c_str());
   for (const std::string& line : outputs.summary) std::printf("%s\n", line.c_str());
   std::printf("wrote %s (%zu files)\n", options.out.c_str(), outputs.files.size() + 1);

@@ -35,17 +35,23 @@ void setEverywhere(Json& doc, const std::string& key, const Json& value, const s
   if (key == "resolution") doc.erase("resolution");  // the top-level shorthand; one of the two may stay
 }
 
+// Lays the --set over the config's effects and over each variant's own value for that effect
+// (both lie below --set): a key the --set leaves out keeps theirs (layerEffectValue).
 void setEffect(Json& doc, const std::string& set) {
   const EffectsLayer layer = parseEffectSet(set);  // checks it: "--set shadows=maybe: ..."
   for (auto it = layer.object.begin(); it != layer.object.end(); ++it) {
     const std::string effect = it.key();  // named: clang cannot capture structured bindings
     const nlohmann::json value = it.value();
+    auto layerOver = [&](Json& effects) {
+      const nlohmann::json below = effects.contains(effect) ? nlohmann::json(effects[effect]) : nlohmann::json();
+      effects[effect] = Json(layerEffectValue(below, value));
+    };
     if (!doc.contains("effects") || !doc["effects"].is_object()) doc["effects"] = Json::object();
-    doc["effects"][effect] = Json(value);
+    layerOver(doc["effects"]);
     auto inParams = [&](Json& params) {
       if (params.is_object() && params.contains("effects") && params["effects"].is_object() &&
           params["effects"].contains(effect))
-        params["effects"][effect] = Json(value);
+        layerOver(params["effects"]);
     };
     if (doc.contains("defaults")) inParams(doc["defaults"]);
     if (doc.contains("variants") && doc["variants"].is_array())

@@ -23,8 +23,9 @@ struct ConfigOverrides {
 // The config at path (empty: the embedded thesis.json) with the overrides applied:
 // - --set of a parameter sets it in "defaults" and in every named variant; refused (InputError)
 //   when the config sweeps that parameter (a "grid" axis, or named variants that differ in it);
-// - --set of an effect (shadows=false, ambient_occlusion={"samples":8}, effects.X=...) sets it in
-//   the config's "effects" and in every variant's own;
+// - --set of an effect (shadows=false, ambient_occlusion={"samples":8}, effects.X=...) is laid over
+//   the config's "effects" and over every variant's own (layerEffectValue: the keys it leaves out
+//   keep theirs);
 // - --set camera=auto frames the scene's bounds;
 // - --size sets the resolution as --set resolution=WxH;
 // - --scene replaces the scene (a relative path is taken from the working directory) and drops

@@ -9,6 +9,7 @@
 
 #include "base/errors.h"
 #include "base/input_error_of.h"
+#include "config/config_overrides.h"
 #include "scene/atrium.h"
 
 namespace hb {
@@ -527,6 +528,27 @@ TEST(ConfigCamera, AutoIsAcceptedAndWrittenBackAndAnythingElseIsNamed) {
   EXPECT_EQ(
       errorOfText(R"({"name": "n", "camera": "front"})"),
       R"(x.json: camera: "front" is not "auto"; give "auto" (frame the scene's bounds), {"index": N} or {"position", "target"})");
+}
+
+// A sweep's --set of some of an effect's settings is laid over the config's effects and over each
+// variant's own value: the keys it leaves out keep theirs (docs/usage.md "Precedence").
+TEST(SetOverride, AnEffectSetKeepsTheSettingsOfTheConfigAndOfEachVariantThatItLeavesOut) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hb-effect-set-config.json";
+  {
+    std::ofstream f(path);
+    f << R"({"name": "x", "scene": "atrium", "resolution": [64, 36],
+             "effects": {"indirect": {"directions": 128, "photons": 4}},
+             "variants": [{"name": "ldm", "params": {}},
+                          {"name": "rt", "params": {"effects": {"indirect": {"method": "raytraced"}}}},
+                          {"name": "off", "params": {"effects": {"indirect": false}}}]})";
+  }
+  const Config c = loadConfigWith(path.string(), ConfigOverrides{.sets = {R"(effects.indirect={"bounces":2})"}});
+  std::filesystem::remove(path);
+  EXPECT_EQ(c.effects["indirect"], (nlohmann::json{{"directions", 128}, {"photons", 4}, {"bounces", 2}}));
+  ASSERT_EQ(c.variants.size(), 3u);
+  EXPECT_FALSE(c.variants[0].params.effects.is_object() && c.variants[0].params.effects.contains("indirect"));
+  EXPECT_EQ(c.variants[1].params.effects["indirect"], (nlohmann::json{{"method", "raytraced"}, {"bounces", 2}}));
+  EXPECT_EQ(c.variants[2].params.effects["indirect"], (nlohmann::json{{"bounces", 2}}));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // effect or a pass"). An effect lives in one folder, src/effects/<name>/, and is listed once in
 // src/effects/builtin/builtin_effects.cpp; a test registers its own with registerEffect (effects.h).
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -61,6 +62,14 @@ struct EffectDef {
   // static lists. A pass of `passes` that a value does not add is listed as skipped.
   std::vector<FrameResource> (*needsOf)(const nlohmann::json& value) = nullptr;
   std::vector<const char*> (*passesOf)(const nlohmann::json& value) = nullptr;
+  // Settings that no layer gave but that another setting decides (indirect: bounces > 1 with method
+  // ldm need ldm_list "sbuffer"), filled in once the layers are merged. `given(key)` is the origin
+  // of a setting some layer gave ("" when none did): a choice the user made is never overridden;
+  // where it conflicts this throws InputError naming the setting, its origin and the fix. Returns
+  // the completed value and appends one line per choice to `notes`. Null: nothing to complete.
+  // Precondition: value passed validate.
+  nlohmann::json (*complete)(const nlohmann::json& value, const std::function<std::string(const char*)>& given,
+                             std::vector<std::string>& notes) = nullptr;
 
   FramePhase phase = FramePhase::BeforeShading;
   // Builds the effect's GPU state and passes for the frame (frame/frame_builder.h): the passes

@@ -135,6 +135,14 @@ EffectsLayer parseEffectSet(const std::string& keyEqualsValue) {
   return {EffectSource::Set, where, nlohmann::json(object)};
 }
 
+nlohmann::json layerEffectValue(const nlohmann::json& below, const nlohmann::json& above) {
+  if (above.is_boolean()) return above.get<bool>() && below.is_object() ? below : above;
+  if (!above.is_object() || !below.is_object()) return above;
+  nlohmann::json merged = below;
+  for (auto it = above.begin(); it != above.end(); ++it) merged[it.key()] = it.value();
+  return merged;
+}
+
 bool FramePlan::runs(std::string_view effect) const {
   return std::any_of(effects.begin(), effects.end(), [&](const EffectState& e) { return e.name == effect && e.runs; });
 }
@@ -153,6 +161,8 @@ nlohmann::json FramePlan::effectsJson() const {
     nlohmann::json s = {
         {"called_for", e.calledFor}, {"runs", e.runs}, {"value", e.value}, {"source", toString(e.source)}};
     if (!e.origin.empty()) s["origin"] = e.origin;
+    if (e.value.is_object() && !e.settingOrigins.empty()) s["settings_from"] = e.settingOrigins;
+    if (!e.notes.empty()) s["notes"] = e.notes;
     if (!e.skippedBecause.empty()) s["skipped_because"] = e.skippedBecause;
     j[e.name] = s;
   }
@@ -176,9 +186,24 @@ FramePlan planFrame(const Scene& scene, const EffectsRequest& request, const std
     s.value = def->defaultValue;
     for (const EffectsLayer& layer : layers) {
       if (!layer.object.contains(def->name)) continue;
-      s.value = layer.object[def->name];
+      const nlohmann::json& above = layer.object[def->name];
+      s.value = layerEffectValue(s.value, above);
+      if (above.is_object())
+        for (const auto& [key, v] : above.items()) s.settingOrigins[key] = layer.origin;
+      else if (!s.value.is_object())
+        s.settingOrigins.clear();  // false (or true over no settings): what was below is gone
       s.source = layer.source;
       s.origin = layer.origin;
+    }
+    if (def->complete && s.value.is_object()) {
+      auto given = [&](const char* key) {
+        auto it = s.settingOrigins.find(key);
+        return it == s.settingOrigins.end() ? std::string() : it->second;
+      };
+      const nlohmann::json before = s.value;
+      s.value = def->complete(s.value, given, s.notes);
+      for (const auto& [key, v] : s.value.items())
+        if (!before.contains(key)) s.settingOrigins[key] = "chosen by the tool";
     }
     s.calledFor = isCalledFor(s.value);
     if (!s.calledFor) {

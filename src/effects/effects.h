@@ -8,6 +8,7 @@
 // visibility, light lists for direct light, shading) and the effects that run need; nothing an
 // effect needs is allocated when it does not run.
 #pragma once
+#include <map>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -75,11 +76,23 @@ bool isEffectSet(const std::string& keyEqualsValue);
 // Throws InputError naming the argument.
 EffectsLayer parseEffectSet(const std::string& keyEqualsValue);
 
+// One effect's value `above` laid over the value `below` it (docs/usage.md "Precedence"): a key
+// the higher layer leaves out keeps the value of the layer below.
+//   above false          -> false (off; the settings below are dropped)
+//   above true           -> below when below is an object (on, with its settings), else true
+//   above an object      -> below's settings (when below is an object) with above's keys on top
+// Precondition: both values passed the effect's validator.
+nlohmann::json layerEffectValue(const nlohmann::json& below, const nlohmann::json& above);
+
 struct EffectState {
   std::string name;
   nlohmann::json value;  // as called for, after precedence
   EffectSource source = EffectSource::Default;
   std::string origin;  // the file or argument that decided it ("" for the default)
+  // Where each setting of an object value came from (its layer's origin, or "chosen by the tool").
+  std::map<std::string, std::string> settingOrigins;
+  // What the tool chose for settings no layer gave (EffectDef::complete), one line each.
+  std::vector<std::string> notes;
   bool calledFor = false;
   bool runs = false;
   std::string skippedBecause;  // why it does not run ("" when it runs)
@@ -95,7 +108,8 @@ struct FramePlan {
   bool hasPass(std::string_view pass) const;
   bool needs(FrameResource r) const;
   // {"shadows": {"called_for": true, "runs": false, "source": "scene", "origin": "x.gltf",
-  //  "value": true, "skipped_because": "no light casts shadows"}, ...}
+  //  "value": true, "skipped_because": "no light casts shadows"}, ...}; an object value adds
+  //  "settings_from": {setting: origin}, a tool's choice adds "notes": [...]
   nlohmann::json effectsJson() const;
 };
 

@@ -244,5 +244,70 @@ TEST(Effects, EachSettingOfTheSchemaIsWhatTheValidatorAcceptsWithItsDefault) {
   EXPECT_GE(checked, 10u);  // ranges and choices of ambient occlusion and indirect light
 }
 
+// docs/usage.md "Precedence": a key a layer leaves out keeps the value of the layer below.
+TEST(EffectLayers, AnObjectAddsItsKeysTrueKeepsTheSettingsBelowAndFalseDropsThem) {
+  const nlohmann::json below = {{"method", "ldm"}, {"directions", 128}};
+  EXPECT_EQ(layerEffectValue(below, {{"bounces", 2}}),
+            (nlohmann::json{{"method", "ldm"}, {"directions", 128}, {"bounces", 2}}));
+  EXPECT_EQ(layerEffectValue(below, {{"directions", 32}}), (nlohmann::json{{"method", "ldm"}, {"directions", 32}}));
+  EXPECT_EQ(layerEffectValue(below, true), below);
+  EXPECT_EQ(layerEffectValue(below, false), false);
+  EXPECT_EQ(layerEffectValue(false, {{"bounces", 2}}), (nlohmann::json{{"bounces", 2}}));
+  EXPECT_EQ(layerEffectValue(false, true), true);
+  EXPECT_EQ(layerEffectValue(nlohmann::json(), {{"bounces", 2}}), (nlohmann::json{{"bounces", 2}}));
+}
+
+TEST(EffectLayers, ThePlanMergesSceneConfigAndSetAndNamesWhereEachSettingCameFrom) {
+  Scene scene = sceneWithLights({pointLight()});
+  scene.effects = {{"indirect", {{"method", "ldm"}, {"directions", 128}}}};
+  scene.effectsOrigin = "box.gltf";
+  EffectsRequest request;
+  request.add(EffectSource::Config, "c.json", {{"indirect", {{"photons", 4}}}});
+  request.layers.push_back(parseEffectSet(R"(effects.indirect={"bounces":2,"ldm_list":"sbuffer"})"));
+  const FramePlan plan = planFrame(scene, request);
+  const EffectState& s = stateOf(plan, "indirect");
+  EXPECT_EQ(s.value,
+            (nlohmann::json{
+                {"method", "ldm"}, {"directions", 128}, {"photons", 4}, {"bounces", 2}, {"ldm_list", "sbuffer"}}));
+  EXPECT_EQ(s.settingOrigins.at("directions"), "box.gltf");
+  EXPECT_EQ(s.settingOrigins.at("photons"), "c.json");
+  EXPECT_EQ(s.settingOrigins.at("bounces"), R"(--set effects.indirect={"bounces":2,"ldm_list":"sbuffer"})");
+  EXPECT_TRUE(s.notes.empty());
+  EXPECT_EQ(s.source, EffectSource::Set);
+}
+
+TEST(EffectLayers, BouncesWithLdmTakeSbufferWhereNoLayerChoseAListAndRefuseAnotherChoice) {
+  Scene scene = sceneWithLights({pointLight()});
+  EffectsRequest request;
+  request.layers.push_back(parseEffectSet(R"(effects.indirect={"bounces":2})"));
+  const FramePlan plan = planFrame(scene, request);
+  const EffectState& s = stateOf(plan, "indirect");
+  EXPECT_EQ(s.value["ldm_list"], "sbuffer");
+  EXPECT_EQ(s.settingOrigins.at("ldm_list"), "chosen by the tool");
+  ASSERT_EQ(s.notes.size(), 1u);
+  EXPECT_EQ(s.notes[0].rfind("effects.indirect.ldm_list: \"sbuffer\", chosen by the tool: 2 bounces", 0), 0u)
+      << s.notes[0];
+
+  // One bounce, or the ray tracer: nothing to choose.
+  for (const char* set :
+       {R"(effects.indirect={"bounces":1})", R"(effects.indirect={"bounces":3,"method":"raytraced"})"}) {
+    EffectsRequest r;
+    r.layers.push_back(parseEffectSet(set));
+    const FramePlan plan1 = planFrame(scene, r);
+    const EffectState& e = stateOf(plan1, "indirect");
+    EXPECT_FALSE(e.value.contains("ldm_list")) << set;
+    EXPECT_TRUE(e.notes.empty()) << set;
+  }
+
+  // A list chosen in a lower layer is still a choice: refused, naming that layer.
+  scene.effects = {{"indirect", {{"ldm_list", "cas"}}}};
+  scene.effectsOrigin = "box.gltf";
+  const std::string err = inputErrorOf([&] { planFrame(scene, request); });
+  EXPECT_EQ(err,
+            "effects.indirect.bounces: 2 bounces with method ldm need ldm_list \"sbuffer\" (its lists hold the "
+            "triangle ids a photon bounces off), but ldm_list is \"cas\" (box.gltf); set \"ldm_list\": \"sbuffer\", "
+            "or \"bounces\": 1");
+}
+
 }  // namespace
 }  // namespace hb

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "base/errors.h"
+
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "effects/indirect/indirect_part.h"
 #include "effects/indirect/indirect_table.h"
@@ -73,6 +75,27 @@ std::vector<const char*> indirectPassesOf(const nlohmann::json& value) {
   return {};
 }
 
+// Beyond the first bounce a photon needs the surface it landed on (its normal and albedo): the ray
+// tracer returns it, and of the LDM lists only sbuffer's hold triangle ids. Where no layer chose a
+// list, sbuffer is the one that works; a list the user chose is refused here, before any GPU work.
+nlohmann::json completeIndirect(const nlohmann::json& value, const std::function<std::string(const char*)>& given,
+                                std::vector<std::string>& notes) {
+  const IndirectSettings s = indirectSettingsOf(value);
+  if (s.bounces <= 1 || s.method != IndirectMethod::Ldm || s.ldmList == LdmList::Sbuffer) return value;
+  const std::string why = std::to_string(s.bounces) +
+                          " bounces with method ldm need ldm_list \"sbuffer\" (its lists hold the triangle ids a "
+                          "photon bounces off)";
+  const std::string listFrom = given("ldm_list");
+  if (!listFrom.empty())
+    throw InputError("effects.indirect.bounces: " + why + ", but ldm_list is " + value["ldm_list"].dump() + " (" +
+                     listFrom + "); set \"ldm_list\": \"sbuffer\", or \"bounces\": 1");
+  nlohmann::json completed = value;
+  completed["ldm_list"] = "sbuffer";
+  notes.push_back("effects.indirect.ldm_list: \"sbuffer\", chosen by the tool: " + why +
+                  "; no layer chose a list (set ldm_list to choose one)");
+  return completed;
+}
+
 std::string indirectCannotAct(const Scene& scene, const nlohmann::json& /*value*/) {
   const bool emits = std::any_of(scene.lights.begin(), scene.lights.end(),
                                  [](const Light& l) { return l.type != LightType::Directional && l.intensity > 0.0f; });
@@ -129,6 +152,7 @@ const EffectDef& indirectEffect() {
       .cannotAct = indirectCannotAct,
       .needsOf = indirectNeedsOf,
       .passesOf = indirectPassesOf,
+      .complete = completeIndirect,
       .build = buildIndirect,
       .report = reportIndirect,
       .table = indirectTableMarkdown,
@@ -156,7 +180,9 @@ const EffectDef& indirectEffect() {
                "a split photon's directional differentials: the incoming ones rotated onto its direction (the "
                "paper's), or spanning its direction's share of the sphere"},
               {"bounces", "1..4", "1",
-               "K, the diffuse bounces: each landing photon splits again (reference: paths of K bounces)"},
+               "K, the diffuse bounces: each landing photon splits again (reference: paths of K bounces); with "
+               "method ldm, K > 1 needs ldm_list sbuffer, which the tool takes (and says so) when no layer sets "
+               "ldm_list"},
               {"bounce_directions", "1..2048", "8",
                "M: the directions a photon splits into at its second bounce, halving at each further one"},
           },
