@@ -2,9 +2,9 @@
 """The scheduler examples of docs/fleet.md (docs/fleet/), checked so that they cannot rot:
 
 - slurm-array.sbatch: `bash -n` (and shellcheck where installed); its #SBATCH --array=0-M covers
-  PARTS = M + 1 parts, one GPU each, and the sweep takes --shard "$SLURM_ARRAY_TASK_ID/$PARTS".
-  A real `sbatch --test-only` needs a Slurm controller, so the script itself runs instead, as
-  array task M, against the built tool with SWEEP_ARGS=--dry-run.
+  PARTS = M + 1 parts (its default), one GPU each, and the sweep takes --shard
+  "$SLURM_ARRAY_TASK_ID/$PARTS". The script itself runs, as array task M, against the built tool
+  with SWEEP_ARGS=--dry-run; tests/fleet_slurm_test.sh submits it for real to a local Slurm.
 - k8s-indexed-job.yaml: parsed (python3-yaml); an Indexed Job whose completions, parallelism and
   PARTS agree, one GPU a pod, --shard "$JOB_COMPLETION_INDEX/$PARTS"; a merge Job. `kubectl
   --dry-run=client` needs an API server, so the pod's command runs instead, as index M, with
@@ -71,8 +71,8 @@ def main():
         if shutil.which("shellcheck"):
             check(subprocess.run(["shellcheck", sbatch]).returncode == 0, "slurm: shellcheck")
         array = re.search(r"^#SBATCH --array=0-(\d+)$", text, re.M)
-        parts = re.search(r"^PARTS=(\d+)$", text, re.M)
-        check(bool(array and parts), "slurm: #SBATCH --array=0-M and PARTS=N")
+        parts = re.search(r'^PARTS="\$\{PARTS:-(\d+)\}"$', text, re.M)
+        check(bool(array and parts), 'slurm: #SBATCH --array=0-M and PARTS="${PARTS:-N}"')
         if array and parts:
             last, n = int(array.group(1)), int(parts.group(1))
             check(n == last + 1, f"slurm: PARTS={n} is the --array range's size ({last + 1})")

@@ -1,8 +1,12 @@
 #!/usr/bin/env python3
 """Compares two sweep output folders of the same config (A before a change, B after it) on what a
-refactor must keep: every results.json field that is not a time (counts, accuracy, settings,
-passes run and skipped), and every image's pixels (PNG image data, ignoring the text chunks that
-name the build). Prints a Markdown report; exit 1 when anything differs.
+refactor must keep: every results.json field that is not a time or computed from one (counts,
+accuracy, settings, passes run and skipped), and every image's pixels (PNG image data, ignoring the
+text chunks that name the build). Prints a Markdown report; exit 1 when anything differs.
+
+Computed from times, and so left out: the roofline's rates, fractions and bound (of each entry only
+its loads' units, work and source are compared) and the ray rates backend=auto measured, with the
+reason that quotes them (the backend it chose and ran is compared).
 
 A or B may name a results.json file instead of its folder: then no images are compared.
 
@@ -16,6 +20,17 @@ import zlib
 # Keys that are times, or where the config file lay (origin), not what was computed.
 TIMING = {"origin", "frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms",
           "warmup_frames"}
+
+
+def untimed(run):
+    """The run without the figures computed from its times (see the docstring)."""
+    run = dict(run)
+    if isinstance(run.get("roofline"), dict):
+        run["roofline"] = {entry: [{k: load.get(k) for k in ("unit", "work", "source")} for load in r.get("loads", [])]
+                           for entry, r in run["roofline"].items() if isinstance(r, dict)}
+    if isinstance(run.get("backend_choice"), dict):
+        run["backend_choice"] = {k: v for k, v in run["backend_choice"].items() if k not in ("rates", "reason")}
+    return run
 
 
 def diff(a, b, path, out, added):
@@ -70,7 +85,8 @@ def main():
     print(f"A: git {a['context'].get('tool', {}).get('git', '?')}, "
           f"B: git {b['context'].get('tool', {}).get('git', '?')}; "
           f"device {b['context'].get('device', {}).get('name', '?')}\n")
-    print("Every field but times (" + ", ".join(sorted(TIMING)) + "), run by run:\n")
+    print("Every field but times (" + ", ".join(sorted(TIMING)) + ") and what is computed from them "
+          "(roofline rates, fractions and bound; backend_choice rates and reason), run by run:\n")
     print("| run | differing fields |")
     print("|---|---:|")
     for ra in a["runs"]:
@@ -78,7 +94,7 @@ def main():
             continue
         rb = b_by_name[ra["name"]]
         out = []
-        diff(ra, rb, ra["name"], out, added)
+        diff(untimed(ra), untimed(rb), ra["name"], out, added)
         problems += out
         print(f"| {ra['name']} | {len(out)} |")
     total_images, bad_images = 0, []
