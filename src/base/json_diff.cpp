@@ -7,6 +7,14 @@ namespace hb {
 
 using nlohmann::json;
 
+namespace {
+
+// An array of these is entered element by element; an array of numbers or strings (a resolution,
+// a list of names) is one value, shown whole.
+bool isStructured(const json& v) { return v.is_object() || v.is_array(); }
+
+}  // namespace
+
 std::optional<JsonDifference> firstDifference(const json& a, const json& b, const std::string& prefix) {
   if (a == b) return std::nullopt;
   if (a.is_object() && b.is_object()) {
@@ -21,7 +29,8 @@ std::optional<JsonDifference> firstDifference(const json& a, const json& b, cons
                               inB ? std::optional<json>(b[key]) : std::nullopt};
       if (auto d = firstDifference(a[key], b[key], path)) return d;
     }
-  } else if (a.is_array() && b.is_array()) {
+  } else if (a.is_array() && b.is_array() && std::all_of(a.begin(), a.end(), isStructured) &&
+             std::all_of(b.begin(), b.end(), isStructured)) {
     const size_t n = std::max(a.size(), b.size());
     for (size_t i = 0; i < n; ++i) {
       const std::string path = prefix + "[" + std::to_string(i) + "]";

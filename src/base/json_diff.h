@@ -9,7 +9,7 @@
 namespace hb {
 
 struct JsonDifference {
-  // Where: object keys joined by '.', array positions as [i], after the prefix given to
+  // Where: object keys joined by '.', positions in arrays of objects as [i], after the prefix given to
   // firstDifference ("context.config.variants[3].params.aa"); the prefix alone when the two
   // differ at their roots (a number against a string, ...).
   std::string path;
@@ -18,8 +18,9 @@ struct JsonDifference {
 };
 
 // The first difference in document order: objects by key in sorted order (nlohmann::json keeps
-// keys sorted), arrays by position, a longer array's first extra element last. Numbers compare by
-// value (1 equals 1.0). Empty when a == b.
+// keys sorted), arrays of objects or arrays by position (a longer array's first extra element
+// last); an array that holds a number or string ([1920,1080]) differs as a whole. Numbers compare
+// by value (1 equals 1.0). Empty when a == b.
 std::optional<JsonDifference> firstDifference(const nlohmann::json& a, const nlohmann::json& b,
                                               const std::string& prefix = "");
 

@@ -26,9 +26,15 @@ TEST(JsonDiff, AKeyOrElementOnOneSideIsAbsentOnTheOther) {
   const auto key = firstDifference(json{{"a", 1}}, json{{"a", 1}, {"b", "x"}});
   ASSERT_TRUE(key);
   EXPECT_EQ(describeDifference(*key, "was", "now"), "b differs (was: (absent), now: \"x\")");
-  const auto element = firstDifference(json::array({1, 2, 3}), json::array({1, 2}), "v");
+  const auto element = firstDifference(json::parse(R"([{"n": 1}, {"n": 2}])"), json::parse(R"([{"n": 1}])"), "v");
   ASSERT_TRUE(element);
-  EXPECT_EQ(describeDifference(*element, "A", "B"), "v[2] differs (A: 3, B: (absent))");
+  EXPECT_EQ(describeDifference(*element, "A", "B"), "v[1] differs (A: {\"n\":2}, B: (absent))");
+}
+
+TEST(JsonDiff, AnArrayOfNumbersDiffersAsAWhole) {
+  const auto d = firstDifference(json{{"resolution", {1920, 1080}}}, json{{"resolution", {480, 270}}}, "context");
+  ASSERT_TRUE(d);
+  EXPECT_EQ(describeDifference(*d, "A", "B"), "context.resolution differs (A: [1920,1080], B: [480,270])");
 }
 
 TEST(JsonDiff, DifferentKindsDifferAtTheirPathAndLongValuesAreCut) {
