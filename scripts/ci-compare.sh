@@ -7,7 +7,8 @@
 # CONFIG defaults to the config the baseline was swept with (its context.config is a full config),
 # so a baseline alone is enough. Writes OUTDIR (default out/ci-compare) with the new results.json,
 # compare.md (a Markdown table for the job summary; appended to $GITHUB_STEP_SUMMARY when set) and
-# compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower) and
+# compare.junit.xml (JUnit XML: one test case per variant and pass, failed when slower; the builds
+# compared and every warning as properties, the warnings again as the suite's system-err) and
 # report.html (hybridbench report: the new results' page with the comparison B/A plotted).
 # Exit: 0 no regression, 1 a frame or pass time slower than the baseline beyond the threshold
 # (hybridbench compare --gate all: a pass gates too, unless its median is under --min-ms on both

@@ -58,6 +58,13 @@ TEST_F(SweepWatchdog, AHungAndACrashedVariantAreRecordedAndEveryOtherFinishes) {
   ::unsetenv("HYBRIDBENCH_TEST_CRASH_VARIANT");
   EXPECT_EQ(r.exitCode, 3) << r.out << r.err;
   EXPECT_NE(r.err.find("2 variant(s) timed out or crashed"), std::string::npos) << r.err;
+  // The whole command that runs them again: the sweep's own options, --resume and --retry-failed.
+  const char* other = std::getenv("HYBRIDBENCH_TEST_BINARY");
+  EXPECT_NE(r.err.find("run them again with: " + std::string(other && *other ? other : HYBRIDBENCH_BINARY) + " sweep " +
+                       kSweepFixture.string() + " --resume --retry-failed --out " + out.string() +
+                       " --no-images --variant-timeout 8\n"),
+            std::string::npos)
+      << r.err;
   EXPECT_NE(r.out.find("variant \"" + hang + "\" timed out after"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("variant \"" + crash + "\" crashed after"), std::string::npos) << r.out;
   EXPECT_EQ(processesMentioning(out.string()), std::vector<std::string>{});  // no worker left behind

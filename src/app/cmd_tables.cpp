@@ -100,6 +100,10 @@ int cmdCompare(const std::string& a, const std::string& b, const CompareOptions&
   results::requireResultsFile(ja, a);
   results::requireResultsFile(jb, b);
   CompareReport report = compareResults(ja, jb, options);
+  // JSON and JUnit go to a file or another tool: the warnings are in them, and on stderr for the
+  // log (the Markdown prints them itself).
+  if (format != "md")
+    for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (format == "json")
     std::cout << toJson(report).dump(2) << "\n";
   else if (format == "junit")

@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
                    "md (default: a Markdown table, also for a CI job summary), json, junit (JUnit XML: a test case per "
                    "variant and pass, failed when slower)")
       ->check(CLI::IsMember({"md", "json", "junit"}));
+  const CLI::Option* compareFormatOpt = compareCmd->get_option("--format");
 
   ReportOptions report;
   std::string reportGate = "frame";
@@ -201,6 +202,9 @@ int main(int argc, char** argv) {
     if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates);
     if (*mergeCmd) return cmdMerge(mergeDirs, mergeOut, mergeForce);
     if (*compareCmd) {
+      if (compareJson && compareFormatOpt->count() > 0 && compareFormat != "json")
+        throw InputError("compare: --json and --format " + compareFormat +
+                         " contradict each other (--json is --format json); give one");
       compareOpts.gate = compareGate == "all"      ? CompareGate::All
                          : compareGate == "passes" ? CompareGate::Passes
                                                    : CompareGate::Frame;

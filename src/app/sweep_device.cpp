@@ -21,6 +21,7 @@
 #include "app/run_context.h"
 #include "app/scene_setup.h"
 #include "app/sweep_results.h"
+#include "app/sweep_resume.h"
 #include "app/sweep_shard.h"
 #include "app/sweep_worker.h"
 #include "base/errors.h"
@@ -441,38 +442,9 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   std::vector<json> slots(variants.size());
   json resumedContext;
   if (options.resume && fs::exists(resultsPath)) {
-    std::ifstream f(resultsPath);
-    json old;
-    try {
-      old = json::parse(f);
-    } catch (const std::exception& e) {
-      throw InputError(resultsPath + ": cannot resume, not valid JSON (" + e.what() +
-                       "); remove it or use another --out");
-    }
-    const json& oc = old.value("context", json::object());
-    if (oc.value("config", json()) != toJson(config) ||
-        oc.value("device", json::object()).value("uuid", "") != device.uuid)
-      throw InputError(resultsPath +
-                       ": --resume needs the same config (frame counts included) and device as the interrupted sweep; "
-                       "use another --out");
-    const json oldShard = oc.value("shard", json());
-    const std::string was = oldShard.is_object() ? format("--shard %zu/%zu", oldShard.value("index", size_t(0)),
-                                                          oldShard.value("count", size_t(0)))
-                                                 : std::string("no --shard");
-    const std::string now = shard.is_object()
-                                ? format("--shard %zu/%zu", shard["index"].get<size_t>(), shard["count"].get<size_t>())
-                                : std::string("no --shard");
-    if (was != now)
-      throw InputError(resultsPath + ": --resume needs the same part as the interrupted sweep, which ran with " + was +
-                       " (this one: " + now + "); use another --out");
-    if (old.contains("context")) resumedContext = old["context"];  // until a worker sends today's
-    std::map<std::string, json> kept;
-    for (const json& run : old.value("runs", json::array())) {
-      const std::string status = run.value("status", "");
-      // ok: done. timeout and crashed: kept unless --retry-failed. error: run again.
-      if (status == "ok" || ((status == "timeout" || status == "crashed") && !options.retryFailed))
-        kept[run.value("name", "")] = run;
-    }
+    ResumedResults resumed = readResumable(resultsPath, toJson(config), device, shard, options.retryFailed);
+    resumedContext = std::move(resumed.context);  // until a worker sends today's
+    std::map<std::string, json>& kept = resumed.kept;
     for (size_t k = 0; k < variants.size(); ++k)
       if (mine[k] && kept.count(variants[k].name)) slots[k] = kept[variants[k].name];
     size_t done = 0, failed = 0;
@@ -612,8 +584,9 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   }
   if (interrupted || gInterrupted) {
     write();
-    console.print(format("\ninterrupted: %zu of %zu variants written to %s; continue with --resume --out %s\n",
-                         finished, mineCount, outDir.c_str(), outDir.c_str()));
+    console.print(
+        "\n" + format("interrupted: %zu of %zu variants written to %s; ", finished, mineCount, outDir.c_str()) +
+        "continue with: " + resumeCommand(options, device, outDir, console.shared(), options.retryFailed) + "\n");
     return 130;
   }
   write();
@@ -631,8 +604,9 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   if (lost) {
     std::fprintf(stderr,
                  "hybridbench: %s%zu variant(s) timed out or crashed (status \"timeout\" or \"crashed\" in "
-                 "results.json); every other variant finished; run them again with --resume --retry-failed --out %s\n",
-                 console.shared() ? (device.name + ": ").c_str() : "", lost, outDir.c_str());
+                 "results.json); every other variant finished; run them again with: %s\n",
+                 console.shared() ? (device.name + ": ").c_str() : "", lost,
+                 resumeCommand(options, device, outDir, console.shared(), true).c_str());
     return kExitDeviceFailure;
   }
   if (validation) {

@@ -10,6 +10,7 @@
 #include <span>
 
 #include "base/errors.h"
+#include "base/json_diff.h"
 #include "config/config.h"
 #include "effects/effects.h"
 #include "report/results_json.h"
@@ -76,7 +77,8 @@ json withParamDefaults(json variants) {
   return variants;
 }
 
-// Fields that must agree for a comparison to mean anything: same scene bytes, same config.
+// Fields that must agree for a comparison to mean anything: same scene bytes, same config. A
+// field that differs is named down to its first differing leaf, with both values there.
 void checkComparable(const json& a, const json& b, const CompareOptions& options, std::vector<std::string>& warnings) {
   const std::vector<std::vector<std::string>> fields = {
       {"context", "scene", "sha256"},      {"context", "config", "scene"},    {"context", "resolution"},
@@ -84,11 +86,11 @@ void checkComparable(const json& a, const json& b, const CompareOptions& options
   for (const auto& path : fields) {
     json va = valueAt(a, path), vb = valueAt(b, path);
     if (path.back() == "variants") va = withParamDefaults(va), vb = withParamDefaults(vb);
-    if (va == vb) continue;
     std::string name;
     for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;
-    const std::string what =
-        format("%s differs (A: %s, B: %s)", name.c_str(), shortDump(va).c_str(), shortDump(vb).c_str());
+    const std::optional<JsonDifference> difference = firstDifference(va, vb, name);
+    if (!difference) continue;
+    const std::string what = describeDifference(*difference, "A", "B");
     if (!options.force)
       throw InputError("cannot compare: " + what + "; compare runs of the same scene and config, or pass --force");
     warnings.push_back("forced comparison: " + what);
@@ -133,7 +135,7 @@ std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
 // untimed: a side was measured on a CPU device, whose per-pass times mean nothing: those rows get
 // "not timed" (no verdict, never a regression); the frame row keeps its verdict.
 CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta, const Timing& tb,
-                          const CompareOptions& o, bool untimed, std::vector<std::string>& warnings) {
+                          const CompareOptions& o, bool untimed) {
   CompareRow r;
   r.variant = variant;
   r.pass = pass;
@@ -152,12 +154,6 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
     r.ciLow = ci.low;
     r.ciHigh = ci.high;
   }
-  if (pass == "frame" && (r.nA < kFewSamplesWarning || r.nB < kFewSamplesWarning))
-    warnings.push_back(
-        format("%s: only %zu (A) and %zu (B) frame samples; fewer than %zu leaves "
-               "the U test little power: measure more frames (sweep --frames N; a CPU device measures 5 "
-               "unless --frames says otherwise)",
-               variant.c_str(), r.nA, r.nB, kFewSamplesWarning));
   r.verdict = untimed && pass != "frame" ? "not timed" : verdictFor(r, o);
   const bool frame = pass == "frame";
   const bool tiny = r.medianA < o.minMs && r.medianB < o.minMs;  // false for NaN
@@ -195,9 +191,78 @@ const json* findRun(const json& runs, const std::string& name) {
   return nullptr;
 }
 
-std::string deviceName(const json& r) {
-  const json v = valueAt(r, {"context", "device", "name"});
-  return v.is_string() ? v.get<std::string>() : "unknown";
+std::string textAt(const json& r, const std::vector<std::string>& path) {
+  const json v = valueAt(r, path);
+  return v.is_string() ? v.get<std::string>() : std::string();
+}
+
+CompareSide sideOf(const json& r) {
+  CompareSide s;
+  const std::string name = textAt(r, {"context", "device", "name"});
+  if (!name.empty()) s.device = name;
+  s.deviceType = textAt(r, {"context", "device", "type"});
+  s.driver = textAt(r, {"context", "device", "driver"});
+  s.revision = textAt(r, {"context", "tool", "git"});
+  s.version = textAt(r, {"context", "tool", "version"});
+  s.date = textAt(r, {"context", "host", "date"});
+  return s;
+}
+
+// VkPhysicalDeviceType as results record it (context.device.type), in words.
+std::string kindOf(const std::string& type) {
+  if (type == "discrete") return "discrete GPU";
+  if (type == "integrated") return "integrated GPU";
+  if (type == "virtual") return "virtual GPU";
+  if (type == "cpu") return "CPU device";
+  return "device of type '" + type + "'";
+}
+
+std::string withArticle(const std::string& noun) {
+  return (std::string("aeiou").find(noun.front()) != std::string::npos ? "an " : "a ") + noun;
+}
+
+// "discrete GPU, driver X, hybridbench 0.1.0 at 02f03e1, swept 2026-11-22T07:03:28Z": what the
+// file records of its device and build.
+std::string describeSide(const CompareSide& s) {
+  auto orUnknown = [](const std::string& v) { return v.empty() ? std::string("unknown") : v; };
+  return (s.deviceType.empty() ? std::string() : kindOf(s.deviceType) + ", ") + "driver " + orUnknown(s.driver) +
+         ", hybridbench " + orUnknown(s.version) + " at revision " + orUnknown(s.revision) + ", swept " +
+         orUnknown(s.date);
+}
+
+// Frames with fewer than kFewSamplesWarning samples on a side, one warning per pair of counts that
+// names how many variants have it (a CPU device measures 5 frames in every variant: one line).
+void warnFewSamples(const std::vector<CompareRow>& rows, std::vector<std::string>& warnings) {
+  std::vector<std::pair<std::pair<size_t, size_t>, std::vector<std::string>>> groups;  // in first-seen order
+  for (const CompareRow& r : rows) {
+    if (r.pass != "frame" || (r.nA >= kFewSamplesWarning && r.nB >= kFewSamplesWarning)) continue;
+    const std::pair<size_t, size_t> counts{r.nA, r.nB};
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.first == counts; });
+    if (it == groups.end()) it = groups.insert(groups.end(), {counts, {}});
+    it->second.push_back(r.variant);
+  }
+  for (const auto& [counts, variants] : groups)
+    warnings.push_back(
+        (variants.size() == 1 ? "variant '" + variants[0] + "'"
+                              : countOf(variants.size(), "variant") + " ('" + variants[0] + "', ...)") +
+        format(": only %zu (A) and %zu (B) frame samples; fewer than %zu leaves the U test little power: measure "
+               "more frames (sweep --frames N; a CPU device measures 5 unless --frames says otherwise)",
+               counts.first, counts.second, kFewSamplesWarning));
+}
+
+// Each warning once, in first-seen order; one said n > 1 times ends with "(n times)".
+std::vector<std::string> onceEach(const std::vector<std::string>& warnings) {
+  std::vector<std::pair<std::string, size_t>> counted;
+  for (const std::string& w : warnings) {
+    auto it = std::find_if(counted.begin(), counted.end(), [&](const auto& c) { return c.first == w; });
+    if (it == counted.end())
+      counted.emplace_back(w, 1);
+    else
+      ++it->second;
+  }
+  std::vector<std::string> out;
+  for (const auto& [w, n] : counted) out.push_back(n > 1 ? w + format(" (%zu times)", n) : w);
+  return out;
 }
 
 std::string num(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : std::string("n/a"); }
@@ -225,8 +290,16 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
   if (!(options.thresholdPct >= 0))
     throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5", options.thresholdPct));
   CompareReport report;
-  report.deviceA = deviceName(a);
-  report.deviceB = deviceName(b);
+  report.a = sideOf(a);
+  report.b = sideOf(b);
+  report.deviceA = report.a.device;
+  report.deviceB = report.b.device;
+  report.devicesDifferInKind =
+      !report.a.deviceType.empty() && !report.b.deviceType.empty() && report.a.deviceType != report.b.deviceType;
+  if (report.devicesDifferInKind)
+    report.warnings.push_back("the devices differ in kind: A is " + withArticle(kindOf(report.a.deviceType)) + " (" +
+                              report.a.device + "), B is " + withArticle(kindOf(report.b.deviceType)) + " (" +
+                              report.b.device + "); B/A measures the two devices, not a change of build");
   report.thresholdPct = options.thresholdPct;
   report.alpha = options.alpha;
   checkComparable(a, b, options, report.warnings);
@@ -256,7 +329,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
       continue;
     }
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
-                                      timingOf(runB->value("frame_ms", json())), options, untimed, report.warnings);
+                                      timingOf(runB->value("frame_ms", json())), options, untimed);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
       ++logRatioCount;
@@ -265,13 +338,15 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json passesA = runA.value("passes", json::object());
     const json passesB = runB->value("passes", json::object());
     for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
-      report.rows.push_back(compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options,
-                                           untimed, report.warnings));
+      report.rows.push_back(
+          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, untimed));
   }
   for (const json& runB : b["runs"]) {
     const std::string name = runB.value("name", std::string());
     if (!findRun(a["runs"], name)) report.warnings.push_back("variant '" + name + "' only in B");
   }
+  warnFewSamples(report.rows, report.warnings);
+  report.warnings = onceEach(report.warnings);
   report.geomeanRatio = logRatioCount ? std::exp(logRatioSum / static_cast<double>(logRatioCount)) : kNaN;
   report.gate = options.gate;
   report.minMs = options.minMs;
@@ -286,9 +361,11 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
 
 std::string formatCompare(const CompareReport& r) {
   const double confidencePct = 100 * (1 - r.alpha);
-  std::string out = format(
-      "A: %s\nB: %s\nthreshold %.4g %%, alpha %.4g, gate %s (passes under %.4g ms on both sides do not gate)\n\n",
-      r.deviceA.c_str(), r.deviceB.c_str(), r.thresholdPct, r.alpha, toString(r.gate), r.minMs);
+  std::string out =
+      "A: " + r.a.device + " (" + describeSide(r.a) + ")\nB: " + r.b.device + " (" + describeSide(r.b) + ")\n";
+  if (r.devicesDifferInKind) out += "WARNING: " + r.warnings.front() + "\n";
+  out += format("threshold %.4g %%, alpha %.4g, gate %s (passes under %.4g ms on both sides do not gate)\n\n",
+                r.thresholdPct, r.alpha, toString(r.gate), r.minMs);
   for (const std::string& caveat : r.caveats) out += "caveat: " + caveat + "\n";
   if (!r.caveats.empty()) out += "\n";
   out += format(
@@ -306,7 +383,8 @@ std::string formatCompare(const CompareReport& r) {
   const char* gated = r.gate == CompareGate::Frame    ? "a frame time"
                       : r.gate == CompareGate::Passes ? "a pass time"
                                                       : "a frame or pass time";
-  out += format("regression (%s slower beyond the threshold): %s\n", gated, r.regression ? "yes" : "no");
+  out += format("regression (%s slower beyond the threshold): %s%s\n", gated, r.regression ? "yes" : "no",
+                r.devicesDifferInKind ? " (between devices of different kinds: see the warning above)" : "");
   for (const std::string& f : r.failures) out += "- slower: " + f + "\n";
   if (!r.warnings.empty()) {
     out += "\nwarnings:\n";
@@ -333,7 +411,17 @@ std::string formatCompareJunit(const CompareReport& r) {
   out += format("      <property name=\"alpha\" value=\"%.4g\"/>\n", r.alpha);
   out += format("      <property name=\"gate\" value=\"%s\"/>\n", toString(r.gate));
   out += format("      <property name=\"min_ms\" value=\"%.4g\"/>\n", r.minMs);
+  for (const auto& [side, s] : {std::pair<const char*, const CompareSide*>{"a", &r.a}, {"b", &r.b}})
+    for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"device_type", &s->deviceType},
+                                     {"driver", &s->driver},
+                                     {"revision", &s->revision},
+                                     {"version", &s->version},
+                                     {"date", &s->date}})
+      if (!value->empty())
+        out += format("      <property name=\"%s_%s\" value=\"", side, key) + escapeXml(*value) + "\"/>\n";
   out += "      <property name=\"geomean_frame_ratio\" value=\"" + num(r.geomeanRatio, "%.4f") + "\"/>\n";
+  for (const std::string& w : r.warnings) out += "      <property name=\"warning\" value=\"" + escapeXml(w) + "\"/>\n";
+  for (const std::string& c : r.caveats) out += "      <property name=\"caveat\" value=\"" + escapeXml(c) + "\"/>\n";
   out += "    </properties>\n";
   for (const CompareRow& row : r.rows) {
     const std::string what = "B/A " + num(row.ratio, "%.3f") + " (" + num(row.medianB, "%.3f") + " ms against " +
@@ -353,6 +441,14 @@ std::string formatCompareJunit(const CompareReport& r) {
                                       : row.verdict;
       out += ">\n      <system-out>" + escapeXml(verdict + ": " + what) + "</system-out>\n    </testcase>\n";
     }
+  }
+  // The suite's own output, after its test cases (the JUnit schema's order): what a CI system shows
+  // beside the cases, so that a forced comparison or one across device kinds is never silent.
+  if (!r.warnings.empty() || !r.caveats.empty()) {
+    std::string text;
+    for (const std::string& w : r.warnings) text += "warning: " + w + "\n";
+    for (const std::string& c : r.caveats) text += "caveat: " + c + "\n";
+    out += "    <system-err>" + escapeXml(text) + "</system-err>\n";
   }
   out += "  </testsuite>\n</testsuites>\n";
   return out;
@@ -375,10 +471,26 @@ json toJson(const CompareReport& r) {
                     {"p", numOrNull(row.p)},
                     {"verdict", row.verdict},
                     {"gates", row.gates}});
-  return {{"device_a", r.deviceA},  {"device_b", r.deviceB},  {"threshold_pct", r.thresholdPct},
-          {"alpha", r.alpha},       {"rows", rows},           {"geomean_ratio", numOrNull(r.geomeanRatio)},
-          {"warnings", r.warnings}, {"caveats", r.caveats},   {"gate", toString(r.gate)},
-          {"min_ms", r.minMs},      {"failures", r.failures}, {"regression", r.regression}};
+  auto side = [](const CompareSide& s) {
+    return json{{"device", s.device},     {"device_type", s.deviceType}, {"driver", s.driver},
+                {"revision", s.revision}, {"version", s.version},        {"date", s.date}};
+  };
+  return {{"schema_version", 1},
+          {"a", side(r.a)},
+          {"b", side(r.b)},
+          {"devices_differ_in_kind", r.devicesDifferInKind},
+          {"device_a", r.deviceA},
+          {"device_b", r.deviceB},
+          {"threshold_pct", r.thresholdPct},
+          {"alpha", r.alpha},
+          {"rows", rows},
+          {"geomean_ratio", numOrNull(r.geomeanRatio)},
+          {"warnings", r.warnings},
+          {"caveats", r.caveats},
+          {"gate", toString(r.gate)},
+          {"min_ms", r.minMs},
+          {"failures", r.failures},
+          {"regression", r.regression}};
 }
 
 }  // namespace hb

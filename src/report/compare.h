@@ -54,11 +54,27 @@ struct CompareRow {
   bool gates = false;  // "slower" and counted by the gate: a regression
 };
 
+// What made one side's results (its context): the device and the build. A field the file does
+// not record is empty.
+struct CompareSide {
+  std::string device = "unknown";  // context.device.name
+  std::string deviceType;          // context.device.type: discrete, integrated, virtual, cpu, other
+  std::string driver;              // context.device.driver
+  std::string revision;            // context.tool.git: the build's git revision
+  std::string version;             // context.tool.version
+  std::string date;                // context.host.date: when the sweep started (UTC, ISO 8601)
+};
+
 struct CompareReport {
   std::string deviceA, deviceB;  // context.device.name, "unknown" when absent
+  CompareSide a, b;
+  // Both sides name their device type and the two differ (a discrete GPU against a CPU, ...): B/A
+  // then measures the devices, not a change of build; the first warning says so.
+  bool devicesDifferInKind = false;
   double thresholdPct = 5, alpha = 0.05;
   std::vector<CompareRow> rows;  // per matched variant: "frame" first, then passes in frame order
   double geomeanRatio = 0;       // geometric mean of the frame-level ratios (NaN when none)
+  // Each once: a warning that holds for several variants is one line that counts them.
   std::vector<std::string> warnings;
   // What a side's times cannot be used for ("A: <caveat>"), from its context (timingCaveats).
   std::vector<std::string> caveats;
@@ -72,8 +88,8 @@ struct CompareReport {
 // Compares results file b against a (docs/results-format.md, schema_version 1).
 // Throws InputError when either is not a schema-1 results file, or (unless options.force) when
 // context.scene.sha256, the config's scene, the resolution or the config's variants differ; the
-// message names the field and both values. Runs whose status is not "ok", variants or passes
-// present on one side only, and small samples give warnings, not errors.
+// message names the first field that differs (base/json_diff.h) and both values there. Runs whose status is not "ok",
+// variants or passes present on one side only, and small samples give warnings, not errors.
 CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b, const CompareOptions& options);
 
 // A Markdown table for the console and for CI logs, then the geometric mean, the regression
@@ -83,7 +99,8 @@ std::string formatCompare(const CompareReport& report);
 // JUnit XML, as CI systems read test reports: one testsuite, one testcase per (variant, pass)
 // (classname "hybridbench.<variant>", name the pass, time B's median in seconds), a <failure> where
 // the verdict is "slower" (passes included; the exit code still follows the frame rows only), a
-// <skipped> where it is "too noisy"; the devices, threshold, alpha and geometric mean as properties.
+// <skipped> where it is "too noisy"; the devices and builds (a_*, b_*), threshold, alpha, geometric mean
+// and each warning as properties, and the warnings again as the suite's <system-err>.
 std::string formatCompareJunit(const CompareReport& report);
 
 nlohmann::json toJson(const CompareReport& report);
