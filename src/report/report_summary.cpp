@@ -54,8 +54,8 @@ std::string groupSummary(const AccuracyFront& front, const std::string& group, c
   } else {
     out += "<li>Most accurate" + in + ": " + nameOf(*best) + ", " + measure + " " + errorText(best->error) + " in " +
            msText(best->timeMs) + " (" + summaryText(timeLabel) + "): " + timesText(best->timeMs, fast->timeMs) +
-           " of the fastest, " + nameOf(*fast) + " (" + msText(fast->timeMs) + ", error " + errorText(fast->error) +
-           ").</li>\n";
+           (group.empty() ? " of the fastest, " : " of the fastest of its group, ") + nameOf(*fast) + " (" +
+           msText(fast->timeMs) + ", error " + errorText(fast->error) + ").</li>\n";
   }
   std::vector<const AccuracyPoint*> onFront;
   for (const AccuracyPoint* p : pts)
