@@ -179,6 +179,22 @@ TEST_F(HelpCli, UnknownTopicOrFormatIsOneLineAndExitTwo) {
   expectBadInput({"help"}, {"params", "effects"});
 }
 
+// --help says what the tool is now: a benchmark of hybrid rendering, with each of its parts (every
+// effect the binary has, by name) and what it does with them; not the thesis's renderer alone.
+TEST_F(HelpCli, HelpSaysTheToolBenchmarksHybridRenderingAndNamesEveryEffect) {
+  const RunResult r = run({"--help"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::string about = r.out.substr(0, r.out.find('\n'));
+  for (const char* part : {"hybrid rendering", "Forward+", "3D rasterization", "layered depth maps", "sweeps",
+                           "GPU pass", "rays", "accuracy", "compares"})
+    EXPECT_NE(about.find(part), std::string::npos) << "--help's first line does not say \"" << part << "\": " << about;
+  for (const hb::EffectDef* e : hb::allEffects()) {
+    std::string words = e->name;
+    std::replace(words.begin(), words.end(), '_', ' ');
+    EXPECT_NE(about.find(words), std::string::npos) << "--help does not name the effect " << e->name << ": " << about;
+  }
+}
+
 TEST_F(HelpCli, TextAndJsonFormatsExitZero) {
   for (const char* topic : {"params", "effects"})
     for (const char* format : {"text", "json"}) {

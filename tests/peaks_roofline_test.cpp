@@ -283,4 +283,41 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
   EXPECT_EQ(tables.out, md);
 }
 
+// A pass faster than the device's peak for its bound ran on another path than the peak's kernel:
+// the peak is not that pass's, and `render` says so beside the percentage. The peaks cache of this
+// test's own, written by a first render, is then scaled down a billionfold (peaks of a much slower
+// device), so the second render's passes bound by those figures are over their peaks.
+TEST_F(Peaks, RenderSaysAPassOverItsPeakIsNotOnItsOwnPeak) {
+  const std::vector<std::string> args = {"render", "--scene", "cube", "--size", "32x24", "--out"};
+  auto withOut = [&](const char* out) {
+    std::vector<std::string> a = args;
+    a.push_back((dir / out).string());
+    return a;
+  };
+  const RunResult first = run(withOut("first"));
+  ASSERT_EQ(first.exitCode, 0) << first.out << first.err;
+  size_t scaled = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "cache")) {
+    json cache = json::parse(readFile(entry.path()));
+    for (auto& [key, figure] : cache["figures"].items()) figure["per_s"] = figure["per_s"].get<double>() * 1e-9;
+    hb::testing::writeFile(entry.path(), cache.dump());
+    ++scaled;
+  }
+  ASSERT_EQ(scaled, 1u) << "the first render should have written one peaks cache";
+  const RunResult r = run(withOut("second"));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const json roofline = json::parse(readFile(dir / "second" / "render.json"))["roofline"];
+  size_t over = 0;
+  for (const auto& [pass, rl] : roofline.items()) {
+    SCOPED_TRACE(pass);
+    const size_t at = r.out.find("roofline " + pass + " ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const std::string line = r.out.substr(at, r.out.find('\n', at) - at);
+    const bool isOver = rl["fraction"].is_number() && rl["fraction"].get<double>() > 1;
+    over += isOver;
+    EXPECT_EQ(isOver, line.find("over 100 %: not this pass's peak") != std::string::npos) << line;
+  }
+  EXPECT_GT(over, 0u) << r.out;
+}
+
 }  // namespace

@@ -1,6 +1,9 @@
 // The committed report pages (README.md and results/README.md link them) are what `hybridbench
 // report` writes today from the committed results beside them, byte for byte: the page records no
-// time of writing, so a difference means the page is stale.
+// time of writing, so a difference means the page is stale. With HYBRIDBENCH_WRITE_PAGES=1 the test
+// writes every page instead (after a change to the page: regenerate them all, look, commit):
+//   HYBRIDBENCH_WRITE_PAGES=1 build/hybridbench_tests --gtest_filter=HtmlReport.CommittedPages*
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -54,6 +57,11 @@ TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const std::string written = hb::testing::readFile(fresh);
     fs::remove(fresh);
+    if (const char* write = std::getenv("HYBRIDBENCH_WRITE_PAGES"); write && std::string(write) == "1") {
+      hb::testing::writeFile(committedPath, written);
+      std::printf("wrote %s\n", p.page);
+      continue;
+    }
     const std::string committed = hb::testing::readFile(committedPath);
     EXPECT_FALSE(committed.empty()) << p.page << " is missing; write it with: " << regenerate;
     EXPECT_TRUE(committed == written)

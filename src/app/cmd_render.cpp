@@ -158,7 +158,7 @@ int cmdRender(const RenderOptions& options) {
         "roofline %-18s %s: %s of %s%s\n", pass.c_str(), r["unit"].get<std::string>().c_str(),
         formatRate(r["achieved_per_s"].get<double>(), r["unit"]).c_str(),
         r["peak_per_s"].get<double>() > 0 ? formatRate(r["peak_per_s"].get<double>(), r["unit"]).c_str() : "no peak",
-        r["fraction"].is_number() ? format(" (%.1f %%)", 100 * r["fraction"].get<double>()).c_str() : "");
+        r["fraction"].is_number() ? (" (" + peakFractionText(r["fraction"].get<double>()) + ")").c_str() : "");
   if (context.contains("timing_caveat"))
     std::printf("caveat: %s\n", context["timing_caveat"].get<std::string>().c_str());
   for (const EffectState& e : renderer.plan().effects)

@@ -1,4 +1,4 @@
-// hybridbench: a headless benchmark of a Forward+ hybrid renderer (see README.md).
+// hybridbench: a headless benchmark of hybrid rendering, rasterization with ray tracing (see README.md).
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -16,7 +16,11 @@ int main(int argc, char** argv) {
   // A sweep runs its variants in this same executable, started again as a worker (sweep_worker.h).
   hb::setSweepWorkerExecutable("/proc/self/exe");
   using namespace hb;
-  CLI::App app{"hybridbench: a headless Vulkan benchmark of a Forward+ renderer with ray-traced shadows"};
+  CLI::App app{
+      "hybridbench: a headless Vulkan benchmark of hybrid rendering, rasterization with ray tracing: the thesis's "
+      "Forward+ with ray-traced shadows, 3D rasterization, and layered depth maps for ambient occlusion, indirect "
+      "and environment light. It sweeps variants, times each GPU pass, counts rays against the minimum needed, "
+      "measures accuracy against exact references, and compares runs."};
   app.set_version_flag("--version", toolVersion() + " (" + gitRevision() + ")");
   app.require_subcommand(0, 1);
 

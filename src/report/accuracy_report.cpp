@@ -3,6 +3,7 @@
 #include "base/text_format.h"
 #include "report/aa_table.h"
 #include "report/results_json.h"
+#include "report/roofline.h"
 
 #include <algorithm>
 #include <cmath>
@@ -223,7 +224,7 @@ static std::string longestPassFraction(const json& run) {
   for (const auto& [pass, r] : roofline.items())
     if (pass.find('.') == std::string::npos && r.value("fraction", json()).is_number() && r.value("ms", 0.0) > bestMs) {
       bestMs = r.value("ms", 0.0);
-      best = pass + format(" %.1f %% (", 100 * r["fraction"].get<double>()) + r.value("unit", "") + ")";
+      best = pass + " " + peakFractionText(r["fraction"].get<double>()) + " (" + r.value("unit", "") + ")";
     }
   return best.empty() ? kDash : best;
 }

@@ -50,6 +50,7 @@ std::string allTablesMarkdown(const json& results) {
   } else {
     out = "# Tables\n\n" + resultsHeaderLine(results) + "\n";
     for (const std::string& caveat : results::timingCaveats(results)) out += "\nCaveat: " + caveat + "\n";
+    out += "\n" + thesisTablesAbsentNote(results);
   }
   bool any = thesis;
   auto add = [&](const std::string& table) {

@@ -14,6 +14,7 @@
 #include "base/text_format.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
+#include "report/report_summary.h"
 #include "report/results_json.h"
 #include "report/roofline.h"
 #include "report/stats.h"
@@ -84,6 +85,32 @@ double reportTickStep(double span, int ticks) {
   for (double m : {1.0, 2.0, 5.0})
     if (m * decade >= raw) return m * decade;
   return 10 * decade;
+}
+
+// Ticks of a log axis over [lo, hi] (lo > 0) whose labels do not overlap: 1 first (the line of no
+// change), then the powers of ten, then 2 and 5 times them, then the steps of a linear axis over the
+// span (1, 2 or 5 times a power of ten), each kept only where its label (11 px sans-serif, about
+// 6.1 px a character) clears those already kept by 6 px. px maps a ratio to its x.
+template <typename ToPx>
+std::vector<double> logAxisTicks(double lo, double hi, const ToPx& px) {
+  std::vector<double> candidates;
+  if (lo <= 1 && 1 <= hi) candidates.push_back(1);
+  const double d0 = std::floor(std::log10(lo)), d1 = std::ceil(std::log10(hi));
+  for (double d = d0; d <= d1; d += 1) candidates.push_back(std::pow(10.0, d));
+  for (double d = d0; d <= d1; d += 1)
+    for (double m : {2.0, 5.0}) candidates.push_back(m * std::pow(10.0, d));
+  const double step = reportTickStep(hi - lo, 6);
+  for (double v = std::ceil(lo / step) * step; v <= hi; v += step) candidates.push_back(std::round(v / step) * step);
+  auto halfWidth = [](double v) { return 0.5 * 6.1 * double(format("%g", v).size()); };
+  std::vector<double> kept;
+  for (double v : candidates) {
+    if (!(v >= lo && v <= hi)) continue;
+    bool clear = true;
+    for (double k : kept) clear = clear && std::fabs(px(v) - px(k)) >= halfWidth(v) + halfWidth(k) + 6;
+    if (clear) kept.push_back(v);
+  }
+  std::sort(kept.begin(), kept.end());
+  return kept;
 }
 
 std::vector<double> reportSamples(const json& stats) {
@@ -359,20 +386,24 @@ std::string ratioPlotSvg(const CompareReport& report) {
   for (const CompareRow& r : rows) labels.push_back(r.variant + " · " + r.pass);
   const double plotLeft = labelColumnWidth(labels), plotRight = plotLeft + kPlotWidth,
                figureWidth = plotRight + kValueWidth;
-  // A log axis: B/A = 2 and 0.5 are as far from 1. Ticks are still at round ratios.
+  // A log axis: B/A = 2 and 0.5 are as far from 1. It spans the threshold band and the timed rows:
+  // a "not timed" row (a pass on a CPU device) can have an interval of decades that says nothing,
+  // and would squeeze every other row into a corner; it is drawn cut at the axis' ends.
   double lo = 1 - report.thresholdPct / 100, hi = 1 + report.thresholdPct / 100;
   for (const CompareRow& r : rows)
-    for (double v : {r.ratio, r.ciLow, r.ciHigh})
-      if (std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+    if (r.verdict != "not timed")
+      for (double v : {r.ratio, r.ciLow, r.ciHigh})
+        if (std::isfinite(v) && v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
   const double pad = 0.05 * (std::log(hi) - std::log(lo));
   const double logLo = std::log(lo) - pad, logHi = std::log(hi) + pad;
+  const double axisLo = std::exp(logLo), axisHi = std::exp(logHi);
   auto px = [&](double r) { return plotLeft + (std::log(r) - logLo) / (logHi - logLo) * (plotRight - plotLeft); };
   const double plotBottom = kTopMargin + kRowHeight * double(rows.size());
   const double height = plotBottom + 34;
   std::string s = format(
-      "<svg class=\"ratios\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\" "
-      "font-size=\"11\" role=\"img\">\n",
-      figureWidth, height, figureWidth, height);
+      "<svg class=\"ratios\" data-axis=\"%.6g %.6g\" width=\"%.0f\" height=\"%.0f\" viewBox=\"0 0 %.0f %.0f\" "
+      "font-family=\"sans-serif\" font-size=\"11\" role=\"img\">\n",
+      axisLo, axisHi, figureWidth, height, figureWidth, height);
   s += format("<text x=\"4\" y=\"16\" font-size=\"13\" font-weight=\"bold\">B/A per variant and pass, %.4g %% interval",
               100 * (1 - report.alpha)) +
        "</text>\n";
@@ -380,12 +411,11 @@ std::string ratioPlotSvg(const CompareReport& report) {
               px(1 - report.thresholdPct / 100), kTopMargin - 4,
               px(1 + report.thresholdPct / 100) - px(1 - report.thresholdPct / 100), plotBottom - kTopMargin + 4) +
        htmlText(format("within the threshold, 1 ± %.4g %%", report.thresholdPct)) + "</title></rect>\n";
-  const double step = reportTickStep(std::exp(logHi) - std::exp(logLo), 6);
-  for (double v = std::ceil(std::exp(logLo) / step) * step; v <= std::exp(logHi); v += step) {
-    if (v <= 0) continue;
+  for (double v : logAxisTicks(axisLo, axisHi, px)) {
     s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#ccc\"/>", px(v), kTopMargin - 4, px(v),
                 plotBottom);
-    s += format("<text x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%g</text>\n", px(v), plotBottom + 14, v);
+    s += format("<text class=\"tick\" x=\"%.1f\" y=\"%.0f\" text-anchor=\"middle\">%g</text>\n", px(v), plotBottom + 14,
+                v);
   }
   s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#222\"/>\n", px(1), kTopMargin - 4, px(1),
               plotBottom);
@@ -404,12 +434,22 @@ std::string ratioPlotSvg(const CompareReport& report) {
          "</text>";
     const std::string what = r.variant + " · " + r.pass + ": B/A " + formatNear1(r.ratio) + " [" +
                              formatNear1(r.ciLow) + ", " + formatNear1(r.ciHigh) + "], " + r.verdict;
-    if (std::isfinite(r.ciLow) && std::isfinite(r.ciHigh) && r.ciLow > 0)
-      s += format("<path d=\"M %.1f %.1f H %.1f M %.1f %.1f V %.1f M %.1f %.1f V %.1f\" stroke=\"%s\" fill=\"none\"/>",
-                  px(r.ciLow), ym, px(r.ciHigh), px(r.ciLow), ym - 4, ym + 4, px(r.ciHigh), ym - 4, ym + 4, color);
-    if (std::isfinite(r.ratio) && r.ratio > 0)
-      s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\"><title>", px(r.ratio), ym, color) +
+    // Cut at the axis (only a "not timed" row reaches past it): a cut end has no cap, a point past an
+    // end sits on it, hollow.
+    auto onAxis = [&](double v) { return std::clamp(v, axisLo, axisHi); };
+    if (std::isfinite(r.ciLow) && std::isfinite(r.ciHigh) && r.ciLow > 0) {
+      const double x0 = px(onAxis(r.ciLow)), x1 = px(onAxis(r.ciHigh));
+      std::string d = format("M %.1f %.1f H %.1f", x0, ym, x1);
+      if (r.ciLow >= axisLo) d += format(" M %.1f %.1f V %.1f", x0, ym - 4, ym + 4);
+      if (r.ciHigh <= axisHi) d += format(" M %.1f %.1f V %.1f", x1, ym - 4, ym + 4);
+      s += "<path d=\"" + d + "\" stroke=\"" + color + "\" fill=\"none\"/>";
+    }
+    if (std::isfinite(r.ratio) && r.ratio > 0) {
+      const bool inside = r.ratio >= axisLo && r.ratio <= axisHi;
+      s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\" stroke=\"%s\"><title>", px(onAxis(r.ratio)), ym,
+                  inside ? color : "white", color) +
            htmlText(what) + "</title></circle>";
+    }
     s += format("<text x=\"%.0f\" y=\"%.1f\" fill=\"%s\">", plotRight + 8, y + 12, color) + htmlText(r.verdict) +
          "</text></g>\n";
   }
@@ -432,7 +472,7 @@ std::string htmlReport(const HtmlReportInput& in) {
     compare = compareResults(*in.base, results, in.compareOptions);
   }
 
-  std::string body;
+  std::string body = reportSummaryHtml(results);
   body += failedSection(results);
   std::vector<std::string> warnings = warningsOf(results);
   if (in.base && !(compare.warnings.empty() && compare.caveats.empty()))
@@ -486,7 +526,8 @@ std::string htmlReport(const HtmlReportInput& in) {
   body += variantsSection(in);
 
   std::string nav = "<nav>";
-  for (const auto& [id, label] : std::vector<std::pair<std::string, std::string>>{{"context", "context"},
+  for (const auto& [id, label] : std::vector<std::pair<std::string, std::string>>{{"summary", "summary"},
+                                                                                  {"context", "context"},
                                                                                   {"compare", "comparison"},
                                                                                   {"times", "times"},
                                                                                   {"accuracy", "accuracy"},

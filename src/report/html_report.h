@@ -2,7 +2,8 @@
 // found without opening a dozen files. Inline CSS and SVG, no JavaScript, no network: the only
 // references out of the page are the variants' images, by path relative to the page's folder.
 //
-// It holds, top to bottom: failed variants and warnings (where there are any); the context
+// It holds, top to bottom: a summary (report_summary.h: the fastest and the most accurate variant,
+// what accuracy costs in time, the Pareto front); failed variants and warnings (where there are any); the context
 // (device, driver, revision, scene, config); with a base file, the comparison B/A (the `compare`
 // table and a plot of each ratio with its interval); per pass, the variants' median times as bars
 // with a whisker from the 5th to the 95th percentile of their frames; the accuracy-vs-time Pareto

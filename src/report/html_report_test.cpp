@@ -126,7 +126,7 @@ TEST(HtmlReport, ReferencesNothingOutsideTheReportsFolderAndNoScript) {
     EXPECT_NE(target.front(), '/') << target;
     EXPECT_EQ(target.find(".."), std::string::npos) << target;
   }
-  EXPECT_EQ(refs, 7u /* nav */ - 1 /* no comparison */ + 4 /* two images, each src and href */);
+  EXPECT_EQ(refs, 8u /* nav */ - 1 /* no comparison */ + 4 /* two images, each src and href */);
   EXPECT_NE(html.find("<img src=\"lc/color.png\" alt=\"color\""), std::string::npos);
   EXPECT_NE(html.find("<img src=\"lc/flip_error.png\" alt=\"flip error\""), std::string::npos);
   for (const char* resource : {"<script", "<link", "url(", "@import", "<iframe", "<object"})

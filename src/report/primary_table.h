@@ -8,7 +8,8 @@
 // primary method is "2dr" with this run's r3d_thread_box, else the first "2dr" run ("—", and a note
 // in the caption, when there is none). The counters of the BVH methods (nodes visited, frusta,
 // culled triangles and early-z blocks) get three columns, left out when no run has them.
-// Empty when no run carries a "primary" block (results from before primary visibility methods).
+// Empty unless some run's primary visibility is not the hardware prepass (a compute method or a ray
+// cast): a sweep of the prepass alone has nothing to set beside it.
 #pragma once
 #include <string>
 

@@ -22,6 +22,10 @@ std::map<std::string, double> peakRates(const Peaks& peaks, double raybenchRaysP
   return rates;
 }
 
+std::string peakFractionText(double fraction) {
+  return format("%.1f %%", 100 * fraction) + (fraction > 1 ? std::string(", ") + kOverPeakMeaning : std::string());
+}
+
 json rooflineJson(const std::vector<PassWork>& works, const std::map<std::string, double>& medianMs,
                   const std::map<std::string, double>& peaks) {
   json out = json::object();
@@ -189,7 +193,7 @@ std::string rooflineMarkdown(const json& results) {
     s += "| " + p.variant + " | " + p.entry + " | " + format("%.4g", p.ms) + " | " +
          (emptyMs > 0 ? format("%.1f", p.ms / emptyMs) : "—") + " | " + p.unit + " | " +
          formatRate(p.achieved, p.unit) + " | " + (p.peak > 0 ? formatRate(p.peak, p.unit) : "—") + " | " +
-         (p.hasFraction ? format("%.1f %%", 100.0 * p.achieved / p.peak) : "—") + " | " + p.source + " |\n";
+         (p.hasFraction ? peakFractionText(p.achieved / p.peak) : "—") + " | " + p.source + " |\n";
   if (pts.empty()) s += "| (no run carries a roofline) | | | | | | | | |\n";
   return s + "\n";
 }
@@ -201,9 +205,12 @@ std::string rooflineSvg(const json& results) {
     if (p.hasFraction && p.achieved > 0) pts.push_back(p);
   constexpr double kW = 1100, kH = 620, kL = 90, kR = 640, kT = 70, kB = 540;
   double lo = 1e300, hi = 0;
+  // A pass over its peak is plotted at the peak (on the diagonal, as a triangle): its rate says the
+  // peak is not its own, and would stretch the axes by decades for nothing.
+  auto plotted = [](const Point& p) { return std::min(p.achieved, p.peak); };
   for (const Point& p : pts) {
-    lo = std::min({lo, p.achieved, p.peak});
-    hi = std::max({hi, p.achieved, p.peak});
+    lo = std::min({lo, plotted(p), p.peak});
+    hi = std::max(hi, p.peak);
   }
   if (pts.empty()) lo = 1, hi = 10;
   // Log axes over whole decades; both axes share them so the diagonal is "at the peak".
@@ -222,6 +229,11 @@ std::string rooflineSvg(const json& results) {
            "each pass's achieved rate against its device peak (units per second, log); on the diagonal = at "
            "the peak; dashed: 10 % and 1 %") +
        "</text>\n";
+  if (std::any_of(pts.begin(), pts.end(), [](const Point& p) { return p.achieved > p.peak; }))
+    s += format("<text x=\"%.0f\" y=\"64\">", kL) +
+         escapeXml("triangle: a pass over 100 % of its peak, plotted at the peak (" + std::string(kOverPeakMeaning) +
+                   ")") +
+         "</text>\n";
   for (double d = d0; d <= d1; d += 1) {
     const double v = std::pow(10.0, d);
     s += format("<line x1=\"%.1f\" y1=\"%.0f\" x2=\"%.1f\" y2=\"%.0f\" stroke=\"#e0e0e0\"/>\n", px(v), kT, px(v), kB);
@@ -251,11 +263,20 @@ std::string rooflineSvg(const json& results) {
     const Point& p = pts[i];
     const size_t u = size_t(std::find(units.begin(), units.end(), p.unit) - units.begin());
     const double x = px(p.peak) + (double(i % 7) - 3.0) * 2.0;  // a little spread: equal peaks, one column
+    const std::string title = p.variant + " — " + p.entry + ": " + formatRate(p.achieved, p.unit) + " of " +
+                              formatRate(p.peak, p.unit) + " (" + peakFractionText(p.achieved / p.peak) + ")";
+    if (p.achieved > p.peak) {
+      const double y = py(p.peak);
+      s += format(
+               "<path class=\"over-peak\" d=\"M %.1f %.1f L %.1f %.1f L %.1f %.1f Z\" fill=\"%s\" fill-opacity=\"0.7\">"
+               "<title>",
+               x, y - 5, x - 5, y + 4, x + 5, y + 4, colors[u % kColors]) +
+           escapeXml(title) + "</title></path>\n";
+      continue;
+    }
     s += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"%s\" fill-opacity=\"0.7\"><title>", x, py(p.achieved),
                 colors[u % kColors]) +
-         escapeXml(p.variant + " — " + p.entry + ": " + formatRate(p.achieved, p.unit) + " of " +
-                   formatRate(p.peak, p.unit)) +
-         "</title></circle>\n";
+         escapeXml(title) + "</title></circle>\n";
   }
   // Legend: the units, then the passes in one line each (numbered by first appearance).
   double y = kT + 4;
@@ -276,6 +297,10 @@ std::string rooflineSvg(const json& results) {
     s += format("<text x=\"%.0f\" y=\"%.0f\">", kR + 18, y) +
          escapeXml(e + ": up to " + format("%.1f", 100 * best) + " % of its " + unit + " peak") + "</text>\n";
     y += 16;
+    if (best > 1 && y <= kH - 20) {
+      s += format("<text x=\"%.0f\" y=\"%.0f\" fill=\"#a00\">", kR + 30, y) + escapeXml(kOverPeakMeaning) + "</text>\n";
+      y += 16;
+    }
   }
   if (pts.empty())
     s += format("<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">no pass has a measured peak</text>\n",

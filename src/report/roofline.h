@@ -31,6 +31,14 @@ class Renderer;
 nlohmann::json rooflineOf(const Renderer& renderer, const nlohmann::json& run,
                           const std::map<std::string, double>& medianMs, const Peaks& peaks);
 
+// A fraction of a peak as a percentage, "97.1 %". Over 1 a pass ran faster than the peak, so the
+// peak measured is not this pass's peak (its work took another path than the peak's kernel: a
+// cache, a driver's shortcut, a CPU device's ray rate measured on other rays), and the text says so:
+// "116.1 %, over 100 %: not this pass's peak".
+std::string peakFractionText(double fraction);
+// What a fraction over 100 % means, for captions and legends.
+inline constexpr const char* kOverPeakMeaning = "over 100 %: not this pass's peak";
+
 // The roofline of every run of a results file: a Markdown table (variant, pass, bound, achieved,
 // peak, fraction, source) and an SVG (achieved against peak on log axes, one point per pass and
 // variant, the diagonal = 100 % of the peak).

@@ -3,6 +3,7 @@
 #include "base/text_format.h"
 #include "report/results_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -42,6 +43,11 @@ const ThesisConfig kThesis[] = {
     {"5.2", "32x32", 32, true, true, "improved", 9.99, kNaN},
 };
 
+// The thesis's scenes (Sponza in Tables 5.1 and 5.2) have 10 point lights.
+constexpr double kThesisLights = 10;
+
+const json& contextLightsOf(const json& results) { return at(at(at(results, "context"), "scene"), "lights"); }
+
 std::string cellNum(double v, const char* fmt) { return std::isfinite(v) ? format(fmt, v) : ""; }
 
 std::string stringAt(const json& j, const char* key) {
@@ -51,34 +57,45 @@ std::string stringAt(const json& j, const char* key) {
 
 // Median of a stats block: the recorded one, else recomputed from its samples.
 
-// The thesis's frame is direct light with shadows: a run that also computed another effect
-// (ambient occlusion, indirect or environment light: render.json's "effects" block, or the
-// effect's own key in results written before it) is another study's frame and never stands in for
-// a thesis row.
-bool isThesisFrame(const json& run) {
+// What keeps a run from standing for any row of Tables 5.1/5.2, one short phrase each ("range_test=true",
+// "ambient_occlusion on", "1 light"); none for a run of the thesis's frame. The thesis's frame is direct
+// light with shadows in a scene of 10 lights: a run that also computed another effect (ambient
+// occlusion, indirect or environment light: render.json's "effects" block, or the effect's own key in
+// results written before it) is another study's frame; a run with an option beyond the thesis (the
+// per-pixel range test, depth slices, a scaled t_min, anti-aliasing, a compute primary) is not the
+// thesis's method; a light-count study is the many-lights table's. The light count is the run's scene's
+// (runs[].scene.lights), else its light_count, else the results' scene's (results written before either).
+std::vector<std::string> beyondThesisFrame(const json& run, const json& contextLights) {
+  std::vector<std::string> why;
   const json& effects = at(run, "effects");
   if (effects.is_object())
     for (const auto& [name, state] : effects.items())
-      if (name != "shadows" && state.is_object() && state.value("runs", false)) return false;
+      if (name != "shadows" && state.is_object() && state.value("runs", false)) why.push_back(name + " on");
   for (const char* key : {"ambient_occlusion", "indirect", "environment_light"})
-    if (at(run, key).is_object()) return false;
-  return true;
+    if (at(run, key).is_object() && std::find(why.begin(), why.end(), std::string(key) + " on") == why.end())
+      why.push_back(std::string(key) + " on");
+  const json& params = at(run, "params");
+  auto is = [&](const char* key, auto&& beyond) {
+    const json& v = at(params, key);
+    if (!v.is_null() && beyond(v))
+      why.push_back(std::string(key) + "=" + (v.is_string() ? v.get<std::string>() : v.dump()));
+  };
+  is("range_test", [](const json& v) { return v == true; });
+  is("aa", [](const json& v) { return v != "none"; });
+  is("depth_slices", [](const json& v) { return v.is_number() && v.get<double>() != 0; });
+  is("t_min", [](const json& v) { return v != "constant"; });
+  is("primary", [](const json& v) { return v != "hardware"; });
+  json lights = at(at(run, "scene"), "lights");
+  if (!lights.is_number()) lights = at(params, "light_count");
+  if (!lights.is_number()) lights = contextLights;
+  if (lights.is_number() && lights.get<double>() != kThesisLights)
+    why.push_back(lights.get<double>() == 1 ? std::string("1 light") : lights.dump() + " lights");
+  return why;
 }
 
 // Params match a configuration. Without light culling there are no tiles to test against an
-// AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway). A run with
-// an option beyond the thesis (the per-pixel range test, depth slices, a scaled t_min) is not the thesis's method
-// and never stands in for one of its rows.
+// AABB, so the aabb flag is ignored there (aabbExact says whether it matched anyway).
 bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
-  if (const auto it = params.find("range_test"); it != params.end() && *it == true) return false;
-  if (const auto it = params.find("aa"); it != params.end() && *it != "none") return false;
-  // The thesis's scenes have 10 lights; a light-count study is the many-lights table's.
-  if (const auto it = params.find("light_count"); it != params.end() && it->is_number() && it->get<double>() != 10)
-    return false;
-  if (const auto it = params.find("depth_slices"); it != params.end() && it->is_number() && it->get<double>() != 0)
-    return false;
-  if (const auto it = params.find("t_min"); it != params.end() && *it != "constant") return false;
-  if (const auto it = params.find("primary"); it != params.end() && *it != "hardware") return false;
   const json& tile = at(params, "tile_size");
   const json& lc = at(params, "light_culling");
   const json& aabb = at(params, "aabb");
@@ -90,13 +107,13 @@ bool paramsMatch(const json& params, const ThesisConfig& c, bool& aabbExact) {
   return aabbExact || !c.lightCulling;
 }
 
-const json* pickRun(const json& runs, const ThesisConfig& c, size_t& matches) {
+const json* pickRun(const json& runs, const json& contextLights, const ThesisConfig& c, size_t& matches) {
   const json* best = nullptr;
   int bestScore = -1;
   matches = 0;
   for (const json& run : runs) {
     bool aabbExact = false;
-    if (!isThesisFrame(run) || !paramsMatch(at(run, "params"), c, aabbExact)) continue;
+    if (!beyondThesisFrame(run, contextLights).empty() || !paramsMatch(at(run, "params"), c, aabbExact)) continue;
     ++matches;
     // A successful run first; then the run the config named after this row (a config that runs
     // Table 5.1's last row and Table 5.2's 8x8 row apart, with the same parameters, names them so);
@@ -157,7 +174,7 @@ std::vector<ThesisRow> thesisRows(const json& results) {
     r.thesisDiffPct = c.thesisDiffPct;
     r.frameMs = r.diffPct = r.raysTraced = r.efficiency = r.shadowShare = r.memoryBytes = kNaN;
     size_t matches = 0;
-    const json* run = pickRun(runs, c, matches);
+    const json* run = pickRun(runs, contextLightsOf(results), c, matches);
     if (!run) {
       r.status = "missing";
     } else {
@@ -232,6 +249,39 @@ std::string thesisTablesMarkdown(const json& results) {
     for (const std::string& n : notes) out += "- " + escapeCell(n) + "\n";
   }
   return out;
+}
+
+std::string thesisTablesAbsentNote(const json& results) {
+  requireResultsFile(results);
+  const json& runs = results["runs"];
+  const json& contextLights = contextLightsOf(results);
+  std::vector<std::pair<std::string, size_t>> reasons;  // in order of first appearance, with their runs
+  size_t counted = 0;
+  for (const json& run : runs) {
+    std::vector<std::string> why = beyondThesisFrame(run, contextLights);
+    if (why.empty()) {
+      bool aabbExact = false;
+      bool row = false;
+      for (const ThesisConfig& c : kThesis) row = row || paramsMatch(at(run, "params"), c, aabbExact);
+      if (row) continue;  // a row's run after all: the tables are printed
+      why.push_back("tile_size, light_culling, aabb and normal_culling of no row");
+    }
+    ++counted;
+    for (const std::string& w : why) {
+      auto it = std::find_if(reasons.begin(), reasons.end(), [&](const auto& r) { return r.first == w; });
+      if (it == reasons.end())
+        reasons.push_back({w, 1});
+      else
+        ++it->second;
+    }
+  }
+  if (counted < runs.size()) return "";
+  std::string list;
+  for (const auto& [w, n] : reasons) list += (list.empty() ? "" : ", ") + w + " (" + countOf(n, "run") + ")";
+  return "Tables 5.1 and 5.2 (the thesis's) are not printed: they need a run of the thesis's frame (direct light "
+         "and shadows alone, 10 lights, hardware depth prepass, no anti-aliasing, range test, depth slices or "
+         "scaled t_min), and " +
+         std::string(runs.empty() ? "these results have no run." : "no run here is one: " + list + ".") + "\n";
 }
 
 std::string thesisTablesCsv(const json& results) {

@@ -46,6 +46,11 @@ std::string thesisTablesMarkdown(const nlohmann::json& results);
 // The header line alone (device, driver, ray tracing, resolution, scene, revision).
 std::string resultsHeaderLine(const nlohmann::json& results);
 
+// Why Tables 5.1 and 5.2 are not printed for these results, as one line naming what keeps each run
+// from being the thesis's frame with the runs it applies to ("range_test=true (9 runs)", "1 light (1
+// run)"); empty when some run is one of their rows.
+std::string thesisTablesAbsentNote(const nlohmann::json& results);
+
 // CSV (RFC 4180): a header, then one row per table row (9), empty cells where a figure is absent.
 std::string thesisTablesCsv(const nlohmann::json& results);
 
