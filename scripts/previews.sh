@@ -35,7 +35,7 @@ while IFS= read -r -d '' png; do
   if [ -f "$webp" ] && [ "$webp" -nt "$png" ]; then kept=$((kept + 1)); continue; fi
   [ "$(head -c 8 "$png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || die "$png is not a PNG"
   resize=()
-  if [ "$(pngWidth "$png")" -gt $kMaxWidth ]; then resize=(-resize $kMaxWidth 0); fi
+  if [ "$(pngWidth "$png")" -gt $kMaxWidth ]; then resize=(-resize "$kMaxWidth" 0); fi
   cwebp -quiet -q $kQuality -m 6 -metadata none "${resize[@]}" "$png" -o "$webp.tmp" ||
     die "cwebp failed on $png"
   mv "$webp.tmp" "$webp"
