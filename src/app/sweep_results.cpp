@@ -121,16 +121,21 @@ std::map<std::string, std::vector<ReportImage>> variantImages(const std::string&
     const fs::path folder = fs::weakly_canonical(fs::absolute(fs::path(resultsDir) / slug(name)));
     std::error_code ec;
     if (!fs::is_directory(folder, ec)) continue;
-    std::vector<std::string> files;
-    for (const fs::directory_entry& e : fs::directory_iterator(folder, ec))
-      if (e.is_regular_file(ec) && e.path().extension() == ".png") files.push_back(e.path().filename().string());
+    // Each image by its name without extension: the PNG the sweep wrote, or its WebP preview
+    // (scripts/previews.sh; the only one committed under results/), which wins when both are there.
+    std::map<std::string, std::string> files;
+    for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
+      const fs::path& p = e.path();
+      if (!e.is_regular_file(ec) || (p.extension() != ".png" && p.extension() != ".webp")) continue;
+      std::string& file = files[p.stem().string()];
+      if (file.empty() || p.extension() == ".webp") file = p.filename().string();
+    }
+    std::vector<std::pair<std::string, std::string>> ordered(files.begin(), files.end());
     // The colour image first (what the variant looks like), then by name: heatmaps and error maps
     // of one kind sit together (rays, rays_oracle; flip_error).
-    std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
-      return std::make_pair(a != "color.png", a) < std::make_pair(b != "color.png", b);
-    });
-    for (const std::string& file : files) {
-      std::string label = file.substr(0, file.size() - 4);
+    std::stable_partition(ordered.begin(), ordered.end(), [](const auto& f) { return f.first == "color"; });
+    for (const auto& [stem, file] : ordered) {
+      std::string label = stem;
       std::replace(label.begin(), label.end(), '_', ' ');
       out[name].push_back({(folder / file).lexically_relative(from).generic_string(), label});
     }

@@ -16,9 +16,10 @@ namespace hb {
 // exists.
 void writeSweepOutputs(const std::string& dir, const nlohmann::json& results);
 
-// The images a sweep wrote for each run of `results` into resultsDir/<slug(name)>/ (*.png), as the
-// page at reportDir refers to them (paths relative to reportDir), the colour image first, then by
-// name; a run whose folder holds none has no entry. Labels are the file names without ".png".
+// The images a sweep wrote for each run of `results` into resultsDir/<slug(name)>/ (*.png, or their
+// *.webp previews, which win where both are), as the page at reportDir refers to them (paths
+// relative to reportDir), the colour image first, then by name; a run whose folder holds none has
+// no entry. Labels are the file names without extension, '_' as ' '.
 std::map<std::string, std::vector<ReportImage>> variantImages(const std::string& resultsDir,
                                                               const std::string& reportDir,
                                                               const nlohmann::json& results);

@@ -50,5 +50,26 @@ TEST(SweepResults, VariantImagesArePathsFromThePagesFolderColourFirst) {
   fs::remove_all(root);
 }
 
+// Committed results keep WebP previews of the PNGs (scripts/previews.sh): a page shows the preview
+// where there is one, the PNG where there is only that, and each image once.
+TEST(SweepResults, VariantImagesShowThePreviewWhereThereIsOne) {
+  const fs::path root = fs::temp_directory_path() / ("hb-variant-previews-" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  touchImageFile(root / "v" / "color.png");
+  touchImageFile(root / "v" / "color.webp");
+  touchImageFile(root / "v" / "rays.webp");  // the preview alone, as in a clone
+  touchImageFile(root / "v" / "depth.png");  // no preview yet
+  const json results = {{"runs", {{{"name", "v"}}}}};
+
+  const std::vector<ReportImage> v = variantImages(root.string(), root.string(), results).at("v");
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].href, "v/color.webp");
+  EXPECT_EQ(v[0].label, "color");
+  EXPECT_EQ(v[1].href, "v/depth.png");
+  EXPECT_EQ(v[2].href, "v/rays.webp");
+  EXPECT_EQ(v[2].label, "rays");
+  fs::remove_all(root);
+}
+
 }  // namespace
 }  // namespace hb
