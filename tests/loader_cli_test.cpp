@@ -218,6 +218,13 @@ TEST_F(LoaderCli, SetEnvironmentGivesTheSceneASky) {
                 {"--set environment=", "missing.hdr"});
   expectRefused(render("plane", {"--set", "environment=true"}), {"--set environment=true", "an .hdr image path"});
   expectRefused(render("plane", {"--set", "enviroment=sky.hdr"}), {"did you mean \"environment\"?"});
+
+  // sweep takes it as well, into its config.
+  const std::string config = hb::testing::kSweepFixture.string();
+  const RunResult dry = run({"sweep", config, "--dry-run", "--set", "environment=" + sky});
+  EXPECT_EQ(dry.exitCode, 0) << dry.err;
+  expectRefused({"sweep", config, "--dry-run", "--set", "environment=" + (dir / "missing.hdr").string()},
+                {"--set environment=", "missing.hdr"});
 }
 
 }  // namespace loader_cli
