@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include "base/input_file.h"
 #include "base/text_format.h"
 #include "config/config.h"
+#include "config/config_overrides.h"
 #include "frame/ray_backend.h"
 #include "frame/renderer.h"
 #include "gpu/peaks.h"
@@ -44,9 +46,14 @@ int cmdRender(const RenderOptions& options) {
   // Effects: the scene's own (planFrame adds them) < the config's < each --set that names one.
   EffectsRequest effects = haveConfig ? effectsRequestFor(config) : EffectsRequest{};
   bool cameraAuto = false;
+  std::optional<Environment> environment;  // --set environment=...: replaces the config's and the scene's
   for (const std::string& set : options.sets) {
     if (isEffectSet(set)) {
       effects.layers.push_back(parseEffectSet(set));
+      continue;
+    }
+    if (set.rfind("environment=", 0) == 0) {
+      environment = environmentOfSet(set);
       continue;
     }
     if (set.rfind("camera=", 0) == 0) {
@@ -89,6 +96,7 @@ int cmdRender(const RenderOptions& options) {
     }
     for (const std::string& line : completeScene(scene, request)) std::fprintf(stderr, "%s\n", line.c_str());
   }
+  if (environment) scene.environment = *environment;
   // A glTF's own orthographic camera: the light tiles are frusta of a perspective view (tile
   // culling for orthographic views is not built), so a run that did not ask for culling renders
   // it without, and says so; asking for it is the renderer's clear error.

@@ -21,9 +21,8 @@ Scene loadSceneArg(const std::string& nameOrPath) {
   std::filesystem::path p(nameOrPath);
   std::string ext = p.extension().string();
   if (ext == ".gltf" || ext == ".glb" || std::filesystem::exists(p)) return loadGltf(nameOrPath);
-  std::string names;
-  for (const std::string& n : allSceneNames()) names += (names.empty() ? "" : ", ") + n;
-  throw InputError("scene \"" + nameOrPath + "\": not a built-in scene (" + names + ") nor a .gltf/.glb file");
+  throw InputError("scene \"" + nameOrPath + "\": not a built-in scene (" + unknownSceneHint(nameOrPath) +
+                   ") nor a .gltf/.glb file");
 }
 
 int cmdSceneExport(const std::string& name, const std::string& out, bool noCamera, bool noLights) {

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/cli_suggest.h"
 #include "app/commands.h"
 #include "app/sweep.h"
 #include "app/sweep_worker.h"
@@ -187,7 +188,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "hybridbench: %s (see hybridbench --help)\n", e.what());
+    // A typo of a command or flag gets a did-you-mean; other refusals keep CLI11's message.
+    const std::string typo = suggestForUnknownArgument(app, std::vector<std::string>(argv + 1, argv + argc));
+    if (!typo.empty())
+      std::fprintf(stderr, "hybridbench: %s\n", typo.c_str());
+    else
+      std::fprintf(stderr, "hybridbench: %s (see hybridbench --help)\n", e.what());
     return kExitBadInput;
   }
 

@@ -78,9 +78,7 @@ void parseScene(Config& c, const Json& doc, const Where& top) {
       if (p.is_relative()) p = std::filesystem::absolute(std::filesystem::path(c.sourceName).parent_path() / p);
       c.scene = p.lexically_normal().string();
     } else {
-      std::string names;
-      for (const std::string& n : builtins) names += (names.empty() ? "" : ", ") + n;
-      w.fail("\"" + s + "\" is neither a built-in scene (" + names + ") nor a .gltf/.glb path");
+      w.fail("\"" + s + "\" is neither a built-in scene (" + unknownSceneHint(s) + ") nor a .gltf/.glb path");
     }
   }
   if (doc.contains("scene_params")) {

@@ -6,6 +6,7 @@
 #include "base/input_file.h"
 #include "base/json_reader.h"
 #include "effects/effects.h"
+#include "scene/environment.h"
 
 namespace hb {
 
@@ -62,6 +63,22 @@ void setEffect(Json& doc, const std::string& set) {
 
 }  // namespace
 
+Environment environmentOfSet(const std::string& set, Json* asJson) {
+  const std::string text = set.substr(set.find('=') + 1);
+  Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded() || value.is_string()) value = Json{{"image", text}};
+  if (value.is_array()) value = Json{{"color", value}};
+  if (!value.is_object())
+    throw InputError("--set " + set +
+                     ": give an .hdr image path, a colour [r, g, b] or {\"image\": ..., \"color\": ..., "
+                     "\"intensity\": ..., \"rotation\": ...}");
+  if (value.contains("image") && value["image"].is_string())
+    value["image"] = std::filesystem::absolute(value["image"].get<std::string>()).lexically_normal().string();
+  Environment e = readEnvironment(value, json_reader::Where{"--set " + set, ""}, std::filesystem::current_path());
+  if (asJson) *asJson = value;
+  return e;
+}
+
 Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
   const std::string source = path.empty() ? "thesis.json (embedded)" : path;
   const std::string text = path.empty()
@@ -83,6 +100,10 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
     const std::string flag = "--set " + set;
     if (isEffectSet(set)) {
       setEffect(doc, set);
+      continue;
+    }
+    if (set.rfind("environment=", 0) == 0) {
+      environmentOfSet(set, &doc["environment"]);
       continue;
     }
     if (set.rfind("camera=", 0) == 0) {

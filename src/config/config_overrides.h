@@ -9,7 +9,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "config/config.h"
+#include "scene/scene.h"
 
 namespace hb {
 
@@ -27,9 +30,16 @@ struct ConfigOverrides {
 //   the config's "effects" and over every variant's own (layerEffectValue: the keys it leaves out
 //   keep theirs);
 // - --set camera=auto frames the scene's bounds;
+// - --set environment=VALUE replaces the config's "environment" (environmentOfSet);
 // - --size sets the resolution as --set resolution=WxH;
 // - --scene replaces the scene (a relative path is taken from the working directory) and drops
 //   scene_params, which apply only to the atrium, when the new scene is not the atrium.
 Config loadConfigWith(const std::string& path, const ConfigOverrides& overrides);
+
+// --set environment=VALUE (`set` starts with "environment="): VALUE is an .hdr path, a colour
+// [r, g, b] or the environment's JSON object (scene/environment.h); a relative image path is the
+// working directory's. Read here, so that a missing image or a bad field is one InputError naming
+// the --set. *asJson, when given, receives the config form (its image path absolute).
+Environment environmentOfSet(const std::string& set, nlohmann::ordered_json* asJson = nullptr);
 
 }  // namespace hb

@@ -497,6 +497,7 @@ std::vector<std::string> setKeys() {
   std::vector<std::string> keys(config_reader::paramKeys().begin(), config_reader::paramKeys().end());
   for (const EffectDef* e : allEffects()) keys.push_back(e->name);
   keys.push_back("camera");
+  keys.push_back("environment");
   return keys;
 }
 

@@ -11,6 +11,7 @@
 #include <cmark-gfm-core-extensions.h>
 #include <cmark-gfm.h>
 
+#include "base/errors.h"
 #include "base/text_format.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "base/errors.h"
+#include "base/json_reader.h"
 #include "scene/atrium.h"
 #include "scene/camera.h"
 #include "scene/mesh_builder.h"
@@ -271,6 +272,15 @@ std::vector<std::string> allSceneNames() {
   return names;
 }
 
+std::string unknownSceneHint(const std::string& name) {
+  const std::vector<std::string> names = allSceneNames();
+  const std::string guess = json_reader::closestKey(name, std::vector<std::string_view>(names.begin(), names.end()));
+  if (!guess.empty()) return "did you mean \"" + guess + "\"?";
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 std::string builtinSceneDescription(const std::string& name) {
   static const std::pair<const char*, const char*> kDescriptions[] = {
       {"atrium", "the default: a procedural atrium shaped like Crytek Sponza, 10 point lights"},
@@ -308,10 +318,8 @@ Scene makeBuiltinScene(const std::string& name) {
   if (name == "far-planes") return makeFarPlanes();
   if (name == "microbench-262144") return makeMicrobench(262144);
   if (name == "microbench-144") return makeMicrobench(144);
-  std::string valid;
-  for (const std::string& n : allSceneNames()) valid += (valid.empty() ? "" : ", ") + n;
-  throw InputError("unknown built-in scene '" + name + "'; valid names: " + valid +
-                   " (or give a path to a .gltf/.glb file)");
+  throw InputError("unknown built-in scene '" + name + "' (" + unknownSceneHint(name) +
+                   "; or give a path to a .gltf/.glb file)");
 }
 
 }  // namespace hb

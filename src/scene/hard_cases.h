@@ -94,6 +94,11 @@ std::vector<std::string> benchmarkSceneNames();
 // builtinSceneNames() then benchmarkSceneNames(): every name makeBuiltinScene accepts.
 std::vector<std::string> allSceneNames();
 
+// What follows an unknown scene name in its one-line error: `did you mean "atrium"?` when the
+// name is close to a built-in one (a typo, as json_reader's closestKey judges it), else their list
+// "atrium, plane, ...".
+std::string unknownSceneHint(const std::string& name);
+
 // One line for people (`hybridbench scene list`): what the built-in scene `name` is and what it
 // isolates; "" for a name that is not built in.
 std::string builtinSceneDescription(const std::string& name);

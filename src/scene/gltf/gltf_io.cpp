@@ -146,6 +146,16 @@ Scene Loader::load(GltfLoadWarnings& warnings) {
   for (size_t m = 0; m < model_.meshes.size(); ++m) loadMesh(static_cast<int>(m));
   loadNodes();
   markSrgbTextures();
+  if (warnings.skippedBroken > 0) {
+    if (scene_.triangleCount() == 0) throw InputError(firstBrokenPrimitive_);  // nothing else to draw
+    const std::string message =
+        firstBrokenPrimitive_.substr(firstBrokenPrimitive_.rfind(path_ + ": ", 0) == 0 ? path_.size() + 2 : 0);
+    warnings.messages.push_back(path_ + ": skipped " + std::to_string(warnings.skippedBroken) +
+                                " triangle primitive(s) whose data is broken, so the image lacks them; first" +
+                                (firstBrokenMesh_.empty() ? "" : " in mesh \"" + firstBrokenMesh_ + "\"") + ": " +
+                                message);
+  }
+  warnIgnoredAnimation(warnings);
   if (warnings.skippedPrimitives > 0) {
     if (scene_.indices.empty())
       fail(firstSkippedPrimitive_, "every primitive is points or lines, which draw no surface to render",
@@ -160,6 +170,24 @@ Scene Loader::load(GltfLoadWarnings& warnings) {
                                 " camera node(s) that are neither perspective nor orthographic, first " +
                                 firstSkippedCamera_);
   return std::move(scene_);
+}
+
+// Skins, morph targets and animations are not read: the scene is drawn as its nodes and meshes
+// stand. One line names what was left, so that a figure that should move does not stand still unsaid.
+void Loader::warnIgnoredAnimation(GltfLoadWarnings& warnings) const {
+  size_t morphed = 0;
+  for (const tinygltf::Mesh& mesh : model_.meshes)
+    for (const tinygltf::Primitive& prim : mesh.primitives) morphed += prim.targets.empty() ? 0 : 1;
+  std::vector<std::string> parts;
+  if (!model_.skins.empty()) parts.push_back(std::to_string(model_.skins.size()) + " skin(s)");
+  if (morphed > 0) parts.push_back("the morph targets of " + std::to_string(morphed) + " primitive(s)");
+  if (!model_.animations.empty()) parts.push_back(std::to_string(model_.animations.size()) + " animation(s)");
+  if (parts.empty()) return;
+  std::string list;
+  for (size_t i = 0; i < parts.size(); ++i) list += (i == 0 ? "" : i + 1 == parts.size() ? " and " : ", ") + parts[i];
+  warnings.messages.push_back(path_ + ": ignored " + list +
+                              " (not read): meshes are drawn in their bind pose and base shape, nodes where "
+                              "their own transforms put them");
 }
 
 // Nothing to draw: says why, at the glTF path where it shows (checked before any message is printed
@@ -412,9 +440,14 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
     throw InputError(path + ": is larger than 4 GiB, more than glTF can hold; split the scene");
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
 
-  // The fields' JSON types first: tinygltf would skip a field of the wrong type without a word.
+  // glTF 1.0, then the fields' JSON types (tinygltf would skip a field of the wrong type without a
+  // word), then the external buffers (tinygltf's "File not found" reads as a file that is not glTF).
   const nlohmann::json doc = rawDocument(bytes, binary);
-  gltf_detail::checkGltfStructure(doc, path);
+  gltf_detail::refuseGltf1(doc, bytes, binary, path);
+  GltfLoadWarnings local;
+  GltfLoadWarnings& said = warnings ? *warnings : local;
+  for (std::string& line : gltf_detail::checkGltfStructure(doc, path)) said.messages.push_back(std::move(line));
+  gltf_detail::checkExternalBuffers(doc, path, baseDir);
 
   // Compressed geometry: the few JSON fields tinygltf 2.7 refuses are rewritten, and decoded after.
   const gltf_detail::CompressedInput compressed = gltf_detail::prepareCompressed(doc, bytes, binary);
@@ -445,9 +478,8 @@ Scene loadGltfFromMemory(std::span<const uint8_t> bytes, const std::string& path
 
   const std::string compression = gltf_detail::decodeCompressed(model, compressed, path);
 
-  GltfLoadWarnings local;
   const nlohmann::json rawLights = rawLightsJson(doc);
-  Scene scene = gltf_detail::Loader(path, model, rawLights).load(warnings ? *warnings : local);
+  Scene scene = gltf_detail::Loader(path, model, rawLights).load(said);
   scene.compression = compression;
   readSceneEffects(doc, model, path, scene);
   if (scene.name.empty()) scene.name = std::filesystem::path(path).stem().string();

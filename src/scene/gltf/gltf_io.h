@@ -15,6 +15,7 @@ namespace hb {
 struct GltfLoadWarnings {
   uint32_t skippedPrimitives = 0;  // points and lines (modes 0-3); strips and fans are converted
   uint32_t skippedCameras = 0;     // cameras neither perspective nor orthographic
+  uint32_t skippedBroken = 0;      // triangle primitives whose data is broken (truncated, out of range)
   std::vector<std::string> messages;
 };
 
@@ -31,15 +32,20 @@ struct GltfLoadWarnings {
 // Textures (PNG, JPEG, WebP, AVIF) are decoded to RGBA8; the ones used as base colour are flagged
 // sRGB. Primitives with
 // no material use a "default" material appended to Scene::materials.
-// Points and lines are skipped (a scene of nothing else is refused), and so are cameras of an
-// unknown type: they are counted in *warnings if given, otherwise one line per kind goes to stderr,
-// as does one line naming the optional extensions the loader ignores, and one counting the
-// textures it cannot decode (KTX2 / Basis Universal: their materials keep their factors). Compressed
+// Points and lines are skipped, and so are triangle primitives whose data is broken (truncated,
+// an index past its vertices, an accessor past its buffer: a scene of nothing else is refused with
+// the first one's fault) and cameras of an unknown type: they are counted in *warnings if given,
+// otherwise one line per kind goes to stderr, as does one line naming the optional extensions the
+// loader ignores, one naming the skins, morph targets and animations it does not read, one counting
+// names that are not strings, and one counting the textures it cannot decode (KTX2 / Basis
+// Universal: their materials keep their factors). docs/usage.md "Loader strictness" lists which
+// faults are refused and which skipped. Compressed
 // geometry is decoded (Draco, meshopt: gltf_compression.cpp; Scene::compression names it),
 // quantized attributes read as KHR_mesh_quantization defines them and KHR_texture_transform
 // applied to the texture coordinates; an unknown required extension is refused by name.
 // Throws InputError (one line: file, field, what would fix it) on a missing or unreadable file (or
-// a folder), malformed JSON or not glTF, a truncated or corrupt compressed stream (naming the mesh
+// a folder), malformed JSON or not glTF, glTF 1.0 (with how to convert it), a buffer's external
+// file that is not there, a truncated or corrupt compressed stream (naming the mesh
 // and the extension), a field of the wrong JSON type (gltf_structure.h), a file
 // with nothing to draw (no scene and no nodes, a scene without nodes, no node with a mesh), an index that points past
 // its array, an accessor that does not fit its bufferView or buffer, an unsupported component type or accessor type, a

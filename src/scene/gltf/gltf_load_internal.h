@@ -69,6 +69,8 @@ class Loader {
   // A scene with no triangles: an InputError naming why (no scenes or nodes, a scene without
   // nodes, nodes without meshes).
   [[noreturn]] void refuseEmptyScene() const;
+  // One warning line naming the skins, morph targets and animations that are not read, if any.
+  void warnIgnoredAnimation(GltfLoadWarnings& warnings) const;
   // Checks that `index` names an element of an array of `size` (the array `arrayName` at top
   // level) and returns it as size_t.
   size_t checkIndex(int index, size_t size, const std::string& field, const std::string& arrayName) const;
@@ -96,8 +98,20 @@ class Loader {
   void markSrgbTextures();
 
   // ---- meshes (gltf_meshes.cpp) ----
+  // A primitive's vertices and indices, read and checked, before they join the scene.
+  struct PrimitiveData {
+    std::vector<glm::vec3> positions, normals;
+    std::vector<glm::vec2> uvs;  // empty: no TEXCOORD_0
+    std::vector<uint32_t> indices;
+    int material = -1;  // a checked index into the file's materials; -1: the "default" one
+  };
+  // Appends the mesh; a primitive whose data is broken is skipped and counted (its InputError kept).
   void loadMesh(int meshIndex);
-  Primitive loadPrimitive(const tinygltf::Primitive& prim, const std::string& field);
+  // Throws InputError when the primitive's data is broken: no POSITION, an accessor that does not
+  // fit its buffer, counts that differ, an index past its vertices, a count that makes no triangles.
+  PrimitiveData readPrimitive(const tinygltf::Primitive& prim, const std::string& field) const;
+  // Appends it to the scene's shared arrays (InputError past 2^32 vertices or indices).
+  Primitive appendPrimitive(const PrimitiveData& data, const std::string& field);
 
   // ---- nodes, cameras, lights (gltf_io.cpp) ----
   void loadNodes();
@@ -114,6 +128,8 @@ class Loader {
   int defaultMaterial_ = -1;
   std::vector<int> textureSlot_;  // glTF texture → Scene::textures index; -1: not decoded (KTX2, WebP, AVIF)
   std::string firstSkippedPrimitive_, firstSkippedCamera_;
+  std::string firstBrokenPrimitive_;  // its InputError's message, and the mesh's name
+  std::string firstBrokenMesh_;
   std::vector<uint8_t> onPath_;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "base/errors.h"
 #include "scene/gltf/gltf_load_internal.h"
 
 namespace hb::gltf_detail {
@@ -82,12 +83,24 @@ void Loader::loadMesh(int meshIndex) {
         firstSkippedPrimitive_ = field + " (mode " + std::to_string(prim.mode) + ")";
       continue;
     }
-    out.primitives.push_back(loadPrimitive(prim, field));
+    PrimitiveData data;
+    try {
+      data = readPrimitive(prim, field);
+    } catch (const InputError& e) {
+      // Left out as points and lines are, with one warning line; a scene of nothing else is
+      // refused with this message (Loader::load).
+      if (warnings_->skippedBroken++ == 0) {
+        firstBrokenPrimitive_ = e.what();
+        firstBrokenMesh_ = mesh.name;
+      }
+      continue;
+    }
+    out.primitives.push_back(appendPrimitive(data, field));
   }
   scene_.meshes.push_back(std::move(out));
 }
 
-Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::string& field) {
+Loader::PrimitiveData Loader::readPrimitive(const tinygltf::Primitive& prim, const std::string& field) const {
   auto attribute = [&](const char* name) {
     auto it = prim.attributes.find(name);
     return it == prim.attributes.end() ? -1 : it->second;
@@ -174,21 +187,32 @@ Primitive Loader::loadPrimitive(const tinygltf::Primitive& prim, const std::stri
       for (glm::vec2& uv : uvs) uv = glm::vec2(t * glm::dvec3(glm::dvec2(uv), 1.0));
   }
 
-  Primitive out;
-  if (scene_.vertices.size() + vertexCount > std::numeric_limits<uint32_t>::max() ||
-      scene_.indices.size() + indices.size() > std::numeric_limits<uint32_t>::max())
-    fail(field, "the scene exceeds 2^32 vertices or indices", "split or simplify the scene");
-  out.firstIndex = static_cast<uint32_t>(scene_.indices.size());
-  out.indexCount = static_cast<uint32_t>(indices.size());
-  out.vertexOffset = static_cast<uint32_t>(scene_.vertices.size());
-  out.vertexCount = static_cast<uint32_t>(vertexCount);
+  PrimitiveData out;
   out.material =
       prim.material >= 0
-          ? static_cast<uint32_t>(checkIndex(prim.material, model_.materials.size(), field + ".material", "materials"))
-          : defaultMaterial();
+          ? static_cast<int>(checkIndex(prim.material, model_.materials.size(), field + ".material", "materials"))
+          : -1;
+  out.positions = std::move(positions);
+  out.normals = std::move(normals);
+  out.uvs = std::move(uvs);
+  out.indices = std::move(indices);
+  return out;
+}
+
+Primitive Loader::appendPrimitive(const PrimitiveData& data, const std::string& field) {
+  const size_t vertexCount = data.positions.size();
+  Primitive out;
+  if (scene_.vertices.size() + vertexCount > std::numeric_limits<uint32_t>::max() ||
+      scene_.indices.size() + data.indices.size() > std::numeric_limits<uint32_t>::max())
+    fail(field, "the scene exceeds 2^32 vertices or indices", "split or simplify the scene");
+  out.firstIndex = static_cast<uint32_t>(scene_.indices.size());
+  out.indexCount = static_cast<uint32_t>(data.indices.size());
+  out.vertexOffset = static_cast<uint32_t>(scene_.vertices.size());
+  out.vertexCount = static_cast<uint32_t>(vertexCount);
+  out.material = data.material >= 0 ? static_cast<uint32_t>(data.material) : defaultMaterial();
   for (size_t i = 0; i < vertexCount; ++i)
-    scene_.vertices.push_back({positions[i], normals[i], uvs.empty() ? glm::vec2(0.0f) : uvs[i]});
-  scene_.indices.insert(scene_.indices.end(), indices.begin(), indices.end());
+    scene_.vertices.push_back({data.positions[i], data.normals[i], data.uvs.empty() ? glm::vec2(0.0f) : data.uvs[i]});
+  scene_.indices.insert(scene_.indices.end(), data.indices.begin(), data.indices.end());
   return out;
 }
 
