@@ -160,9 +160,9 @@ TEST_F(ReportCli, TheOneLightCornellBoxGetsNoThesisTableAndTheTablesSayWhy) {
 TEST_F(ReportCli, CompareAxisSpansTheTimedRowsAndItsLabelsDoNotOverlap) {
   const std::string a = kResults + "lavapipe/thesis-d56b9c2/results.json",
                     b = kResults + "lavapipe/thesis/results.json";
-  const RunResult json = run({"compare", a, b, "--format", "json"});
-  ASSERT_EQ(json.exitCode, 0) << json.err;
-  const nlohmann::json rows = nlohmann::json::parse(json.out)["rows"];
+  const RunResult asJson = run({"compare", a, b, "--format", "json"});
+  ASSERT_EQ(asJson.exitCode, 0) << asJson.err;
+  const nlohmann::json rows = nlohmann::json::parse(asJson.out)["rows"];
   const fs::path page = dir / "report.html";
   const RunResult r = run({"report", b, "--compare", a, "--out", page.string()});
   ASSERT_EQ(r.exitCode, 0) << r.err;
