@@ -1,10 +1,11 @@
 // A scene is its content, not its path (docs/results-format.md#identity): the same config and glTF
-// in two folders (two checkouts, two runners) sweep to results that `compare` and `merge` accept,
-// with one warning that names both paths; the scene with one vertex moved is refused, naming both
-// sha256s. And what traced is named from runs' backend_choice, not from what the device offers.
+// in two folders (two checkouts, two runners) sweep to results that `compare`, `merge` and
+// `sweep --resume` accept, with one warning that names both paths; the scene with one vertex moved
+// is refused, naming both sha256s. And what traced is named from runs' backend_choice, not from what the device offers.
 #include <algorithm>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -39,9 +40,8 @@ constexpr const char* kConfig = R"({
 })";
 
 size_t countContaining(const json& lines, const std::string& needle) {
-  return size_t(std::count_if(lines.begin(), lines.end(), [&](const json& l) {
-    return l.get<std::string>().find(needle) != std::string::npos;
-  }));
+  return size_t(std::count_if(lines.begin(), lines.end(),
+                              [&](const json& l) { return l.get<std::string>().find(needle) != std::string::npos; }));
 }
 
 class SceneIdentity : public hb::testing::ToolTest {
@@ -72,8 +72,8 @@ TEST_F(SceneIdentity, TheSameSceneAtAnotherPathComparesAndMergesWithOneWarningAn
   EXPECT_EQ(contextA["config_file"], (one / "config.json").string());
 
   // compare: the same variant of the same scene from two folders.
-  const RunResult c = run({"compare", (a0 / "results.json").string(), (b0 / "results.json").string(), "--format",
-                           "json"});
+  const RunResult c =
+      run({"compare", (a0 / "results.json").string(), (b0 / "results.json").string(), "--format", "json"});
   EXPECT_EQ(c.exitCode, 0) << c.err;
   const json report = json::parse(c.out, nullptr, false);
   ASSERT_TRUE(report.is_object()) << c.out << c.err;
@@ -100,6 +100,17 @@ TEST_F(SceneIdentity, TheSameSceneAtAnotherPathComparesAndMergesWithOneWarningAn
   EXPECT_NE(t.out.find("ray tracing compute (1 run: compute), rayquery (1 run: rayquery) ·"), std::string::npos)
       << t.out.substr(0, 600);
 
+  // sweep --resume from the other folder: every run kept, one warning.
+  const std::vector<std::string> resume = {
+      "sweep", (two / "config.json").string(), "--shard", "0/2", "--no-images", "--resume", "--out", a0.string()};
+  const RunResult resumed = run(resume);
+  EXPECT_EQ(resumed.exitCode, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resume: 1 of 1 variants already done"), std::string::npos) << resumed.out;
+  EXPECT_NE(resumed.err.find("warning: --resume: the inputs lie at other paths"), std::string::npos) << resumed.err;
+  EXPECT_NE(resumed.err.find("scene (interrupted sweep: \"" + sceneOne + "\", this one: \"" + sceneTwo + "\")"),
+            std::string::npos)
+      << resumed.err;
+
   // One vertex moved (the first position's x, -0.5 -> -2: base64 "vwAA" is bytes bf 00 00, "wAAA" c0 00 00).
   std::string gltf = hb::testing::readFile(two / "cube.gltf");
   const size_t at = gltf.find("base64,AAAAvwAA");
@@ -121,6 +132,12 @@ TEST_F(SceneIdentity, TheSameSceneAtAnotherPathComparesAndMergesWithOneWarningAn
   EXPECT_NE(notMerged.err.find(shaA), std::string::npos) << notMerged.err;
   EXPECT_NE(notMerged.err.find(shaMoved), std::string::npos) << notMerged.err;
   EXPECT_FALSE(fs::exists(dir / "merged2"));
+  const RunResult notResumed = run(resume);
+  EXPECT_EQ(notResumed.exitCode, 2) << notResumed.err;
+  EXPECT_NE(notResumed.err.find("the scenes differ in content: context.scene.sha256 is " + shaA +
+                                " in the interrupted sweep and " + shaMoved + " in this one"),
+            std::string::npos)
+      << notResumed.err;
 }
 
 // The H200 thesis sweep ran with backend auto, which chose compute on every run, on a device whose
