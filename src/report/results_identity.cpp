@@ -33,8 +33,7 @@ std::string textOf(const json& v) { return v.is_string() ? v.get<std::string>() 
 json configIdentity(json config) {
   if (!config.is_object()) return config;
   if (config.contains("scene") && isScenePath(config["scene"])) config["scene"] = kAFile;
-  if (config.contains("environment") && config["environment"].is_object() &&
-      config["environment"].contains("image"))
+  if (config.contains("environment") && config["environment"].is_object() && config["environment"].contains("image"))
     config["environment"]["image"] = kAFile;
   return config;
 }

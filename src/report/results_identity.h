@@ -36,15 +36,15 @@ std::vector<MovedInput> movedInputs(const nlohmann::json& contextA, const nlohma
 // 4bbad0b1...): scene (A: "/x/scenes/cornell-box.gltf", B: "/y/scenes/cornell-box.gltf"); config
 // (...)`; without sameContent (a forced comparison of different scenes) only "the inputs lie at
 // other paths: ...". moved must not be empty.
-std::string describeMovedInputs(const std::vector<MovedInput>& moved, const nlohmann::json& contextA,
-                                bool sameContent, const std::string& labelA, const std::string& labelB);
+std::string describeMovedInputs(const std::vector<MovedInput>& moved, const nlohmann::json& contextA, bool sameContent,
+                                const std::string& labelA, const std::string& labelB);
 
 // The content hashes of the inputs that must agree (context.scene.sha256, and
 // context.scene.environment_sha256 where both record it): "" when they agree, else one line that
 // names the field and both hashes in full, e.g. `the scenes differ in content: context.scene.sha256
 // is 4bbad0b1... in A and 90c1e2... in B`.
-std::string contentDifference(const nlohmann::json& contextA, const nlohmann::json& contextB,
-                              const std::string& labelA, const std::string& labelB);
+std::string contentDifference(const nlohmann::json& contextA, const nlohmann::json& contextB, const std::string& labelA,
+                              const std::string& labelB);
 
 // The ray tracer that traced the runs (runs[].backend_choice.ran: "compute", "pipeline",
 // "rayquery"), as the report and tables show it: "compute" when every run that traced agrees,
