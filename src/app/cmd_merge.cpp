@@ -15,6 +15,7 @@
 #include "base/errors.h"
 #include "base/input_file.h"
 #include "base/text_format.h"
+#include "report/results_identity.h"
 #include "report/results_json.h"
 
 namespace hb {
@@ -77,7 +78,9 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
         throw InputError("merge: " + shards[i].dir.string() + " is named twice; name each shard's folder once");
 
   // One sweep's shards: the same config, scene, revision and device name (devices differ only with
-  // --force: then each run records its own).
+  // --force: then each run records its own). The config is compared with its file paths aside
+  // (results_identity.h): machines of a fleet hold the same scene at their own paths, and its
+  // content is the scene hash.
   const MergePart& first = shards[0];
   struct MergeCheck {
     const char* what;
@@ -90,10 +93,13 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
                                           {"device name", {"context", "device", "name"}, true}};
   bool mixedDevices = false;
   for (const MergeCheck& c : checks) {
-    const nlohmann::json& a = mergeField(first.results, c.path);
+    const bool config = std::string(c.what) == "config";
+    const nlohmann::json a =
+        config ? results::configIdentity(mergeField(first.results, c.path)) : mergeField(first.results, c.path);
     if (a.is_null()) throw InputError((first.dir / "results.json").string() + ": no context " + c.what + "; " + hint);
     for (size_t i = 1; i < shards.size(); ++i) {
-      const nlohmann::json& b = mergeField(shards[i].results, c.path);
+      const nlohmann::json b = config ? results::configIdentity(mergeField(shards[i].results, c.path))
+                                      : mergeField(shards[i].results, c.path);
       if (a == b) continue;
       if (c.forceable && force) {
         mixedDevices = true;
@@ -110,6 +116,19 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
           "merge: the " + std::string(c.what) + " differs (" + values + "); merge only the parts of one sweep" +
           (c.forceable ? " (--force merges parts from devices of different names, recording each run's)" : ""));
     }
+  }
+
+  for (size_t i = 1; i < shards.size(); ++i) {
+    const nlohmann::json& contextA = first.results["context"];
+    const nlohmann::json& contextB = shards[i].results["context"];
+    const std::string content =
+        results::contentDifference(contextA, contextB, first.dir.string(), shards[i].dir.string());
+    if (!content.empty()) throw InputError("merge: " + content + "; merge only the parts of one sweep");
+    const std::vector<results::MovedInput> moved = results::movedInputs(contextA, contextB);
+    if (!moved.empty())
+      std::fprintf(
+          stderr, "warning: merge: %s\n",
+          results::describeMovedInputs(moved, contextA, true, first.dir.string(), shards[i].dir.string()).c_str());
   }
 
   // Every variant of the config exactly once.
@@ -168,6 +187,7 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
                             {"device", mergeField(c, {"device", "name"})},
                             {"host", mergeField(c, {"host", "hostname"})},
                             {"date", mergeField(c, {"host", "date"})}};
+    if (const nlohmann::json paths = results::inputPaths(c); !paths.empty()) entry["paths"] = paths;
     if (c.contains("shard"))
       entry["shard"] = {{"index", c["shard"].value("index", 0)}, {"count", c["shard"].value("count", 0)}};
     context["merged_from"].push_back(entry);

@@ -4,8 +4,10 @@
 
 #include <sys/utsname.h>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 
+#include "base/sha256.h"
 #include "base/version.h"
 #include "scene/gltf/gltf_io.h"
 
@@ -73,6 +75,20 @@ json runContext(const VulkanContext& ctx, const Scene& scene) {
       "Vulkan timestamp queries (per pass and per frame), masked to timestampValidBits, scaled by timestampPeriod";
   if (ctx.info().type == "cpu") context["timing_caveat"] = kCpuTimingCaveat;
   return context;
+}
+
+json inputsContext(const Config& config, const std::string& configFile) {
+  json inputs = {{"config", toJson(config)}};
+  if (!configFile.empty()) inputs["config_file"] = std::filesystem::absolute(configFile).lexically_normal().string();
+  if (config.environment && !config.environment->image.empty()) {
+    const Environment& e = *config.environment;
+    Sha256 sha;
+    const uint32_t size[2] = {e.width, e.height};  // little-endian, as sceneSha256 writes values
+    sha.update(size, sizeof size);
+    sha.update(e.texels.data(), e.texels.size() * sizeof(e.texels[0]));
+    inputs["scene"] = {{"environment_sha256", sha.hexDigest()}};
+  }
+  return inputs;
 }
 
 double frameMinusPassesMs(double frameMs, const std::vector<std::pair<std::string, double>>& passMs) {

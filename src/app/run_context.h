@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "config/config.h"
 #include "gpu/vk_context.h"
 #include "scene/scene.h"
 
@@ -14,6 +15,12 @@ namespace hb {
 // context: tool {name, version, git}, host, device (deviceJson), scene {name, sha256, triangles,
 // lights, camera_source, lights_source}, timing_source, and timing_caveat on a CPU device.
 nlohmann::json runContext(const VulkanContext& ctx, const Scene& scene);
+
+// What identifies a sweep's inputs, beside runContext's (docs/results-format.md#identity):
+// config (toJson of the effective config), config_file (configFile made absolute; absent when
+// empty: the embedded default), and scene.environment_sha256 (the config's environment image, as
+// loaded: its size and texels) where the config names one. Merged into a context with update().
+nlohmann::json inputsContext(const Config& config, const std::string& configFile);
 
 // The caveat a CPU device's times carry (lavapipe: per-pass times mean nothing).
 extern const char* const kCpuTimingCaveat;

@@ -354,7 +354,7 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
   const Scene& baseScene = scenes.get(config, config.defaults);
   json context = runContext(ctx, baseScene);
   context["resolution"] = variants.front().params.resolution;
-  context["config"] = toJson(config);
+  context.update(inputsContext(config, options.config), /*merge_objects=*/true);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
   // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
   bool peaksCached = false;
@@ -415,7 +415,8 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   // The scene of the config's defaults names the results file's scene (variants may scale it). It
   // loads before anything is printed or created: a scene refused is one line and no folder.
   SceneCache scenes;
-  const size_t sceneLights = scenes.get(config, config.defaults).lights.size();
+  const Scene& baseScene = scenes.get(config, config.defaults);
+  const size_t sceneLights = baseScene.lights.size();
   // The variants this sweep runs: all, or the part --shard names. The parts are planned on the
   // config as given, before a CPU device lowers it, so every machine of a fleet plans the same.
   std::vector<bool> mine(variants.size(), true);
@@ -442,7 +443,10 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   std::vector<json> slots(variants.size());
   json resumedContext;
   if (options.resume && fs::exists(resultsPath)) {
-    ResumedResults resumed = readResumable(resultsPath, toJson(config), device, shard, options.retryFailed);
+    json inputs = inputsContext(config, options.config);
+    inputs["scene"]["sha256"] = sceneSha256(baseScene);
+    ResumedResults resumed = readResumable(resultsPath, inputs, device, shard, options.retryFailed);
+    for (const std::string& w : resumed.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     resumedContext = std::move(resumed.context);  // until a worker sends today's
     std::map<std::string, json>& kept = resumed.kept;
     for (size_t k = 0; k < variants.size(); ++k)

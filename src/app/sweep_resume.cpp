@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "base/json_diff.h"
 #include "base/text_format.h"
+#include "report/results_identity.h"
 
 namespace hb {
 
@@ -41,7 +42,7 @@ std::string shardText(const json& shard) {
 
 }  // namespace
 
-ResumedResults readResumable(const std::string& resultsPath, const json& config, const DeviceInfo& device,
+ResumedResults readResumable(const std::string& resultsPath, const json& inputs, const DeviceInfo& device,
                              const json& shard, bool retryFailed) {
   std::ifstream f(resultsPath);
   json old;
@@ -53,10 +54,14 @@ ResumedResults readResumable(const std::string& resultsPath, const json& config,
   }
   const json& oc = old.value("context", json::object());
   const char* advice = "; resume with the options the interrupted sweep ran with, or use another --out";
-  if (const auto d = firstDifference(oc.value("config", json()), config, "config"))
+  if (const auto d = firstDifference(results::configIdentity(oc.value("config", json())),
+                                     results::configIdentity(inputs.value("config", json())), "config"))
     throw InputError(resultsPath +
                      ": --resume needs the config the interrupted sweep ran (frame counts included), and " +
                      describeDifference(*d, "interrupted sweep", "this one") + advice);
+  if (const std::string content = results::contentDifference(oc, inputs, "the interrupted sweep", "this one");
+      !content.empty())
+    throw InputError(resultsPath + ": --resume needs the scene the interrupted sweep ran, and " + content + advice);
   const json oldDevice = oc.value("device", json::object());
   if (oldDevice.value("uuid", "") != device.uuid)
     throw InputError(resultsPath + ": --resume needs the device of the interrupted sweep, " +
@@ -67,6 +72,8 @@ ResumedResults readResumable(const std::string& resultsPath, const json& config,
     throw InputError(resultsPath + ": --resume needs the same part as the interrupted sweep, which ran with " + was +
                      " (this one: " + now + "); use another --out");
   ResumedResults r;
+  if (const std::vector<results::MovedInput> moved = results::movedInputs(oc, inputs); !moved.empty())
+    r.warnings.push_back("--resume: " + results::describeMovedInputs(moved, oc, true, "interrupted sweep", "this one"));
   if (old.contains("context")) r.context = old["context"];
   for (const json& run : old.value("runs", json::array())) {
     const std::string status = run.value("status", "");

@@ -3,6 +3,7 @@
 #pragma once
 #include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,14 +15,17 @@ namespace hb {
 struct ResumedResults {
   nlohmann::json context;                      // the earlier context, null when the file has none
   std::map<std::string, nlohmann::json> kept;  // by variant name: the runs the sweep does not run again
+  std::vector<std::string> warnings;           // the inputs at other paths, their content the same
 };
 
-// Reads the earlier results in resultsPath (which exists). `config` is the config as it runs now
-// (toJson of configForDevice's), `shard` the part it runs (context.shard, null without --shard).
-// Keeps runs of status "ok", and "timeout" or "crashed" unless retryFailed ("error" runs again).
-// Throws InputError, one line naming the file, when it is not JSON or was written by another config
-// (the first field that differs and both values), device or part.
-ResumedResults readResumable(const std::string& resultsPath, const nlohmann::json& config, const DeviceInfo& device,
+// Reads the earlier results in resultsPath (which exists). `inputs` is what this sweep's context
+// will say of its inputs (run_context.h inputsContext of configForDevice's config, with
+// scene.sha256), `shard` the part it runs (context.shard, null without --shard). Keeps runs of
+// status "ok", and "timeout" or "crashed" unless retryFailed ("error" runs again). Throws
+// InputError, one line naming the file, when it is not JSON or was written by another config (the
+// first field that differs and both values; file paths aside), scene content (both sha256s),
+// device or part; inputs at other paths with the same content (a moved checkout) are a warning.
+ResumedResults readResumable(const std::string& resultsPath, const nlohmann::json& inputs, const DeviceInfo& device,
                              const nlohmann::json& shard, bool retryFailed);
 
 // The command that continues this sweep in outDir, ready to paste into a shell: the program as it

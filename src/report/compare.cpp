@@ -13,6 +13,7 @@
 #include "base/json_diff.h"
 #include "config/config.h"
 #include "effects/effects.h"
+#include "report/results_identity.h"
 #include "report/results_json.h"
 #include "report/stats.h"
 
@@ -77,24 +78,36 @@ json withParamDefaults(json variants) {
   return variants;
 }
 
-// Fields that must agree for a comparison to mean anything: same scene bytes, same config. A
-// field that differs is named down to its first differing leaf, with both values there.
+// What must agree for a comparison to mean anything: the same scene and environment content (their
+// sha256s: results_identity.h), the same config, the file paths in it aside. A field that differs is
+// named down to its first differing leaf, with both values there; inputs at other paths with the
+// same content are one warning that names the paths.
 void checkComparable(const json& a, const json& b, const CompareOptions& options, std::vector<std::string>& warnings) {
-  const std::vector<std::vector<std::string>> fields = {
-      {"context", "scene", "sha256"},      {"context", "config", "scene"},    {"context", "resolution"},
-      {"context", "config", "resolution"}, {"context", "config", "variants"}, {"context", "config", "sweep"}};
-  for (const auto& path : fields) {
-    json va = valueAt(a, path), vb = valueAt(b, path);
-    if (path.back() == "variants") va = withParamDefaults(va), vb = withParamDefaults(vb);
-    std::string name;
-    for (const std::string& k : path) name += (name.empty() ? "" : ".") + k;
-    const std::optional<JsonDifference> difference = firstDifference(va, vb, name);
-    if (!difference) continue;
-    const std::string what = describeDifference(*difference, "A", "B");
+  const json& contextA = results::at(a, "context");
+  const json& contextB = results::at(b, "context");
+  std::vector<std::string> differences;
+  if (const std::string content = results::contentDifference(contextA, contextB, "A", "B"); !content.empty())
+    differences.push_back(content);
+  const json configA = results::configIdentity(results::at(contextA, "config"));
+  const json configB = results::configIdentity(results::at(contextB, "config"));
+  const std::vector<std::pair<std::string, std::pair<json, json>>> fields = {
+      {"context.config.scene", {results::at(configA, "scene"), results::at(configB, "scene")}},
+      {"context.config.environment", {results::at(configA, "environment"), results::at(configB, "environment")}},
+      {"context.resolution", {results::at(contextA, "resolution"), results::at(contextB, "resolution")}},
+      {"context.config.resolution", {results::at(configA, "resolution"), results::at(configB, "resolution")}},
+      {"context.config.variants",
+       {withParamDefaults(results::at(configA, "variants")), withParamDefaults(results::at(configB, "variants"))}},
+      {"context.config.sweep", {results::at(configA, "sweep"), results::at(configB, "sweep")}}};
+  for (const auto& [name, values] : fields)
+    if (const std::optional<JsonDifference> d = firstDifference(values.first, values.second, name))
+      differences.push_back(describeDifference(*d, "A", "B"));
+  for (const std::string& what : differences) {
     if (!options.force)
       throw InputError("cannot compare: " + what + "; compare runs of the same scene and config, or pass --force");
     warnings.push_back("forced comparison: " + what);
   }
+  if (const std::vector<results::MovedInput> moved = results::movedInputs(contextA, contextB); !moved.empty())
+    warnings.push_back(results::describeMovedInputs(moved, contextA, differences.empty(), "A", "B"));
 }
 
 struct Timing {
@@ -205,6 +218,7 @@ CompareSide sideOf(const json& r) {
   s.revision = textAt(r, {"context", "tool", "git"});
   s.version = textAt(r, {"context", "tool", "version"});
   s.date = textAt(r, {"context", "host", "date"});
+  s.tracer = results::tracedBy(r);
   return s;
 }
 
@@ -221,13 +235,13 @@ std::string withArticle(const std::string& noun) {
   return (std::string("aeiou").find(noun.front()) != std::string::npos ? "an " : "a ") + noun;
 }
 
-// "discrete GPU, driver X, hybridbench 0.1.0 at 02f03e1, swept 2026-11-22T07:03:28Z": what the
+// "discrete GPU, driver X, ray tracing compute, hybridbench 0.1.0 at 02f03e1, swept 2026-11-22T07:03:28Z": what the
 // file records of its device and build.
 std::string describeSide(const CompareSide& s) {
   auto orUnknown = [](const std::string& v) { return v.empty() ? std::string("unknown") : v; };
   return (s.deviceType.empty() ? std::string() : kindOf(s.deviceType) + ", ") + "driver " + orUnknown(s.driver) +
-         ", hybridbench " + orUnknown(s.version) + " at revision " + orUnknown(s.revision) + ", swept " +
-         orUnknown(s.date);
+         ", ray tracing " + orUnknown(s.tracer) + ", hybridbench " + orUnknown(s.version) + " at revision " +
+         orUnknown(s.revision) + ", swept " + orUnknown(s.date);
 }
 
 // Frames with fewer than kFewSamplesWarning samples on a side, one warning per pair of counts that
@@ -328,6 +342,10 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
           format("variant '%s' skipped: status %s in A, %s in B", name.c_str(), statusA.c_str(), statusB.c_str()));
       continue;
     }
+    const std::string tracerA = results::tracerOfRun(runA), tracerB = results::tracerOfRun(*runB);
+    if (!tracerA.empty() && !tracerB.empty() && tracerA != tracerB)
+      report.warnings.push_back("variant '" + name + "': traced by " + tracerA + " in A, " + tracerB +
+                                " in B (backend_choice.ran); B/A measures the change of ray tracer too");
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
                                       timingOf(runB->value("frame_ms", json())), options, untimed);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
@@ -416,7 +434,8 @@ std::string formatCompareJunit(const CompareReport& r) {
                                      {"driver", &s->driver},
                                      {"revision", &s->revision},
                                      {"version", &s->version},
-                                     {"date", &s->date}})
+                                     {"date", &s->date},
+                                     {"ray_tracing", &s->tracer}})
       if (!value->empty())
         out += format("      <property name=\"%s_%s\" value=\"", side, key) + escapeXml(*value) + "\"/>\n";
   out += "      <property name=\"geomean_frame_ratio\" value=\"" + num(r.geomeanRatio, "%.4f") + "\"/>\n";
@@ -473,7 +492,8 @@ json toJson(const CompareReport& r) {
                     {"gates", row.gates}});
   auto side = [](const CompareSide& s) {
     return json{{"device", s.device},     {"device_type", s.deviceType}, {"driver", s.driver},
-                {"revision", s.revision}, {"version", s.version},        {"date", s.date}};
+                {"revision", s.revision}, {"version", s.version},        {"date", s.date},
+                {"ray_tracing", s.tracer}};
   };
   return {{"schema_version", 1},
           {"a", side(r.a)},

@@ -63,6 +63,9 @@ struct CompareSide {
   std::string revision;            // context.tool.git: the build's git revision
   std::string version;             // context.tool.version
   std::string date;                // context.host.date: when the sweep started (UTC, ISO 8601)
+  // The ray tracer that traced (runs[].backend_choice.ran; per run where runs differ):
+  // results_identity.h tracedBy.
+  std::string tracer;
 };
 
 struct CompareReport {
@@ -87,9 +90,12 @@ struct CompareReport {
 
 // Compares results file b against a (docs/results-format.md, schema_version 1).
 // Throws InputError when either is not a schema-1 results file, or (unless options.force) when
-// context.scene.sha256, the config's scene, the resolution or the config's variants differ; the
-// message names the first field that differs (base/json_diff.h) and both values there. Runs whose status is not "ok",
-// variants or passes present on one side only, and small samples give warnings, not errors.
+// the scene's content (context.scene.sha256, and environment_sha256), the config's scene (a
+// built-in's name; a glTF's path aside), the resolution or the config's variants differ; the
+// message names the first field that differs (base/json_diff.h) and both values there. The same
+// inputs at other paths (another checkout, another runner), runs whose status is not "ok", a
+// variant traced by different ray tracers, variants or passes present on one side only, and small
+// samples give warnings, not errors.
 CompareReport compareResults(const nlohmann::json& a, const nlohmann::json& b, const CompareOptions& options);
 
 // A Markdown table for the console and for CI logs, then the geometric mean, the regression

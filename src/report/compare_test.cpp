@@ -193,6 +193,40 @@ TEST(CompareResults, ForceComparesDifferentScenesWithAWarning) {
   EXPECT_NE(r.warnings.front().find("context.scene.sha256"), std::string::npos);
 }
 
+// A glTF at another path (another checkout) with the same content is one warning naming both
+// paths; a built-in scene is its name, so another built-in is refused.
+TEST(CompareResults, AGltfAtAnotherPathWarnsAndAnotherBuiltinIsRefused) {
+  json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.0);
+  a["context"]["config"]["scene"] = "/ci/1/scenes/cube.gltf";
+  b["context"]["config"]["scene"] = "/ci/2/scenes/cube.gltf";
+  const CompareReport r = compareResults(a, b, {});
+  size_t moved = 0;
+  for (const std::string& w : r.warnings)
+    if (w.find("other paths") != std::string::npos) {
+      ++moved;
+      EXPECT_NE(w.find(R"(scene (A: "/ci/1/scenes/cube.gltf", B: "/ci/2/scenes/cube.gltf"))"), std::string::npos) << w;
+    }
+  EXPECT_EQ(moved, 1u);
+  a["context"]["config"]["scene"] = "atrium";
+  b["context"]["config"]["scene"] = "grazing";
+  EXPECT_THROW(compareResults(a, b, {}), InputError);
+}
+
+// backend auto may choose another tracer on another device or driver: the variant is warned about.
+TEST(CompareResults, AVariantTracedByAnotherRayTracerIsWarnedAbout) {
+  json a = makeResults("abc", 1, 30, 1.0), b = makeResults("abc", 2, 30, 1.0);
+  for (json* r : {&a, &b})
+    for (json& run : (*r)["runs"]) run["backend_choice"] = {{"requested", "auto"}, {"ran", "compute"}};
+  b["runs"][1]["backend_choice"]["ran"] = "pipeline";
+  const CompareReport r = compareResults(a, b, {});
+  EXPECT_EQ(r.a.tracer, "compute");
+  EXPECT_EQ(r.b.tracer, "compute (1 run: no_opt_t8), pipeline (1 run: all_on_t8)");
+  size_t warned = 0;
+  for (const std::string& w : r.warnings)
+    warned += w.find("variant 'all_on_t8': traced by compute in A, pipeline in B") == 0;
+  EXPECT_EQ(warned, 1u);
+}
+
 TEST(CompareResults, UnmatchedAndFailedVariantsAreWarnedAndSkipped) {
   const json a = makeResults("abc", 1, 30, 1.0);
   json b = makeResults("abc", 2, 30, 1.0);

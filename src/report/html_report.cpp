@@ -16,6 +16,7 @@
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
 #include "report/report_summary.h"
+#include "report/results_identity.h"
 #include "report/results_json.h"
 #include "report/roofline.h"
 #include "report/stats.h"
@@ -269,7 +270,7 @@ std::string contextSection(const json& results, const std::string& source) {
   row("driver",
       joined({reportText(device, "driver"),
               reportText(device, "api_version").empty() ? "" : "Vulkan " + reportText(device, "api_version")}));
-  row("ray tracing", reportText(device, "rt_backend"));
+  row("ray tracing", results::tracedBy(results));  // what traced (backend_choice), not what the device offers
   row("revision", joined({reportText(tool, "name"), reportText(tool, "version"), reportText(tool, "git")}));
   row("host", joined({reportText(host, "hostname"), reportText(host, "os"), reportText(host, "cpu"),
                       reportText(host, "cores").empty() ? "" : reportText(host, "cores") + " cores"}));
@@ -278,6 +279,11 @@ std::string contextSection(const json& results, const std::string& source) {
                        reportText(scene, "triangles").empty() ? "" : reportText(scene, "triangles") + " triangles",
                        reportText(scene, "lights").empty() ? "" : reportText(scene, "lights") + " lights",
                        reportText(scene, "sha256").empty() ? "" : "sha256 " + reportText(scene, "sha256")}));
+  std::string paths;  // where the config, scene and environment lay (results_identity.h inputPaths)
+  const json inputs = results::inputPaths(c);
+  for (auto it = inputs.begin(); it != inputs.end(); ++it)
+    paths += (paths.empty() ? "" : ", ") + it.key() + " " + it.value().get<std::string>();
+  row("inputs", paths);
   const json& res = results::at(c, "resolution");
   if (res.is_array() && res.size() == 2) row("resolution", res[0].dump() + " x " + res[1].dump());
   if (frames.is_object())

@@ -1,6 +1,7 @@
 #include "report/tables.h"
 #include "base/numbers.h"
 #include "base/text_format.h"
+#include "report/results_identity.h"
 #include "report/results_json.h"
 
 #include <algorithm>
@@ -144,7 +145,7 @@ std::string headerLineOf(const json& results) {
   std::string sha = stringAt(scene, "sha256");
   if (sha.size() > 12) sha = sha.substr(0, 12) + "…";
   return "Device: " + stringAt(device, "name") + ", driver " + stringAt(device, "driver") + ", ray tracing " +
-         stringAt(device, "rt_backend") + " · resolution " + resolution + " · scene " + stringAt(scene, "name") +
+         results::tracedBy(results) + " · resolution " + resolution + " · scene " + stringAt(scene, "name") +
          " (sha256 " + sha + ") · hybridbench " + stringAt(tool, "version") + ", git " + stringAt(tool, "git");
 }
 
