@@ -10,19 +10,19 @@
 
 namespace hb {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 namespace {
 
 // Sets key in every named variant's params that has it; refused when they differ (the config
 // sweeps it) or when a grid axis sweeps it.
-void setEverywhere(Json& doc, const std::string& key, const Json& value, const std::string& flag) {
+void setEverywhere(OrderedJson& doc, const std::string& key, const OrderedJson& value, const std::string& flag) {
   if (doc.contains("grid") && doc["grid"].is_object() && doc["grid"].contains(key))
     throw InputError(flag + ": the config sweeps " + key + " (its \"grid\" has it); leave out " + flag +
                      " or write a config without that axis");
   if (doc.contains("variants") && doc["variants"].is_array()) {
-    std::optional<Json> seen;
-    for (Json& v : doc["variants"]) {
+    std::optional<OrderedJson> seen;
+    for (OrderedJson& v : doc["variants"]) {
       if (!v.is_object() || !v.contains("params") || !v["params"].is_object() || !v["params"].contains(key)) continue;
       if (seen && *seen != v["params"][key])
         throw InputError(flag + ": the config's variants differ in " + key + " (they sweep it); leave out " + flag +
@@ -31,43 +31,43 @@ void setEverywhere(Json& doc, const std::string& key, const Json& value, const s
       v["params"][key] = value;
     }
   }
-  if (!doc.contains("defaults") || !doc["defaults"].is_object()) doc["defaults"] = Json::object();
+  if (!doc.contains("defaults") || !doc["defaults"].is_object()) doc["defaults"] = OrderedJson::object();
   doc["defaults"][key] = value;
   if (key == "resolution") doc.erase("resolution");  // the top-level shorthand; one of the two may stay
 }
 
 // Lays the --set over the config's effects and over each variant's own value for that effect
 // (both lie below --set): a key the --set leaves out keeps theirs (layerEffectValue).
-void setEffect(Json& doc, const std::string& set) {
+void setEffect(OrderedJson& doc, const std::string& set) {
   const EffectsLayer layer = parseEffectSet(set);  // checks it: "--set shadows=maybe: ..."
   for (auto it = layer.object.begin(); it != layer.object.end(); ++it) {
     const std::string effect = it.key();  // named: clang cannot capture structured bindings
     const nlohmann::json value = it.value();
-    auto layerOver = [&](Json& effects) {
+    auto layerOver = [&](OrderedJson& effects) {
       const nlohmann::json below = effects.contains(effect) ? nlohmann::json(effects[effect]) : nlohmann::json();
-      effects[effect] = Json(layerEffectValue(below, value));
+      effects[effect] = OrderedJson(layerEffectValue(below, value));
     };
-    if (!doc.contains("effects") || !doc["effects"].is_object()) doc["effects"] = Json::object();
+    if (!doc.contains("effects") || !doc["effects"].is_object()) doc["effects"] = OrderedJson::object();
     layerOver(doc["effects"]);
-    auto inParams = [&](Json& params) {
+    auto inParams = [&](OrderedJson& params) {
       if (params.is_object() && params.contains("effects") && params["effects"].is_object() &&
           params["effects"].contains(effect))
         layerOver(params["effects"]);
     };
     if (doc.contains("defaults")) inParams(doc["defaults"]);
     if (doc.contains("variants") && doc["variants"].is_array())
-      for (Json& v : doc["variants"])
+      for (OrderedJson& v : doc["variants"])
         if (v.is_object() && v.contains("params")) inParams(v["params"]);
   }
 }
 
 }  // namespace
 
-Environment environmentOfSet(const std::string& set, Json* asJson) {
+Environment environmentOfSet(const std::string& set, OrderedJson* asJson) {
   const std::string text = set.substr(set.find('=') + 1);
-  Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded() || value.is_string()) value = Json{{"image", text}};
-  if (value.is_array()) value = Json{{"color", value}};
+  OrderedJson value = OrderedJson::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded() || value.is_string()) value = OrderedJson{{"image", text}};
+  if (value.is_array()) value = OrderedJson{{"color", value}};
   if (!value.is_object())
     throw InputError("--set " + set +
                      ": give an .hdr image path, a colour [r, g, b] or {\"image\": ..., \"color\": ..., "
@@ -84,7 +84,7 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
   const std::string text = path.empty()
                                ? std::string(embeddedDefaultConfigText())
                                : readInputText(path, "give the path of a config JSON file (e.g. configs/thesis.json)");
-  Json doc = json_reader::parseText(text, source);
+  OrderedJson doc = json_reader::parseText(text, source);
   if (!o.any()) return parseConfig(doc, source);
   if (!doc.is_object()) return parseConfig(doc, source);  // the parser says what is wrong
 
@@ -95,7 +95,8 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
     doc["scene"] = file && p.is_relative() ? std::filesystem::absolute(p).lexically_normal().string() : o.scene;
     if (o.scene != "atrium") doc.erase("scene_params");
   }
-  if (o.resolution) setEverywhere(doc, "resolution", Json::array({(*o.resolution)[0], (*o.resolution)[1]}), "--size");
+  if (o.resolution)
+    setEverywhere(doc, "resolution", OrderedJson::array({(*o.resolution)[0], (*o.resolution)[1]}), "--size");
   for (const std::string& set : o.sets) {
     const std::string flag = "--set " + set;
     if (isEffectSet(set)) {
@@ -117,7 +118,7 @@ Config loadConfigWith(const std::string& path, const ConfigOverrides& o) {
     VariantParams probe;
     applySetOverride(probe, set);  // checks key and value: one line naming the --set
     const std::string key = set.substr(0, set.find('='));
-    setEverywhere(doc, key, Json(toJson(probe)[key]), flag);
+    setEverywhere(doc, key, OrderedJson(toJson(probe)[key]), flag);
   }
   return parseConfig(doc, source + " (with command-line changes)");
 }
