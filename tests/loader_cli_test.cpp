@@ -25,22 +25,12 @@ namespace fs = std::filesystem;
 using hb::testing::readFile;
 using hb::testing::readJson;
 using hb::testing::RunResult;
+using hb::testing::snapshot;
 using hb::testing::writeFile;
 using nlohmann::json;
 
 const fs::path kAssimp = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/assimp";
 const fs::path kCube = kAssimp / "glTF2/IncorrectVertexArrays/Cube.gltf";
-
-// Every file under root (the children's .stdout/.stderr captures left out) with its bytes.
-std::map<std::string, std::string> filesUnder(const fs::path& root) {
-  std::map<std::string, std::string> out;
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
-    const std::string rel = fs::relative(e.path(), root).string();
-    if (rel.rfind(".std", 0) == 0) continue;
-    out[rel] = e.is_regular_file() ? readFile(e.path()) : std::string("<dir>");
-  }
-  return out;
-}
 
 size_t linesOf(const std::string& text) { return static_cast<size_t>(std::count(text.begin(), text.end(), '\n')); }
 
@@ -53,14 +43,14 @@ class LoaderCli : public hb::testing::ToolTest {
     std::string cmd;
     for (const auto& a : args) cmd += " " + a;
     SCOPED_TRACE("hybridbench" + cmd);
-    const auto before = filesUnder(dir);
+    const auto before = snapshot(dir);
     const RunResult r = run(args);
     EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
     EXPECT_EQ(linesOf(r.err), 1u) << "stderr must be one line: " << r.err;
     EXPECT_TRUE(r.out.empty()) << "printed before refusing: " << r.out;
     for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "does not name " << n << ": " << r.err;
     for (const auto& n : absent) EXPECT_EQ(r.err.find(n), std::string::npos) << "says " << n << ": " << r.err;
-    EXPECT_TRUE(filesUnder(dir) == before) << "the refused run created or changed files";
+    EXPECT_TRUE(snapshot(dir) == before) << "the refused run created or changed files";
     return r;
   }
 

@@ -25,20 +25,9 @@ namespace fs = std::filesystem;
 using hb::testing::readFile;
 using hb::testing::readJson;
 using hb::testing::RunResult;
+using hb::testing::snapshot;
 using hb::testing::writeFile;
 using nlohmann::json;
-
-// Every file and folder under root (the children's .stdout/.stderr captures left out) with its
-// bytes: two equal snapshots mean nothing was created, removed or changed.
-std::map<std::string, std::string> snapshot(const fs::path& root) {
-  std::map<std::string, std::string> out;
-  for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
-    const std::string rel = fs::relative(e.path(), root).string();
-    if (rel.rfind(".std", 0) == 0) continue;
-    out[rel] = e.is_regular_file() ? readFile(e.path()) : std::string("<dir>");
-  }
-  return out;
-}
 
 class NewUser : public hb::testing::ToolTest {
  protected:

@@ -28,27 +28,7 @@ using hb::testing::RunResult;
 using hb::testing::writeFile;
 using nlohmann::json;
 
-class SweepResume : public hb::testing::ToolTest {
- protected:
-  // Polls out/results.json until it holds at least `runs` runs (it is replaced atomically, so
-  // every read parses); false if the child exits first or past the deadline.
-  bool waitForRuns(pid_t pid, const fs::path& out, size_t runs) {
-    const auto deadline = std::chrono::steady_clock::now() + kChildDeadline;
-    while (std::chrono::steady_clock::now() < deadline) {
-      const json r = readJson(out / "results.json");
-      if (!r.is_discarded() && r.value("runs", json::array()).size() >= runs) return true;
-      int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) {
-        ADD_FAILURE() << "hybridbench exited before " << runs << " run(s) were written";
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ADD_FAILURE() << "no " << runs << " run(s) in " << out / "results.json"
-                  << " before the deadline";
-    return false;
-  }
-};
+class SweepResume : public hb::testing::ToolTest {};
 
 // The text after `marker` up to the end of its line; empty when absent.
 std::string restOfLine(const std::string& text, const std::string& marker) {

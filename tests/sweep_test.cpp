@@ -100,25 +100,6 @@ class Sweep : public hb::testing::ToolTest {
     writeFile(p, c.dump(1));
     return p;
   }
-
-  // Polls out/results.json until it holds at least `runs` runs (it is replaced atomically, so
-  // every read parses); false if the child exits first or past the deadline.
-  bool waitForRuns(pid_t pid, const fs::path& out, size_t runs) {
-    const auto deadline = Clock::now() + ToolTest::kChildDeadline;
-    while (Clock::now() < deadline) {
-      const json r = readJson(out / "results.json");
-      if (!r.is_discarded() && r.value("runs", json::array()).size() >= runs) return true;
-      int status = 0;
-      if (waitpid(pid, &status, WNOHANG) == pid) {
-        ADD_FAILURE() << "hybridbench exited before " << runs << " run(s) were written";
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    ADD_FAILURE() << "no " << runs << " run(s) in " << out / "results.json"
-                  << " before the deadline";
-    return false;
-  }
 };
 
 // The summary of a timing block: every key of docs/results-format.md, samples of the stated length, and

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -56,6 +57,18 @@ inline const fs::path kSweepFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/
 inline void writeFile(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary);
   f << text;
+}
+
+// Every file and folder under root (the children's .stdout/.stderr captures left out) with its
+// bytes: two equal snapshots mean nothing was created, removed or changed.
+inline std::map<std::string, std::string> snapshot(const fs::path& root) {
+  std::map<std::string, std::string> out;
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
+    const std::string rel = fs::relative(e.path(), root).string();
+    if (rel.rfind(".std", 0) == 0) continue;
+    out[rel] = e.is_regular_file() ? readFile(e.path()) : std::string("<dir>");
+  }
+  return out;
 }
 
 // The processes alive now whose command line holds `needle` (e.g. a test's scratch directory),
@@ -151,6 +164,25 @@ class ToolTest : public ::testing::Test {
   }
 
   RunResult run(const std::vector<std::string>& args) { return wait(start(args)); }
+
+  // Polls out/results.json until it holds at least `runs` runs (a sweep replaces it atomically, so
+  // every read parses); false if the child exits first or past kChildDeadline.
+  bool waitForRuns(pid_t pid, const fs::path& out, size_t runs) {
+    const auto deadline = std::chrono::steady_clock::now() + kChildDeadline;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const nlohmann::json r = readJson(out / "results.json");
+      if (!r.is_discarded() && r.value("runs", nlohmann::json::array()).size() >= runs) return true;
+      int status = 0;
+      if (waitpid(pid, &status, WNOHANG) == pid) {
+        ADD_FAILURE() << "hybridbench exited before " << runs << " run(s) were written";
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ADD_FAILURE() << "no " << runs << " run(s) in " << out / "results.json"
+                  << " before the deadline";
+    return false;
+  }
 
   fs::path outPath() const { return dir / (".stdout" + std::to_string(children_)); }
   fs::path errPath() const { return dir / (".stderr" + std::to_string(children_)); }
