@@ -8,11 +8,12 @@ if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
                       "-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ (see scripts/fuzz.sh)")
 endif()
 
-# From src/effects/: the plan and registry, each effect's schema (<name>/*_effect.cpp) and the list
+# From src/plan/ the plan and registry, from src/effects/ each effect's schema (<name>/*_effect.cpp) and the list
 # of built-in effects; their frame hooks are stand-ins (tests/fuzz/effect_hook_stubs.cpp).
 file(GLOB_RECURSE FUZZ_CORE_SOURCES CONFIGURE_DEPENDS
-     ${CMAKE_SOURCE_DIR}/src/base/*.cpp ${CMAKE_SOURCE_DIR}/src/scene/*.cpp ${CMAKE_SOURCE_DIR}/src/config/*.cpp)
-file(GLOB FUZZ_EFFECT_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/effects/*.cpp
+     ${CMAKE_SOURCE_DIR}/src/base/*.cpp ${CMAKE_SOURCE_DIR}/src/scene/*.cpp ${CMAKE_SOURCE_DIR}/src/gltf/*.cpp
+     ${CMAKE_SOURCE_DIR}/src/config/*.cpp)
+file(GLOB FUZZ_EFFECT_SOURCES CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/plan/*.cpp
      ${CMAKE_SOURCE_DIR}/src/effects/*/*_effect.cpp ${CMAKE_SOURCE_DIR}/src/effects/builtin/*.cpp)
 list(APPEND FUZZ_CORE_SOURCES ${FUZZ_EFFECT_SOURCES})
 list(FILTER FUZZ_CORE_SOURCES EXCLUDE REGEX "_test\\.cpp$")

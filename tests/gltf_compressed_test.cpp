@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "base/image_io.h"
+#include "gltf/gltf_io.h"
 #include "reference/flip.h"
-#include "scene/gltf/gltf_io.h"
 #include "tool_process.h"
 
 #ifndef HYBRIDBENCH_SOURCE_DIR

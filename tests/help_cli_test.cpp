@@ -12,7 +12,7 @@
 
 #include "base/errors.h"
 #include "config/config.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "tool_process.h"
 
 namespace {

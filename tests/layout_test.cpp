@@ -1,6 +1,7 @@
 // The folders of src/ follow the frame's data flow (README "Layout"): a file includes only headers
 // of its own folder or of folders lower in this order. The order is the one the code has, checked
 // here on every include so that a move cannot quietly put a file in the wrong place.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -18,33 +19,20 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Lowest first. effects/ (the schema, the plan and the registry) reads scenes (can an effect act on
-// this one?); scene/gltf sits above it: the glTF loader builds Scenes and checks their
-// extras.effects against the effects schema. "effects/*" is every effect's own folder
-// (effects/<name>/: its passes, analysis, report and table), above everything it uses and below
-// the commands.
-const std::vector<std::string> kOrder = {"base", "scene", "effects",  "scene/gltf", "config",    "reference",
-                                         "gpu",  "frame", "analysis", "report",     "effects/*", "app"};
+// Lowest first, one rank a folder: a file's folder is the first component of its path under src/
+// (effects/shadows/x.h is in effects/). plan/ (the effects schema, the registry and the frame plan)
+// reads scenes (can an effect act on this one?); gltf/ sits above it: the glTF loader builds
+// Scenes and checks their extras.effects against the effects schema. effects/ holds every effect's
+// own folder (effects/<name>/: its passes, analysis, report and table) and builtin/, the list of
+// them: above everything it uses and below the commands.
+const std::vector<std::string> kOrder = {"base", "scene", "plan",     "gltf",   "config",  "reference",
+                                         "gpu",  "frame", "analysis", "report", "effects", "app"};
 
 int rankOf(const std::string& relPath) {  // "gpu/accel.h" -> rank of "gpu"; -1 if not in a folder
-  int best = -1;
-  size_t bestLen = 0;
-  for (size_t i = 0; i < kOrder.size(); ++i) {
-    if (kOrder[i] == "effects/*") {  // a file in a subfolder of effects/
-      const size_t slash = relPath.find('/', 8);
-      if (relPath.rfind("effects/", 0) == 0 && slash != std::string::npos && 9 > bestLen) {  // longer than "effects/"
-        best = int(i);
-        bestLen = 9;
-      }
-      continue;
-    }
-    const std::string prefix = kOrder[i] + "/";
-    if (relPath.rfind(prefix, 0) == 0 && prefix.size() > bestLen) {
-      best = int(i);
-      bestLen = prefix.size();
-    }
-  }
-  return best;
+  const size_t slash = relPath.find('/');
+  if (slash == std::string::npos) return -1;
+  const auto it = std::find(kOrder.begin(), kOrder.end(), relPath.substr(0, slash));
+  return it == kOrder.end() ? -1 : int(it - kOrder.begin());
 }
 
 }  // namespace

@@ -19,11 +19,11 @@
 #include "analysis/effect_report.h"
 #include "app/commands.h"
 #include "app/sweep.h"
-#include "effects/effects.h"
 #include "frame/frame_builder.h"
 #include "frame/renderer.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu_fixture.h"
+#include "plan/effects.h"
 #include "report/results_json.h"
 #include "scene/atrium.h"
 #include "tint_comp.h"  // generated from tests/shaders/tint.comp.glsl (CMakeLists.txt)

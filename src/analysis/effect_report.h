@@ -1,4 +1,4 @@
-// What an effect's report hook (effects/effect.h EffectDef::report) is given after an analysis
+// What an effect's report hook (plan/effect.h EffectDef::report) is given after an analysis
 // frame: the frame, the readbacks every report shares (read once), and where its results go —
 // its key in render.json / the results run, its images, its console summary lines and the run's
 // accuracy figures (docs/results-format.md).

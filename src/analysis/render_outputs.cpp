@@ -354,7 +354,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
   lap("readbacks and images");
   // The light lists, read back once (the masks of thousands of lights at 4K are megabytes).
   const CullingReadback cr = perspective && renderer.hasCulling() ? renderer.readCulling() : CullingReadback{};
-  // The effects' own reports, in effect order (effects/effect.h EffectDef::report).
+  // The effects' own reports, in effect order (plan/effect.h EffectDef::report).
   EffectReport report{ctx,         renderer, scene, params, reference, writeImages, j,          accuracy,
                       out.summary, write,    lap,   depth,  cr,        ci,          perspective};
   if (perspective && renderer.hasCulling()) reportCulling(report);

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "gltf/gltf_io.h"
 #include "reference/bvh.h"
 #include "scene/atrium.h"
-#include "scene/gltf/gltf_io.h"
 #include "scene/hard_cases.h"
 #include "scene/mesh_builder.h"
 

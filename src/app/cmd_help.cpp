@@ -11,7 +11,7 @@
 #include "base/errors.h"
 #include "config/config.h"
 #include "config/config_reader.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 
 namespace hb {
 

@@ -20,11 +20,11 @@
 #include "config/config_overrides.h"
 #include "frame/ray_backend.h"
 #include "frame/renderer.h"
+#include "gltf/gltf_io.h"
 #include "gpu/peaks.h"
 #include "gpu/vk_context.h"
 #include "report/roofline.h"
 #include "scene/atrium.h"
-#include "scene/gltf/gltf_io.h"
 
 namespace hb {
 

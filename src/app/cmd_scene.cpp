@@ -8,9 +8,9 @@
 #include "app/commands.h"
 #include "base/errors.h"
 #include "base/text_format.h"
-#include "effects/effects.h"
+#include "gltf/gltf_io.h"
+#include "plan/effects.h"
 #include "scene/atrium.h"
-#include "scene/gltf/gltf_io.h"
 #include "scene/hard_cases.h"
 
 namespace hb {

@@ -9,7 +9,7 @@
 
 #include "base/sha256.h"
 #include "base/version.h"
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 namespace hb {
 

@@ -5,8 +5,8 @@
 
 #include "app/auto_scene.h"
 #include "base/errors.h"
+#include "gltf/gltf_io.h"
 #include "scene/atrium.h"
-#include "scene/gltf/gltf_io.h"
 #include "scene/hard_cases.h"
 #include "shared/gpu_types.h"
 

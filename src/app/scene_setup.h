@@ -19,7 +19,7 @@ Scene sceneForVariant(const Config& config, const VariantParams& params);
 // Applies the config's camera and light overrides to a loaded scene.
 void applySceneOverrides(const Config& config, Scene& scene);
 
-// The config's "effects" as the request layer above the scene's own (effects/effects.h).
+// The config's "effects" as the request layer above the scene's own (plan/effects.h).
 EffectsRequest effectsRequestFor(const Config& config);
 
 RenderSettings renderSettingsFor(const VariantParams& params, const EffectsRequest& effects);

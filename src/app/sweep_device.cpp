@@ -30,12 +30,12 @@
 #include "effects/shadows/shadows_part.h"
 #include "frame/ray_backend.h"
 #include "frame/renderer.h"
+#include "gltf/gltf_io.h"
 #include "gpu/vk_resources.h"
 #include "report/all_tables.h"
 #include "report/roofline.h"
 #include "report/stats.h"
 #include "report/tables.h"
-#include "scene/gltf/gltf_io.h"
 #include "shared/gpu_types.h"
 
 namespace hb {

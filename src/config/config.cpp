@@ -15,7 +15,7 @@
 #include "base/errors.h"
 #include "base/input_file.h"
 #include "config/config_reader.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "scene/ambient_json.h"
 #include "scene/camera.h"
 #include "scene/environment.h"
@@ -338,7 +338,7 @@ Config parseDocument(const Json& doc, const std::string& sourceName) {
     c.environment =
         readEnvironment(doc["environment"], top.key("environment"), std::filesystem::path(c.sourceName).parent_path());
   if (doc.contains("effects")) {
-    validateEffects(doc["effects"], top.key("effects"));  // the schema of effects/effects.h
+    validateEffects(doc["effects"], top.key("effects"));  // the schema of plan/effects.h
     c.effects = nlohmann::json(doc["effects"]);
   }
   if (doc.contains("frames")) {

@@ -40,7 +40,7 @@
 //                                     // light from every direction (scene/environment.h),
 //                                     // replacing the scene's extras.environment; lights the
 //                                     // frame only through effects.environment_light
-//   "effects": {"shadows": true, "ambient_occlusion": {...}},  // effects/effects.h: what to
+//   "effects": {"shadows": true, "ambient_occlusion": {...}},  // plan/effects.h: what to
 //                                     // simulate; over the scene's extras.effects, under a variant's
 //                                     // params.effects and --set. shadows false: no BLAS/TLAS, no
 //                                     // shadow pass; ambient_occlusion false: no LDM, no AO pass
@@ -235,7 +235,7 @@ struct VariantParams {
   // unless a variant overrides them); for glTF scenes and explicit light lists they stay empty.
   std::optional<uint32_t> lightCount;
   std::optional<double> triangleScale;
-  // "effects": an effects object (effects/effects.h) layered above the config's own for this variant
+  // "effects": an effects object (plan/effects.h) layered above the config's own for this variant
   // (e.g. one ambient occlusion method per variant); null: the config's.
   nlohmann::json effects;
 
@@ -280,7 +280,7 @@ struct Config {
   std::optional<Environment> environment;    // "environment": replaces the scene's (scene.h)
   std::optional<std::vector<Light>> lights;  // empty optional: the scene's lights
   // The "effects" object as the file gives it (validated): keys it leaves out stay the scene's
-  // or the built-in default (effects/effects.h). An EffectsRequest layer of source Config.
+  // or the built-in default (plan/effects.h). An EffectsRequest layer of source Config.
   nlohmann::json effects = nlohmann::json::object();
   uint32_t warmupFrames = 50;
   uint32_t measuredFrames = 300;

@@ -5,7 +5,7 @@
 #include "base/errors.h"
 #include "base/input_file.h"
 #include "base/json_reader.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "scene/environment.h"
 
 namespace hb {

@@ -5,7 +5,7 @@
 #include "base/errors.h"
 #include "config/config.h"
 #include "config/config_reader.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 
 namespace hb {
 
@@ -443,7 +443,7 @@ void applyParam(VariantParams& p, std::string_view key, const Json& v, const Whe
       readInt(v[0], where.index(0), int64_t(spec->lo), int64_t(spec->hi));
       readInt(v[1], where.index(1), int64_t(spec->lo), int64_t(spec->hi));
       break;
-    case ParamKind::Effects: validateEffects(v, where); break;  // the schema of effects/effects.h
+    case ParamKind::Effects: validateEffects(v, where); break;  // the schema of plan/effects.h
   }
   spec->store(p, v, choice, where);
 }

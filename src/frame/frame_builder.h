@@ -1,4 +1,4 @@
-// What a part of the frame is built from (effects/effect.h EffectDef::build): the device, the
+// What a part of the frame is built from (plan/effect.h EffectDef::build): the device, the
 // scene, the settings and plan, the view, and the frame's resources so far. Parts are built in
 // frame order, so a part finds what earlier parts published (resources.buffer("light_lists.grid"))
 // and publishes what it writes for the parts after it.
@@ -6,12 +6,12 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "effects/effects.h"
 #include "frame/frame_pass.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_context.h"
+#include "plan/effects.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "shared/gpu_types.h"

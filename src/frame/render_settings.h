@@ -6,7 +6,7 @@
 #include <string>
 
 #include "config/config.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "scene/scene.h"
 
 namespace hb {
@@ -30,7 +30,7 @@ struct RenderSettings {
   bool lightCulling = true;
   bool aabb = false;
   // The effects asked for above the scene's own (config, --set); the frame is planned from them
-  // and the scene (effects/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
+  // and the scene (plan/effects.h planFrame). Empty: the scene's extras.effects or the defaults.
   EffectsRequest effects;
   RtBackend backend = RtBackend::Auto;
   std::optional<RayRates> rayRates;  // backend=auto: the measurements it may choose compute from

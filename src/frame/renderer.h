@@ -12,7 +12,6 @@
 #include <utility>
 #include <vector>
 
-#include "effects/effects.h"
 #include "frame/frame_pass.h"
 #include "frame/ray_backend.h"
 #include "frame/render_settings.h"
@@ -20,6 +19,7 @@
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/trace_bvh.h"
+#include "plan/effects.h"
 #include "scene/camera.h"
 
 namespace hb {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 namespace hb {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "base/text_format.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "report/aa_table.h"
 #include "report/many_lights_table.h"
 #include "report/primary_table.h"

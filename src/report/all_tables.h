@@ -1,6 +1,6 @@
 // tables.md: the tables of what a results file's runs study — the thesis's Tables 5.1/5.2 where
 // some run is one of their rows (the thesis's frame: direct light and shadows, 10 lights), the
-// primary-visibility and anti-aliasing tables, each effect's own table (effects/effect.h
+// primary-visibility and anti-aliasing tables, each effect's own table (plan/effect.h
 // EffectDef::table, in effect order), the many-lights table — as `sweep` prints and writes it and
 // `tables` prints it. A file that no table has rows for gets the per-variant table instead.
 #pragma once

@@ -12,7 +12,7 @@
 #include "base/errors.h"
 #include "base/json_diff.h"
 #include "config/config.h"
-#include "effects/effects.h"
+#include "plan/effects.h"
 #include "report/results_identity.h"
 #include "report/results_json.h"
 #include "report/stats.h"
@@ -23,7 +23,7 @@ using nlohmann::json;
 
 namespace {
 
-// A pass's place in frame order (effects/effects.h framePassOrder: the base frame's passes and
+// A pass's place in frame order (plan/effects.h framePassOrder: the base frame's passes and
 // every effect's), a sub-pass ("raster3d.tiles") right after its pass; passes the frame no longer
 // has come last.
 size_t passRank(const std::vector<std::string>& order, const std::string& p) {

@@ -1,7 +1,7 @@
 // The environment's JSON form and the CPU lookup (scene/environment.h): the committed sky reads
 // back as its generator wrote it, the lookup is exact at texel centres and wraps in azimuth, a
 // rotation turns the sky, and every bad input is one line naming the key, the file and the fix
-// (a glTF's extras.environment: scene/gltf/gltf_extensions_test.cpp).
+// (a glTF's extras.environment: gltf/gltf_extensions_test.cpp).
 #include "scene/environment.h"
 
 #include <cmath>

@@ -135,7 +135,7 @@ struct Scene {
   std::string cameraSource = "scene";
   std::string lightsSource = "scene";
   // The effects the scene calls for (a glTF's scenes[s].extras.effects, checked against
-  // effects/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
+  // plan/effects.h by the loader); null when it says nothing. effectsOrigin names the file.
   nlohmann::json effects;
   std::string effectsOrigin;
   std::optional<Ambient> ambient;          // none: nothing for ambient occlusion to darken

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "effects/effect.h"
+#include "plan/effect.h"
 
 namespace hb {
 

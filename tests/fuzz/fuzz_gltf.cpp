@@ -12,7 +12,7 @@
 #include <span>
 
 #include "base/errors.h"
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 #define FUZZ_TARGET_NAME "fuzz_gltf"
 #include "fuzz_checks.h"

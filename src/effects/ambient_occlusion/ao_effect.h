@@ -23,8 +23,8 @@
 #include <optional>
 #include <string>
 
-#include "effects/effect.h"
-#include "effects/ldm_settings.h"
+#include "plan/effect.h"
+#include "plan/ldm_settings.h"
 
 namespace hb {
 

@@ -1,4 +1,4 @@
-// The ambient-occlusion effect's report hook (effects/effect.h EffectDef::report).
+// The ambient-occlusion effect's report hook (plan/effect.h EffectDef::report).
 #include <cstdio>
 #include <string>
 #include <vector>

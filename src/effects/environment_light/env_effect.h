@@ -14,7 +14,7 @@
 // It acts when the scene has an environment; the frame then adds albedo·(1 − metallic)·E.
 #pragma once
 #include "effects/ambient_occlusion/ao_effect.h"
-#include "effects/effect.h"
+#include "plan/effect.h"
 
 namespace hb {
 

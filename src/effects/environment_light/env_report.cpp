@@ -1,4 +1,4 @@
-// The environment light's report and table hooks (effects/effect.h EffectDef::report, ::table).
+// The environment light's report and table hooks (plan/effect.h EffectDef::report, ::table).
 #include <cstdio>
 #include <sstream>
 #include <string>

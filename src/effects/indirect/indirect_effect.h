@@ -33,8 +33,8 @@
 #include <cstdint>
 #include <string>
 
-#include "effects/effect.h"
-#include "effects/ldm_settings.h"
+#include "plan/effect.h"
+#include "plan/ldm_settings.h"
 
 namespace hb {
 

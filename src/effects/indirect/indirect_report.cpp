@@ -1,4 +1,4 @@
-// The indirect-light effect's report hook (effects/effect.h EffectDef::report).
+// The indirect-light effect's report hook (plan/effect.h EffectDef::report).
 #include <cstdio>
 #include <string>
 #include <vector>

@@ -2,7 +2,7 @@
 // culled by N·L (and optionally the range test), traced against the scene's BLAS/TLAS.
 // Value: true | false.
 #pragma once
-#include "effects/effect.h"
+#include "plan/effect.h"
 
 namespace hb {
 

@@ -1,4 +1,4 @@
-// The shadows effect's report hook (effects/effect.h EffectDef::report): ray accounting against
+// The shadows effect's report hook (plan/effect.h EffectDef::report): ray accounting against
 // the oracle, the accuracy of positions and normals, the shadow mismatches against the reference
 // frame, and the per-light visibility images (docs/methods/thesis.md "Accuracy", "The oracle").
 #include <algorithm>

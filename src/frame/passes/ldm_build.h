@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 #include <vector>
-#include "effects/ldm_settings.h"
+#include "plan/ldm_settings.h"
 
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"

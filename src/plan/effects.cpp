@@ -1,4 +1,4 @@
-#include "effects/effects.h"
+#include "plan/effects.h"
 
 #include <algorithm>
 

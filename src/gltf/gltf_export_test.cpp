@@ -14,8 +14,8 @@
 
 #include "base/errors.h"
 #include "base/sha256.h"
-#include "scene/gltf/gltf_io.h"
-#include "scene/gltf/gltf_test_util.h"
+#include "gltf/gltf_io.h"
+#include "gltf/gltf_test_util.h"
 
 namespace hb::gltf_test {
 namespace {

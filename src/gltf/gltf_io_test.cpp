@@ -1,6 +1,6 @@
 // loadGltf on whole files: the node graph and its transforms, lights, cameras, materials and
 // images, .gltf vs .glb, and files that are missing, malformed or refer past their arrays.
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "scene/gltf/gltf_test_util.h"
+#include "gltf/gltf_test_util.h"
 
 namespace hb::gltf_test {
 namespace {

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "base/errors.h"
-#include "scene/gltf/gltf_load_internal.h"
+#include "gltf/gltf_load_internal.h"
 
 namespace hb::gltf_detail {
 namespace {

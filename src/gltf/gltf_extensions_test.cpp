@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "gltf/gltf_test_util.h"
 #include "scene/environment.h"
-#include "scene/gltf/gltf_test_util.h"
 
 #ifndef HYBRIDBENCH_SOURCE_DIR
 #error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/environments/)"

@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 namespace hb::gltf_detail {
 

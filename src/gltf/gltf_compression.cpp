@@ -14,7 +14,7 @@
 #include <set>
 
 #include "base/errors.h"
-#include "scene/gltf/gltf_load_internal.h"
+#include "gltf/gltf_load_internal.h"
 
 namespace hb::gltf_detail {
 namespace {

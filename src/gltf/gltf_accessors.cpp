@@ -4,7 +4,7 @@
 #include <cstring>
 
 #include "base/errors.h"
-#include "scene/gltf/gltf_load_internal.h"
+#include "gltf/gltf_load_internal.h"
 
 namespace hb::gltf_detail {
 namespace {

@@ -13,9 +13,9 @@
 #include <limits>
 
 #include "base/errors.h"
+#include "gltf/gltf_io.h"
 #include "scene/ambient_json.h"
 #include "scene/environment.h"
-#include "scene/gltf/gltf_io.h"
 
 namespace hb {
 namespace {
@@ -60,7 +60,7 @@ class Exporter {
     }
     for (const Camera& c : scene_.cameras) gscene.nodes.push_back(addCamera(c));
     for (const Light& l : scene_.lights) gscene.nodes.push_back(addLight(l));
-    // What the scene calls for and its ambient term travel with it (effects/effects.h, scene.h).
+    // What the scene calls for and its ambient term travel with it (plan/effects.h, scene.h).
     tinygltf::Value::Object extras;
     if (!scene_.effects.is_null()) extras["effects"] = toValue(scene_.effects);
     if (scene_.ambient) extras["ambient"] = toValue(toJson(*scene_.ambient));

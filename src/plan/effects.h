@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/json_reader.h"
-#include "effects/effect.h"
+#include "plan/effect.h"
 #include "scene/scene.h"
 
 namespace hb {

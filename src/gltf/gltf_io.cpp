@@ -3,7 +3,7 @@
 // byte range and index is checked here before it is read.
 // The Loader (gltf_load_internal.h) is split by concern: this file holds loadGltf, the node
 // graph, cameras and lights; gltf_accessors.cpp, gltf_meshes.cpp and gltf_materials.cpp the rest.
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 #include <tiny_gltf.h>
 
@@ -20,11 +20,11 @@
 
 #include "base/errors.h"
 #include "base/input_file.h"
-#include "effects/effects.h"
+#include "gltf/gltf_load_internal.h"
+#include "gltf/gltf_structure.h"
+#include "plan/effects.h"
 #include "scene/ambient_json.h"
 #include "scene/environment.h"
-#include "scene/gltf/gltf_load_internal.h"
-#include "scene/gltf/gltf_structure.h"
 
 namespace hb {
 namespace {
@@ -110,7 +110,7 @@ nlohmann::json rawLightsJson(const nlohmann::json& doc) {
 }
 
 // The effects the scene calls for: scenes[s].extras.effects of the scene that is loaded, checked
-// against the effects schema (effects/effects.h) with the file and key path in every message; and
+// against the effects schema (plan/effects.h) with the file and key path in every message; and
 // its ambient term, scenes[s].extras.ambient (scene/ambient_json.h), and its environment,
 // scenes[s].extras.environment (scene/environment.h).
 void readSceneEffects(const nlohmann::json& doc, const tinygltf::Model& model, const std::string& path, Scene& scene) {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "scene/gltf/gltf_io.h"
-#include "scene/gltf/gltf_test_util.h"
+#include "gltf/gltf_io.h"
+#include "gltf/gltf_test_util.h"
 
 namespace hb::gltf_test {
 namespace {

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "base/errors.h"
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 namespace hb::gltf_test {
 

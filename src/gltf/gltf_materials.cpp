@@ -9,7 +9,7 @@
 #include <map>
 #include <memory>
 
-#include "scene/gltf/gltf_load_internal.h"
+#include "gltf/gltf_load_internal.h"
 
 namespace hb::gltf_detail {
 

@@ -1,4 +1,4 @@
-#include "scene/gltf/gltf_structure.h"
+#include "gltf/gltf_structure.h"
 
 #include <cstring>
 #include <filesystem>

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "base/sha256.h"
-#include "scene/gltf/gltf_io.h"
+#include "gltf/gltf_io.h"
 
 namespace hb {
 namespace {
