@@ -19,17 +19,9 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for configs/)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kAaCiConfig = fs::path(HYBRIDBENCH_SOURCE_DIR) / "configs/anti-aliasing-ci.json";
 
@@ -49,7 +41,7 @@ std::vector<std::string> aaSectionRows(const std::string& md, const std::string&
   return rows;
 }
 
-class AntiAliasingSweep : public hb::testing::ToolTest {};
+class AntiAliasingSweep : public ToolTest {};
 
 TEST_F(AntiAliasingSweep, EveryModeCoversItsSamplesExactlyAndLowersTheImageError) {
   const json config = readJson(kAaCiConfig);

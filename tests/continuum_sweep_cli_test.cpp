@@ -19,17 +19,9 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for configs/)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kContinuumCiConfig = fs::path(HYBRIDBENCH_SOURCE_DIR) / "configs/3d-rasterization-ci.json";
 
@@ -75,7 +67,7 @@ int64_t continuumCount(const json& primary, const json::json_pointer& at) {
   return v.is_number() ? v.get<int64_t>() : -1;
 }
 
-class ContinuumSweep : public hb::testing::ToolTest {};
+class ContinuumSweep : public ToolTest {};
 
 TEST_F(ContinuumSweep, RegeneratesFig9OnTheDevicePresent) {
   const json config = readJson(kContinuumCiConfig);

@@ -21,16 +21,11 @@
 #include "scene/gltf/gltf_io.h"
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/ and tools/)"
-#endif
-
 // A named namespace: the tests build in unity batches, where anonymous namespaces of several files meet.
 namespace gltf_compressed_test {
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::RunResult;
+using namespace hb::testing;
 
 const fs::path kSource = HYBRIDBENCH_SOURCE_DIR;
 const fs::path kBin = kSource / "tools/node_modules/.bin";
@@ -84,7 +79,7 @@ struct Copy {
   const char* extension;  // what `scene info` names
 };
 
-class GltfCompressed : public hb::testing::ToolTest {
+class GltfCompressed : public ToolTest {
  protected:
   // Runs a shell command line (the npm tools); its output goes to a file named in the failure.
   void shell(const std::string& command) {
