@@ -70,13 +70,7 @@ std::string triangleGltf(uint16_t thirdIndex) {
        {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
         {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
       {"accessors",
-       {{{"bufferView", 0},
-         {"componentType", 5126},
-         {"count", 3},
-         {"type", "VEC3"},
-         {"min", {0, 0, 0}},
-         {"max", {1, 1, 0}}},
-        {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}}};
+       {trianglePositionsAccessor(), {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}}};
   return doc.dump(1);
 }
 

@@ -180,13 +180,7 @@ fs::path gltfWith(const fs::path& dir, const std::string& name, const std::funct
                {{{"byteLength", 36},
                  {"uri", "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}}},
               {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}}},
-              {"accessors",
-               {{{"bufferView", 0},
-                 {"componentType", 5126},
-                 {"count", 3},
-                 {"type", "VEC3"},
-                 {"min", {0, 0, 0}},
-                 {"max", {1, 1, 0}}}}}};
+              {"accessors", {trianglePositionsAccessor()}}};
   edit(doc);
   const fs::path p = dir / name;
   writeFile(p, doc.dump(1));

@@ -65,6 +65,33 @@ inline void writeFile(const fs::path& p, const std::string& text) {
   f << text;
 }
 
+// The rows ("| ..." lines) of the first table in the section of a Markdown file headed `heading`
+// (a "## " line), header and separator rows included.
+inline std::vector<std::string> markdownTableRows(const std::string& md, const std::string& heading) {
+  std::vector<std::string> rows;
+  std::istringstream in(md);
+  bool inSection = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("## ", 0) == 0) {
+      if (inSection) break;
+      inSection = line == heading;
+      continue;
+    }
+    if (!inSection) continue;
+    if (line.rfind("|", 0) == 0)
+      rows.push_back(line);
+    else if (!rows.empty())
+      break;
+  }
+  return rows;
+}
+
+// The glTF accessor of one triangle's positions (0,0,0) (1,0,0) (0,1,0): floats, VEC3, bufferView 0.
+inline json trianglePositionsAccessor() {
+  return {{"bufferView", 0}, {"componentType", 5126}, {"count", 3},
+          {"type", "VEC3"},  {"min", {0, 0, 0}},      {"max", {1, 1, 0}}};
+}
+
 // Every file and folder under root (the children's .stdout/.stderr captures left out) with its
 // bytes: two equal snapshots mean nothing was created, removed or changed.
 inline std::map<std::string, std::string> snapshot(const fs::path& root) {
