@@ -151,7 +151,7 @@ TEST_F(Raster3dTest, DegenerateTrianglesCoverNothing) {
   const glm::dvec3 a = 2.0 * rays.at(10, 10), b = 2.0 * rays.at(50, 20);
   // A repeated vertex, three collinear points, and a triangle whose plane holds the eye (it is
   // seen edge-on: V = 0).
-  addTriangles(s, {a, a, b, a, 0.5 * (a + b), b, a, 2.0 * a, b});
+  addTriangles<glm::dvec3>(s, {a, a, b, a, 0.5 * (a + b), b, a, 2.0 * a, b});
   const Coverage cov = rasterize(*ctx, s);
   for (uint32_t n : cov.count) ASSERT_EQ(n, 0u);
   for (uint64_t v : cov.vis) ASSERT_EQ(v, ~0ull);
@@ -165,7 +165,7 @@ TEST_F(Raster3dTest, ATriangleCrossingTheEyePlaneCoversExactlyWhatTheRayCastHits
   Scene s = emptyScene("crossing");
   const glm::dvec3 v0 = glm::dvec3(glm::vec3(-1.5, -0.4, -2.0)), v1 = glm::dvec3(glm::vec3(1.2, -0.6, -1.5)),
                    v2 = glm::dvec3(glm::vec3(0.1, 0.8, 1.0));
-  addTriangles(s, {v0, v1, v2});
+  addTriangles<glm::dvec3>(s, {v0, v1, v2});
   const Coverage cov = rasterize(*ctx, s);
   const double zn = 0.1, zf = 100.0;
   size_t hits = 0, wrong = 0;
