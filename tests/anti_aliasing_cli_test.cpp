@@ -19,37 +19,13 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for configs/)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kAaCiConfig = fs::path(HYBRIDBENCH_SOURCE_DIR) / "configs/anti-aliasing-ci.json";
 
-// The rows ("| ..." lines) of the section headed `heading` in a Markdown file.
-std::vector<std::string> aaSectionRows(const std::string& md, const std::string& heading) {
-  std::vector<std::string> rows;
-  std::istringstream in(md);
-  bool inSection = false;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("## ", 0) == 0) {
-      if (inSection) break;
-      inSection = line == heading;
-      continue;
-    }
-    if (inSection && line.rfind("|", 0) == 0) rows.push_back(line);
-  }
-  return rows;
-}
-
-class AntiAliasingSweep : public hb::testing::ToolTest {};
+class AntiAliasingSweep : public ToolTest {};
 
 TEST_F(AntiAliasingSweep, EveryModeCoversItsSamplesExactlyAndLowersTheImageError) {
   const json config = readJson(kAaCiConfig);
@@ -90,11 +66,11 @@ TEST_F(AntiAliasingSweep, EveryModeCoversItsSamplesExactlyAndLowersTheImageError
 
   // The table, in tables.md and accuracy.md alike: one row per run; printed for the log.
   const std::string heading = "## Anti-aliasing — what accuracy costs in time (3D rasterization paper, Fig. 8)";
-  const std::vector<std::string> rows = aaSectionRows(readFile(out / "tables.md"), heading);
+  const std::vector<std::string> rows = markdownTableRows(readFile(out / "tables.md"), heading);
   std::cout << heading << " on this device:\n";
   for (const std::string& line : rows) std::cout << line << "\n";
   ASSERT_EQ(rows.size(), 2 + config["variants"].size()) << "header, rule and one row per variant";
-  EXPECT_EQ(aaSectionRows(readFile(out / "accuracy.md"), heading), rows);
+  EXPECT_EQ(markdownTableRows(readFile(out / "accuracy.md"), heading), rows);
   for (size_t i = 2; i < rows.size(); ++i) {
     if (rows[i].find("| none |") != std::string::npos) {
       EXPECT_NE(rows[i].find("| 1.00x |"), std::string::npos) << "a run without AA is its own baseline: " << rows[i];

@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include "analysis/primary_analysis.h"
 #include "analysis/render_outputs.h"
 #include "app/scene_setup.h"
 #include "base/errors.h"
@@ -23,74 +24,27 @@
 #include "frame/renderer.h"
 #include "gpu_fixture.h"
 #include "reference/raster3d_ref.h"
+#include "triangle_scenes.h"
 
 namespace hb {
 namespace {
 
-Scene aaTestScene(const char* name, const Camera& cam) {
-  Scene s;
-  s.name = name;
+// A white diffuse surface: the shading error left after anti-aliasing is the lighting's alone.
+Material whiteDiffuse() {
   Material m;
-  m.metallicFactor = 0.0f;  // a white diffuse surface
-  s.materials.push_back(m);
-  s.cameras.push_back(cam);
-  return s;
-}
-
-void addAaTriangles(Scene& s, const std::vector<glm::vec3>& corners) {  // 3 per triangle
-  const uint32_t first = uint32_t(s.indices.size()), base = uint32_t(s.vertices.size());
-  for (size_t i = 0; i < corners.size(); ++i) {
-    s.vertices.push_back({corners[i], glm::vec3(0, 0, 1), glm::vec2(0)});
-    s.indices.push_back(uint32_t(i));
-  }
-  s.meshes.push_back({"mesh", {{first, uint32_t(corners.size()), base, uint32_t(corners.size()), 0}}});
-  s.instances.push_back({uint32_t(s.meshes.size() - 1), glm::mat4(1.0f)});
+  m.metallicFactor = 0.0f;
+  return m;
 }
 
 // Overlapping random triangles of many sizes and a shared-vertex heightfield grid under an oblique
 // camera: ties, shared edges and vertices at every sample position.
 Scene aaSoupAndGrid() {
-  Camera cam;
-  cam.view = lookAt(glm::vec3(1.37f, 0.71f, 2.13f), glm::vec3(-0.4f, 0.2f, -1.9f), glm::vec3(0.1f, 1.0f, 0.05f));
-  cam.yfov = 1.0f;
-  cam.znear = 0.1f;
-  cam.zfar = 100.0f;
-  Scene s = aaTestScene("aa-soup-and-grid", cam);
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  const glm::mat4 inv = glm::inverse(cam.view);
-  std::vector<glm::vec3> tris;
-  for (int i = 0; i < 300; ++i) {
-    const glm::vec3 c(2.5f * u(rng), 1.5f * u(rng), -3.0f + 2.5f * u(rng));  // view space
-    const float size = i % 10 == 0 ? 1.5f : 0.15f;
-    for (int k = 0; k < 3; ++k)
-      tris.push_back(glm::vec3(inv * glm::vec4(c + size * glm::vec3(u(rng), u(rng), u(rng)), 1.0f)));
-  }
-  constexpr int n = 24;
-  auto v = [&](int i, int j) {
-    const float x = -1.2f + 2.4f * float(i) / float(n), z = -3.2f + 2.4f * float(j) / float(n);
-    return glm::vec3(x, 0.15f * std::sin(3.0f * x) * std::cos(2.0f * z) - 0.3f, z);
-  };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const glm::vec3 a = v(i, j), b = v(i + 1, j), c = v(i + 1, j + 1), d = v(i, j + 1);
-      tris.insert(tris.end(), {a, b, c, a, c, d});
-    }
-  addAaTriangles(s, tris);
+  Scene s = testing::emptyScene("aa-soup-and-grid", testing::obliqueCamera(), whiteDiffuse());
+  std::vector<glm::vec3> tris = testing::randomSoupCorners(s.cameras[0], 300, 7);
+  const std::vector<glm::vec3> grid = testing::heightfieldCorners(24);
+  tris.insert(tris.end(), grid.begin(), grid.end());
+  testing::addTriangles(s, tris);
   return s;
-}
-
-Raster3dView viewOfConstants(const gpu::Raster3dConstants& c) {
-  Raster3dView view;
-  view.eye = glm::vec3(c.eye);
-  view.d0 = glm::vec3(c.rayD0);
-  view.dx = glm::vec3(c.rayDx);
-  view.dy = glm::vec3(c.rayDy);
-  view.width = c.width;
-  view.height = c.height;
-  view.znear = c.depth.x;
-  view.zfar = c.depth.y;
-  return view;
 }
 
 RenderSettings aaSettings(const char* primary, const char* aa, uint32_t w, uint32_t h) {
@@ -140,7 +94,7 @@ TEST_F(AaTest, EachSamplePlaneIsTheExactRasterizationAtItsSamplePosition) {
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(double(c.rayD0[k]), expect[k], ulp2) << "sample " << p - 1;
         EXPECT_EQ(c.project.z, centre.project.z + 0.5f - s.x);
         EXPECT_EQ(c.project.w, centre.project.w + 0.5f - s.y);
-        const Raster3dResult exact = rasterize3d(viewOfConstants(c), positions, indices);
+        const Raster3dResult exact = rasterize3d(raster3dViewOf(c), positions, indices);
         const std::vector<uint64_t> vis = pass.readVisibility(p);
         const std::vector<uint32_t> count = pass.readCoverage(p);
         size_t differ = 0, holes = 0, doubles = 0;
@@ -166,12 +120,12 @@ Scene halfCoveredQuad(uint32_t w, uint32_t h, uint32_t column, double edge) {
   cam.yfov = 0.8f;
   cam.znear = 0.1f;
   cam.zfar = 100.0f;
-  Scene s = aaTestScene("half-covered-quad", cam);
+  Scene s = testing::emptyScene("half-covered-quad", cam, whiteDiffuse());
   const double depth = 2.0, tanHalf = std::tan(0.4), a = double(w) / double(h);
   // Screen position u (pixels from the left edge) to view x at that depth: NDC 2u/W − 1.
   const double xEdge = (2.0 * (double(column) + edge) / double(w) - 1.0) * a * tanHalf * depth;
   const float x0 = -10.0f, x1 = float(xEdge), y0 = -10.0f, y1 = 10.0f, z = float(-depth);
-  addAaTriangles(s, {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y0, z}, {x1, y1, z}, {x0, y1, z}});
+  testing::addTriangles<glm::vec3>(s, {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y0, z}, {x1, y1, z}, {x0, y1, z}});
   Light l;
   l.type = LightType::Directional;
   l.direction = glm::normalize(glm::vec3(0.2f, -0.1f, -1.0f));

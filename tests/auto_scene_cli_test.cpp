@@ -14,13 +14,9 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
-using json = nlohmann::json;
+using namespace hb::testing;
 
-class AutoScene : public hb::testing::ToolTest {
+class AutoScene : public ToolTest {
  protected:
   // The built-in cube exported (its own camera and light), and the same file with every camera
   // and light removed: what most real glTF assets look like.

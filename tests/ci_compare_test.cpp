@@ -24,24 +24,16 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::writeFile;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kMeasuredRun = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100/thesis-2b33675/results.json";
 
-class CiCompareDefaults : public hb::testing::ToolTest {
+class CiCompareDefaults : public ToolTest {
  protected:
   void SetUp() override {
-    hb::testing::ToolTest::SetUp();
+    ToolTest::SetUp();
     // The stand-in: `sweep ... --out DIR` records its arguments and writes the measured run as
     // DIR/results.json; anything else runs the real binary with the same arguments.
     const char* other = std::getenv("HYBRIDBENCH_TEST_BINARY");

@@ -24,28 +24,9 @@
 
 namespace {
 
-namespace fs = std::filesystem;
+using namespace hb::testing;
 
-using hb::testing::readFile;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
-
-class Cli : public hb::testing::ToolTest {
- protected:
-  // Bad input: exit 2 and exactly one line on stderr that contains every one of `names`.
-  void expectBadInput(const std::vector<std::string>& args, const std::vector<std::string>& names) {
-    std::string cmd;
-    for (const auto& a : args) cmd += " " + a;
-    SCOPED_TRACE("hybridbench" + cmd);
-    const RunResult r = run(args);
-    EXPECT_EQ(r.exitCode, 2) << "stderr: " << r.err;
-    ASSERT_FALSE(r.err.empty());
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line: " << r.err;
-    EXPECT_EQ(r.err.back(), '\n') << r.err;
-    for (const auto& n : names)
-      EXPECT_NE(r.err.find(n), std::string::npos) << "stderr does not name " << n << ": " << r.err;
-  }
-};
+class Cli : public ToolTest {};
 
 // Standard base64 (RFC 4648), for a glTF buffer in a data URI.
 std::string base64(const std::vector<uint8_t>& bytes) {
@@ -89,13 +70,7 @@ std::string triangleGltf(uint16_t thirdIndex) {
        {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
         {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}}},
       {"accessors",
-       {{{"bufferView", 0},
-         {"componentType", 5126},
-         {"count", 3},
-         {"type", "VEC3"},
-         {"min", {0, 0, 0}},
-         {"max", {1, 1, 0}}},
-        {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}}};
+       {trianglePositionsAccessor(), {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}}}};
   return doc.dump(1);
 }
 
@@ -145,20 +120,20 @@ TEST_F(Cli, ExportedAtriumHasSponzaScaleTrianglesAndTenLights) {
 }
 
 TEST_F(Cli, UnknownSceneNameIsOneLineNamingIt) {
-  expectBadInput({"scene", "info", "nosuchscene"}, {"nosuchscene", "atrium"});
-  expectBadInput({"render", "--scene", "nosuchscene", "--size", "64x36", "--out", (dir / "out").string()},
-                 {"nosuchscene"});
+  expectRefused({"scene", "info", "nosuchscene"}, {"nosuchscene", "atrium"});
+  expectRefused({"render", "--scene", "nosuchscene", "--size", "64x36", "--out", (dir / "out").string()},
+                {"nosuchscene"});
 }
 
 TEST_F(Cli, MissingGltfIsOneLineNamingTheFile) {
   const std::string path = (dir / "missing.gltf").string();
-  expectBadInput({"scene", "info", path}, {path});
+  expectRefused({"scene", "info", path}, {path});
 }
 
 TEST_F(Cli, MalformedGltfIsOneLineNamingTheFile) {
   const fs::path path = dir / "malformed.gltf";
   writeFile(path, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ { \n");  // truncated JSON
-  expectBadInput({"scene", "info", path.string()}, {path.string()});
+  expectRefused({"scene", "info", path.string()}, {path.string()});
 }
 
 TEST_F(Cli, WellFormedTriangleGltfLoads) {
@@ -173,29 +148,29 @@ TEST_F(Cli, WellFormedTriangleGltfLoads) {
 TEST_F(Cli, GltfWithIndexOutOfRangeIsOneLineNamingTheFileAndField) {
   const fs::path path = dir / "bad-index.gltf";
   writeFile(path, triangleGltf(7));
-  expectBadInput({"scene", "info", path.string()}, {path.string(), "indices", "7"});
+  expectRefused({"scene", "info", path.string()}, {path.string(), "indices", "7"});
 }
 
 TEST_F(Cli, UnknownDeviceIndexIsOneLineNamingIt) {
-  expectBadInput(renderArgs({"--device", "99"}, dir / "out"), {"--device", "99"});
+  expectRefused(renderArgs({"--device", "99"}, dir / "out"), {"--device", "99"});
 }
 
 TEST_F(Cli, UnknownDeviceNameIsOneLineNamingIt) {
-  expectBadInput(renderArgs({"--device", "nosuchgpu"}, dir / "out"), {"--device", "nosuchgpu"});
+  expectRefused(renderArgs({"--device", "nosuchgpu"}, dir / "out"), {"--device", "nosuchgpu"});
 }
 
 TEST_F(Cli, ZeroOrNonNumericSizeIsOneLineNamingIt) {
   const std::string out = (dir / "out").string();
-  expectBadInput({"render", "--scene", "plane", "--size", "0x5", "--out", out}, {"--size", "0x5"});
-  expectBadInput({"render", "--scene", "plane", "--size", "abc", "--out", out}, {"--size", "abc"});
+  expectRefused({"render", "--scene", "plane", "--size", "0x5", "--out", out}, {"--size", "0x5"});
+  expectRefused({"render", "--scene", "plane", "--size", "abc", "--out", out}, {"--size", "abc"});
 }
 
 TEST_F(Cli, InvalidTileSizeIsOneLineNamingTheKeyAndValue) {
-  expectBadInput(renderArgs({"--set", "tile_size=12"}, dir / "out"), {"tile_size", "12"});
+  expectRefused(renderArgs({"--set", "tile_size=12"}, dir / "out"), {"tile_size", "12"});
 }
 
 TEST_F(Cli, UnknownSetKeyIsOneLineNamingIt) {
-  expectBadInput(renderArgs({"--set", "nosuchkey=1"}, dir / "out"), {"nosuchkey"});
+  expectRefused(renderArgs({"--set", "nosuchkey=1"}, dir / "out"), {"nosuchkey"});
 }
 
 // A results file with a number beyond a double (JSON's out_of_range, not a parse_error) is bad
@@ -203,7 +178,7 @@ TEST_F(Cli, UnknownSetKeyIsOneLineNamingIt) {
 TEST_F(Cli, ResultsFileWithANumberBeyondADoubleIsOneLineNamingIt) {
   const fs::path path = dir / "results.json";
   writeFile(path, R"({"schema_version": 1, "runs": [], "x": 1e999})");
-  expectBadInput({"tables", path.string()}, {path.string(), "1e999"});
+  expectRefused({"tables", path.string()}, {path.string(), "1e999"});
 }
 
 TEST_F(Cli, ConfigWithUnknownKeyIsOneLineNamingFileAndKey) {
@@ -212,13 +187,13 @@ TEST_F(Cli, ConfigWithUnknownKeyIsOneLineNamingFileAndKey) {
   std::vector<std::string> args{"render", config.string()};
   args.insert(args.end(), kTinyRender.begin(), kTinyRender.end());
   args.insert(args.end(), {"--out", (dir / "out").string()});
-  expectBadInput(args, {config.string(), "nosuchfield"});
+  expectRefused(args, {config.string(), "nosuchfield"});
 }
 
 TEST_F(Cli, RenderWithoutOutIsOneLineNamingTheFlag) {
   std::vector<std::string> args{"render"};
   args.insert(args.end(), kTinyRender.begin(), kTinyRender.end());
-  expectBadInput(args, {"--out"});
+  expectRefused(args, {"--out"});
 }
 
 // Disabled until main.cpp fixes it: "--set" is a CLI11 vector option and takes every following

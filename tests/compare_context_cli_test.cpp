@@ -12,16 +12,10 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 // A named namespace: the unity build puts this file beside others with helpers of the same names.
 namespace compare_context_cli_test {
 
-namespace fs = std::filesystem;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kResults = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results";
 // The thesis sweep on an H100 at 02f03e1, and the same config at 2b33675.
@@ -41,7 +35,7 @@ size_t occurrencesOf(const std::string& text, const std::string& needle) {
   return n;
 }
 
-class CompareContext : public hb::testing::ToolTest {};
+class CompareContext : public ToolTest {};
 
 // The two configs share a long beginning ([{"name":"no optimisations","params":{"aa":"none",...),
 // so a value cut at a fixed length never showed where they differ.

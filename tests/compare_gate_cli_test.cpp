@@ -13,22 +13,16 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kResults = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100";
 const std::string k02f03e1 = (kResults / "thesis/results.json").string();
 const std::string k2b33675 = (kResults / "thesis-2b33675/results.json").string();
 const std::string k2b33675Repeat = (kResults / "thesis-2b33675/results-repeat.json").string();
 
-class CompareGate : public hb::testing::ToolTest {};
+class CompareGate : public ToolTest {};
 
 TEST_F(CompareGate, FramesAloneMissTheShadingAndCullingRegressionThatAllCatches) {
   const RunResult frame = run({"compare", k02f03e1, k2b33675});

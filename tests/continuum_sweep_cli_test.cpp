@@ -19,39 +19,11 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for configs/)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kContinuumCiConfig = fs::path(HYBRIDBENCH_SOURCE_DIR) / "configs/3d-rasterization-ci.json";
-
-// The table's lines from its heading to the first line after its rows ("| ..." lines only).
-std::vector<std::string> continuumTableLines(const std::string& tablesMd) {
-  std::vector<std::string> found;
-  std::istringstream in(tablesMd);
-  bool inSection = false;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("## ", 0) == 0) {
-      if (inSection) break;
-      inSection = line == "## Primary visibility (3D rasterization continuum)";
-      continue;
-    }
-    if (!inSection) continue;
-    if (line.rfind("|", 0) == 0)
-      found.push_back(line);
-    else if (!found.empty())
-      break;
-  }
-  return found;
-}
 
 // The cells of one Markdown table row, trimmed ("| a | b |" -> {"a", "b"}). The run names of the CI
 // config hold no '|', so no escaped pipe needs undoing.
@@ -75,7 +47,7 @@ int64_t continuumCount(const json& primary, const json::json_pointer& at) {
   return v.is_number() ? v.get<int64_t>() : -1;
 }
 
-class ContinuumSweep : public hb::testing::ToolTest {};
+class ContinuumSweep : public ToolTest {};
 
 TEST_F(ContinuumSweep, RegeneratesFig9OnTheDevicePresent) {
   const json config = readJson(kContinuumCiConfig);
@@ -85,7 +57,8 @@ TEST_F(ContinuumSweep, RegeneratesFig9OnTheDevicePresent) {
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
 
   // The table: Fig. 9's columns, one row per variant of the config in its order; printed for the log.
-  const std::vector<std::string> table = continuumTableLines(readFile(out / "tables.md"));
+  const std::vector<std::string> table =
+      markdownTableRows(readFile(out / "tables.md"), "## Primary visibility (3D rasterization continuum)");
   std::cout << "Primary visibility (3D rasterization continuum) on this device:\n";
   for (const std::string& line : table) std::cout << line << "\n";
   ASSERT_GE(table.size(), 2u) << "tables.md holds no continuum table";

@@ -17,17 +17,9 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 // A key whose value comes from a clock: times (ms, *_ms, *_s, samples), rates and fractions of a
 // peak computed from them, the device's measured peaks and the date. Everything else is a count,
@@ -97,7 +89,7 @@ std::vector<std::string> pngsIn(const fs::path& dir) {
   return names;
 }
 
-class Determinism : public hb::testing::ToolTest {
+class Determinism : public ToolTest {
  protected:
   // Renders `args` into out/a and out/b and expects the same render.json (times aside) and the
   // same bytes in every image. Returns the first render.json.

@@ -13,13 +13,9 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
-using nlohmann::json;
+using namespace hb::testing;
 
-class EffectsCli : public hb::testing::ToolTest {
+class EffectsCli : public ToolTest {
  protected:
   // The "plane" hard case exported to glTF, with `effects` as scenes[0].extras.effects.
   fs::path planeGltf(const json& effects, const std::string& name) {

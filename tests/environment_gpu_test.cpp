@@ -27,10 +27,6 @@
 #include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/environments/)"
-#endif
-
 namespace hb {
 namespace {
 

@@ -21,16 +21,11 @@
 #include "reference/flip.h"
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/ and tools/)"
-#endif
-
 // A named namespace: the tests build in unity batches, where anonymous namespaces of several files meet.
 namespace gltf_compressed_test {
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::RunResult;
+using namespace hb::testing;
 
 const fs::path kSource = HYBRIDBENCH_SOURCE_DIR;
 const fs::path kBin = kSource / "tools/node_modules/.bin";
@@ -84,7 +79,7 @@ struct Copy {
   const char* extension;  // what `scene info` names
 };
 
-class GltfCompressed : public hb::testing::ToolTest {
+class GltfCompressed : public ToolTest {
  protected:
   // Runs a shell command line (the npm tools); its output goes to a file named in the failure.
   void shell(const std::string& command) {
@@ -158,6 +153,14 @@ TEST_F(GltfCompressed, CopiesPassTheValidatorAndLoadWithTheSameTriangles) {
   }
 }
 
+// The bound e derived below: (sqrt(3) / 2) * D / (2^b - 1) for a scene whose world bounds have
+// diagonal D, b = kPositionBits.
+double positionBound(const hb::Scene& plain) {
+  glm::vec3 lo, hi;
+  plain.bounds(lo, hi);
+  return std::sqrt(3.0) / 2.0 * glm::length(glm::dvec3(hi - lo)) / ((1 << kPositionBits) - 1);
+}
+
 // Decoded positions against the source's, in world space. Both tools quantize each position
 // component to kPositionBits bits over a box no larger than the part they quantize together: a
 // component rounds to the nearest of 2^b - 1 steps of size extent / (2^b - 1), off by at most half a
@@ -171,9 +174,7 @@ TEST_F(GltfCompressed, DecodedPositionsAreWithinTheQuantizationErrorOfTheSource)
     SCOPED_TRACE(source.string());
     hb::GltfLoadWarnings quiet;
     const hb::Scene plain = hb::loadGltf(source.string(), &quiet);
-    glm::vec3 lo, hi;
-    plain.bounds(lo, hi);
-    const double e = std::sqrt(3.0) / 2.0 * glm::length(glm::dvec3(hi - lo)) / ((1 << kPositionBits) - 1);
+    const double e = positionBound(plain);
     const std::vector<glm::vec3> reference = plain.worldTriangles();
     for (const Copy& copy : compress(source)) {
       SCOPED_TRACE(copy.path.filename().string());
@@ -224,9 +225,7 @@ TEST_F(GltfCompressed, DecodedNormalsAreWithinTheQuantizationErrorOfTheSource) {
     SCOPED_TRACE(source.string());
     hb::GltfLoadWarnings quiet;
     const hb::Scene plain = hb::loadGltf(source.string(), &quiet);
-    glm::vec3 lo, hi;
-    plain.bounds(lo, hi);
-    const double e = std::sqrt(3.0) / 2.0 * glm::length(glm::dvec3(hi - lo)) / ((1 << kPositionBits) - 1);
+    const double e = positionBound(plain);
     const auto reference = worldCorners(plain);
     for (const Copy& copy : compress(source)) {
       SCOPED_TRACE(copy.path.filename().string());

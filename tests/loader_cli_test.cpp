@@ -15,45 +15,17 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace loader_cli {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using hb::testing::snapshot;
-using hb::testing::writeFile;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kAssimp = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixtures/assimp";
 const fs::path kCube = kAssimp / "glTF2/IncorrectVertexArrays/Cube.gltf";
 
 size_t linesOf(const std::string& text) { return static_cast<size_t>(std::count(text.begin(), text.end(), '\n')); }
 
-class LoaderCli : public hb::testing::ToolTest {
+class LoaderCli : public ToolTest {
  protected:
-  // A refusal: exit 2, one stderr line holding each of `names` and none of `absent`, nothing on
-  // stdout, and the test folder unchanged.
-  RunResult expectRefused(const std::vector<std::string>& args, const std::vector<std::string>& names,
-                          const std::vector<std::string>& absent = {}) {
-    std::string cmd;
-    for (const auto& a : args) cmd += " " + a;
-    SCOPED_TRACE("hybridbench" + cmd);
-    const auto before = snapshot(dir);
-    const RunResult r = run(args);
-    EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
-    EXPECT_EQ(linesOf(r.err), 1u) << "stderr must be one line: " << r.err;
-    EXPECT_TRUE(r.out.empty()) << "printed before refusing: " << r.out;
-    for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "does not name " << n << ": " << r.err;
-    for (const auto& n : absent) EXPECT_EQ(r.err.find(n), std::string::npos) << "says " << n << ": " << r.err;
-    EXPECT_TRUE(snapshot(dir) == before) << "the refused run created or changed files";
-    return r;
-  }
-
   // The assimp cube file with `edit` applied, written into the test folder beside a copy of its
   // Cube.bin.
   fs::path editedCube(const std::function<void(json&)>& edit) {

@@ -15,38 +15,12 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using hb::testing::snapshot;
-using hb::testing::writeFile;
-using nlohmann::json;
+using namespace hb::testing;
 
-class NewUser : public hb::testing::ToolTest {
+class NewUser : public ToolTest {
  protected:
-  // A refusal: exit 2, one stderr line holding each of `names`, nothing on stdout, and the test
-  // folder unchanged.
-  RunResult expectRefused(const std::vector<std::string>& args, const std::vector<std::string>& names) {
-    std::string cmd;
-    for (const auto& a : args) cmd += " " + a;
-    SCOPED_TRACE("hybridbench" + cmd);
-    const auto before = snapshot(dir);
-    const RunResult r = run(args);
-    EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line: " << r.err;
-    EXPECT_TRUE(r.out.empty()) << "printed before refusing: " << r.out;
-    for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "does not name " << n << ": " << r.err;
-    EXPECT_TRUE(snapshot(dir) == before) << "the refused run created or changed files";
-    return r;
-  }
-
   // A two-variant sweep of the plane at 64x36: seconds on lavapipe.
   fs::path tinyConfig() {
     const fs::path p = dir / "tiny.json";
@@ -206,13 +180,7 @@ fs::path gltfWith(const fs::path& dir, const std::string& name, const std::funct
                {{{"byteLength", 36},
                  {"uri", "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}}}},
               {"bufferViews", {{{"buffer", 0}, {"byteLength", 36}}}},
-              {"accessors",
-               {{{"bufferView", 0},
-                 {"componentType", 5126},
-                 {"count", 3},
-                 {"type", "VEC3"},
-                 {"min", {0, 0, 0}},
-                 {"max", {1, 1, 0}}}}}};
+              {"accessors", {trianglePositionsAccessor()}}};
   edit(doc);
   const fs::path p = dir / name;
   writeFile(p, doc.dump(1));

@@ -14,18 +14,11 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
-class Peaks : public hb::testing::ToolTest {
+class Peaks : public ToolTest {
  protected:
   void SetUp() override {
     ToolTest::SetUp();

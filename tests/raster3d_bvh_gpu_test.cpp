@@ -21,6 +21,7 @@
 #include "gpu_fixture.h"
 #include "scene/atrium.h"
 #include "scene/hard_cases.h"
+#include "triangle_scenes.h"
 
 namespace hb {
 namespace {
@@ -53,62 +54,19 @@ BvhRun renderBvhCase(const VulkanContext& ctx, const Scene& scene, const BvhCase
   return {r.raster3d()->readCoverage(), r.raster3d()->readVisibility(), r.raster3d()->readCounters()};
 }
 
-Scene bvhTestScene(const char* name) {
-  Scene s;
-  s.name = name;
-  s.materials.push_back({});
-  Camera cam;
-  cam.view = lookAt(glm::vec3(1.37f, 0.71f, 2.13f), glm::vec3(-0.4f, 0.2f, -1.9f), glm::vec3(0.1f, 1.0f, 0.05f));
-  cam.yfov = 1.0f;
-  cam.znear = 0.1f;
-  cam.zfar = 100.0f;
-  s.cameras.push_back(cam);
-  return s;
-}
-
-void addBvhTestTriangles(Scene& s, const std::vector<glm::vec3>& corners) {  // 3 per triangle
-  const uint32_t first = uint32_t(s.indices.size()), base = uint32_t(s.vertices.size());
-  for (size_t i = 0; i < corners.size(); ++i) {
-    s.vertices.push_back({corners[i], glm::vec3(0, 0, 1), glm::vec2(0)});
-    s.indices.push_back(uint32_t(i));
-  }
-  s.meshes.push_back({"mesh", {{first, uint32_t(corners.size()), base, uint32_t(corners.size()), 0}}});
-  s.instances.push_back({uint32_t(s.meshes.size() - 1), glm::mat4(1.0f)});
-}
-
 // Overlapping random triangles in front of the camera, many sizes: depth complexity for occlusion
 // culling and early-z, shared nothing (every tie is a real tie).
 Scene randomSoup(uint32_t n, uint32_t seed) {
-  Scene s = bvhTestScene("random-soup");
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  const glm::mat4 inv = glm::inverse(s.cameras[0].view);
-  std::vector<glm::vec3> tris;
-  for (uint32_t i = 0; i < n; ++i) {
-    const glm::vec3 c(2.5f * u(rng), 1.5f * u(rng), -3.0f + 2.5f * u(rng));  // view space
-    const float size = i % 10 == 0 ? 1.5f : 0.15f;
-    for (int k = 0; k < 3; ++k)
-      tris.push_back(glm::vec3(inv * glm::vec4(c + size * glm::vec3(u(rng), u(rng), u(rng)), 1.0f)));
-  }
-  addBvhTestTriangles(s, tris);
+  Scene s = testing::emptyScene("random-soup", testing::obliqueCamera());
+  testing::addTriangles(s, testing::randomSoupCorners(s.cameras[0], n, seed));
   return s;
 }
 
 // A closed, finely tessellated grid of quads with shared vertices (a heightfield's surface), seen
 // obliquely: every shared edge and vertex must be covered exactly once.
 Scene sharedVertexGrid(int n) {
-  Scene s = bvhTestScene("shared-vertex-grid");
-  std::vector<glm::vec3> tris;
-  auto v = [&](int i, int j) {
-    const float x = -1.2f + 2.4f * float(i) / float(n), z = -3.2f + 2.4f * float(j) / float(n);
-    return glm::vec3(x, 0.15f * std::sin(3.0f * x) * std::cos(2.0f * z) - 0.3f, z);
-  };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const glm::vec3 a = v(i, j), b = v(i + 1, j), c = v(i + 1, j + 1), d = v(i, j + 1);
-      tris.insert(tris.end(), {a, b, c, a, c, d});
-    }
-  addBvhTestTriangles(s, tris);
+  Scene s = testing::emptyScene("shared-vertex-grid", testing::obliqueCamera());
+  testing::addTriangles(s, testing::heightfieldCorners(n));
   return s;
 }
 

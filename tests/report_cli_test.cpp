@@ -17,16 +17,9 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
+using namespace hb::testing;
 
 const std::string kThesis = std::string(HYBRIDBENCH_SOURCE_DIR) + "/results/h100/thesis/results.json";
 const std::string kResults = std::string(HYBRIDBENCH_SOURCE_DIR) + "/results/";
@@ -50,7 +43,7 @@ std::vector<std::string> allOf(const std::string& s, const std::string& pattern)
 
 double medianFrameOf(const nlohmann::json& run) { return run["frame_ms"]["median"].get<double>(); }
 
-class ReportCli : public hb::testing::ToolTest {};
+class ReportCli : public ToolTest {};
 
 TEST_F(ReportCli, BadInputIsOneLineNamingItExitTwoAndLeavesThePageAsItWas) {
   const fs::path page = dir / "report.html";

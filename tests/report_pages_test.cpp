@@ -14,7 +14,7 @@
 
 namespace {
 
-namespace fs = std::filesystem;
+using namespace hb::testing;
 
 struct CommittedPage {
   const char* page;

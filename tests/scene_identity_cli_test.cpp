@@ -12,16 +12,10 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree"
-#endif
-
 // A named namespace: the unity build puts this file beside others with helpers of the same names.
 namespace scene_identity_cli_test {
 
-namespace fs = std::filesystem;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
 const fs::path kSource = HYBRIDBENCH_SOURCE_DIR;
 
@@ -44,7 +38,7 @@ size_t countContaining(const json& lines, const std::string& needle) {
                               [&](const json& l) { return l.get<std::string>().find(needle) != std::string::npos; }));
 }
 
-class SceneIdentity : public hb::testing::ToolTest {
+class SceneIdentity : public ToolTest {
  protected:
   // A checkout: the config and a copy of scenes/cube.gltf in dir/name.
   fs::path checkout(const std::string& name) {

@@ -16,15 +16,9 @@
 #include "scene/hard_cases.h"
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for scenes/)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::RunResult;
+using namespace hb::testing;
 
 const fs::path kScenes = fs::path(HYBRIDBENCH_SOURCE_DIR) / "scenes";
 
@@ -43,7 +37,7 @@ std::vector<fs::path> committedSceneFiles() {
   return files;
 }
 
-class Scenes : public hb::testing::ToolTest {};
+class Scenes : public ToolTest {};
 
 TEST_F(Scenes, ThereAreCommittedFilesAndTheCornellBoxIsOne) {
   const std::vector<fs::path> files = committedSceneFiles();

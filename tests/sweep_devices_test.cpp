@@ -11,20 +11,11 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::kSweepFixture;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using json = nlohmann::json;
+using namespace hb::testing;
 
-class SweepDevices : public hb::testing::ToolTest {};
+class SweepDevices : public ToolTest {};
 
 // Several devices sweep at once, one thread and one folder each (issue #18). CI has one device,
 // so the test names it twice: two sweeps on one device at the same time must each be complete and

@@ -21,14 +21,9 @@
 // A named namespace: the unity build puts this file beside others with helpers of the same names.
 namespace sweep_resume_cli_test {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
-using nlohmann::json;
+using namespace hb::testing;
 
-class SweepResume : public hb::testing::ToolTest {};
+class SweepResume : public ToolTest {};
 
 // The text after `marker` up to the end of its line; empty when absent.
 std::string restOfLine(const std::string& text, const std::string& marker) {

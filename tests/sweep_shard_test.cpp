@@ -14,18 +14,9 @@
 
 #include "tool_process.h"
 
-#ifndef HYBRIDBENCH_SOURCE_DIR
-#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (for tests/fixtures)"
-#endif
-
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using hb::testing::writeFile;
-using json = nlohmann::json;
+using namespace hb::testing;
 
 // Five variants at 64x36 (one at 96x54), one measured frame: three of them share one no-culling
 // reference, one renders its own at its resolution, one a supersampled reference.
@@ -78,7 +69,7 @@ std::vector<std::string> shardRunNames(const json& results) {
 
 size_t shardLineCount(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
 
-class SweepShard : public hb::testing::ToolTest {
+class SweepShard : public ToolTest {
  protected:
   struct Child {
     pid_t pid;

@@ -14,15 +14,9 @@
 
 namespace {
 
-namespace fs = std::filesystem;
-using hb::testing::kSweepFixture;
-using hb::testing::processesMentioning;
-using hb::testing::readFile;
-using hb::testing::readJson;
-using hb::testing::RunResult;
-using nlohmann::json;
+using namespace hb::testing;
 
-class SweepWatchdog : public hb::testing::ToolTest {
+class SweepWatchdog : public ToolTest {
  protected:
   void TearDown() override {
     ::unsetenv("HYBRIDBENCH_TEST_HANG_VARIANT");

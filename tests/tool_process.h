@@ -1,6 +1,7 @@
 // Running the built hybridbench from end-to-end tests: each test gets a scratch directory; the
 // tool runs there with stdout and stderr in files (no pipe can fill up and block) and
-// HYBRIDBENCH_VALIDATION=1 whatever the test's own environment says.
+// HYBRIDBENCH_VALIDATION=1 whatever the test's own environment says. A test file takes every name
+// here with `using namespace hb::testing;` (fs, json, the readers, ToolTest).
 #pragma once
 #include <fcntl.h>
 #include <signal.h>
@@ -8,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -26,12 +28,16 @@
 #ifndef HYBRIDBENCH_BINARY
 #error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
 #endif
+#ifndef HYBRIDBENCH_SOURCE_DIR
+#error "HYBRIDBENCH_SOURCE_DIR must name the source tree (configs/, scenes/, tests/fixtures/, results/)"
+#endif
 
 extern char** environ;
 
 namespace hb::testing {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
 
 struct RunResult {
   int exitCode = -1;  // the child's exit status; 128 + signal if a signal ended it
@@ -57,6 +63,33 @@ inline const fs::path kSweepFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/
 inline void writeFile(const fs::path& p, const std::string& text) {
   std::ofstream f(p, std::ios::binary);
   f << text;
+}
+
+// The rows ("| ..." lines) of the first table in the section of a Markdown file headed `heading`
+// (a "## " line), header and separator rows included.
+inline std::vector<std::string> markdownTableRows(const std::string& md, const std::string& heading) {
+  std::vector<std::string> rows;
+  std::istringstream in(md);
+  bool inSection = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("## ", 0) == 0) {
+      if (inSection) break;
+      inSection = line == heading;
+      continue;
+    }
+    if (!inSection) continue;
+    if (line.rfind("|", 0) == 0)
+      rows.push_back(line);
+    else if (!rows.empty())
+      break;
+  }
+  return rows;
+}
+
+// The glTF accessor of one triangle's positions (0,0,0) (1,0,0) (0,1,0): floats, VEC3, bufferView 0.
+inline json trianglePositionsAccessor() {
+  return {{"bufferView", 0}, {"componentType", 5126}, {"count", 3},
+          {"type", "VEC3"},  {"min", {0, 0, 0}},      {"max", {1, 1, 0}}};
 }
 
 // Every file and folder under root (the children's .stdout/.stderr captures left out) with its
@@ -164,6 +197,26 @@ class ToolTest : public ::testing::Test {
   }
 
   RunResult run(const std::vector<std::string>& args) { return wait(start(args)); }
+
+  // A refusal, as every error a user can cause must be: exit 2, ONE stderr line holding each of
+  // `names` and none of `absent`, nothing on stdout, and the test folder unchanged (every file's
+  // bytes compared before and after, nothing created).
+  RunResult expectRefused(const std::vector<std::string>& args, const std::vector<std::string>& names,
+                          const std::vector<std::string>& absent = {}) {
+    std::string cmd;
+    for (const auto& a : args) cmd += " " + a;
+    SCOPED_TRACE("hybridbench" + cmd);
+    const auto before = snapshot(dir);
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exitCode, 2) << r.out << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be one line: " << r.err;
+    EXPECT_TRUE(!r.err.empty() && r.err.back() == '\n') << "stderr must end its line: " << r.err;
+    EXPECT_TRUE(r.out.empty()) << "printed before refusing: " << r.out;
+    for (const auto& n : names) EXPECT_NE(r.err.find(n), std::string::npos) << "does not name " << n << ": " << r.err;
+    for (const auto& n : absent) EXPECT_EQ(r.err.find(n), std::string::npos) << "says " << n << ": " << r.err;
+    EXPECT_TRUE(snapshot(dir) == before) << "the refused run created or changed files";
+    return r;
+  }
 
   // Polls out/results.json until it holds at least `runs` runs (a sweep replaces it atomically, so
   // every read parses); false if the child exits first or past kChildDeadline.

@@ -100,9 +100,7 @@ PrimaryComparison comparePrimary(const Bvh& bvh, const std::vector<uint64_t>& vi
   return r;
 }
 
-namespace {
-
-Raster3dView coverageRaster3dView(const gpu::Raster3dConstants& c) {
+Raster3dView raster3dViewOf(const gpu::Raster3dConstants& c) {
   Raster3dView view;
   view.eye = glm::vec3(c.eye);
   view.d0 = glm::vec3(c.rayD0);
@@ -115,14 +113,12 @@ Raster3dView coverageRaster3dView(const gpu::Raster3dConstants& c) {
   return view;
 }
 
-}  // namespace
-
 CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConstants& c,
                                    const std::vector<uint32_t>& method, const std::vector<uint8_t>* band) {
   const std::vector<glm::vec3> positions = scene.worldTriangles();
   std::vector<uint32_t> indices(positions.size());
   for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
-  const Raster3dResult exact = rasterize3d(coverageRaster3dView(c), positions, indices);
+  const Raster3dResult exact = rasterize3d(raster3dViewOf(c), positions, indices);
   HB_ASSERT(!band || band->size() == exact.coverage.size());
   CoverageComparison r;
   for (size_t i = 0; i < exact.coverage.size() && i < method.size(); ++i) {
@@ -191,7 +187,7 @@ CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConsta
 std::vector<uint8_t> raster2dRoundingBand(const Scene& scene, const gpu::Raster3dConstants& c) {
   HB_ASSERT(c.projection == gpu::kProjectionPerspective);
   constexpr double u = 0x1p-24, ud = 0x1p-53;
-  const Raster3dView view = coverageRaster3dView(c);
+  const Raster3dView view = raster3dViewOf(c);
   const glm::dmat3 D(glm::dvec3(c.rayDx), glm::dvec3(c.rayDy), glm::dvec3(c.rayD0));  // columns
   const glm::dmat3 toPixel = glm::inverse(D);
   auto norm1 = [](const glm::dmat3& m) {

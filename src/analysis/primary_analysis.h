@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reference/bvh.h"
+#include "reference/raster3d_ref.h"
 #include "scene/scene.h"
 #include "shared/gpu_types.h"
 
@@ -57,6 +58,10 @@ struct CoverageComparison {
   // with a double cover or a hole those it does not allow (0 unless the method breaks its derivation).
   uint64_t bandPixels = 0, outsideBand = 0;
 };
+// The view the shader's constants describe (the same eye, float rays and depth range): what the
+// exact CPU rasterization (rasterize3d) takes to decide the GPU's own samples.
+Raster3dView raster3dViewOf(const gpu::Raster3dConstants& rays);
+
 // method: per pixel, (triangle, pixel) pairs covered (Raster3dPass::readCoverage). band: optional,
 // per pixel nonzero where the method's count may differ from the exact one.
 CoverageComparison compareCoverage(const Scene& scene, const gpu::Raster3dConstants& rays,

@@ -1,6 +1,6 @@
 // CPU-only tests of primary_analysis's rounding band of 2D homogeneous rasterization
 // (raster2dRoundingBand): which pixel centres it lets 2dr's count differ at, on two triangles whose
-// edges pass through pixel centres (the GPU's counts against it: tests/raster3d_gpu_test.cpp).
+// edges pass through pixel centres (the GPU's counts against it: tests/raster3d_fill_rule_gpu_test.cpp).
 #include "analysis/primary_analysis.h"
 
 #include <vector>

@@ -392,12 +392,7 @@ std::vector<std::string> workerArgs(const SweepOptions& options, const DeviceInf
   std::vector<std::string> a = {"sweep"};
   if (!options.config.empty()) a.push_back(options.config);
   a.insert(a.end(), {"--device", std::to_string(device.index), "--out", outDir});
-  if (options.frames > 0) a.insert(a.end(), {"--frames", std::to_string(options.frames)});
-  if (options.warmup >= 0) a.insert(a.end(), {"--warmup", std::to_string(options.warmup)});
-  if (!options.images) a.push_back("--no-images");
-  if (!options.scene.empty()) a.insert(a.end(), {"--scene", options.scene});
-  if (!options.size.empty()) a.insert(a.end(), {"--size", options.size});
-  for (const std::string& set : options.sets) a.insert(a.end(), {"--set", set});
+  appendRunOptions(a, options);
   std::string list;
   for (size_t k : positions) list += (list.empty() ? "" : ",") + std::to_string(k);
   a.insert(a.end(), {"--worker-fd", std::to_string(kWorkerFd), "--worker-variants", list});

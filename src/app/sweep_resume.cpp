@@ -84,6 +84,15 @@ ResumedResults readResumable(const std::string& resultsPath, const json& inputs,
   return r;
 }
 
+void appendRunOptions(std::vector<std::string>& a, const SweepOptions& options) {
+  if (options.frames > 0) a.insert(a.end(), {"--frames", std::to_string(options.frames)});
+  if (options.warmup >= 0) a.insert(a.end(), {"--warmup", std::to_string(options.warmup)});
+  if (!options.images) a.push_back("--no-images");
+  if (!options.scene.empty()) a.insert(a.end(), {"--scene", options.scene});
+  if (!options.size.empty()) a.insert(a.end(), {"--size", options.size});
+  for (const std::string& set : options.sets) a.insert(a.end(), {"--set", set});
+}
+
 std::string resumeCommand(const SweepOptions& options, const DeviceInfo& device, const std::string& outDir,
                           bool severalDevices, bool retryFailed) {
   std::vector<std::string> a = {programName(), "sweep"};
@@ -100,12 +109,7 @@ std::string resumeCommand(const SweepOptions& options, const DeviceInfo& device,
     a.insert(a.end(), {"--device", std::to_string(device.index)});
   else if (!options.device.empty())
     a.insert(a.end(), {"--device", options.device});
-  if (options.frames > 0) a.insert(a.end(), {"--frames", std::to_string(options.frames)});
-  if (options.warmup >= 0) a.insert(a.end(), {"--warmup", std::to_string(options.warmup)});
-  if (!options.images) a.push_back("--no-images");
-  if (!options.scene.empty()) a.insert(a.end(), {"--scene", options.scene});
-  if (!options.size.empty()) a.insert(a.end(), {"--size", options.size});
-  for (const std::string& set : options.sets) a.insert(a.end(), {"--set", set});
+  appendRunOptions(a, options);
   if (options.variantTimeout > 0) a.insert(a.end(), {"--variant-timeout", format("%g", options.variantTimeout)});
   if (!options.shard.empty()) a.insert(a.end(), {"--shard", options.shard});
   std::string command;

@@ -28,6 +28,11 @@ struct ResumedResults {
 ResumedResults readResumable(const std::string& resultsPath, const nlohmann::json& inputs, const DeviceInfo& device,
                              const nlohmann::json& shard, bool retryFailed);
 
+// Appends the options that shape a sweep's runs and that another sweep of the same runs must be
+// given (a worker, or the command that resumes it): --frames, --warmup, --no-images, --scene,
+// --size and every --set, each only where the user gave it.
+void appendRunOptions(std::vector<std::string>& args, const SweepOptions& options);
+
 // The command that continues this sweep in outDir, ready to paste into a shell: the program as it
 // was started, `sweep`, the config, then --resume (with --retry-failed when asked), --out and every
 // option that shapes the results (--device, --frames, --warmup, --no-images, --scene, --size, --set,

@@ -12,79 +12,51 @@ namespace hb {
 using config_reader::Json;
 using config_reader::Where;
 
-const char* toString(NormalCulling v) {
-  switch (v) {
-    case NormalCulling::Off: return "off";
-    case NormalCulling::Naive: return "naive";
-    case NormalCulling::Improved: return "improved";
-    case NormalCulling::Geometric: return "geometric";
-  }
-  return "?";
+namespace {
+
+// Each choice's names in its enum's order: a choice's index is its enum value (asserted below), so
+// the parser's allowed values, `hybridbench help params` and toString read one list.
+constexpr const char* kNormalCullingNames[] = {"off", "naive", "improved", "geometric"};
+constexpr const char* kRtBackendNames[] = {"auto", "rayquery", "pipeline", "compute"};
+constexpr const char* kWorldPosNames[] = {"alg41", "matrix", "hit"};
+constexpr const char* kShadingNames[] = {"forward", "visbuffer"};
+constexpr const char* kLightListsNames[] = {"tile", "bitmask", "zbin"};
+constexpr const char* kPrimaryNames[] = {"hardware", "3dr",        "3dr-binned",       "2dr",
+                                         "raycast",  "2dr-binned", "3dr-frustum-cull", "3dr-frustum-split",
+                                         "3dr-full"};
+constexpr const char* kShadowTMinNames[] = {"constant", "scaled"};
+constexpr const char* kAntiAliasingNames[] = {"none", "msaa4", "msaa8", "msaa16", "csaa-4-12"};
+
+// A list names every value of its enum when its last name is the last enumerator's.
+static_assert(std::size(kNormalCullingNames) == size_t(NormalCulling::Geometric) + 1);
+static_assert(std::size(kRtBackendNames) == size_t(RtBackend::Compute) + 1);
+static_assert(std::size(kWorldPosNames) == size_t(WorldPosMethod::Hit) + 1);
+static_assert(std::size(kShadingNames) == size_t(ShadingMethod::Visbuffer) + 1);
+static_assert(std::size(kLightListsNames) == size_t(LightLists::Zbin) + 1);
+static_assert(std::size(kPrimaryNames) == size_t(PrimaryMethod::Raster3dFull) + 1);
+static_assert(std::size(kShadowTMinNames) == size_t(ShadowTMin::Scaled) + 1);
+static_assert(std::size(kAntiAliasingNames) == size_t(AntiAliasing::Csaa4x12) + 1);
+
+template <typename Enum, size_t N>
+const char* nameIn(const char* const (&names)[N], Enum v) {
+  return size_t(v) < N ? names[size_t(v)] : "?";
 }
 
-const char* toString(RtBackend v) {
-  switch (v) {
-    case RtBackend::Auto: return "auto";
-    case RtBackend::RayQuery: return "rayquery";
-    case RtBackend::Pipeline: return "pipeline";
-    case RtBackend::Compute: return "compute";
-  }
-  return "?";
+template <size_t N>
+std::vector<std::string_view> choicesOf(const char* const (&names)[N]) {
+  return {std::begin(names), std::end(names)};
 }
 
-const char* toString(WorldPosMethod v) {
-  switch (v) {
-    case WorldPosMethod::Alg41: return "alg41";
-    case WorldPosMethod::Matrix: return "matrix";
-    case WorldPosMethod::Hit: return "hit";
-  }
-  return "?";
-}
+}  // namespace
 
-const char* toString(ShadingMethod v) { return v == ShadingMethod::Forward ? "forward" : "visbuffer"; }
-
-const char* toString(LightLists v) {
-  switch (v) {
-    case LightLists::Tile: return "tile";
-    case LightLists::Bitmask: return "bitmask";
-    case LightLists::Zbin: return "zbin";
-  }
-  return "?";
-}
-
-const char* toString(PrimaryMethod v) {
-  switch (v) {
-    case PrimaryMethod::Hardware: return "hardware";
-    case PrimaryMethod::Raster3d: return "3dr";
-    case PrimaryMethod::Raster3dBinned: return "3dr-binned";
-    case PrimaryMethod::Raster2d: return "2dr";
-    case PrimaryMethod::RayCast: return "raycast";
-    case PrimaryMethod::Raster2dBinned: return "2dr-binned";
-    case PrimaryMethod::Raster3dFrustumCull: return "3dr-frustum-cull";
-    case PrimaryMethod::Raster3dFrustumSplit: return "3dr-frustum-split";
-    case PrimaryMethod::Raster3dFull: return "3dr-full";
-  }
-  return "?";
-}
-
-const char* toString(ShadowTMin v) {
-  switch (v) {
-    case ShadowTMin::Constant: return "constant";
-    case ShadowTMin::Scaled: return "scaled";
-  }
-  return "?";
-}
-
-const char* toString(AntiAliasing v) {
-  switch (v) {
-    case AntiAliasing::None: return "none";
-    case AntiAliasing::Msaa4: return "msaa4";
-    case AntiAliasing::Msaa8: return "msaa8";
-    case AntiAliasing::Msaa16: return "msaa16";
-    case AntiAliasing::Csaa4x12: return "csaa-4-12";
-  }
-  return "?";
-}
+const char* toString(NormalCulling v) { return nameIn(kNormalCullingNames, v); }
+const char* toString(RtBackend v) { return nameIn(kRtBackendNames, v); }
+const char* toString(WorldPosMethod v) { return nameIn(kWorldPosNames, v); }
+const char* toString(ShadingMethod v) { return nameIn(kShadingNames, v); }
+const char* toString(LightLists v) { return nameIn(kLightListsNames, v); }
+const char* toString(PrimaryMethod v) { return nameIn(kPrimaryNames, v); }
+const char* toString(ShadowTMin v) { return nameIn(kShadowTMinNames, v); }
+const char* toString(AntiAliasing v) { return nameIn(kAntiAliasingNames, v); }
 
 namespace config_reader {
 
@@ -134,7 +106,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.aabb = v.get<bool>(); }},
       {"normal_culling",
        K::Choice,
-       {"off", "naive", "improved", "geometric"},
+       choicesOf(kNormalCullingNames),
        {},
        0,
        0,
@@ -146,7 +118,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.normalCulling = NormalCulling(i); }},
       {"backend",
        K::Choice,
-       {"auto", "rayquery", "pipeline", "compute"},
+       choicesOf(kRtBackendNames),
        {},
        0,
        0,
@@ -172,7 +144,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        }},
       {"world_pos",
        K::Choice,
-       {"alg41", "matrix", "hit"},
+       choicesOf(kWorldPosNames),
        {},
        0,
        0,
@@ -209,7 +181,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        }},
       {"t_min",
        K::Choice,
-       {"constant", "scaled"},
+       choicesOf(kShadowTMinNames),
        {},
        0,
        0,
@@ -220,8 +192,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.tMin = ShadowTMin(i); }},
       {"primary",
        K::Choice,
-       {"hardware", "3dr", "3dr-binned", "2dr", "raycast", "2dr-binned", "3dr-frustum-cull", "3dr-frustum-split",
-        "3dr-full"},
+       choicesOf(kPrimaryNames),
        {},
        0,
        0,
@@ -315,7 +286,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dEarlyZ = v.get<bool>(); }},
       {"shading",
        K::Choice,
-       {"forward", "visbuffer"},
+       choicesOf(kShadingNames),
        {},
        0,
        0,
@@ -326,7 +297,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        [](VariantParams& p, const Json&, size_t i, const Where&) { p.shading = ShadingMethod(i); }},
       {"aa",
        K::Choice,
-       {"none", "msaa4", "msaa8", "msaa16", "csaa-4-12"},
+       choicesOf(kAntiAliasingNames),
        {},
        0,
        0,
@@ -367,7 +338,7 @@ const std::vector<ParamSpec>& paramSpecs() {
        }},
       {"light_lists",
        K::Choice,
-       {"tile", "bitmask", "zbin"},
+       choicesOf(kLightListsNames),
        {},
        0,
        0,

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "report/results_fixture_test_util.h"
 #include "report/tables.h"
 
 namespace hb {
@@ -14,11 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-json thesisFixture() {
-  std::ifstream in(HYBRIDBENCH_SOURCE_DIR "/tests/fixtures/results-fixture.json");
-  EXPECT_TRUE(in.good()) << "fixture not found";
-  return json::parse(in);
-}
+json thesisFixture() { return testing::thesisResultsFixture(); }
 
 // The thesis's best configuration (Table 5.2's 8x8 row) with ambient occlusion computed too: the
 // layered-depth-maps sweeps' frame.

@@ -10,6 +10,7 @@
 #include "report/xml_test_util.h"
 
 #include "base/errors.h"
+#include "report/results_fixture_test_util.h"
 #include "report/stats.h"
 
 namespace hb {
@@ -17,11 +18,7 @@ namespace {
 
 using nlohmann::json;
 
-// tests/fixtures/results-fixture.json: H100, atrium, 1920x1080, 8 ok runs with 11 samples each.
-json reportFixture() {
-  std::ifstream in(HYBRIDBENCH_SOURCE_DIR "/tests/fixtures/results-fixture.json");
-  return json::parse(in);
-}
+json reportFixture() { return testing::thesisResultsFixture(); }
 
 std::string reportPage(const json& results, std::map<std::string, std::vector<ReportImage>> images = {},
                        const json* base = nullptr) {

@@ -39,6 +39,13 @@ std::string numberCell(double v, const char* fmt) { return std::isnan(v) ? std::
 
 void requireResultsFile(const json& r) { requireResultsFile(r, "results"); }
 
+bool anyRunHas(const json& r, const char* key) {
+  requireResultsFile(r);
+  for (const json& run : r["runs"])
+    if (at(run, key).is_object()) return true;
+  return false;
+}
+
 void requireResultsFile(const json& r, const std::string& source) {
   if (r.is_object() && r.contains("passes_run") && !r.contains("runs"))
     throw InputError(source +

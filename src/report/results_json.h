@@ -24,6 +24,9 @@ std::string numberCell(double v, const char* fmt);
 void requireResultsFile(const json& r);
 // The same, naming the file (source) in the message; a render.json is told apart.
 void requireResultsFile(const json& r, const std::string& source);
+// Whether some run of a results file (held to requireResultsFile first) has an object under `key`,
+// e.g. an effect's record: its table is printed only then.
+bool anyRunHas(const json& r, const char* key);
 // What the file's context says its times cannot be used for (context.timing_caveat, a CPU
 // device's; context.timing_caveat_shared_device, a device two sweeps shared), each one line; a CPU
 // device's file written before the caveat was recorded gets the same caveat from its device type.

@@ -8,21 +8,15 @@
 #include <gtest/gtest.h>
 
 #include "base/errors.h"
+#include "report/results_fixture_test_util.h"
 
 namespace hb {
 namespace {
 
 using nlohmann::json;
 
-// tests/fixtures/results-fixture.json: H100, atrium, 1920x1080; run names deliberately differ
-// from the table labels and the runs are not in thesis order. Frame medians (ms):
-//   baseline_t8 4.000, lc_t8 2.880, lc_aabb_t8 2.732, lc_aabb_naive_t8 2.400,
-//   lc_aabb_improved_t8 2.420, improved_only_t8 3.380, lc_aabb_improved_t16 2.450, ..._t32 2.560.
-json fixture() {
-  std::ifstream in(HYBRIDBENCH_SOURCE_DIR "/tests/fixtures/results-fixture.json");
-  EXPECT_TRUE(in.good()) << "fixture not found";
-  return json::parse(in);
-}
+// The thesis sweep (testing::thesisResultsFixture says its runs and frame medians).
+json fixture() { return testing::thesisResultsFixture(); }
 
 void eraseRun(json& results, const std::string& name) {
   json& runs = results["runs"];

@@ -34,14 +34,9 @@ AoSettings readAo(const nlohmann::ordered_json& value, const json_reader::Where&
     s.method = AoMethod(readChoice(value["method"], where.key("method"),
                                    {kMethods[0], kMethods[1], kMethods[2], kMethods[3], kMethods[4]}));
   if (value.contains("steps")) s.steps = uint32_t(readInt(value["steps"], where.key("steps"), 1, 1024));
-  if (value.contains("directions"))
-    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
-  if (value.contains("ldm_resolution"))
-    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
   if (value.contains("d_max") && !value["d_max"].is_null())
     s.dMax = readNumber(value["d_max"], where.key("d_max"), 0.0, std::numeric_limits<double>::infinity(), true);
-  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
-  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readLdmSettings(value, where, s);
   readSquareSamples(value, where, s.samples);
   return s;
 }
@@ -105,6 +100,9 @@ nlohmann::json AoSettings::toJson() const {
   return j;
 }
 
+const EffectSetting kLdmResolutionSetting{"ldm_resolution", "8..4096", "128",
+                                          "R: each map is R x R over the scene's bounding sphere"};
+const EffectSetting kLdmBiasSetting{"bias", "a number > 0", "1", "scale of the derived slope-scaled LDM bias"};
 const EffectSetting kLdmListSetting{
     "ldm_list", "max64 | cas | sbuffer", "\"max64\"",
     "how the lists are built: 64-bit atomicMax, the paper's compare-and-swap, or count-scan-fill-sort"};
@@ -135,9 +133,9 @@ const EffectDef& ambientOcclusionEffect() {
                "Carlo (the converged reference); screen-space HBAO; screen-space GTAO (XeGTAO: N slices)"},
               {"directions", "1..2048", "64",
                "N: the LDM directions (each traced both ways); hbao: screen directions; gtao: slices"},
-              {"ldm_resolution", "8..4096", "128", "R: each map is R x R over the scene's bounding sphere"},
+              kLdmResolutionSetting,
               {"d_max", "a number > 0, or null", "null", "obscurance: occluders farther than this (m) do not count"},
-              {"bias", "a number > 0", "1", "scale of the derived slope-scaled LDM bias"},
+              kLdmBiasSetting,
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "1024", "reference rays per pixel (side x side strata)"},

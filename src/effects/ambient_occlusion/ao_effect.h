@@ -57,12 +57,25 @@ AoSettings aoSettingsOf(const nlohmann::json& value);
 const EffectDef& ambientOcclusionEffect();
 void reportAmbientOcclusion(EffectReport& report);  // ao_report.cpp
 
-// The settings the LDM effects share (ambient occlusion, indirect light), read where `value` has
-// them: ldm_list, ldm_build, and samples (a square 16..65536: the strata are side x side).
+// The settings the LDM effects share (ambient occlusion, environment light, indirect light),
+// read where `value` has them: ldm_list and ldm_build; readLdmSettings adds the maps' directions
+// (1..2048), ldm_resolution (8..4096) and bias (> 0) into a settings struct with those fields; and
+// samples (a square 16..65536: the strata are side x side).
 void readLdmListAndBuild(const nlohmann::ordered_json& value, const json_reader::Where& where, LdmList& list,
                          LdmBuildMethod& build);
-// The LDM settings' schema entries (EffectDef::settings), the same for both LDM effects.
-extern const EffectSetting kLdmListSetting, kLdmBuildSetting;
+template <typename LdmSettings>
+void readLdmSettings(const nlohmann::ordered_json& value, const json_reader::Where& where, LdmSettings& s) {
+  using namespace json_reader;
+  if (value.contains("directions"))
+    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
+  if (value.contains("ldm_resolution"))
+    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
+  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
+  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+}
+// The LDM settings' schema entries (EffectDef::settings): ldm_list and ldm_build the same for every
+// LDM effect; the maps' resolution and bias as ambient occlusion and environment light word them.
+extern const EffectSetting kLdmListSetting, kLdmBuildSetting, kLdmResolutionSetting, kLdmBiasSetting;
 void readSquareSamples(const nlohmann::ordered_json& value, const json_reader::Where& where, uint32_t& samples);
 
 }  // namespace hb

@@ -12,10 +12,7 @@ using nlohmann::json;
 using namespace results;  // at, numberAt, medianOf, escapeCell
 
 std::string aoTableMarkdown(const json& results) {
-  results::requireResultsFile(results);
-  bool any = false;
-  for (const json& run : results["runs"]) any = any || at(run, "ambient_occlusion").is_object();
-  if (!any) return "";
+  if (!anyRunHas(results, "ambient_occlusion")) return "";
   std::ostringstream o;
   o << "## Ambient occlusion (layered depth maps)\n\n"
     << "GPU times are medians of the measured frames; the rest comes from the analysis frame. LDM MB: the lists "

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "report/accuracy_report.h"
+#include "report/results_fixture_test_util.h"
 
 namespace hb {
 namespace {
@@ -10,12 +11,7 @@ namespace {
 using nlohmann::json;
 
 json aoRun(const char* name, double frameMs, json ao, json passes) {
-  return {{"name", name},
-          {"status", "ok"},
-          {"params", {{"resolution", {800, 800}}}},
-          {"passes", passes},
-          {"frame_ms", {{"median", frameMs}}},
-          {"ambient_occlusion", ao}};
+  return testing::effectRun(name, frameMs, "ambient_occlusion", std::move(ao), std::move(passes));
 }
 
 json results() {

@@ -16,12 +16,7 @@ AoSettings readEnvironmentLight(const nlohmann::ordered_json& value, const json_
   if (value.contains("method"))
     s.method = kAoMethods[readChoice(value["method"], where.key("method"),
                                      {kEnvironmentMethods[0], kEnvironmentMethods[1], kEnvironmentMethods[2]})];
-  if (value.contains("directions"))
-    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
-  if (value.contains("ldm_resolution"))
-    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
-  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
-  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
+  readLdmSettings(value, where, s);
   readSquareSamples(value, where, s.samples);
   return s;
 }
@@ -77,8 +72,8 @@ const EffectDef& environmentLightEffect() {
                "layered depth maps along N directions; the same N directions ray traced; cosine-weighted Monte "
                "Carlo (the converged reference); each direction weighted by the environment's radiance"},
               {"directions", "1..2048", "64", "N: the LDM directions (each traced both ways)"},
-              {"ldm_resolution", "8..4096", "128", "R: each map is R x R over the scene's bounding sphere"},
-              {"bias", "a number > 0", "1", "scale of the derived slope-scaled LDM bias"},
+              kLdmResolutionSetting,
+              kLdmBiasSetting,
               kLdmListSetting,
               kLdmBuildSetting,
               {"samples", "a square in 16..65536", "1024", "reference rays per pixel (side x side strata)"},

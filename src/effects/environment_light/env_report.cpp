@@ -76,10 +76,7 @@ void reportEnvironmentLight(EffectReport& r) {
 
 std::string environmentTableMarkdown(const nlohmann::json& results) {
   using namespace results;  // at, numberAt, medianOf, escapeCell
-  requireResultsFile(results);
-  bool any = false;
-  for (const nlohmann::json& run : results["runs"]) any = any || at(run, "environment_light").is_object();
-  if (!any) return "";
+  if (!anyRunHas(results, "environment_light")) return "";
   std::ostringstream o;
   o << "## Environment light (layered depth maps, Fig. 11)\n\n"
     << "GPU times are medians of the measured frames; the rest comes from the analysis frame. The value per pixel "

@@ -29,12 +29,8 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   if (!validateEffectValue(indirectEffect(), value, where)) return s;  // true, false or an object of its settings
   if (value.contains("method"))
     s.method = IndirectMethod(readChoice(value["method"], where.key("method"), {"ldm", "raytraced", "reference"}));
-  if (value.contains("directions"))
-    s.directions = uint32_t(readInt(value["directions"], where.key("directions"), 1, 2048));
-  if (value.contains("ldm_resolution"))
-    s.ldmResolution = uint32_t(readInt(value["ldm_resolution"], where.key("ldm_resolution"), 8, 4096));
+  readLdmSettings(value, where, s);
   if (value.contains("photons")) s.photons = uint32_t(readInt(value["photons"], where.key("photons"), 1, 1024));
-  if (value.contains("bias")) s.bias = readNumber(value["bias"], where.key("bias"), 0.0, 1e6, true);
   if (value.contains("splat"))
     s.splat = IndirectSplat(readChoice(value["splat"], where.key("splat"), {"compute", "raster"}));
   if (value.contains("max_anisotropy")) {
@@ -50,7 +46,6 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   if (value.contains("bounces")) s.bounces = uint32_t(readInt(value["bounces"], where.key("bounces"), 1, 4));
   if (value.contains("bounce_directions"))
     s.bounceDirections = uint32_t(readInt(value["bounce_directions"], where.key("bounce_directions"), 1, 2048));
-  readLdmListAndBuild(value, where, s.ldmList, s.ldmBuild);
   readSquareSamples(value, where, s.samples);
   return s;
 }

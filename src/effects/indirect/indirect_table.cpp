@@ -12,10 +12,7 @@ using nlohmann::json;
 using namespace results;  // at, numberAt, medianOf, escapeCell
 
 std::string indirectTableMarkdown(const json& results) {
-  results::requireResultsFile(results);
-  bool any = false;
-  for (const json& run : results["runs"]) any = any || at(run, "indirect").is_object();
-  if (!any) return "";
+  if (!anyRunHas(results, "indirect")) return "";
   std::ostringstream o;
   o << "## Indirect light (photons split along layered depth maps)\n\n"
     << "GPU times are medians of the measured frames; the rest comes from the analysis frame. Photons: the split "
