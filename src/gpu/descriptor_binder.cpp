@@ -1,5 +1,6 @@
 #include "gpu/descriptor_binder.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "base/errors.h"
@@ -53,7 +54,8 @@ std::unique_ptr<DescriptorSets> DescriptorBinder::write(const VulkanContext& ctx
     layout.push_back({b.binding, b.type, b.stages, b.count == 0 ? 0u : 1u, b.count == 0});
     read_.insert(b.name);
   }
-  programs_.push_back(program.label());
+  if (std::find(programs_.begin(), programs_.end(), program.label()) == programs_.end())
+    programs_.push_back(program.label());
   auto sets = std::make_unique<DescriptorSets>(ctx, layout, 1, variableCount);
   for (const ShaderBinding& b : program.bindings()) {
     const Resource& r = resources_.at(b.name);

@@ -297,11 +297,12 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   binder.provide("Frame", *in_.frameConstants);
   binder.provide("Lights", *in_.lights);
   binder.provide("depthTex", *in_.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  if (const TraceBvh* bvh = settings_.computeBvh) {
+  if (const TraceBvh* bvh = settings_.computeBvh) {  // our traversal gives draw-order ids itself
     binder.provide("BvhNodes", bvh->nodes);
     binder.provide("BvhTriangles", bvh->triangles);
   } else {
     binder.provide("tlas", in_.tlas);
+    binder.provide("IdBase", idBase_);
   }
   binder.provide("Positions", gpuScene_.vertices());
   binder.provide("SceneIndices", gpuScene_.indices());
@@ -314,7 +315,6 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   binder.provide("HitTriangles", in_.hitTriangles ? *in_.hitTriangles : placeholder_);
   binder.provide("Directions", directions_);
   binder.provide("LdmMaps", ldm_ ? ldm_->mapsBuffer() : placeholder_);
-  binder.provide("IdBase", idBase_);
   binder.provide("Photons", withPhotons ? t.photons : placeholder_);
   binder.provide("Params", params_);
   binder.provide("Faces", faces_);

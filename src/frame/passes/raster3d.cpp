@@ -161,12 +161,12 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     const std::vector<uint32_t> idBase = triangleIdBase(scene);
     idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            MemClass::Other);
-    binder.provide("IdBase", idBase_);
-    if (rayCast.bvh) {
+    if (rayCast.bvh) {  // our traversal gives draw-order ids itself; the driver's hits need the table
       binder.provide("BvhNodes", rayCast.bvh->nodes);
       binder.provide("BvhTriangles", rayCast.bvh->triangles);
     } else {
       binder.provide("tlas", rayCast.tlas);
+      binder.provide("IdBase", idBase_);
     }
     if (rayCast.rayQuery || rayCast.bvh) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
