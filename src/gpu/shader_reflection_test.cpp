@@ -44,6 +44,20 @@ TEST(ShaderReflection, AProgramMergesItsShadersByNameAndRewritesTheNumbersOfTheL
   EXPECT_EQ(bins[2].binding, 3u);
 }
 
+TEST(ShaderReflection, TheBindlessTexturesAreTheLastBindingOfTheForwardShadingProgram) {
+  // shading.frag declares `textures[]` second; a variable-count array must be the set's last binding.
+  const ShaderProgram p({"shading.vert", "shading.frag"});
+  ASSERT_FALSE(p.bindings().empty());
+  const ShaderBinding& last = p.bindings().back();
+  EXPECT_EQ(last.name, "textures");
+  EXPECT_EQ(last.count, 0u);
+  EXPECT_EQ(last.type, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER);
+  EXPECT_EQ(last.binding, uint32_t(p.bindings().size() - 1));
+  for (const ShaderBinding& b : reflectBindings("shading.frag", p.spirv("shading.frag")))
+    EXPECT_EQ(b.binding, p.find(b.name)->binding)
+        << b.name << ": the fragment shader's SPIR-V says the program's number";
+}
+
 TEST(ShaderReflection, NamesTheShaderWhoseSpirvCannotBeRead) {
   std::vector<uint32_t> spirv = embeddedSpirv("tile_frustums.comp");
   spirv[0] = 0;  // the magic number
