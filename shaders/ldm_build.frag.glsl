@@ -9,7 +9,6 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
@@ -18,8 +17,8 @@ layout(constant_id = 3) const uint LIST = kLdmListMax64;
 layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
 layout(push_constant) uniform Push { DrawConstants draw; };
 
-layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
-layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
+uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
+buffer Counters { uint counters[]; };
 
 #include "ldm_insert.glsl.inc"
 

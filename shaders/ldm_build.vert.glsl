@@ -7,11 +7,10 @@
 // is affine along the map (interpolated exactly by the rasterizer up to rounding).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
 layout(location = 0) in vec3 inPosition;
 layout(push_constant) uniform Push { DrawConstants draw; };
-layout(set = 0, binding = HB_LDM_MAPS) readonly buffer Maps { LdmMap maps[]; };
+readonly buffer Maps { LdmMap maps[]; };
 
 layout(location = 0) flat out uint outMap;
 layout(location = 1) out float outDepth;

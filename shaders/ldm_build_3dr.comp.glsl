@@ -27,7 +27,6 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint RESOLUTION = 128;
 layout(constant_id = 1) const uint NODE_CAPACITY = 1;
@@ -40,11 +39,11 @@ layout(constant_id = 7) const uint CHUNK_CAPACITY = 1;
 layout(constant_id = 8) const uint CHUNK_PIXELS = kLdmChunk;  // a multiple of 64
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = HB_LDM_MAPS) readonly buffer Maps { LdmMap maps[]; };
-layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
-layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
-layout(set = 0, binding = HB_LDM_TRIANGLES) readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, world space
-layout(set = 0, binding = HB_LDM_CHUNKS) buffer Chunks { uvec2 chunks[]; };
+readonly buffer Maps { LdmMap maps[]; };
+uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts
+buffer Counters { uint counters[]; };
+readonly buffer Triangles { vec4 triVerts[]; };  // 3 per triangle, world space
+buffer Chunks { uvec2 chunks[]; };
 layout(push_constant) uniform Push { uint triangleCount; };
 
 #include "ldm_insert.glsl.inc"

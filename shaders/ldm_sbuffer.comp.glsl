@@ -11,7 +11,6 @@
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_control_flow_attributes : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint STAGE = 0;
 layout(constant_id = 1) const uint PIXELS = 1;
@@ -19,9 +18,9 @@ layout(constant_id = 2) const uint NODE_CAPACITY = 1;
 layout(local_size_x_id = 3) in;  // 256 (stages 0, 2, 3) or 1024 (stage 1)
 
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer Words { uint words[]; };
-layout(set = 0, binding = HB_LDM_LINKS_ADDRESS) uniform LinksAddress { uvec2 linksAddress; };
-layout(set = 0, binding = HB_LDM_COUNTERS) buffer Counters { uint counters[]; };
-layout(set = 0, binding = HB_LDM_BLOCK_SUMS) buffer BlockSums { uint blockSums[]; };
+uniform LinksAddress { uvec2 linksAddress; };
+buffer Counters { uint counters[]; };
+buffer BlockSums { uint blockSums[]; };
 
 const uint kPerThread = 16u, kBlock = 256u * kPerThread;
 const uint kLocal = 16u;  // STAGE 3: ranges up to this long are ranked in registers

@@ -4,14 +4,13 @@
 // Specialization constants select the variant: no dynamic branching on tile size, culling or AABB.
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
-#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint CULLING = 1;  // 0: every tile gets every light
 layout(constant_id = 2) const uint AABB = 0;     // 1: Turanzkij's AABB test on top of the planes
 layout(constant_id = 3) const uint SLICES = 0;   // 2..32: the 2.5D slab test (cull_ref.h); 0 off
 // kList*: tile writes the capped index list, bitmask and zbin the tile's mask words (zbin: over the
-// depth-sorted lights of HB_CULL_SORTED_LIGHTS).
+// depth-sorted lights of SortedLights).
 layout(constant_id = 4) const uint LIST_MODE = 0;
 // 1: few lights (frame/passes/light_culling.h kInlineViewMaxLights): each tile puts them in view
 // space itself, as before light_view.comp existed, which saves that pass and its barrier; the
@@ -19,14 +18,14 @@ layout(constant_id = 4) const uint LIST_MODE = 0;
 layout(constant_id = 5) const uint INLINE_VIEW = 0;
 layout(local_size_x_id = 0, local_size_y_id = 0) in;
 
-layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_CULL_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = HB_CULL_FRUSTUMS) readonly buffer Frustums { TileFrustum frustums[]; };
-layout(set = 0, binding = HB_CULL_GRID) writeonly buffer Grid { LightGridEntry grid[]; };
-layout(set = 0, binding = HB_CULL_INDICES) writeonly buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = HB_CULL_DEPTH) uniform sampler2D depthTex;
-layout(set = 0, binding = HB_CULL_VIEW_LIGHTS) readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
-layout(set = 0, binding = HB_CULL_VIEW_SPHERES) readonly buffer ViewSpheres { vec4 viewSpheres[]; };       // the same, spheres only
+uniform Frame { FrameConstants frame; };
+readonly buffer Lights { GpuLight lights[]; };
+readonly buffer Frustums { TileFrustum frustums[]; };
+writeonly buffer Grid { LightGridEntry grid[]; };
+writeonly buffer Indices { uint lightIndices[]; };
+uniform sampler2D depthTex;
+readonly buffer ViewLights { GpuViewLight viewLights[]; };  // light_view.comp.glsl
+readonly buffer ViewSpheres { vec4 viewSpheres[]; };       // the same, spheres only
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uint sMinDepthBits;  // positive floats order like their bit patterns

@@ -4,16 +4,15 @@
 // zbin: the depth-sorted lights (after zbin_sort.comp.glsl), so indices stay sorted indices.
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
-#include "shared/bindings.h"
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
 
-layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_CULL_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = HB_CULL_SORTED_LIGHTS) readonly buffer SortedLights { GpuLight sortedLights[]; };
-layout(set = 0, binding = HB_CULL_VIEW_LIGHTS) writeonly buffer ViewLights { GpuViewLight viewLights[]; };
+uniform Frame { FrameConstants frame; };
+readonly buffer Lights { GpuLight lights[]; };
+readonly buffer SortedLights { GpuLight sortedLights[]; };
+writeonly buffer ViewLights { GpuViewLight viewLights[]; };
 // The range spheres alone (xyz, range; directional: +inf), what every tile reads first.
-layout(set = 0, binding = HB_CULL_VIEW_SPHERES) writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
+writeonly buffer ViewSpheres { vec4 viewSpheres[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 void main() {

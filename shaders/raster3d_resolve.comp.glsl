@@ -6,12 +6,11 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
 layout(local_size_x = 64) in;
-layout(set = 0, binding = HB_R3D_RESOLVE_CONSTANTS) uniform Constants { Raster3dConstants r3; };
-layout(set = 0, binding = HB_R3D_RESOLVE_VISIBILITY) readonly buffer Visibility { uint64_t vis[]; };
-layout(set = 0, binding = HB_R3D_RESOLVE_DEPTH) writeonly buffer Depth { float depth[]; };
+uniform Constants { Raster3dConstants r3; };
+readonly buffer Visibility { uint64_t vis[]; };
+writeonly buffer Depth { float depth[]; };
 
 void main() {
   const uint pixel = gl_GlobalInvocationID.x;

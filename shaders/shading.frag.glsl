@@ -16,21 +16,21 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 // 1: primary visibility came from 3D rasterization (frame/passes/raster3d.h): the depth test
 // is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
 layout(constant_id = 4) const uint ID_MATCH = 0;
-layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (HB_SHADE_FRAG_INDIRECT)
+layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (indirectImage)
 
 layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
 // What a frame does not use costs it nothing (frame/passes/shading.h ShadingInputs):
 layout(constant_id = 7) const uint AMBIENT = 0;      // 1: ambient occlusion runs (the ambient term)
 layout(constant_id = 8) const uint ONE_WORD = 1;     // 1: at most 32 lights a pixel, one visibility word
 layout(constant_id = 9) const uint PERSPECTIVE = 1;  // 1: a perspective view, v = the eye minus the point
-layout(constant_id = 10) const uint ENVIRONMENT = 0;  // 1: add the environment light (HB_SHADE_FRAG_ENVIRONMENT)
+layout(constant_id = 10) const uint ENVIRONMENT = 0;  // 1: add the environment light (EnvironmentLight)
 
 #include "shading_bindings.glsl.inc"
-layout(set = 0, binding = HB_SHADE_FRAG_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
-layout(set = 0, binding = HB_SHADE_FRAG_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
-layout(set = 0, binding = HB_SHADE_FRAG_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
-layout(set = 0, binding = HB_SHADE_FRAG_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-layout(set = 0, binding = HB_SHADE_FRAG_ENVIRONMENT) readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
+layout(rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+uniform sampler2D textures[];  // bindless: the last binding
+readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
+readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"

@@ -20,7 +20,7 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;
 layout(constant_id = 2) const uint SHADOWS = 1;
 layout(constant_id = 3) const uint ANALYSIS = 0;
-layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (HB_SHADE_VB_INDIRECT)
+layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (indirectImage)
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
@@ -29,19 +29,19 @@ layout(constant_id = 7) const uint ONE_WORD = 1;    // 1: at most 32 lights a pi
 layout(constant_id = 8) const uint AA_STORED = 0;    // anti-aliasing: stored samples (planes after the centre's)
 layout(constant_id = 9) const uint CSAA = 0;         // 1: csaa-4-12 (AA_STORED = 4)
 layout(constant_id = 10) const uint PLANE_STRIDE = 0;  // entries from one plane to the next
-layout(constant_id = 11) const uint ENVIRONMENT = 0;   // 1: add the environment light (HB_SHADE_VB_ENVIRONMENT)
+layout(constant_id = 11) const uint ENVIRONMENT = 0;   // 1: add the environment light (EnvironmentLight)
 
 #include "shading_bindings.glsl.inc"
-layout(set = 0, binding = HB_SHADE_VB_VISIBILITY_IDS) readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
-layout(set = 0, binding = HB_SHADE_VB_RAYS) uniform Rays { Raster3dConstants rays; };
-layout(set = 0, binding = HB_SHADE_VB_DRAWS) readonly buffer Draws { GpuDraw draws[]; };
-layout(set = 0, binding = HB_SHADE_VB_TRIANGLE_DRAWS) readonly buffer TriangleDraws { uint triangleDraw[]; };
-layout(set = 0, binding = HB_SHADE_VB_COLOR, rgba16f) uniform writeonly image2D colorImage;
-layout(set = 0, binding = HB_SHADE_VB_REF_NORMAL, rgba32f) uniform writeonly image2D refNormalImage;
-layout(set = 0, binding = HB_SHADE_VB_AO) readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-layout(set = 0, binding = HB_SHADE_VB_INDIRECT, rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
-layout(set = 0, binding = HB_SHADE_VB_ENVIRONMENT) readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
-layout(set = 0, binding = HB_SHADE_VB_TEXTURES) uniform sampler2D textures[];  // bindless: the last binding
+readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
+uniform Rays { Raster3dConstants rays; };
+readonly buffer Draws { GpuDraw draws[]; };
+readonly buffer TriangleDraws { uint triangleDraw[]; };
+layout(rgba16f) uniform writeonly image2D colorImage;
+layout(rgba32f) uniform writeonly image2D refNormalImage;
+readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
+layout(rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
+readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
+uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"
 #include "camera_ray.glsl.inc"

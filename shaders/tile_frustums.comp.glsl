@@ -3,12 +3,11 @@
 // camera/resolution/tile size (culling.glsl.inc mirrors cull_ref.h op for op).
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
-#include "shared/bindings.h"
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_CULL_FRUSTUMS) writeonly buffer Frustums { TileFrustum frustums[]; };
+uniform Frame { FrameConstants frame; };
+writeonly buffer Frustums { TileFrustum frustums[]; };
 
 void main() {
   uint tile = gl_GlobalInvocationID.x;

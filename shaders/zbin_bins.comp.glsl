@@ -5,12 +5,11 @@
 // extents staged through shared memory.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_CULL_INDICES) buffer Indices { uint lightIndices[]; };
-layout(set = 0, binding = HB_CULL_EXTENTS) readonly buffer Extents { uvec2 extents[]; };
+uniform Frame { FrameConstants frame; };
+buffer Indices { uint lightIndices[]; };
+readonly buffer Extents { uvec2 extents[]; };
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared uvec2 sExtent[256];

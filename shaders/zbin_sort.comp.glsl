@@ -7,14 +7,13 @@
 // sorted light's bin extent [lo, hi] (zbinExtent).
 #extension GL_GOOGLE_include_directive : require
 #include "culling.glsl.inc"
-#include "shared/bindings.h"
 layout(local_size_x = 256) in;
 
-layout(set = 0, binding = HB_CULL_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_CULL_LIGHTS) readonly buffer Lights { GpuLight lights[]; };
-layout(set = 0, binding = HB_CULL_SORTED_LIGHTS) writeonly buffer SortedLights { GpuLight sortedLights[]; };
-layout(set = 0, binding = HB_CULL_ORDER) writeonly buffer Order { uint order[]; };           // sorted -> scene index
-layout(set = 0, binding = HB_CULL_EXTENTS) writeonly buffer Extents { uvec2 extents[]; };      // per sorted light: bins [lo, hi]
+uniform Frame { FrameConstants frame; };
+readonly buffer Lights { GpuLight lights[]; };
+writeonly buffer SortedLights { GpuLight sortedLights[]; };
+writeonly buffer Order { uint order[]; };           // sorted -> scene index
+writeonly buffer Extents { uvec2 extents[]; };      // per sorted light: bins [lo, hi]
 layout(push_constant) uniform Push { uint lightCount; } pc;
 
 shared float sKey[kMaxLights];

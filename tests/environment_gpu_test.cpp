@@ -17,6 +17,7 @@
 #include "effects/environment_light/env_part.h"
 #include "environment_lookup_comp.h"  // generated from tests/shaders/environment_lookup.comp.glsl
 #include "frame/renderer.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "gpu_fixture.h"
@@ -24,7 +25,6 @@
 #include "scene/atrium.h"
 #include "scene/environment.h"
 #include "scene/mesh_builder.h"
-#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -117,21 +117,17 @@ TEST_F(EnvironmentGpuTest, TheShadersLookupIsTheCpusWithinFloatPrecision) {
                             MemClass::Other);
   Buffer out(*ctx, dirs.size() * sizeof(glm::vec4),
              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  DescriptorSets sets(*ctx, {{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-                             {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                             {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                             {HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}});
-  sets.writeBuffer(0, 0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.handle());
-  sets.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.handle());
-  sets.writeBuffer(0, 2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-  sets.writeBuffer(0, HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, map.handle());
+  DescriptorBinder binder("environment_lookup");
+  binder.provide("Params", params);
+  binder.provide("Directions", in);
+  binder.provide("Out", out);
+  binder.provide("EnvironmentMap", map);  // environment.glsl.inc's, as ambient occlusion binds it
   Pipeline pipeline(*ctx);
-  pipeline.createLayout({sets.layout()}, sizeof(uint32_t));
-  pipeline.createCompute("environment_lookup.comp");
+  pipeline.createCompute(binder, "environment_lookup.comp", sizeof(uint32_t));
+  binder.checkEveryNameRead();
   const uint32_t count = uint32_t(dirs.size());
   ctx->submitAndWait([&](VkCommandBuffer cmd) {
-    VkDescriptorSet set = sets.set();
+    VkDescriptorSet set = pipeline.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_ALL, 0, sizeof count, &count);

@@ -26,6 +26,7 @@
 
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "gpu_fixture.h"
@@ -187,18 +188,17 @@ void overwritePositions(const VulkanContext& ctx, const Image& positions, const 
   (void)registered;
   Buffer moves(ctx, points.size() * sizeof(MovedPoint), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, /*hostVisible=*/true);
   std::memcpy(moves.mapped(), points.data(), points.size() * sizeof(MovedPoint));
-  DescriptorSets sets(ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
-                            {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
-  sets.writeImage(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, positions.view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, moves.handle());
+  DescriptorBinder binder("overwrite_positions");
+  binder.provide("positions", positions, VK_IMAGE_LAYOUT_GENERAL);
+  binder.provide("Moves", moves);
   Pipeline pipeline(ctx);
-  pipeline.createLayout({sets.layout()}, sizeof(uint32_t));
-  pipeline.createCompute("overwrite_positions.comp");
+  pipeline.createCompute(binder, "overwrite_positions.comp", sizeof(uint32_t));
+  binder.checkEveryNameRead();
   const uint32_t count = uint32_t(points.size());
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
-    VkDescriptorSet set = sets.set();
+    VkDescriptorSet set = pipeline.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_ALL, 0, sizeof count, &count);

@@ -21,6 +21,7 @@
 #include "app/sweep.h"
 #include "frame/frame_builder.h"
 #include "frame/renderer.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu_fixture.h"
 #include "plan/effects.h"
@@ -56,15 +57,14 @@ class TintPart : public FramePart {
         tinted_(f.ctx, f.settings.width, f.settings.height, source_.format(),
                 VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                 VK_IMAGE_ASPECT_COLOR_BIT),
-        sets_(f.ctx, {{0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT},
-                      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}}),
         pipeline_(f.ctx) {
     const uint32_t tileSize = f.settings.tileSize;
     push_ = {f.settings.width, f.settings.height, tileSize, (f.settings.width + tileSize - 1) / tileSize, kRedPerLight};
-    sets_.writeImage(0, 0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, tinted_.view(), VK_IMAGE_LAYOUT_GENERAL);
-    sets_.writeBuffer(0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_.handle());
-    pipeline_.createLayout({sets_.layout()}, sizeof(TintPush));
-    pipeline_.createCompute("tint.comp");
+    DescriptorBinder binder(kTintPass);  // tint.comp's bindings, by name
+    binder.provide("color", tinted_, VK_IMAGE_LAYOUT_GENERAL);
+    binder.provide("Grid", grid_);
+    pipeline_.createCompute(binder, "tint.comp", sizeof(TintPush));
+    binder.checkEveryNameRead();
     f.resources.publish(kTintColor, tinted_, "", VK_IMAGE_LAYOUT_GENERAL);
     f.resources.replace(res::kColor, tinted_, VK_IMAGE_LAYOUT_GENERAL);
 
@@ -97,7 +97,7 @@ class TintPart : public FramePart {
     imageBarrier(cmd, tinted_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                  VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-    VkDescriptorSet set = sets_.set();
+    VkDescriptorSet set = pipeline_.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push_, &push_);
@@ -110,7 +110,6 @@ class TintPart : public FramePart {
   const Image& source_;
   const Buffer& grid_;
   Image tinted_;
-  DescriptorSets sets_;
   Pipeline pipeline_;
   TintPush push_{};
 };

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Whether a change left every shader's SPIR-V byte for byte as it was: compiles each shader
 # (shaders/**/*.glsl, tests/shaders/*.glsl) at a base revision and in the working tree, the way
-# CMakeLists.txt does (glslangValidator --target-env vulkan1.3 -S <stage> -I<tree>/shaders; keep the
-# two in step), and compares the two SPIR-V files of each.
+# CMakeLists.txt does (glslangValidator --target-env vulkan1.3 -S <stage> --auto-map-bindings
+# -I<tree>/shaders; keep the two in step), and compares the two SPIR-V files of each.
 #   bash tools/spirv_same.sh [BASE]   BASE a revision, HEAD by default; exits 1 on any difference
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,7 +23,7 @@ compile() {  # TREE OUT: every shader of TREE to OUT/<path with / as __>.spv
     rel=${src#"$tree"/}
     name=$(basename "$src" .glsl)
     stage=${name##*.}
-    glslangValidator --target-env vulkan1.3 -S "$stage" -I"$tree/shaders" -o "$out/${rel//\//__}.spv" "$src" \
+    glslangValidator --target-env vulkan1.3 -S "$stage" --auto-map-bindings -I"$tree/shaders" -o "$out/${rel//\//__}.spv" "$src" \
       >"$tmp/log" 2>&1 || { echo "spirv_same.sh: $rel does not compile ($tree)" >&2; cat "$tmp/log" >&2; exit 2; }
   done < <(find "$tree/shaders" "$tree/tests/shaders" -name '*.glsl' | sort)
 }

@@ -10,7 +10,7 @@ layout(constant_id = 2) const uint METHOD = kAoRayTraced;
 #include "ao_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_SURFACE_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 

@@ -9,8 +9,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "ao_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-#define HB_BVH_NODES_BINDING HB_SURFACE_BVH_NODES
-#define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 4  // after ao_common.glsl.inc RADIANCE (3)
 #define HB_BVH_THREADS 64u
 

@@ -10,7 +10,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "ao_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_SURFACE_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 

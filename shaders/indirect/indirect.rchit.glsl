@@ -1,12 +1,9 @@
 #version 460
-// Indirect light, closest hit: the hit's t and draw-order triangle id (idBase, binding 16 of the
-// indirect pass's set; primary_raycast.glsl.inc explains the table).
-// 16 is HB_INDIRECT_ID_BASE (shared/bindings.h), written as the number here alone: this shader
-// includes nothing, and an #include would need GL_GOOGLE_include_directive, whose OpSourceExtension
-// lines would change its SPIR-V.
+// Indirect light, closest hit: the hit's t and draw-order triangle id (IdBase, bound by name like
+// the ray generation shader's bindings; primary_raycast.glsl.inc explains the table).
 #extension GL_EXT_ray_tracing : require
 
-layout(set = 0, binding = 16) readonly buffer IdBase { uint idBase[]; };
+readonly buffer IdBase { uint idBase[]; };
 layout(location = 0) rayPayloadInEXT uvec2 hitTId;
 
 void main() {

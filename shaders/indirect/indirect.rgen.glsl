@@ -11,7 +11,7 @@ layout(constant_id = 2) const uint METHOD = kIndirectLdm;
 #include "indirect_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_SURFACE_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 layout(location = 0) rayPayloadEXT uvec2 hitTId;  // (t bits, id); id ~0: nothing hit
 
 float depthAt(ivec2 p) { return fetchDepth(p); }

@@ -11,8 +11,6 @@ layout(local_size_x = 64) in;
 #include "indirect_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-#define HB_BVH_NODES_BINDING HB_SURFACE_BVH_NODES
-#define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 4  // after indirect_common.glsl.inc BOUNCE (3)
 #define HB_BVH_THREADS 64u
 #define HB_BVH_CLOSEST  // closest hits: the stack keeps entry distances

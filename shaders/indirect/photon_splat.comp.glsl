@@ -21,11 +21,11 @@ layout(local_size_x = 16, local_size_y = 16) in;
 #include "surface.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_INDIRECT_PHOTONS) readonly buffer Photons { Photon photons[]; };
-layout(set = 0, binding = HB_INDIRECT_IRRADIANCE, rgba32f) uniform writeonly image2D irradianceImage;
-layout(set = 1, binding = HB_SPLAT_BOXES) readonly buffer Boxes { uvec2 boxes[]; };
-layout(set = 1, binding = HB_SPLAT_BINS) readonly buffer Bins { uvec4 bins[]; };
-layout(set = 1, binding = HB_SPLAT_LIST) readonly buffer List { uint list[]; };
+readonly buffer Photons { Photon photons[]; };
+layout(rgba32f) uniform writeonly image2D irradianceImage;
+readonly buffer Boxes { uvec2 boxes[]; };
+readonly buffer Bins { uvec4 bins[]; };
+readonly buffer List { uint list[]; };
 layout(push_constant) uniform Push { SplatConstants sc; };
 #include "photon_splat.glsl.inc"
 #include "splat_append.glsl.inc"

@@ -9,7 +9,7 @@
 #include "surface.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_INDIRECT_PHOTONS) readonly buffer Photons { Photon photons[]; };
+readonly buffer Photons { Photon photons[]; };
 layout(location = 0) flat in uint inPhoton;
 layout(location = 0) out vec4 outIrradiance;
 #include "photon_splat.glsl.inc"

@@ -8,10 +8,9 @@
 // sum deterministic.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 
-layout(set = 0, binding = HB_SURFACE_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_INDIRECT_PHOTONS) readonly buffer Photons { Photon photons[]; };
+uniform Frame { FrameConstants frame; };
+readonly buffer Photons { Photon photons[]; };
 layout(location = 0) flat out uint outPhoton;
 
 const vec2 kCorners[6] = vec2[](vec2(-0.5, -0.5), vec2(0.5, -0.5), vec2(0.5, 0.5), vec2(-0.5, -0.5), vec2(0.5, 0.5),

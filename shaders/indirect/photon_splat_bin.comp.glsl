@@ -20,18 +20,17 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
-#include "shared/bindings.h"
 #include "splat_append.glsl.inc"
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0u;
 
-layout(set = 0, binding = HB_SURFACE_FRAME) uniform Frame { FrameConstants frame; };
-layout(set = 0, binding = HB_INDIRECT_PHOTONS) readonly buffer Photons { Photon photons[]; };
-layout(set = 1, binding = HB_SPLAT_BOXES) buffer Boxes { uvec2 boxes[]; };
-layout(set = 1, binding = HB_SPLAT_COARSE) buffer Coarse { uint coarse[]; };
-layout(set = 1, binding = HB_SPLAT_COUNTS) buffer Counts { uint counts[]; };
-layout(set = 1, binding = HB_SPLAT_BINS) buffer Bins { uvec4 bins[]; };
-layout(set = 1, binding = HB_SPLAT_LIST) buffer List { uint list[]; };
+uniform Frame { FrameConstants frame; };
+readonly buffer Photons { Photon photons[]; };
+buffer Boxes { uvec2 boxes[]; };
+buffer Coarse { uint coarse[]; };
+buffer Counts { uint counts[]; };
+buffer Bins { uvec4 bins[]; };
+buffer List { uint list[]; };
 layout(push_constant) uniform Push { SplatConstants sc; };
 
 const uvec2 kEmptyBox = uvec2(0xFFFFFFFFu, 0u);

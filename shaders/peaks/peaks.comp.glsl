@@ -10,7 +10,6 @@
 //   FMA       push.iterations x 8 independent fma chains per thread (8 FMAs an iteration); the
 //             result is written only where it equals the sentinel.
 #extension GL_GOOGLE_include_directive : require
-#include "shared/bindings.h"
 
 layout(constant_id = 0) const uint MODE = 0u;
 const uint kRead = 0u, kWrite = 1u, kCopy = 2u, kAtomic = 3u, kContended = 4u, kFma = 5u;
@@ -24,9 +23,9 @@ layout(push_constant) uniform Push {
 }
 push;
 
-layout(std430, binding = HB_PEAKS_SRC) readonly buffer Src { uvec4 src[]; };
-layout(std430, binding = HB_PEAKS_DST) buffer Dst { uvec4 dst[]; };
-layout(std430, binding = HB_PEAKS_DST) buffer DstWords { uint words[]; };
+layout(std430) readonly buffer Src { uvec4 src[]; };
+layout(std430) buffer Dst { uvec4 dst[]; };
+layout(std430) buffer DstWords { uint words[]; };
 
 void main() {
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;

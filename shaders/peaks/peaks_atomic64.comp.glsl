@@ -5,7 +5,6 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
-#include "shared/bindings.h"
 
 layout(local_size_x = 256) in;
 layout(push_constant) uniform Push {
@@ -16,7 +15,7 @@ layout(push_constant) uniform Push {
 }
 push;
 
-layout(std430, binding = HB_PEAKS_DST) buffer Dst { uint64_t keys[]; };
+layout(std430) buffer Dst { uint64_t keys[]; };
 
 void main() {
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;

@@ -4,7 +4,7 @@
 #extension GL_EXT_ray_tracing : require
 #include "peaks_rays.glsl.inc"
 
-layout(binding = HB_PEAKS_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 layout(location = 0) rayPayloadEXT uint missed;  // the miss shader (shadows.rmiss) sets 1
 
 void main() {

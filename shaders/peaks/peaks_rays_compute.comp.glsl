@@ -11,8 +11,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_PEAKS_PERSISTENT 4  // the specialization constant's id, after the BVH's three
 #include "peaks_rays.glsl.inc"
 
-#define HB_BVH_NODES_BINDING HB_PEAKS_BVH_NODES
-#define HB_BVH_TRIANGLES_BINDING HB_PEAKS_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 1
 #define HB_BVH_THREADS 64u
 #define HB_BVH_CLOSEST  // closest hits: the stack keeps entry distances

@@ -6,7 +6,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define HB_PEAKS_COMPUTE_MAIN
 #include "peaks_rays.glsl.inc"
 
-layout(binding = HB_PEAKS_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 bool peaksHit(vec3 origin, vec3 dir, uint index) {
   rayQueryEXT rq;
   rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT | (MODE >= 2u ? gl_RayFlagsTerminateOnFirstHitEXT : 0u), 0xFF,

@@ -9,8 +9,6 @@ layout(constant_id = 0) const uint LIST_MODE = 0;  // kList*
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-#define HB_BVH_NODES_BINDING HB_RAYBENCH_BVH_NODES
-#define HB_BVH_TRIANGLES_BINDING HB_RAYBENCH_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 1
 #define HB_BVH_THREADS 64u
 #include "compute_occluded.glsl.inc"

@@ -9,7 +9,7 @@
 #include "shadows_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_SURFACE_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 
 float depthAt(ivec2 p) { return fetchDepth(p); }
 

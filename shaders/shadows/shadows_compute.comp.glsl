@@ -11,8 +11,6 @@ layout(local_size_x_id = 0, local_size_y_id = 0) in;
 #include "shadows_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-#define HB_BVH_NODES_BINDING HB_SURFACE_BVH_NODES
-#define HB_BVH_TRIANGLES_BINDING HB_SURFACE_BVH_TRIANGLES
 #define HB_BVH_STACK_ID 6
 #define HB_BVH_THREADS (TILE * TILE)
 

@@ -11,7 +11,7 @@ layout(local_size_x_id = 0, local_size_y_id = 0) in;
 #include "shadows_common.glsl.inc"
 
 #include "depth_texel.glsl.inc"
-layout(set = 0, binding = HB_SURFACE_TLAS) uniform accelerationStructureEXT tlas;
+uniform accelerationStructureEXT tlas;
 
 const int kBorder = 2;  // improved normals read +-2 samples per axis
 const int kSide = int(TILE) + 2 * kBorder;

@@ -267,7 +267,7 @@ HB_CONST uint kLdmCounterCasRetries = 3u;  // cas: compare-and-swaps that lost t
 HB_CONST uint kLdmCounterFp64 = 4u;        // 3dr build: edge values decided in double
 // 3dr build: a (triangle, map) pair whose pixel box holds more than kLdmSmallBox centres is not
 // rasterized by its own thread but split into chunks of kLdmChunk pixels of its box in row order,
-// each a workgroup's (one pixel a thread), listed in the chunk list (HB_LDM_CHUNKS: uvec2 (triangle,
+// each a workgroup's (one pixel a thread), listed in the chunk list (Chunks: uvec2 (triangle,
 // map | chunk << 11); maps <= 2048, and a box of at most 4096² pixels has at most 2^18 chunks).
 HB_CONST uint kLdmCounterChunks = 5u;         // chunk entries the insert / count phase asked for
 HB_CONST uint kLdmCounterChunksFill = 6u;     // the same for the fill phase (sbuffer)

@@ -15,6 +15,7 @@
 #include "base/errors.h"
 #include "base/text_format.h"
 #include "gpu/accel.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/raster_pipeline.h"
@@ -22,7 +23,6 @@
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
-#include "shared/bindings.h"
 
 namespace hb {
 
@@ -114,10 +114,10 @@ void computeBarrier(VkCommandBuffer cmd) {
 void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Peak>& out) {
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   Buffer src(ctx, sizes.bufferBytes, usage, false), dst(ctx, sizes.bufferBytes, usage, false);
-  DescriptorSets sets(ctx, {{HB_PEAKS_SRC, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-                            {HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
-  sets.writeBuffer(0, HB_PEAKS_SRC, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, src.handle());
-  sets.writeBuffer(0, HB_PEAKS_DST, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, dst.handle());
+  DescriptorBinder binder("peaks");
+  binder.provide("Src", src);
+  binder.provide("Dst", dst);
+  binder.provide("DstWords", dst);              // peaks.comp's word view of the same buffer
   ctx.submitAndWait([&](VkCommandBuffer cmd) {  // defined contents: the read sums something real
     vkCmdFillBuffer(cmd, src.handle(), 0, VK_WHOLE_SIZE, 0x01010101u);
     vkCmdFillBuffer(cmd, dst.handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -126,12 +126,11 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
   // One compute pipeline of `shader` timed over repetitions of one dispatch of `groups` workgroups.
   auto timeDispatch = [&](const char* shader, const SpecConstants& spec, const PushConstants& pc, uint32_t groups) {
     Pipeline p(ctx);
-    p.createLayout({sets.layout()}, sizeof(PushConstants));
-    p.createCompute(shader, spec);
+    p.createCompute(binder, shader, sizeof(PushConstants), spec);
     return timeRepetitions(ctx, sizes, [&](VkCommandBuffer cmd) {
       computeBarrier(cmd);
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
-      VkDescriptorSet s = sets.set();
+      VkDescriptorSet s = p.set();
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &s, 0, nullptr);
       vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof pc, &pc);
       vkCmdDispatch(cmd, groups, 1, 1);
@@ -167,6 +166,7 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
                            timeDispatch("peaks_atomic64.comp", {}, {keys, 0, 0x9E3779B9u, 0}, groupsFor(keys)),
                            "64-bit atomicMin, each thread to its own word (the visibility buffer's operation)"));
   }
+  binder.checkEveryNameRead();
 }
 
 void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Peak>& out) {
@@ -279,7 +279,6 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   Buffer hits(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
   Buffer nextRay(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
-  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   // A backend: the driver's pipeline or ray query, or ours (`ours` set) in compute.
   struct Backend {
     std::string name;  // results' "backend": pipeline, rayquery, compute, compute-w4, compute-w8, compute-w4-persistent
@@ -287,30 +286,21 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
     bool pipeline = false;
     std::optional<Ours> ours;
   };
-  // One set layout per backend: the driver's TLAS or our BVH.
-  auto makeSets = [&](const Backend& b) {
-    const VkShaderStageFlags st = b.pipeline ? VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR)
-                                             : VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT);
-    std::vector<Binding> bindings{
-        {HB_PEAKS_DST, sb, st}, {HB_PEAKS_HITS, sb, st}, {HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st}};
-    if (b.ours)
-      bindings.insert(bindings.end(),
-                      {{HB_PEAKS_BVH_NODES, sb, st}, {HB_PEAKS_BVH_TRIANGLES, sb, st}, {HB_PEAKS_NEXT_RAY, sb, st}});
-    else
-      bindings.push_back({HB_PEAKS_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st});
-    auto sets = std::make_unique<DescriptorSets>(ctx, bindings);
-    sets->writeBuffer(0, HB_PEAKS_DST, sb, missed.handle());
-    sets->writeBuffer(0, HB_PEAKS_HITS, sb, hits.handle());
-    sets->writeBuffer(0, HB_PEAKS_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, uniforms.handle());
+  // Per backend its resources: the driver's TLAS or our BVH.
+  auto makeBinder = [&](const Backend& b) {
+    auto binder = std::make_unique<DescriptorBinder>("peaks.rays_" + b.name);
+    binder->provide("Dst", missed);
+    binder->provide("Hits", hits);
+    binder->provide("p", uniforms);  // peaks_rays.glsl.inc's uniform block, named p
     if (b.ours) {
       const TraceBvh& bvh = bvhOf(b.ours->width);
-      sets->writeBuffer(0, HB_PEAKS_BVH_NODES, sb, bvh.nodes.handle());
-      sets->writeBuffer(0, HB_PEAKS_BVH_TRIANGLES, sb, bvh.triangles.handle());
-      sets->writeBuffer(0, HB_PEAKS_NEXT_RAY, sb, nextRay.handle());
+      binder->provide("BvhNodes", bvh.nodes);
+      binder->provide("BvhTriangles", bvh.triangles);
+      binder->provide("NextRay", nextRay);
     } else {
-      sets->writeAccelerationStructure(0, HB_PEAKS_TLAS, accel.tlas());
+      binder->provide("tlas", accel.tlas());
     }
-    return sets;
+    return binder;
   };
   const char* keys[4] = {"rays_camera", "rays_random_closest", "rays_random_occlusion", "rays_ao"};
   const char* units[4] = {"rays_coherent", "rays_random", "rays_occlusion", "rays_ao"};
@@ -342,29 +332,29 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   // Persistent threads: enough groups of 64 to fill a large GPU (H200: 132 SMs, at most 32 groups of
   // 64 threads each), fewer where the rays are fewer.
   const uint32_t tiles = ((width + 7) / 8) * ((height + 7) / 8), persistentGroups = std::min(tiles, 4096u);
-  auto measure = [&](const Backend& b, const DescriptorSets& sets, uint32_t mode) {
+  auto measure = [&](const Backend& b, const DescriptorBinder& binder, uint32_t mode) {
     std::string suffix = "_" + b.name;
     std::replace(suffix.begin(), suffix.end(), '-', '_');
     {
       std::unique_ptr<RaygenMissPipeline> rt;
       Pipeline compute(ctx);
       if (b.pipeline) {
-        rt = std::make_unique<RaygenMissPipeline>(ctx, sets.layout(), "peaks_rays.rgen", "shadows.rmiss",
+        rt = std::make_unique<RaygenMissPipeline>(ctx, binder, "peaks_rays.rgen", "shadows.rmiss",
                                                   SpecConstants{{mode}});
       } else {
-        compute.createLayout({sets.layout()}, 2 * sizeof(uint32_t));
         if (b.ours) {  // 8x8 threads a group
           const TraceBvh& bvh = bvhOf(b.ours->width);
-          compute.createCompute("peaks_rays_compute.comp", {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u,
-                                                             bvh.width, b.ours->persistent ? 1u : 0u}});
+          compute.createCompute(
+              binder, "peaks_rays_compute.comp", 2 * sizeof(uint32_t),
+              {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width, b.ours->persistent ? 1u : 0u}});
         } else
-          compute.createCompute("peaks_rays_rayquery.comp", {{mode}});
+          compute.createCompute(binder, "peaks_rays_rayquery.comp", 2 * sizeof(uint32_t), {{mode}});
       }
       // Every ray writes 0 or 1: a ray left at 0xFFFFFFFF was not traced.
       ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, missed.handle(), 0, VK_WHOLE_SIZE, ~0u); },
                         "clearing the ray peaks' results");
       const bool persistent = b.ours && b.ours->persistent;
-      VkDescriptorSet set = sets.set();
+      VkDescriptorSet set = (rt ? rt->pipeline() : compute).set();
       const uint32_t size[2] = {width, height};
       Peak peak = makePeak(
           b.pipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
@@ -404,17 +394,17 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
     }
   };
   for (const Backend& b : backends) {
-    const std::unique_ptr<DescriptorSets> sets = makeSets(b);
+    const std::unique_ptr<DescriptorBinder> binder = makeBinder(b);
     // The AO rays start where our BVH's camera rays met the scene: only where it ran.
-    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) peaks.figures.push_back(measure(b, *sets, mode));
+    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) peaks.figures.push_back(measure(b, *binder, mode));
+    binder->checkEveryNameRead();
   }
   // The first figure once more, last: a device whose clocks or load changed while the figures ran
   // (the H200's first `peaks` on a cold machine once measured the driver's rays at 40 % of a second
   // run's, while its figures before that point agreed) makes the figures disagree with each other.
   // Beyond 5 % (run-to-run noise on the H200 is under 1 %), a warning says so.
   if (!cpu && !backends.empty()) {
-    const std::unique_ptr<DescriptorSets> sets = makeSets(backends.front());
-    const Peak again = measure(backends.front(), *sets, 0);
+    const Peak again = measure(backends.front(), *makeBinder(backends.front()), 0);
     const Peak& first = peaks.figures[peaks.figures.size() - backends.size() * (everyBackend ? 4 : 3)];
     const double ratio = again.perSecond / first.perSecond;
     if (std::abs(ratio - 1.0) > 0.05)

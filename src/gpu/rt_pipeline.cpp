@@ -4,21 +4,43 @@
 #include <memory>
 
 #include "base/errors.h"
+#include "gpu/descriptor_binder.h"
 
 namespace hb {
 
-RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLayout layout, const std::string& raygen,
-                                       const std::string& miss, const SpecConstants& spec,
-                                       const std::string& closestHit)
+RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, VkDescriptorSetLayout layout,
+                                       const ShaderProgram& program, const std::string& raygen, const std::string& miss,
+                                       const SpecConstants& spec, const std::string& closestHit)
     : ctx_(c), pipeline_(c) {
   HB_ASSERT(c.info().rayTracingPipeline);
   pipeline_.createLayout({layout}, 0);
+  std::vector<std::vector<uint32_t>> spirv{program.spirv(raygen), program.spirv(miss)};
+  if (!closestHit.empty()) spirv.push_back(program.spirv(closestHit));
+  create(spirv, spec);
+}
+
+RaygenMissPipeline::RaygenMissPipeline(const VulkanContext& c, const DescriptorBinder& binder,
+                                       const std::string& raygen, const std::string& miss, const SpecConstants& spec,
+                                       const std::string& closestHit)
+    : ctx_(c), pipeline_(c) {
+  HB_ASSERT(c.info().rayTracingPipeline);
+  std::vector<std::string> shaders{raygen, miss};
+  if (!closestHit.empty()) shaders.push_back(closestHit);
+  const ShaderProgram program(shaders);
+  pipeline_.createLayout(binder, program, 0);
+  std::vector<std::vector<uint32_t>> spirv;
+  for (size_t i = 0; i < shaders.size(); ++i) spirv.push_back(program.spirv(i));
+  create(spirv, spec);
+}
+
+void RaygenMissPipeline::create(const std::vector<std::vector<uint32_t>>& spirv, const SpecConstants& spec) {
+  const VulkanContext& c = ctx_;
   // Groups: 0 = ray generation, 1 = miss, 2 = the triangle hit group (closest hit), if any.
-  const bool hasHit = !closestHit.empty();
+  const bool hasHit = spirv.size() == 3;
   const uint32_t groupCount = hasHit ? 3 : 2;
-  ShaderModule rgen(c, raygen), rmiss(c, miss);
+  ShaderModule rgen(c, spirv[0]), rmiss(c, spirv[1]);
   std::unique_ptr<ShaderModule> rchit;
-  if (hasHit) rchit = std::make_unique<ShaderModule>(c, closestHit);
+  if (hasHit) rchit = std::make_unique<ShaderModule>(c, spirv[2]);
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   VkPipelineShaderStageCreateInfo stages[3] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},

@@ -3,6 +3,7 @@
 #include <string_view>
 
 #include "base/errors.h"
+#include "gpu/descriptor_binder.h"
 
 namespace hb {
 
@@ -38,8 +39,9 @@ std::vector<std::string> embeddedShaderNames() {
   return names;
 }
 
-ShaderModule::ShaderModule(const VulkanContext& ctx, const std::string& name) : ctx_(ctx) {
-  std::vector<uint32_t> code = embeddedSpirv(name);
+ShaderModule::ShaderModule(const VulkanContext& ctx, const std::string& name)
+    : ShaderModule(ctx, embeddedSpirv(name)) {}
+ShaderModule::ShaderModule(const VulkanContext& ctx, const std::vector<uint32_t>& code) : ctx_(ctx) {
   VkShaderModuleCreateInfo ci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   ci.codeSize = code.size() * 4;
   ci.pCode = code.data();
@@ -160,14 +162,33 @@ VkSpecializationInfo specializationInfo(const SpecConstants& spec, std::vector<V
   return si;
 }
 
+void Pipeline::createLayout(const DescriptorBinder& binder, const ShaderProgram& program, uint32_t pushBytes) {
+  sets_ = binder.write(ctx_, program);
+  createLayout({sets_->layout()}, pushBytes);
+}
+
+void Pipeline::createCompute(const DescriptorBinder& binder, const std::string& shader, uint32_t pushBytes,
+                             const SpecConstants& spec) {
+  ShaderProgram program({shader});
+  createLayout(binder, program, pushBytes);
+  createCompute(ShaderModule(ctx_, program.spirv(0)).handle(), spec);
+}
+
+void Pipeline::createCompute(const ShaderProgram& program, std::string_view shader, const SpecConstants& spec) {
+  createCompute(ShaderModule(ctx_, program.spirv(shader)).handle(), spec);
+}
+
 void Pipeline::createCompute(const std::string& shader, const SpecConstants& spec) {
-  ShaderModule module(ctx_, shader);
+  createCompute(ShaderModule(ctx_, shader).handle(), spec);
+}
+
+void Pipeline::createCompute(VkShaderModule module, const SpecConstants& spec) {
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  ci.stage.module = module.handle();
+  ci.stage.module = module;
   ci.stage.pName = "main";
   ci.stage.pSpecializationInfo = spec.values.empty() ? nullptr : &si;
   ci.layout = layout_;

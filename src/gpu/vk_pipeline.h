@@ -2,13 +2,17 @@
 // plumbing each pass needs, with every handle owned by the object that created it.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "gpu/shader_reflection.h"
 #include "gpu/vk_context.h"
 
 namespace hb {
+
+class DescriptorBinder;
 
 // SPIR-V words of shaders/<name>.glsl (name like "depth.vert"); throws if it was not embedded.
 std::vector<uint32_t> embeddedSpirv(const std::string& name);
@@ -20,6 +24,7 @@ void registerSpirv(std::string_view name, const uint32_t* words, size_t bytes);
 class ShaderModule {
  public:
   ShaderModule(const VulkanContext& ctx, const std::string& name);
+  ShaderModule(const VulkanContext& ctx, const std::vector<uint32_t>& spirv);
   ~ShaderModule();
   ShaderModule(const ShaderModule&) = delete;
   VkShaderModule handle() const { return module_; }
@@ -77,13 +82,24 @@ class Pipeline {
   // Creates the layout (set layouts + one push-constant range of pushBytes for all stages).
   void createLayout(const std::vector<VkDescriptorSetLayout>& setLayouts, uint32_t pushBytes);
   void createCompute(const std::string& shader, const SpecConstants& spec = {});
+  // The layout from `program`'s reflection (its set 0 + pushBytes of push constants) and that set,
+  // owned by the pipeline (set()), written from `binder` (which throws naming a binding it lacks).
+  void createLayout(const DescriptorBinder& binder, const ShaderProgram& program, uint32_t pushBytes);
+  // createLayout from `shader`'s reflection, then its compute pipeline.
+  void createCompute(const DescriptorBinder& binder, const std::string& shader, uint32_t pushBytes,
+                     const SpecConstants& spec = {});
+  // Shader `shader` of `program` (its renumbered SPIR-V) as the compute pipeline of this layout.
+  void createCompute(const ShaderProgram& program, std::string_view shader, const SpecConstants& spec = {});
+  VkDescriptorSet set() const { return sets_->set(); }  // after createLayout(binder, ...)
 
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipelineBindPoint bindPoint_ = VK_PIPELINE_BIND_POINT_COMPUTE;
 
  private:
+  void createCompute(VkShaderModule module, const SpecConstants& spec);
   const VulkanContext& ctx_;
+  std::unique_ptr<DescriptorSets> sets_;  // createLayout(binder, ...) only
 };
 
 // Fills a VkSpecializationInfo for SpecConstants (entries must outlive the call using it).

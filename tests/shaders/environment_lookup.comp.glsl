@@ -5,9 +5,9 @@
 #include "shared/gpu_types.h"
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = 0) uniform Params { AoConstants ao; };
-layout(set = 0, binding = 1, std430) readonly buffer Directions { vec4 dirs[]; };
-layout(set = 0, binding = 2, std430) writeonly buffer Out { vec4 radiance[]; };
+uniform Params { AoConstants ao; };
+layout(std430) readonly buffer Directions { vec4 dirs[]; };
+layout(std430) writeonly buffer Out { vec4 radiance[]; };
 
 #include "environment.glsl.inc"
 

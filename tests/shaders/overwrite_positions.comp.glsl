@@ -8,8 +8,8 @@ struct MovedPoint {
   vec4 position;  // what its stored position becomes (w = 1: a surface)
 };
 
-layout(set = 0, binding = 0, rgba32f) uniform writeonly image2D positions;
-layout(set = 0, binding = 1, std430) readonly buffer Moves { MovedPoint moves[]; };
+layout(rgba32f) uniform writeonly image2D positions;
+layout(std430) readonly buffer Moves { MovedPoint moves[]; };
 
 layout(push_constant) uniform Push { uint count; } pc;
 

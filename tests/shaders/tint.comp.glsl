@@ -3,8 +3,8 @@
 // light-list length) to the red channel of the shaded image, in place.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, rgba16f) uniform image2D color;
-layout(set = 0, binding = 1, std430) readonly buffer Grid { uint grid[]; };  // 4 words per tile: offset, count, ...
+layout(rgba16f) uniform image2D color;
+layout(std430) readonly buffer Grid { uint grid[]; };  // 4 words per tile: offset, count, ...
 
 layout(push_constant) uniform Push {
   uvec2 size;

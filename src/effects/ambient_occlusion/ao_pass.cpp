@@ -5,40 +5,18 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "gpu/descriptor_binder.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
 #include "scene/environment.h"
-#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
 
-namespace {
-
-std::vector<Binding> aoBindings(VkShaderStageFlags stages, bool tlas, bool computeBvh) {
-  std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, stages},
-                            {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
-                            {HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
-                            {HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
-  if (tlas) b.push_back({HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages});
-  if (computeBvh) {  // backend=compute: our BVH (compute_occluded.glsl.inc)
-    b.push_back({HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
-    b.push_back({HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
-  }
-  return b;
-}
-
-}  // namespace
-
 struct AoPass::Program {
   Pipeline compute;
   std::unique_ptr<RaygenMissPipeline> rt;
+  std::unique_ptr<DescriptorSets> scratch;  // its set over the scratch output (computeWith), where it traces
   explicit Program(const VulkanContext& c) : compute(c) {}
   const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
 };
@@ -118,46 +96,40 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   output_ = Buffer(ctx, outBytes, outUsage, false, MemClass::Other);
   placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
 
-  const bool rayQuery = ctx.info().rayQuery;
-  const VkShaderStageFlags stages =
-      tlas_ && !rayQuery ? VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_COMPUTE_BIT
-                         : VK_SHADER_STAGE_COMPUTE_BIT;
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
-  auto makeSets = [&](const Buffer& out, const Buffer& params) {
-    auto sets = std::make_unique<DescriptorSets>(
-        ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE, settings.computeBvh != nullptr));
-    sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-    sets->writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
-                     VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-    if (tlas_) sets->writeAccelerationStructure(0, HB_SURFACE_TLAS, tlas_);
-    if (const TraceBvh* bvh = settings.computeBvh) {
-      sets->writeBuffer(0, HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->nodes.handle());
-      sets->writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->triangles.handle());
+  auto provide = [&](DescriptorBinder& b, const Buffer& out, const Buffer& params) {
+    b.provide("Frame", *in.frameConstants);
+    b.provide("depthTex", *in.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+    if (const TraceBvh* bvh = settings.computeBvh) {  // backend=compute traces our BVH, not the TLAS
+      b.provide("BvhNodes", bvh->nodes);
+      b.provide("BvhTriangles", bvh->triangles);
+    } else if (tlas_) {
+      b.provide("tlas", tlas_);
     }
-    // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
-    sets->writeBuffer(0, HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                      (in.hitIds ? *in.hitIds : placeholder_).handle());
-    sets->writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-                      (in.hitRays ? in.hitRays : in.frameConstants)->handle());
-    sets->writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                      (in.hitTriangles ? *in.hitTriangles : placeholder_).handle());
-    sets->writeBuffer(0, HB_AO_DIRECTIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, directions_.handle());
-    sets->writeBuffer(0, HB_SURFACE_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                      (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-    sets->writeBuffer(0, HB_AO_OUT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, out.handle());
-    sets->writeBuffer(0, HB_AO_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params.handle());
-    // Without an environment HB_AO_ENVIRONMENT is never read (RADIANCE = 0).
-    sets->writeBuffer(0, HB_AO_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                      (env ? environment_ : placeholder_).handle());
-    return sets;
+    // Without hits the Hit* bindings are never read; any buffer of the right type will do.
+    b.provide("HitIds", in.hitIds ? *in.hitIds : placeholder_);
+    b.provide("HitRays", *(in.hitRays ? in.hitRays : in.frameConstants));
+    b.provide("HitTriangles", in.hitTriangles ? *in.hitTriangles : placeholder_);
+    b.provide("AoDirections", directions_);
+    b.provide("LdmMaps", ldm_ ? ldm_->mapsBuffer() : placeholder_);
+    b.provide("AoOut", out);
+    b.provide("AoParams", params);
+    // Without an environment EnvironmentMap is never read (RADIANCE = 0).
+    b.provide("EnvironmentMap", env ? environment_ : placeholder_);
   };
-  sets_ = makeSets(output_, params_);
+  binder_ = std::make_unique<DescriptorBinder>("ambient_occlusion");
+  provide(*binder_, output_, params_);
   if (tlas_) {
     scratch_ = Buffer(ctx, outBytes, outUsage, false, MemClass::Other);
-    scratchSets_ = makeSets(scratch_, scratchParams_);
+    scratchBinder_ = std::make_unique<DescriptorBinder>("ambient_occlusion.reference");
+    provide(*scratchBinder_, scratch_, scratchParams_);
   }
   program(ao.method);  // the frame's own, created up front
+  // With a tracer the reference's too (computeWith), so that every name provided is seen read.
+  if (tlas_) program(AoMethod::Reference);
+  binder_->checkEveryNameRead();
+  if (scratchBinder_) scratchBinder_->checkEveryNameRead();
 }
 
 AoPass::~AoPass() = default;
@@ -169,8 +141,7 @@ const AoPass::Program& AoPass::program(AoMethod method) {
   const uint32_t radiance = settings_.environment ? 1u : 0u;  // ao_common.glsl.inc RADIANCE
   if (method == AoMethod::Ldm || method == AoMethod::Hbao || method == AoMethod::Gtao) {
     HB_ASSERT(method != AoMethod::Ldm || ldm_);
-    p->compute.createLayout({sets_->layout()}, 0);
-    p->compute.createCompute("ao_compute.comp",
+    p->compute.createCompute(*binder_, "ao_compute.comp", 0,
                              SpecConstants{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
                                             method == AoMethod::Ldm    ? gpu::kAoLdm
                                             : method == AoMethod::Hbao ? gpu::kAoHbao
@@ -183,21 +154,22 @@ const AoPass::Program& AoPass::program(AoMethod method) {
     if (settings_.computeBvh) {
       SpecConstants withStack = spec;
       for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64, false)) withStack.values.push_back(v);  // 8x8 threads
-      p->compute.createLayout({sets_->layout()}, 0);
-      p->compute.createCompute("ao_computetrace.comp", withStack);
+      p->compute.createCompute(*binder_, "ao_computetrace.comp", 0, withStack);
+      p->scratch = scratchBinder_->write(ctx_, ShaderProgram({"ao_computetrace.comp"}));
     } else if (ctx_.info().rayQuery) {
-      p->compute.createLayout({sets_->layout()}, 0);
-      p->compute.createCompute("ao_rayquery.comp", spec);
+      p->compute.createCompute(*binder_, "ao_rayquery.comp", 0, spec);
+      p->scratch = scratchBinder_->write(ctx_, ShaderProgram({"ao_rayquery.comp"}));
     } else {
-      p->rt = std::make_unique<RaygenMissPipeline>(ctx_, sets_->layout(), "ao.rgen", "shadows.rmiss", spec);
+      p->rt = std::make_unique<RaygenMissPipeline>(ctx_, *binder_, "ao.rgen", "shadows.rmiss", spec);
+      p->scratch = scratchBinder_->write(ctx_, ShaderProgram({"ao.rgen", "shadows.rmiss"}));
     }
   }
   return *programs_.emplace(method, std::move(p)).first->second;
 }
 
-void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, const DescriptorSets& sets) const {
-  VkDescriptorSet set = sets.set();
+void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, bool scratch) const {
   const Pipeline& pl = p.pipeline();
+  VkDescriptorSet set = scratch ? p.scratch->set() : pl.set();
   vkCmdBindPipeline(cmd, pl.bindPoint(), pl.handle());
   vkCmdBindDescriptorSets(cmd, pl.bindPoint(), pl.layout(), 0, 1, &set, 0, nullptr);
   if (p.rt)
@@ -211,7 +183,7 @@ void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, const Descript
       VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void AoPass::recordAo(VkCommandBuffer cmd) const { recordProgram(cmd, *programs_.at(settings_.ao.method), *sets_); }
+void AoPass::recordAo(VkCommandBuffer cmd) const { recordProgram(cmd, *programs_.at(settings_.ao.method), false); }
 
 static std::vector<float> readFloats(const VulkanContext& ctx, const Buffer& b) {
   const std::vector<uint8_t> bytes = readbackBuffer(ctx, b);
@@ -227,7 +199,7 @@ std::vector<float> AoPass::computeWith(AoMethod method) {
     return readAo();
   HB_ASSERT((method == AoMethod::RayTraced || method == AoMethod::Reference) && tlas_);
   const Program& p = program(method);
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, *scratchSets_); }, "an analysis reference");
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordProgram(cmd, p, true); }, "an analysis reference");
   return readFloats(ctx_, scratch_);
 }
 

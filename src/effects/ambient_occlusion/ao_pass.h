@@ -18,6 +18,7 @@
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "frame/frame_builder.h"
 #include "frame/passes/ldm_build.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/trace_bvh.h"
@@ -82,7 +83,8 @@ class AoPass {
  private:
   struct Program;  // one method's pipeline
   const Program& program(AoMethod method);
-  void recordProgram(VkCommandBuffer cmd, const Program& p, const DescriptorSets& sets) const;
+  // scratch: into scratch_ with the reference's parameters (computeWith), else into output_.
+  void recordProgram(VkCommandBuffer cmd, const Program& p, bool scratch) const;
 
   const VulkanContext& ctx_;
   AoPassSettings settings_;
@@ -90,7 +92,9 @@ class AoPass {
   VkAccelerationStructureKHR tlas_;
   std::unique_ptr<LdmBuild> ldm_;
   Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_, environment_;
-  std::unique_ptr<DescriptorSets> sets_, scratchSets_;
+  // The pass's resources by name: over output_ and params_, and (with a tracer) over scratch_ and
+  // scratchParams_; kept, since a method's program is built when first used.
+  std::unique_ptr<DescriptorBinder> binder_, scratchBinder_;
   std::map<AoMethod, std::unique_ptr<Program>> programs_;
 };
 

@@ -6,10 +6,10 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/raster_pipeline.h"
 #include "reference/eq_partition.h"
 #include "reference/photon_ref.h"
-#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -73,7 +73,6 @@ struct IndirectPass::Program {
 struct IndirectPass::ComputeSplat {
   gpu::SplatConstants constants{};
   Buffer boxes, coarse, counts, bins, list;
-  std::unique_ptr<DescriptorSets> sets;
   std::vector<std::unique_ptr<Pipeline>> bin;  // MODE 0..3
   Pipeline gather;
   explicit ComputeSplat(const VulkanContext& c) : gather(c) {}
@@ -194,44 +193,20 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
 
   if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
-  const VkShaderStageFlags trace =
-      settings_.rayQuery || settings_.computeBvh
-          ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-          : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
-                               VK_SHADER_STAGE_MISS_BIT_KHR);
-  const VkShaderStageFlags all =
-      trace | VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT | VK_SHADER_STAGE_COMPUTE_BIT;
-  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  bindings_ = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {HB_INDIRECT_LIGHTS, sb, trace},
-               {HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, all},
-               {HB_SURFACE_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, trace},
-               {HB_INDIRECT_VERTICES, sb, trace},
-               {HB_INDIRECT_SCENE_INDICES, sb, trace},
-               {HB_INDIRECT_MATERIALS, sb, trace},
-               {HB_INDIRECT_DRAWS, sb, trace},
-               {HB_INDIRECT_TRIANGLE_DRAWS, sb, trace},
-               {HB_SURFACE_HIT_IDS, sb, all},
-               {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, all},
-               {HB_SURFACE_HIT_TRIANGLES, sb, all},
-               {HB_INDIRECT_DIRECTIONS, sb, trace},
-               {HB_SURFACE_LDM_MAPS, sb, trace},
-               {HB_INDIRECT_ID_BASE, sb, trace},
-               {HB_INDIRECT_PHOTONS, sb, all},
-               {HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, trace},
-               {HB_INDIRECT_FACES, sb, trace},
-               {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace | VK_SHADER_STAGE_COMPUTE_BIT},
-               {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
-  if (settings_.computeBvh) {  // our BVH instead of the TLAS
-    std::erase_if(bindings_, [](const Binding& b) { return b.binding == HB_SURFACE_TLAS; });
-    bindings_.push_back({HB_SURFACE_BVH_NODES, sb, trace});
-    bindings_.push_back({HB_SURFACE_BVH_TRIANGLES, sb, trace});
-  }
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
-  frame_ = makeTarget(s.method != IndirectMethod::Reference);
-  if (s.method != IndirectMethod::Reference && s.splat == IndirectSplat::Compute) {
+  const bool splatCompute = s.method != IndirectMethod::Reference && s.splat == IndirectSplat::Compute;
+  // The trace, the gather and the splat share one set per target (makeTarget), laid out from all
+  // their shaders together: the tracer's, the raster splat's and, with splat=compute, its own.
+  std::vector<std::string> shaders =
+      settings_.computeBvh ? std::vector<std::string>{"indirect_computetrace.comp"}
+      : settings_.rayQuery ? std::vector<std::string>{"indirect.comp"}
+                           : std::vector<std::string>{"indirect.rgen", "indirect.rmiss", "indirect.rchit"};
+  shaders.insert(shaders.end(), {"photon_splat.vert", "photon_splat.frag"});
+  if (splatCompute) shaders.insert(shaders.end(), {"photon_splat_bin.comp", "photon_splat.comp"});
+  shaders_ = std::make_unique<ShaderProgram>(shaders);
+  if (splatCompute) {
     if (!ctx.info().computeSubgroupBallot)
       throw InputError("effects.indirect.splat=compute needs subgroup ballots in compute shaders, which device \"" +
                        ctx.info().name + "\" lacks; use effects.indirect.splat=raster");
@@ -262,31 +237,23 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     cs->bins =
         Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
     cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, use, false, MemClass::Other);
-    const VkShaderStageFlags st = VK_SHADER_STAGE_COMPUTE_BIT;
-    cs->sets = std::make_unique<DescriptorSets>(ctx, std::vector<Binding>{{HB_SPLAT_BOXES, sb, st},
-                                                                          {HB_SPLAT_COARSE, sb, st},
-                                                                          {HB_SPLAT_COUNTS, sb, st},
-                                                                          {HB_SPLAT_BINS, sb, st},
-                                                                          {HB_SPLAT_LIST, sb, st}});
-    cs->sets->writeBuffer(0, HB_SPLAT_BOXES, sb, cs->boxes.handle());
-    cs->sets->writeBuffer(0, HB_SPLAT_COARSE, sb, cs->coarse.handle());
-    cs->sets->writeBuffer(0, HB_SPLAT_COUNTS, sb, cs->counts.handle());
-    cs->sets->writeBuffer(0, HB_SPLAT_BINS, sb, cs->bins.handle());
-    cs->sets->writeBuffer(0, HB_SPLAT_LIST, sb, cs->list.handle());
+    computeSplat_ = std::move(cs);
+  }
+  frame_ = makeTarget(s.method != IndirectMethod::Reference);
+  if (ComputeSplat* cs = computeSplat_.get()) {
     for (uint32_t mode = 0; mode < 4; ++mode) {
       auto p = std::make_unique<Pipeline>(ctx);
-      p->createLayout({frame_.sets->layout(), cs->sets->layout()}, sizeof(gpu::SplatConstants));
-      p->createCompute("photon_splat_bin.comp", SpecConstants{{mode}});
+      p->createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
+      p->createCompute(*shaders_, "photon_splat_bin.comp", SpecConstants{{mode}});
       cs->bin.push_back(std::move(p));
     }
-    cs->gather.createLayout({frame_.sets->layout(), cs->sets->layout()}, sizeof(gpu::SplatConstants));
-    cs->gather.createCompute("photon_splat.comp",
+    cs->gather.createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
+    cs->gather.createCompute(*shaders_, "photon_splat.comp",
                              SpecConstants{{uint32_t(settings.normals), uint32_t(settings.worldPos)}});
-    computeSplat_ = std::move(cs);
   }
   splat_.createLayout({frame_.sets->layout()}, 0);
   {
-    ShaderModule vert(ctx, "photon_splat.vert"), frag(ctx, "photon_splat.frag");
+    ShaderModule vert(ctx, shaders_->spirv("photon_splat.vert")), frag(ctx, shaders_->spirv("photon_splat.frag"));
     const SpecConstants spec{{uint32_t(settings.normals), uint32_t(settings.worldPos)}};
     std::vector<VkSpecializationMapEntry> entries;
     const VkSpecializationInfo si = specializationInfo(spec, entries);
@@ -326,41 +293,42 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
         vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
       },
       "clearing the indirect light's target");
-  auto sets = std::make_unique<DescriptorSets>(ctx_, bindings_, 1, uint32_t(textures_->images().size()));
-  DescriptorSets& d = *sets;
-  const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  d.writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  d.writeBuffer(0, HB_INDIRECT_LIGHTS, sb, in_.lights->handle());
-  d.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
-               VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  if (const TraceBvh* bvh = settings_.computeBvh) {
-    d.writeBuffer(0, HB_SURFACE_BVH_NODES, sb, bvh->nodes.handle());
-    d.writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, sb, bvh->triangles.handle());
+  DescriptorBinder binder("indirect");
+  binder.provide("Frame", *in_.frameConstants);
+  binder.provide("Lights", *in_.lights);
+  binder.provide("depthTex", *in_.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
+  if (const TraceBvh* bvh = settings_.computeBvh) {  // our traversal gives draw-order ids itself
+    binder.provide("BvhNodes", bvh->nodes);
+    binder.provide("BvhTriangles", bvh->triangles);
   } else {
-    d.writeAccelerationStructure(0, HB_SURFACE_TLAS, in_.tlas);
+    binder.provide("tlas", in_.tlas);
+    binder.provide("IdBase", idBase_);
   }
-  d.writeBuffer(0, HB_INDIRECT_VERTICES, sb, gpuScene_.vertices().handle());
-  d.writeBuffer(0, HB_INDIRECT_SCENE_INDICES, sb, gpuScene_.indices().handle());
-  d.writeBuffer(0, HB_INDIRECT_MATERIALS, sb, textures_->materials().handle());
-  d.writeBuffer(0, HB_INDIRECT_DRAWS, sb, draws_.handle());
-  d.writeBuffer(0, HB_INDIRECT_TRIANGLE_DRAWS, sb, triangleDraw_.handle());
-  // Without hits the HB_SURFACE_HIT_* bindings are never read; any buffer of the right type will do.
-  d.writeBuffer(0, HB_SURFACE_HIT_IDS, sb, (in_.hitIds ? *in_.hitIds : placeholder_).handle());
-  d.writeBuffer(0, HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-                (in_.hitRays ? in_.hitRays : in_.frameConstants)->handle());
-  d.writeBuffer(0, HB_SURFACE_HIT_TRIANGLES, sb, (in_.hitTriangles ? *in_.hitTriangles : placeholder_).handle());
-  d.writeBuffer(0, HB_INDIRECT_DIRECTIONS, sb, directions_.handle());
-  d.writeBuffer(0, HB_SURFACE_LDM_MAPS, sb, (ldm_ ? ldm_->mapsBuffer() : placeholder_).handle());
-  d.writeBuffer(0, HB_INDIRECT_ID_BASE, sb, idBase_.handle());
-  d.writeBuffer(0, HB_INDIRECT_PHOTONS, sb, (withPhotons ? t.photons : placeholder_).handle());
-  d.writeBuffer(0, HB_INDIRECT_PARAMS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, params_.handle());
-  d.writeBuffer(0, HB_INDIRECT_FACES, sb, faces_.handle());
-  d.writeImage(0, HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, t.irradiance.view(),
-               VK_IMAGE_LAYOUT_GENERAL);
-  for (uint32_t i = 0; i < textures_->images().size(); ++i)
-    d.writeImage(0, HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_->images()[i].view(),
-                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler(), i);
-  t.sets = std::move(sets);
+  binder.provide("Positions", gpuScene_.vertices());
+  binder.provide("SceneIndices", gpuScene_.indices());
+  binder.provide("Materials", textures_->materials());
+  binder.provide("Draws", draws_);
+  binder.provide("TriangleDraws", triangleDraw_);
+  // Without hits the Hit* bindings are never read; any buffer of the right type will do.
+  binder.provide("HitIds", in_.hitIds ? *in_.hitIds : placeholder_);
+  binder.provide("HitRays", *(in_.hitRays ? in_.hitRays : in_.frameConstants));
+  binder.provide("HitTriangles", in_.hitTriangles ? *in_.hitTriangles : placeholder_);
+  binder.provide("Directions", directions_);
+  binder.provide("LdmMaps", ldm_ ? ldm_->mapsBuffer() : placeholder_);
+  binder.provide("Photons", withPhotons ? t.photons : placeholder_);
+  binder.provide("Params", params_);
+  binder.provide("Faces", faces_);
+  binder.provide("irradianceImage", t.irradiance, VK_IMAGE_LAYOUT_GENERAL);
+  binder.provide("textures", textures_->images(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_->sampler());
+  if (const ComputeSplat* cs = computeSplat_.get()) {
+    binder.provide("Boxes", cs->boxes);
+    binder.provide("Coarse", cs->coarse);
+    binder.provide("Counts", cs->counts);
+    binder.provide("Bins", cs->bins);
+    binder.provide("List", cs->list);
+  }
+  t.sets = binder.write(ctx_, *shaders_);
+  binder.checkEveryNameRead();
   return t;
 }
 
@@ -389,13 +357,13 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method, uint32
     SpecConstants withStack = spec;
     for (uint32_t v : traceBvhSpec(*bvh, 64, true)) withStack.values.push_back(v);
     p->compute.createLayout({frame_.sets->layout()}, 0);
-    p->compute.createCompute("indirect_computetrace.comp", withStack);
+    p->compute.createCompute(*shaders_, "indirect_computetrace.comp", withStack);
   } else if (settings_.rayQuery) {
     p->compute.createLayout({frame_.sets->layout()}, 0);
-    p->compute.createCompute("indirect.comp", spec);
+    p->compute.createCompute(*shaders_, "indirect.comp", spec);
   } else {
-    p->rt = std::make_unique<RaygenMissPipeline>(ctx_, frame_.sets->layout(), "indirect.rgen", "indirect.rmiss", spec,
-                                                 "indirect.rchit");
+    p->rt = std::make_unique<RaygenMissPipeline>(ctx_, frame_.sets->layout(), *shaders_, "indirect.rgen",
+                                                 "indirect.rmiss", spec, "indirect.rchit");
   }
   return *programs_.emplace(std::pair{method, bounce}, std::move(p)).first->second;
 }
@@ -499,10 +467,10 @@ void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuT
   // gather writes it.
   memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  const VkDescriptorSet sets[2] = {t.sets->set(), cs.sets->set()};
+  const VkDescriptorSet set = t.sets->set();
   auto bind = [&](const Pipeline& p) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 2, sets, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof k, &k);
   };
   const uint32_t slotGroups = (k.slots + 255) / 256, gx = std::max(1u, std::min(slotGroups, 65535u));

@@ -138,10 +138,10 @@ class IndirectPass {
   std::unique_ptr<GpuTextures> textures_;
   std::unique_ptr<LdmBuild> ldm_;
   Buffer directions_, params_, faces_, draws_, triangleDraw_, idBase_, placeholder_;
-  std::vector<Binding> bindings_;
+  std::unique_ptr<ShaderProgram> shaders_;  // every shader a target's set serves, their bindings merged
   Target frame_, scratch_;
   Pipeline splat_;
-  // splat=compute: the binning's buffers (set 1), its four steps and the gather.
+  // splat=compute: the binning's buffers (in the targets' sets), its four steps and the gather.
   struct ComputeSplat;
   std::unique_ptr<ComputeSplat> computeSplat_;
   void recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;

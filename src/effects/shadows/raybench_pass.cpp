@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "base/errors.h"
-#include "shared/bindings.h"
+#include "gpu/descriptor_binder.h"
 
 namespace hb {
 
@@ -17,53 +17,32 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
       result_(ctx, width, height, VK_FORMAT_R32_UINT,
               VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
               VK_IMAGE_ASPECT_COLOR_BIT),
-      sets_(ctx,
-            [&] {
-              const VkShaderStageFlags st = backend != ShadowBackend::Pipeline
-                                                ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-                                                : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
-              std::vector<Binding> b{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
-                                     {HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                     {HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                     {HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                     {HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                     {HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st},
-                                     {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
-                                     {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
-                                     {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
-              if (backend == ShadowBackend::Compute) {  // our BVH instead of the TLAS
-                std::erase_if(b, [](const Binding& x) { return x.binding == HB_RAYBENCH_TLAS; });
-                b.push_back({HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
-                b.push_back({HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
-              }
-              return b;
-            }()),
       compute_(ctx) {
-  sets_.writeBuffer(0, HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, HB_RAYBENCH_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
-  sets_.writeBuffer(0, HB_RAYBENCH_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.grid->handle());
-  sets_.writeBuffer(0, HB_RAYBENCH_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
-  sets_.writeImage(0, HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
-                   VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
+  DescriptorBinder binder("raybench");
+  binder.provide("Frame", *in.frameConstants);
+  binder.provide("Lights", *in.lights);
+  binder.provide("Grid", *in.grid);
+  binder.provide("Indices", *in.indices);
+  binder.provide("positionImage", shadows.positions(), VK_IMAGE_LAYOUT_GENERAL);
+  binder.provide("Traced", shadows.traced());
   if (backend == ShadowBackend::Compute) {
-    sets_.writeBuffer(0, HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhNodes->handle());
-    sets_.writeBuffer(0, HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhTriangles->handle());
+    binder.provide("BvhNodes", *in.bvhNodes);
+    binder.provide("BvhTriangles", *in.bvhTriangles);
   } else {
-    sets_.writeAccelerationStructure(0, HB_RAYBENCH_TLAS, in.tlas);
+    binder.provide("tlas", in.tlas);
   }
-  sets_.writeImage(0, HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, result_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  sets_.writeBuffer(0, HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.visibility().handle());
+  binder.provide("resultImage", result_, VK_IMAGE_LAYOUT_GENERAL);
+  binder.provide("Visibility", shadows.visibility());
   const bool stackShared = bvh ? traceStackShared(*bvh, 64) : shadows.settings().raybenchStackShared;
   const SpecConstants spec{{shadows.settings().listMode, bvh ? bvh->stack : shadows.settings().bvhStack,
                             stackShared ? 1u : 0u, bvh ? bvh->width : shadows.settings().bvhWidth}};
   if (backend != ShadowBackend::Pipeline) {
-    compute_.createLayout({sets_.layout()}, 0);
-    compute_.createCompute(backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",
-                           spec);
+    compute_.createCompute(
+        binder, backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp", 0, spec);
   } else {
-    rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
+    rt_ = std::make_unique<RaygenMissPipeline>(ctx, binder, "raybench.rgen", "shadows.rmiss", spec);
   }
+  binder.checkEveryNameRead();
   // Cleared once, so that the pixels raybench never writes (sky) read back as 0.
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     imageBarrier(cmd, result_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
@@ -80,7 +59,7 @@ RayBenchPass::~RayBenchPass() = default;
 
 void RayBenchPass::record(VkCommandBuffer cmd) const {
   const Pipeline& p = rt_ ? rt_->pipeline() : compute_;
-  VkDescriptorSet set = sets_.set();
+  VkDescriptorSet set = p.set();
   vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
   vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
   if (rt_)

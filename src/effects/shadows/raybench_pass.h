@@ -31,7 +31,6 @@ class RayBenchPass {
   ShadowBackend backend_;
   uint32_t width_, height_;
   Image result_;
-  DescriptorSets sets_;
   Pipeline compute_;
   std::unique_ptr<RaygenMissPipeline> rt_;
 };

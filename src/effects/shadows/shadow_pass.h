@@ -76,7 +76,6 @@ class ShadowPass {
   uint32_t width_, height_;
   Buffer visibility_, traced_;
   Image accounting_, normals_, positions_;
-  DescriptorSets sets_;
   std::unique_ptr<Variant> timed_, analysis_;
 };
 

@@ -5,28 +5,14 @@
 #include <cstring>
 
 #include "base/errors.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/raster_pipeline.h"
 #include "reference/ldm_ref.h"
-#include "shared/bindings.h"
 
 namespace hb {
 
 namespace {
 constexpr uint32_t kChunkGroups = 4096;
-
-std::vector<Binding> bindingsFor(LdmBuildMethod method) {
-  if (method == LdmBuildMethod::Raster3d) {
-    const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-    return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-            {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-            {HB_LDM_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}};
-  }
-  return {{HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_VERTEX_BIT},
-          {HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT},
-          {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}};
-}
 }  // namespace
 
 LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
@@ -53,7 +39,6 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
           ctx, gpu::kLdmCounterCount * sizeof(uint32_t),
           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
           false, MemClass::Other),
-      sets_(ctx, bindingsFor(method)),
       pipeline_(ctx) {
   HB_ASSERT(!maps_.empty() && resolution_ > 0 && nodeCapacity_ > 0);
   if (!ctx.info().bufferInt64Atomics || (method == LdmBuildMethod::Hardware && !ctx.info().fragmentSubgroupBallot))
@@ -64,11 +49,12 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     throw InputError("device \"" + ctx.info().name +
                      "\" has no fp64 in shaders, which ldm_build=3dr needs at shared "
                      "vertices: use ldm_build=hardware");
-  sets_.writeBuffer(0, HB_LDM_MAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, mapsBuffer_.handle());
+  DescriptorBinder binder("ldm_build");
+  binder.provide("Maps", mapsBuffer_);
   const glm::uvec2 address(uint32_t(links_.address()), uint32_t(links_.address() >> 32));
   linksAddress_ = uploadBuffer(ctx, &address, sizeof address, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
-  sets_.writeBuffer(0, HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
-  sets_.writeBuffer(0, HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
+  binder.provide("LinksAddress", linksAddress_);
+  binder.provide("Counters", counters_);
   const uint32_t pixels = uint32_t(maps_.size()) * resolution_ * resolution_;
   const uint32_t listId = list == LdmList::Max64 ? gpu::kLdmListMax64
                           : list == LdmList::Cas ? gpu::kLdmListCas
@@ -91,24 +77,23 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
     if (tris.empty()) tris.emplace_back(0.0f);
     triangles_ = uploadBuffer(ctx, tris.data(), tris.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                               MemClass::Geometry);
-    sets_.writeBuffer(0, HB_LDM_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangles_.handle());
+    binder.provide("Triangles", triangles_);
     chunks_ = Buffer(ctx, uint64_t(chunkCapacity_) * 8, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
-    sets_.writeBuffer(0, HB_LDM_CHUNKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, chunks_.handle());
+    binder.provide("Chunks", chunks_);
   }
   auto makeChunks = [&](uint32_t phase) {
     auto p = std::make_unique<Pipeline>(ctx);
-    p->createLayout({sets_.layout()}, sizeof(uint32_t));
-    p->createCompute("ldm_build_3dr.comp", specFor(phase, 1));
+    p->createCompute(binder, "ldm_build_3dr.comp", sizeof(uint32_t), specFor(phase, 1));
     return p;
   };
   auto makeBuild = [&](Pipeline& p, uint32_t phase) {
     if (method == LdmBuildMethod::Raster3d) {
-      p.createLayout({sets_.layout()}, sizeof(uint32_t));
-      p.createCompute("ldm_build_3dr.comp", specFor(phase, 0));
+      p.createCompute(binder, "ldm_build_3dr.comp", sizeof(uint32_t), specFor(phase, 0));
       return;
     }
-    p.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
-    ShaderModule vert(ctx, "ldm_build.vert"), frag(ctx, "ldm_build.frag");
+    const ShaderProgram program({"ldm_build.vert", "ldm_build.frag"});
+    p.createLayout(binder, program, sizeof(gpu::DrawConstants));
+    ShaderModule vert(ctx, program.spirv(0)), frag(ctx, program.spirv(1));
     std::vector<VkSpecializationMapEntry> entries;
     const SpecConstants spec = specFor(phase, 0);
     VkSpecializationInfo si = specializationInfo(spec, entries);
@@ -124,6 +109,7 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   if (list != LdmList::Sbuffer) {
     makeBuild(pipeline_, gpu::kLdmPhaseInsert);
     if (method == LdmBuildMethod::Raster3d) insertChunks_ = makeChunks(gpu::kLdmPhaseInsert);
+    binder.checkEveryNameRead();
     return;
   }
   makeBuild(pipeline_, gpu::kLdmPhaseCount);
@@ -136,26 +122,19 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
   const uint32_t blocks = (pixels + 4095) / 4096;
   blockSums_ = Buffer(ctx, std::max<uint32_t>(blocks, 1) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false,
                       MemClass::Other);
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  scanSets_ = std::make_unique<DescriptorSets>(
-      ctx, std::vector<Binding>{{HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-                                {HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-                                {HB_LDM_BLOCK_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs}});
-  scanSets_->writeBuffer(0, HB_LDM_LINKS_ADDRESS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, linksAddress_.handle());
-  scanSets_->writeBuffer(0, HB_LDM_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-  scanSets_->writeBuffer(0, HB_LDM_BLOCK_SUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, blockSums_.handle());
+  binder.provide("BlockSums", blockSums_);
   for (uint32_t stage = 0; stage < 4; ++stage) {
     scan_[stage] = std::make_unique<Pipeline>(ctx);
-    scan_[stage]->createLayout({scanSets_->layout()}, 0);
-    scan_[stage]->createCompute("ldm_sbuffer.comp",
+    scan_[stage]->createCompute(binder, "ldm_sbuffer.comp", 0,
                                 SpecConstants{{stage, pixels, nodeCapacity_, stage == 1 ? 1024u : 256u}});
   }
+  binder.checkEveryNameRead();
 }
 
 LdmBuild::~LdmBuild() = default;
 
 void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const {
-  VkDescriptorSet set = sets_.set();
+  VkDescriptorSet set = p.set();
   if (method_ == LdmBuildMethod::Raster3d) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
@@ -165,6 +144,7 @@ void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipe
     memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->handle());
+    set = chunks->set();
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, chunks->layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
     // A grid-stride loop over the list: enough workgroups of 64 to fill a large GPU once.
@@ -217,8 +197,8 @@ void LdmBuild::record(VkCommandBuffer cmd, GpuTimer* timer, const std::string& p
   if (list_ != LdmList::Sbuffer) return;
   // Counts → offsets (three scan stages), the fill pass, then each range sorted.
   const uint32_t blocks = uint32_t((pixels + 4095) / 4096), groups = uint32_t((pixels + 255) / 256);
-  VkDescriptorSet set = scanSets_->set();
   auto stage = [&](uint32_t s, uint32_t x, uint32_t y) {
+    VkDescriptorSet set = scan_[s]->set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->layout(), 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cmd, x, y, 1);

@@ -89,13 +89,11 @@ class LdmBuild {
   LdmBuildTuning tuning_;
   uint32_t chunkCapacity_ = 1;
   Buffer mapsBuffer_, links_, counters_, linksAddress_, triangles_, chunks_, blockSums_;
-  DescriptorSets sets_;
   Pipeline pipeline_;  // the build (sbuffer: its count pass)
   // sbuffer: the fill pass, and the scan's three stages and the sort (ldm_sbuffer.comp.glsl).
   std::unique_ptr<Pipeline> fill_, scan_[4];
   // 3dr: the listed chunks' pass after each pair pass (the insert or count phase, and the fill phase).
   std::unique_ptr<Pipeline> insertChunks_, fillChunks_;
-  std::unique_ptr<DescriptorSets> scanSets_;
   void recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const;
 };
 

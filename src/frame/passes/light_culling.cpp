@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "base/errors.h"
-#include "shared/bindings.h"
+#include "gpu/descriptor_binder.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -17,15 +17,6 @@ VkDeviceSize listWords(const CullingSettings& s, uint32_t tiles, uint32_t maskWo
   return VkDeviceSize(tiles) * maskWords + (s.lists == LightLists::Zbin ? gpu::kZBins : 0);
 }
 
-std::vector<Binding> cullingBindings() {
-  // Every binding of the set is a storage buffer but the frame constants and the sampled depth.
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  std::vector<Binding> b;
-  for (uint32_t i = 0; i < HB_CULL_BINDING_COUNT; ++i) b.push_back({i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs});
-  b[HB_CULL_FRAME].type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-  b[HB_CULL_DEPTH].type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
-  return b;
-}
 }  // namespace
 
 LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& settings, uint32_t width, uint32_t height,
@@ -57,7 +48,6 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
       viewSpheres_(ctx, std::max<uint32_t>(1, settings.lightCount) * sizeof(glm::vec4),
                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Culling),
-      sets_(ctx, cullingBindings()),
       frustumPipeline_(ctx),
       cullPipeline_(ctx),
       viewPipeline_(ctx),
@@ -74,36 +64,35 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
                      std::to_string(settings.zbinFar) + ")");
   if (settings.depthSlices == 1 || settings.depthSlices > 32)
     throw InputError("depth_slices " + std::to_string(settings.depthSlices) + " is not 0 (off) or 2..32");
-  sets_.writeBuffer(0, HB_CULL_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, frameConstants.handle());
-  sets_.writeBuffer(0, HB_CULL_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, lights.handle());
-  sets_.writeBuffer(0, HB_CULL_FRUSTUMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, frustums_.handle());
-  sets_.writeBuffer(0, HB_CULL_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, grid_.handle());
-  sets_.writeBuffer(0, HB_CULL_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, indices_.handle());
-  sets_.writeImage(0, HB_CULL_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, depth.view(),
-                   VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, sampler);
-  sets_.writeBuffer(0, HB_CULL_SORTED_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, sortedLights_.handle());
-  sets_.writeBuffer(0, HB_CULL_ORDER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, order_.handle());
-  sets_.writeBuffer(0, HB_CULL_EXTENTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, extents_.handle());
-  sets_.writeBuffer(0, HB_CULL_VIEW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewLights_.handle());
-  sets_.writeBuffer(0, HB_CULL_VIEW_SPHERES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, viewSpheres_.handle());
-  frustumPipeline_.createLayout({sets_.layout()}, 4);
-  frustumPipeline_.createCompute("tile_frustums.comp");
-  cullPipeline_.createLayout({sets_.layout()}, 4);
+  // Each of the five shaders gets its own set, from its reflection, written from one name table.
+  DescriptorBinder binder("light_culling");
+  binder.provide("Frame", frameConstants);
+  binder.provide("Lights", lights);
+  binder.provide("Frustums", frustums_);
+  binder.provide("Grid", grid_);
+  binder.provide("Indices", indices_);
+  binder.provide("depthTex", depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, sampler);
+  binder.provide("SortedLights", sortedLights_);
+  binder.provide("ViewLights", viewLights_);
+  binder.provide("ViewSpheres", viewSpheres_);
+  if (settings.lists == LightLists::Zbin) {  // what only the sort and the bins read
+    binder.provide("Order", order_);
+    binder.provide("Extents", extents_);
+  }
+  frustumPipeline_.createCompute(binder, "tile_frustums.comp", 4);
   // Specialization constants (light_cull.comp.glsl): 0 tile size, 1 culling on, 2 AABB test,
   // 3 depth slices, 4 list form, 5 lights put in view space by each tile (few lights).
   inlineView_ =
       settings.lightCulling && settings.lists != LightLists::Zbin && settings.lightCount <= kInlineViewMaxLights;
-  cullPipeline_.createCompute("light_cull.comp",
+  cullPipeline_.createCompute(binder, "light_cull.comp", 4,
                               {{settings.tileSize, settings.lightCulling ? 1u : 0u, settings.aabb ? 1u : 0u,
                                 settings.depthSlices, listModeOf(settings.lists), inlineView_ ? 1u : 0u}});
-  viewPipeline_.createLayout({sets_.layout()}, 4);
-  viewPipeline_.createCompute("light_view.comp", {{listModeOf(settings.lists)}});
+  viewPipeline_.createCompute(binder, "light_view.comp", 4, {{listModeOf(settings.lists)}});
   if (settings.lists == LightLists::Zbin) {
-    sortPipeline_.createLayout({sets_.layout()}, 4);
-    sortPipeline_.createCompute("zbin_sort.comp");
-    binPipeline_.createLayout({sets_.layout()}, 4);
-    binPipeline_.createCompute("zbin_bins.comp");
+    sortPipeline_.createCompute(binder, "zbin_sort.comp", 4);
+    binPipeline_.createCompute(binder, "zbin_bins.comp", 4);
   }
+  binder.checkEveryNameRead();
 }
 
 uint64_t LightCulling::memoryBytes() const {
@@ -127,7 +116,7 @@ LightCulling::~LightCulling() = default;
 
 void LightCulling::dispatch(VkCommandBuffer cmd, const Pipeline& pipeline, uint32_t push, uint32_t groupsX,
                             uint32_t groupsY) const {
-  VkDescriptorSet set = sets_.set();
+  VkDescriptorSet set = pipeline.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
   vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_ALL, 0, 4, &push);

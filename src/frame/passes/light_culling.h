@@ -87,7 +87,7 @@ class LightCulling {
   const Buffer& order() const { return order_; }     // zbin: sorted index -> scene light index
 
  private:
-  // Binds `pipeline` with the pass's descriptor set, pushes `push` (4 bytes) and dispatches.
+  // Binds `pipeline` with its descriptor set, pushes `push` (4 bytes) and dispatches.
   void dispatch(VkCommandBuffer cmd, const Pipeline& pipeline, uint32_t push, uint32_t groupsX,
                 uint32_t groupsY = 1) const;
   const VulkanContext& ctx_;
@@ -97,7 +97,6 @@ class LightCulling {
   bool inlineView_ = false;  // few lights: no light_view pass (kInlineViewMaxLights)
   const Buffer& lights_;
   Buffer frustums_, grid_, indices_, sortedLights_, order_, extents_, viewLights_, viewSpheres_;
-  DescriptorSets sets_;
   Pipeline frustumPipeline_, cullPipeline_, viewPipeline_, sortPipeline_, binPipeline_;
 };
 

@@ -11,9 +11,9 @@
 #include "base/errors.h"
 #include "frame/passes/aa_samples.h"
 #include "frame/render_settings.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/primary_bvh.h"
-#include "shared/bindings.h"
 
 namespace hb {
 
@@ -92,24 +92,6 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
 }
 
 namespace {
-// Bindings [0, count): storage buffers but the uniform constants.
-std::vector<Binding> storageBindings(uint32_t count, uint32_t constants, VkShaderStageFlags stages) {
-  std::vector<Binding> b;
-  for (uint32_t i = 0; i < count; ++i)
-    b.push_back({i, i == constants ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
-  return b;
-}
-std::vector<Binding> castBindings(VkShaderStageFlags stages, bool bvh) {
-  std::vector<Binding> b = storageBindings(HB_CAST_BINDING_COUNT, HB_CAST_CONSTANTS, stages);
-  if (bvh) {  // our BVH instead of the TLAS
-    b.erase(b.begin() + HB_CAST_TLAS);
-    b.push_back({HB_CAST_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
-    b.push_back({HB_CAST_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
-  } else {
-    b[HB_CAST_TLAS] = {HB_CAST_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, stages};
-  }
-  return b;
-}
 std::vector<glm::vec4> packTriangles(const Scene& scene) {
   std::vector<glm::vec4> out;
   for (const glm::vec3& v : scene.worldTriangles()) out.emplace_back(v, 1.0f);
@@ -129,10 +111,6 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       triangleCount_(uint32_t(scene.triangleCount())),
       planes_(1 + aaStoredSamples(aa)),
       planeStride_(visibilityPlaneStride(width, height)),
-      rasterSets_(ctx, storageBindings(HB_R3D_BINDING_COUNT, HB_R3D_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT),
-                  1 + aaStoredSamples(aa)),
-      resolveSets_(
-          ctx, storageBindings(HB_R3D_RESOLVE_BINDING_COUNT, HB_R3D_RESOLVE_CONSTANTS, VK_SHADER_STAGE_COMPUTE_BIT)),
       resolve_(ctx) {
   if (!ctx.info().bufferInt64Atomics || !ctx.info().shaderFloat64)
     throw DeviceError("device \"" + ctx.info().name +
@@ -169,56 +147,45 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   coverage_ = Buffer(ctx, size_t(planeStride_) * planes_ * sizeof(uint32_t), rw, false, MemClass::Images);
   tested_ = Buffer(ctx, size_t(planeStride_) * planes_ * sizeof(uint32_t), rw, false, MemClass::Images);
   depthStaging_ = Buffer(ctx, pixels * sizeof(float), rw, false, MemClass::Images);
-  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle(),
-                           sizeof c);
-  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle(),
-                           pixels * sizeof(uint64_t));
-  resolveSets_.writeBuffer(0, HB_R3D_RESOLVE_DEPTH, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, depthStaging_.handle());
-  resolve_.createLayout({resolveSets_.layout()}, 0);
-  resolve_.createCompute("raster3d_resolve.comp");
+  // Plane 0's resources, which the resolve and the ray cast read too; the sample planes' follow.
+  DescriptorBinder binder("raster3d");
+  binder.provide("Constants", constants_, 0, sizeof c);
+  binder.provide("Visibility", vis_, 0, pixels * sizeof(uint64_t));
+  binder.provide("Depth", depthStaging_);
+  binder.provide("Counters", counters_);
+  binder.provide("Coverage", coverage_, 0, pixels * sizeof(uint32_t));
+  resolve_.createCompute(binder, "raster3d_resolve.comp", 0);
 
   if (mode == PrimaryMethod::RayCast) {
     HB_ASSERT(rayCast.tlas != VK_NULL_HANDLE || rayCast.bvh != nullptr);
     const std::vector<uint32_t> idBase = triangleIdBase(scene);
     idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            MemClass::Other);
-    const VkShaderStageFlags stages =
-        rayCast.rayQuery || rayCast.bvh
-            ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
-            : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
-    castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages, rayCast.bvh != nullptr));
-    castSets_->writeBuffer(0, HB_CAST_CONSTANTS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, constants_.handle());
-    castSets_->writeBuffer(0, HB_CAST_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, vis_.handle());
-    castSets_->writeBuffer(0, HB_CAST_ID_BASE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, idBase_.handle());
-    if (rayCast.bvh) {
-      castSets_->writeBuffer(0, HB_CAST_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, rayCast.bvh->nodes.handle());
-      castSets_->writeBuffer(0, HB_CAST_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                             rayCast.bvh->triangles.handle());
+    if (rayCast.bvh) {  // our traversal gives draw-order ids itself; the driver's hits need the table
+      binder.provide("BvhNodes", rayCast.bvh->nodes);
+      binder.provide("BvhTriangles", rayCast.bvh->triangles);
     } else {
-      castSets_->writeAccelerationStructure(0, HB_CAST_TLAS, rayCast.tlas);
+      binder.provide("tlas", rayCast.tlas);
+      binder.provide("IdBase", idBase_);
     }
-    castSets_->writeBuffer(0, HB_CAST_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
-    castSets_->writeBuffer(0, HB_CAST_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
     if (rayCast.rayQuery || rayCast.bvh) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
       for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
-        p->createLayout({castSets_->layout()}, 0);
         if (rayCast.bvh)  // 8x8 threads a group
           p->createCompute(
-              "primary_raycast_compute.comp",
+              binder, "primary_raycast_compute.comp", 0,
               {{analysis, rayCast.bvh->stack, traceStackShared(*rayCast.bvh, 64, true) ? 1u : 0u, rayCast.bvh->width}});
         else
-          p->createCompute("primary_raycast.comp", {{analysis}});
+          p->createCompute(binder, "primary_raycast.comp", 0, {{analysis}});
       }
     } else {
-      castRtTimed_ =
-          std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
-                                               "primary_raycast.rmiss", SpecConstants{{0u}}, "primary_raycast.rchit");
-      castRtAnalysis_ =
-          std::make_unique<RaygenMissPipeline>(ctx, castSets_->layout(), "primary_raycast.rgen",
-                                               "primary_raycast.rmiss", SpecConstants{{1u}}, "primary_raycast.rchit");
+      castRtTimed_ = std::make_unique<RaygenMissPipeline>(ctx, binder, "primary_raycast.rgen", "primary_raycast.rmiss",
+                                                          SpecConstants{{0u}}, "primary_raycast.rchit");
+      castRtAnalysis_ = std::make_unique<RaygenMissPipeline>(
+          ctx, binder, "primary_raycast.rgen", "primary_raycast.rmiss", SpecConstants{{1u}}, "primary_raycast.rchit");
     }
+    binder.checkEveryNameRead();
     return;
   }
 
@@ -254,23 +221,6 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   }
   bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
-  const std::pair<uint32_t, const Buffer*> bufs[] = {
-      {HB_R3D_CONSTANTS, &constants_}, {HB_R3D_TRIANGLES, &triangles_}, {HB_R3D_VISIBILITY, &vis_},
-      {HB_R3D_ITEMS, &big_},           {HB_R3D_COUNTERS, &counters_},   {HB_R3D_COVERAGE, &coverage_},
-      {HB_R3D_TESTED, &tested_},       {HB_R3D_BINS, &bins_},           {HB_R3D_BIN_LIST, &binList_},
-      {HB_R3D_BVH_NODES, &bvhNodes_},  {HB_R3D_BVH_ORDER, &bvhOrder_}};
-  // Set p rasterizes plane p: its constants, its visibility, coverage and test counts; the sample
-  // planes count their work apart from plane 0's (readSampleCounters).
-  for (uint32_t p = 0; p < planes_; ++p)
-    for (const auto& [b, buf] : bufs) {
-      VkDeviceSize offset = 0, range = VK_WHOLE_SIZE;
-      if (b == HB_R3D_CONSTANTS) offset = p * kConstantsStride, range = sizeof c;
-      if (b == HB_R3D_VISIBILITY) offset = size_t(p) * planeStride_ * 8, range = pixels * 8;
-      if (b == HB_R3D_COVERAGE || b == HB_R3D_TESTED) offset = size_t(p) * planeStride_ * 4, range = pixels * 4;
-      rasterSets_.writeBuffer(
-          p, b, b == HB_R3D_CONSTANTS ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-          (b == HB_R3D_COUNTERS && p > 0 ? &sampleCounters_ : buf)->handle(), range, offset);
-    }
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d_common.glsl.inc):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection; the tile pass's
   // 6 early-z; the BVH traversal's (raster3d_bvh.comp.glsl) 6 split, 7 occlusion, 8 binning,
@@ -286,10 +236,39 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   const bool twoD = mode == PrimaryMethod::Raster2d || mode == PrimaryMethod::Raster2dBinned;
   const bool split = mode == PrimaryMethod::Raster3dFrustumSplit || mode == PrimaryMethod::Raster3dFull;
   const bool full = mode == PrimaryMethod::Raster3dFull;
+  // The dispatches share one set (raster3d_common.glsl.inc), laid out from their shaders together.
+  std::vector<std::string> shaders;
+  for (const auto& [shader, pass] : stages)
+    if (std::find(shaders.begin(), shaders.end(), shader) == shaders.end()) shaders.emplace_back(shader);
+  const ShaderProgram program(shaders);
+  // Set p rasterizes plane p: its constants, its visibility, coverage and test counts; the sample
+  // planes count their work apart from plane 0's (readSampleCounters).
+  for (uint32_t p = 0; p < planes_; ++p) {
+    DescriptorBinder plane("raster3d");
+    DescriptorBinder& b = p == 0 ? binder : plane;
+    if (p > 0) {
+      b.provide("Constants", constants_, p * kConstantsStride, sizeof c);
+      b.provide("Visibility", vis_, size_t(p) * planeStride_ * 8, pixels * 8);
+      b.provide("Counters", sampleCounters_);
+      b.provide("Coverage", coverage_, size_t(p) * planeStride_ * 4, pixels * 4);
+    }
+    b.provide("Tested", tested_, size_t(p) * planeStride_ * 4, pixels * 4);
+    b.provide("Triangles", triangles_);
+    if (bvh) {  // the traversal reads the tree; the brute-force and binned dispatches their work lists
+      b.provide("BvhNodes", bvhNodes_);
+      b.provide("BvhOrder", bvhOrder_);
+    } else {
+      b.provide("Items", big_);
+      b.provide("Bins", bins_);
+      b.provide("BinList", binList_);
+    }
+    rasterSets_.push_back(b.write(ctx, program));
+    b.checkEveryNameRead();
+  }
   for (const auto& [shader, pass] : stages)
     for (uint32_t analysis = 0; analysis < 2; ++analysis) {
       auto p = std::make_unique<Pipeline>(ctx);
-      p->createLayout({rasterSets_.layout()}, 0);
+      p->createLayout({rasterSets_[0]->layout()}, 0);
       std::vector<uint32_t> spec{pass,           analysis,    fp64Fallback ? 1u : 0u, binned ? 1u : 0u,
                                  twoD ? 1u : 0u, c.projection};
       if (bvh)
@@ -297,7 +276,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
                                  log2Of8(frusta.frustum), log2Of8(frusta.minFrustum), frusta.stackEntries});
       else
         spec.push_back(mode == PrimaryMethod::Raster2dBinned || frusta.earlyZ ? 1u : 0u);
-      p->createCompute(shader, {spec});
+      p->createCompute(program, shader, {spec});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
 }
@@ -336,7 +315,7 @@ void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* ti
 }
 
 void Raster3dPass::recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysis, GpuTimer* timer) const {
-  VkDescriptorSet set = rasterSets_.set(plane);
+  VkDescriptorSet set = rasterSets_[plane]->set();
   const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
   auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
     if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + "." + name);
@@ -365,14 +344,15 @@ void Raster3dPass::recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysi
 }
 
 void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
-  VkDescriptorSet set = castSets_->set();
   if (castTimed_) {
     const Pipeline& p = analysis ? *castAnalysis_ : *castTimed_;
+    VkDescriptorSet set = p.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
   } else {
     const RaygenMissPipeline& p = analysis ? *castRtAnalysis_ : *castRtTimed_;
+    VkDescriptorSet set = p.pipeline().set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0, nullptr);
     p.traceRays(cmd, width_, height_);
@@ -401,7 +381,7 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   else
     recordRaster(cmd, analysis, timer);
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
-  VkDescriptorSet rset = resolveSets_.set();
+  VkDescriptorSet rset = resolve_.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
   vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);

@@ -139,12 +139,11 @@ class Raster3dPass {
   Buffer constants_, triangles_, vis_, big_, counters_, sampleCounters_, coverage_, tested_, depthStaging_, bins_,
       binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
-  DescriptorSets rasterSets_, resolveSets_;
+  std::vector<std::unique_ptr<DescriptorSets>> rasterSets_;  // per plane, the dispatches' one set
   // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
   // and an analysis pipeline.
   std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
   Pipeline resolve_;
-  std::unique_ptr<DescriptorSets> castSets_;
   std::unique_ptr<Pipeline> castTimed_, castAnalysis_;                // ray query
   std::unique_ptr<RaygenMissPipeline> castRtTimed_, castRtAnalysis_;  // ray-tracing pipeline
 };

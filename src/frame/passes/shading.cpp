@@ -7,30 +7,11 @@
 
 #include "base/errors.h"
 #include "frame/passes/depth_prepass.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/raster_pipeline.h"
-#include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
-
-namespace {
-std::vector<Binding> shadingBindings() {
-  const VkShaderStageFlags fs = VK_SHADER_STAGE_FRAGMENT_BIT;
-  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, fs | VK_SHADER_STAGE_VERTEX_BIT},
-          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, fs},
-          {HB_SHADE_FRAG_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, fs},
-          {HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, fs, 0, true}};
-}
-}  // namespace
 
 ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32_t width, uint32_t height,
                          const ShadingInputs& in)
@@ -50,54 +31,45 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
                   VK_IMAGE_ASPECT_COLOR_BIT),
       dummyIndirect_(ctx, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       dummyVisibility_(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
-      sets_(ctx, shadingBindings(), 1, uint32_t(textures_.images().size())),
       layout_(ctx) {
-  sets_.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
-  sets_.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.lights->handle());
+  // What both shading shaders read (shading_bindings.glsl.inc); each pass's own follow.
+  DescriptorBinder binder("shading");
+  binder.provide("Frame", *in.frameConstants);
+  binder.provide("Lights", *in.lights);
   // Without a culling pass the grid bindings are never read (USE_GRID = 0); any buffer will do.
-  sets_.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in.grid ? in.grid : in.lights)->handle());
-  sets_.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    (in.indices ? in.indices : in.lights)->handle());
-  sets_.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    (in.visibility ? in.visibility : &dummyVisibility_)->handle());
-  sets_.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  sets_.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  sets_.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  // Without a visibility buffer HB_SHADE_FRAG_VISIBILITY_IDS is never read (ID_MATCH = 0); any buffer
-  // will do.
-  sets_.writeBuffer(0, HB_SHADE_FRAG_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    (in.visibilityIds ? in.visibilityIds : &scene.indices())->handle());
-  // Without ambient occlusion HB_SHADE_FRAG_AO is never read (frame.ambient.w = 0); any buffer will do.
-  sets_.writeBuffer(0, HB_SHADE_FRAG_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    (in.ambientOcclusion ? in.ambientOcclusion : &scene.indices())->handle());
-  // Without indirect light HB_SHADE_FRAG_INDIRECT is never read (INDIRECT = 0); the 1x1 R32_UINT image
+  binder.provide("Grid", *(in.grid ? in.grid : in.lights));
+  binder.provide("Indices", *(in.indices ? in.indices : in.lights));
+  binder.provide("Visibility", *(in.visibility ? in.visibility : &dummyVisibility_));
+  binder.provide("Materials", textures_.materials());
+  binder.provide("Positions", scene.vertices());
+  binder.provide("SceneIndices", scene.indices());
+  // Without ambient occlusion AmbientOcclusion is never read (frame.ambient.w = 0); any buffer will do.
+  binder.provide("AmbientOcclusion", *(in.ambientOcclusion ? in.ambientOcclusion : &scene.indices()));
+  // Without indirect light indirectImage is never read (INDIRECT = 0); the 1x1 R32_UINT image
   // stands in only where the format matches, so a 1x1 RGBA32F one does.
-  sets_.writeImage(0, HB_SHADE_FRAG_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                   (in.indirect ? in.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
-  // Without an environment HB_SHADE_FRAG_ENVIRONMENT is never read (ENVIRONMENT = 0); any buffer will do.
-  sets_.writeBuffer(0, HB_SHADE_FRAG_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                    (in.environment ? in.environment : &scene.indices())->handle());
-  for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    sets_.writeImage(0, HB_SHADE_FRAG_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
-                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
-  layout_.createLayout({sets_.layout()}, sizeof(gpu::DrawConstants));
-  if (in.aa != AntiAliasing::None && !in.visbuffer) {
-    if (in.visibilityIds)
-      throw InputError(std::string("aa=") + toString(in.aa) +
-                       " after a compute primary needs shading=visbuffer (the forward pass draws one sample a pixel "
-                       "after it): set shading=visbuffer");
-    createMultisampled(ctx);
-  }
+  binder.provide("indirectImage", *(in.indirect ? in.indirect : &dummyIndirect_), VK_IMAGE_LAYOUT_GENERAL);
+  // Without an environment EnvironmentLight is never read (ENVIRONMENT = 0); any buffer will do.
+  binder.provide("EnvironmentLight", *(in.environment ? in.environment : &scene.indices()));
+  binder.provide("textures", textures_.images(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler());
+  if (in.aa != AntiAliasing::None && !in.visbuffer && in.visibilityIds)
+    throw InputError(std::string("aa=") + toString(in.aa) +
+                     " after a compute primary needs shading=visbuffer (the forward pass draws one sample a pixel "
+                     "after it): set shading=visbuffer");
   if (in.visbuffer) {
     if (!in.visibilityIds || !in.rays)
       throw InputError(
           "shading=visbuffer needs a visibility buffer of triangle ids: set primary=3dr, 3dr-binned, 2dr or "
           "raycast");
-    createVisbuffer(ctx, scene);
+    createVisbuffer(ctx, binder);
   } else {
+    // Without a visibility buffer VisibilityIds is never read (ID_MATCH = 0); any buffer will do.
+    binder.provide("VisibilityIds", *(in.visibilityIds ? in.visibilityIds : &scene.indices()));
+    layout_.createLayout(binder, ShaderProgram({"shading.vert", "shading.frag"}), sizeof(gpu::DrawConstants));
+    if (in.aa != AntiAliasing::None) createMultisampled(ctx);
     timed_ = createPipeline(false);
     analysis_ = createPipeline(true);
   }
+  binder.checkEveryNameRead();
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     for (const Image* img : {&color_, &refNormals_})
       imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
@@ -168,7 +140,8 @@ ShadingPass::~ShadingPass() {
 }
 
 VkPipeline ShadingPass::createPipeline(bool analysis) {
-  ShaderModule vert(ctx_, "shading.vert"), frag(ctx_, "shading.frag");
+  const ShaderProgram program({"shading.vert", "shading.frag"});  // the numbers of layout_'s set
+  ShaderModule vert(ctx_, program.spirv(0)), frag(ctx_, program.spirv(1));
   SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
                       in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode, in_.ambientOcclusion ? 1u : 0u,
                       in_.visibilityWords <= 1 ? 1u : 0u, in_.perspective ? 1u : 0u, in_.environment ? 1u : 0u}};
@@ -207,72 +180,25 @@ VkPipeline ShadingPass::createPipeline(bool analysis) {
   return createRasterPipeline(ctx_, desc);
 }
 
-namespace {
-std::vector<Binding> visbufferBindings() {
-  const VkShaderStageFlags cs = VK_SHADER_STAGE_COMPUTE_BIT;
-  return {{HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-          {HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, cs},
-          {HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, cs},
-          {HB_SHADE_VB_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, cs},
-          {HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, cs, 0, true}};
-}
-}  // namespace
-
-void ShadingPass::createVisbuffer(const VulkanContext& ctx, const GpuScene& scene) {
-  const DrawTables tables = drawTables(scene);
+void ShadingPass::createVisbuffer(const VulkanContext& ctx, DescriptorBinder& binder) {
+  const DrawTables tables = drawTables(scene_);
   const std::vector<gpu::GpuDraw>& draws = tables.draws;
   const std::vector<uint32_t>& triangleDraw = tables.triangleDraw;
   draws_ = uploadBuffer(ctx, draws.data(), draws.size() * sizeof(gpu::GpuDraw), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                         MemClass::Geometry);
   triangleDraw_ = uploadBuffer(ctx, triangleDraw.data(), std::max<size_t>(1, triangleDraw.size()) * sizeof(uint32_t),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
-  vbSets_ = std::make_unique<DescriptorSets>(ctx, visbufferBindings(), 1, uint32_t(textures_.images().size()));
-  DescriptorSets& v = *vbSets_;
-  v.writeBuffer(0, HB_SHADE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.frameConstants->handle());
-  v.writeBuffer(0, HB_SHADE_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.lights->handle());
-  v.writeBuffer(0, HB_SHADE_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, (in_.grid ? in_.grid : in_.lights)->handle());
-  v.writeBuffer(0, HB_SHADE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                (in_.indices ? in_.indices : in_.lights)->handle());
-  v.writeBuffer(0, HB_SHADE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                (in_.visibility ? in_.visibility : &dummyVisibility_)->handle());
-  v.writeBuffer(0, HB_SHADE_MATERIALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, textures_.materials().handle());
-  v.writeBuffer(0, HB_SHADE_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.vertices().handle());
-  v.writeBuffer(0, HB_SHADE_SCENE_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, scene.indices().handle());
-  v.writeBuffer(0, HB_SHADE_VB_VISIBILITY_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in_.visibilityIds->handle());
-  v.writeBuffer(0, HB_SHADE_VB_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in_.rays->handle());
-  v.writeBuffer(0, HB_SHADE_VB_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, draws_.handle());
-  v.writeBuffer(0, HB_SHADE_VB_TRIANGLE_DRAWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, triangleDraw_.handle());
-  v.writeImage(0, HB_SHADE_VB_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, color_.view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeImage(0, HB_SHADE_VB_REF_NORMAL, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, refNormals_.view(),
-               VK_IMAGE_LAYOUT_GENERAL);
-  v.writeBuffer(0, HB_SHADE_VB_AO, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                (in_.ambientOcclusion ? in_.ambientOcclusion : &scene.indices())->handle());
-  v.writeImage(0, HB_SHADE_VB_INDIRECT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-               (in_.indirect ? in_.indirect : &dummyIndirect_)->view(), VK_IMAGE_LAYOUT_GENERAL);
-  v.writeBuffer(0, HB_SHADE_VB_ENVIRONMENT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                (in_.environment ? in_.environment : &scene.indices())->handle());
-  for (uint32_t i = 0; i < textures_.images().size(); ++i)
-    v.writeImage(0, HB_SHADE_VB_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, textures_.images()[i].view(),
-                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler(), i);
+  binder.provide("VisibilityIds", *in_.visibilityIds);
+  binder.provide("Rays", *in_.rays);
+  binder.provide("Draws", draws_);
+  binder.provide("TriangleDraws", triangleDraw_);
+  binder.provide("colorImage", color_, VK_IMAGE_LAYOUT_GENERAL);
+  binder.provide("refNormalImage", refNormals_, VK_IMAGE_LAYOUT_GENERAL);
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
-    p->createLayout({v.layout()}, 0);
     p->createCompute(
-        "shading_visbuffer.comp",
+        binder, "shading_visbuffer.comp", 0,
         {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u, in_.listMode,
           in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u, aaStoredSamples(in_.aa),
           in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride, in_.environment ? 1u : 0u}});
@@ -286,7 +212,7 @@ void ShadingPass::recordVisbuffer(VkCommandBuffer cmd, bool analysis) const {
                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
   const Pipeline& p = analysis ? *vbAnalysis_ : *vbTimed_;
-  VkDescriptorSet set = vbSets_->set();
+  VkDescriptorSet set = p.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
   vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
@@ -298,7 +224,7 @@ void ShadingPass::recordVisbuffer(VkCommandBuffer cmd, bool analysis) const {
 }
 
 void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const {
-  if (vbSets_) {
+  if (visbuffer()) {
     recordVisbuffer(cmd, analysis);
     return;
   }
@@ -347,7 +273,7 @@ void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool an
     drawScene(cmd, scene_, layout_.layout(), viewProj, width_, height_);
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, analysis ? analysis_ : timed_);
-  VkDescriptorSet set = sets_.set();
+  VkDescriptorSet set = layout_.set();
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout_.layout(), 0, 1, &set, 0, nullptr);
   drawScene(cmd, scene_, layout_.layout(), viewProj, width_, height_);
   vkCmdEndRendering(cmd);

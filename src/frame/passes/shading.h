@@ -57,20 +57,22 @@ struct ShadingInputs {
 constexpr VkFormat kHdrFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 constexpr VkFormat kRefNormalFormat = VK_FORMAT_R32G32B32A32_SFLOAT;
 
+class DescriptorBinder;
+
 class ShadingPass {
  public:
   ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32_t width, uint32_t height,
               const ShadingInputs& inputs);
   ~ShadingPass();
   void record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const;
-  bool visbuffer() const { return bool(vbSets_); }
+  bool visbuffer() const { return bool(vbTimed_); }
   const Image& color() const { return color_; }  // COLOR_ATTACHMENT_OPTIMAL after record
   const Image& refNormals() const { return refNormals_; }
 
  private:
   VkPipeline createPipeline(bool analysis);
   void createMultisampled(const VulkanContext& ctx);
-  void createVisbuffer(const VulkanContext& ctx, const GpuScene& scene);
+  void createVisbuffer(const VulkanContext& ctx, DescriptorBinder& binder);
   void recordVisbuffer(VkCommandBuffer cmd, bool analysis) const;
   const VulkanContext& ctx_;
   const GpuScene& scene_;
@@ -83,12 +85,10 @@ class ShadingPass {
   VkPipeline msDepthPipeline_ = VK_NULL_HANDLE;
   VkSampleCountFlagBits samples_ = VK_SAMPLE_COUNT_1_BIT;
   Buffer dummyVisibility_;
-  DescriptorSets sets_;
-  Pipeline layout_;
+  Pipeline layout_;  // the forward pass's layout and set (shading.vert + shading.frag)
   VkPipeline timed_ = VK_NULL_HANDLE, analysis_ = VK_NULL_HANDLE;
   // Visibility-buffer shading (in_.visbuffer): its draws, triangle-to-draw table and pipelines.
   Buffer draws_, triangleDraw_;
-  std::unique_ptr<DescriptorSets> vbSets_;
   std::unique_ptr<Pipeline> vbTimed_, vbAnalysis_;
 };
 
