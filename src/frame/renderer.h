@@ -97,9 +97,9 @@ class Renderer {
   bool hasCulling() const;
   uint64_t listMemoryBytes() const;      // grid, lists, bins; 0 without culling
   const Raster3dPass* raster3d() const;  // primary visibility by compute (raster3d, raycast) only
-  const AccelerationStructures* accel() const { return accel_.get(); }
+  const AccelerationStructures* accel() const { return accel_; }
   // backend=compute: our BVH, shared by every pass that traces (null otherwise).
-  const TraceBvh* traceBvh() const { return traceBvh_.get(); }
+  const TraceBvh* traceBvh() const { return traceBvh_; }
   // Which ray tracer the frame's ray passes use, and why (settings().backend is the one that ran).
   const BackendChoice& backendChoice() const { return backendChoice_; }
 
@@ -122,10 +122,12 @@ class Renderer {
   Image depth_;
   VkSampler pointSampler_ = VK_NULL_HANDLE;
   Buffer frameConstants_, lights_;
-  std::unique_ptr<AccelerationStructures> accel_;
   BackendChoice backendChoice_;
-  std::unique_ptr<TraceBvh> traceBvh_;
+  // The frame's resources by name, and the keyed ones it owns: the acceleration structures and our
+  // BVH below, the LDM sets (built once per key, frame_pass.h FrameResources::build).
   FrameResources resources_;
+  const AccelerationStructures* accel_ = nullptr;
+  const TraceBvh* traceBvh_ = nullptr;
   std::vector<std::pair<std::string, std::unique_ptr<FramePart>>> parts_;
   std::vector<const FramePass*> order_;  // the plan's passes, in frame order
   std::unique_ptr<GpuTimer> timer_;      // sized from the passes' declarations

@@ -43,8 +43,8 @@ struct AoPass::Program {
   const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
 };
 
-AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
-               uint32_t width, uint32_t height, const AoInputs& in)
+AoPass::AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSettings& settings, uint32_t width,
+               uint32_t height, const AoInputs& in, const LdmSource& ldmSource)
     : ctx_(ctx), settings_(settings), width_(width), height_(height), tlas_(in.tlas) {
   const AoSettings& ao = settings.ao;
   const Environment* env = settings.environment;
@@ -69,7 +69,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                              MemClass::Other);
   uint32_t maxSteps = 1;
   if (ao.method == AoMethod::Ldm) {
-    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, settings.effect);
+    ldm_ = &ldmSource(dirs);
     maxSteps = ldm_->nodeCapacity();
   }
   gpu::AoConstants c{};

@@ -54,8 +54,9 @@ struct AoMemory {
 class AoPass {
  public:
   // Throws InputError when the settings cannot run here (directions, a method without a tracer).
-  AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
-         uint32_t width, uint32_t height, const AoInputs& inputs);
+  // Method ldm traces through the set ldmSource gives for its directions (the frame's, shared).
+  AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSettings& settings, uint32_t width, uint32_t height,
+         const AoInputs& inputs, const LdmSource& ldmSource);
   ~AoPass();
 
   // The AO computation ("ambient_occlusion"; the LDM build, ldm(), is its own pass: ldmBuildPass).
@@ -75,7 +76,7 @@ class AoPass {
   const VulkanContext& context() const { return ctx_; }
 
   const AoPassSettings& settings() const { return settings_; }
-  const LdmBuild* ldm() const { return ldm_.get(); }
+  const LdmBuild* ldm() const { return ldm_; }
   AoMemory memory() const;
   uint32_t ldmNodeCapacity() const { return ldm_ ? ldm_->nodeCapacity() : 0; }
 
@@ -88,7 +89,7 @@ class AoPass {
   AoPassSettings settings_;
   uint32_t width_, height_;
   VkAccelerationStructureKHR tlas_;
-  std::unique_ptr<LdmBuild> ldm_;
+  const LdmBuild* ldm_ = nullptr;  // the frame's (frame_builder.h frameLdmSet), maybe shared
   Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_, environment_;
   std::unique_ptr<DescriptorSets> sets_, scratchSets_;
   std::map<AoMethod, std::unique_ptr<Program>> programs_;

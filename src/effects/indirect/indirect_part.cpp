@@ -19,7 +19,15 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.rayQuery = f.settings.backend == RtBackend::RayQuery;  // the renderer resolved auto
   if (f.settings.backend == RtBackend::Compute) is.computeBvh = f.traceBvh;
   const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
-  indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
+  FrameLdmSet ldm;
+  const LdmSource ldmSource = [&](const std::vector<glm::dvec3>& dirs) -> const LdmBuild& {
+    const IndirectSettings& s = is.indirect;
+    ldm = frameLdmSet(f, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect", "indirect.ldm",
+                      kIndirectLdmBuildPass);
+    return *ldm.ldm;
+  };
+  indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii,
+                                             ldmSource);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
   const double pixels = double(f.settings.width) * f.settings.height;
@@ -78,8 +86,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   traceReads.push_back(res::kTlas);
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
-    passes_.push_back(ldmBuildPass(f, *indirect_->ldm(), kIndirectLdmBuildPass, "indirect.ldm", "indirect"));
-    traceReads.push_back("indirect.ldm");
+    addLdmBuildPass(f, ldm, kIndirectLdmBuildPass, "indirect", passes_, skipped_);
+    traceReads.push_back(ldm.resource);
   }
   if (indirect_->method() == IndirectMethod::Reference) {
     add(kIndirectGatherPass, traceReads, {res::kIndirectIrradiance}, &IndirectPass::recordGather);

@@ -82,7 +82,7 @@ struct IndirectPass::ComputeSplat {
 
 IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                            const IndirectPassSettings& settings, uint32_t width, uint32_t height,
-                           const IndirectInputs& in)
+                           const IndirectInputs& in, const LdmSource& ldmSource)
     : ctx_(ctx), gpuScene_(gpuScene), settings_(settings), in_(in), width_(width), height_(height), splat_(ctx) {
   const IndirectSettings& s = settings.indirect;
   if (!in.tlas)
@@ -165,7 +165,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   textures_ = std::make_unique<GpuTextures>(ctx, scene);
 
   if (s.method == IndirectMethod::Ldm)
-    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect");
+    ldm_ = &ldmSource(dirs);
   gpu::IndirectConstants c{};
   c.directions = s.directions;
   c.resolution = s.ldmResolution;

@@ -69,9 +69,11 @@ class IndirectPass {
  public:
   // Throws InputError when the settings cannot run here (directions; a photon buffer over the
   // device's storage-buffer range; no ray tracer; splat=compute without compute subgroup ballots),
-  // DeviceError when the device cannot blend RGBA32F.
+  // DeviceError when the device cannot blend RGBA32F. Method ldm traces through the set ldmSource
+  // gives for its directions (the frame's, shared).
   IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
-               const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs);
+               const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs,
+               const LdmSource& ldmSource);
   ~IndirectPass();
 
   bool buildsLdms() const { return bool(ldm_); }
@@ -104,7 +106,7 @@ class IndirectPass {
   // The landing test's LDM term, (√2/2)·s_ldm + 2·kShadowTMin (indirect_common.glsl.inc
   // landsVisible): how far off the surface an LDM-traced photon may land.
   double landingTolerance() const { return 0.70710678 * ldmPixel_ + 2.0 * gpu::kShadowTMin; }
-  const LdmBuild* ldm() const { return ldm_.get(); }
+  const LdmBuild* ldm() const { return ldm_; }
   IndirectMemory memory() const;
   // splat=compute, after a frame: the coarse bins' list entries (slot-bin pairs), the bins, and the
   // bins whose entries passed the list's capacity (gathered from every slot instead).
@@ -136,7 +138,7 @@ class IndirectPass {
   uint32_t primaries_ = 0, emitters_ = 0;
   double emittedFlux_ = 0, ldmPixel_ = 0;
   std::unique_ptr<GpuTextures> textures_;
-  std::unique_ptr<LdmBuild> ldm_;
+  const LdmBuild* ldm_ = nullptr;  // the frame's (frame_builder.h frameLdmSet), maybe shared
   Buffer directions_, params_, faces_, draws_, triangleDraw_, idBase_, placeholder_;
   std::vector<Binding> bindings_;
   Target frame_, scratch_;

@@ -29,7 +29,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
       scene_(f.scene),
       width_(f.settings.width),
       height_(f.settings.height),
-      bvhWidth_(f.settings.bvhWidth) {
+      bvhWidth_(f.settings.bvhWidth),
+      resources_(f.resources) {
   const RenderSettings& s = f.settings;
   const FrameResources& r = f.resources;
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
@@ -129,12 +130,13 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions,
   std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(b)];
   if (!bench) {
     ShadowInputs in = inputs_;
-    if (b == ShadowBackend::Compute && !in.bvhNodes) {  // the frame traces with the driver's: ours for the bench
-      if (!ownBvh_) ownBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx_, scene_, bvhWidth_));
-      in.bvhNodes = &ownBvh_->nodes;
-      in.bvhTriangles = &ownBvh_->triangles;
+    const TraceBvh* bvh = nullptr;
+    if (b == ShadowBackend::Compute) {  // the frame's BVH, built here (keyed) when the frame traces with the driver's
+      bvh = &frameTraceBvh(resources_, ctx_, scene_, bvhWidth_, "raybench");
+      resources_.use(res::kTraceBvh, "raybench");
+      in.bvhNodes = &bvh->nodes;
+      in.bvhTriangles = &bvh->triangles;
     }
-    const TraceBvh* bvh = b == ShadowBackend::Compute && ownBvh_ ? ownBvh_.get() : nullptr;
     bench = std::make_unique<RayBenchPass>(ctx_, b, width_, height_, in, *shadows_, bvh);
   }
   std::vector<double> ms;

@@ -35,10 +35,10 @@ class ShadowsPart : public FramePart {
   const VulkanContext& ctx_;
   const Scene& scene_;
   uint32_t width_, height_;
-  uint32_t bvhWidth_;  // bvh_width: raybench's own BVH, where the frame has none
+  uint32_t bvhWidth_;          // bvh_width: raybench's BVH, where the frame has none
+  FrameResources& resources_;  // the frame's: raybench through compute asks it for our BVH (keyed)
   ShadowInputs inputs_{};
   std::unique_ptr<ShadowPass> shadows_;
-  std::unique_ptr<TraceBvh> ownBvh_;             // raybench through compute when the frame traces with the driver's
   std::unique_ptr<RayBenchPass> rayBenches_[3];  // by ShadowBackend
 };
 
