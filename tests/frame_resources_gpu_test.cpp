@@ -122,7 +122,7 @@ TEST_F(FrameResourcesGpuTest, EveryTracingPassSharesOneBvhAndOneAccelerationStru
   // raybench through compute takes the frame's BVH: no build.
   ShadowsPart* shadows = shadowsOf(r);
   ASSERT_NE(shadows, nullptr);
-  shadows->rayBench(r.timer(), 1, ShadowBackend::Compute);
+  shadows->rayBench(r.timer(), 1, RtBackend::Compute);
   EXPECT_EQ(traceBvhBuildCount() - before.bvh, 1u);
   EXPECT_TRUE(usedBy(r.resources().toJson(), "trace_bvh", "raybench"));
 }
@@ -140,8 +140,8 @@ TEST_F(FrameResourcesGpuTest, RaybenchBuildsOurBvhOnceWhereTheFrameTracesWithThe
   const uint64_t before = traceBvhBuildCount();
   shadows->rayBench(r.timer(), 1);
   EXPECT_FALSE(r.resources().toJson().contains("trace_bvh"));
-  shadows->rayBench(r.timer(), 1, ShadowBackend::Compute);
-  shadows->rayBench(r.timer(), 1, ShadowBackend::Compute);
+  shadows->rayBench(r.timer(), 1, RtBackend::Compute);
+  shadows->rayBench(r.timer(), 1, RtBackend::Compute);
   EXPECT_EQ(traceBvhBuildCount() - before, 1u);
   const nlohmann::json res = r.resources().toJson();
   ASSERT_TRUE(res.contains("trace_bvh")) << res.dump(1);
@@ -193,8 +193,8 @@ TEST_F(FrameResourcesGpuTest, EffectsWithTheSameLdmKeyShareOneSetAndComputeWhatT
 
   // Each effect alone: its own set, and the same output.
   auto alone = [&](const char* effect, const nlohmann::json& value) {
-    nlohmann::json effects = {{"shadows", true}, {"ambient_occlusion", false}, {"environment_light", false},
-                              {"indirect", false}};
+    nlohmann::json effects = {
+        {"shadows", true}, {"ambient_occlusion", false}, {"environment_light", false}, {"indirect", false}};
     effects[effect] = value;
     const uint64_t ldmBefore = ldmSetBuildCount();
     auto own = std::make_unique<Renderer>(*ctx, scene, frameOf(effects));

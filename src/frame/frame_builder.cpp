@@ -37,7 +37,9 @@ std::vector<std::string> surfaceReads(const SurfaceInputs& surface) {
   return reads;
 }
 
-std::string accelerationStructuresKey() { return "acceleration_structures: a BLAS per mesh, a TLAS over the instances"; }
+std::string accelerationStructuresKey() {
+  return "acceleration_structures: a BLAS per mesh, a TLAS over the instances";
+}
 
 std::string traceBvhKey(uint32_t width) {
   return "trace_bvh: binary SAH" + (width == 2 ? std::string() : ", collapsed to width " + std::to_string(width));
@@ -73,8 +75,8 @@ void addLdmBuildPass(FrameBuilder& f, const FrameLdmSet& set, const char* ownBui
   if (set.built)
     passes.push_back(ldmBuildPass(f, *set.ldm, ownBuildPass, set.resource.c_str(), effect));
   else
-    skipped.push_back({ownBuildPass, set.buildPass + " builds its LDM set (" + set.resource + ", the same key: " +
-                                         set.key + ")"});
+    skipped.push_back(
+        {ownBuildPass, set.buildPass + " builds its LDM set (" + set.resource + ", the same key: " + set.key + ")"});
 }
 
 FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* name, const char* resource,

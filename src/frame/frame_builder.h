@@ -13,6 +13,7 @@
 #include "effects/effects.h"
 #include "effects/ldm_settings.h"
 #include "frame/frame_pass.h"
+#include "frame/ray_backend.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/trace_bvh.h"
@@ -60,8 +61,9 @@ struct FrameBuilder {
   gpu::FrameConstants& constants;
   // The value of the effect being built, after precedence (null for a base part).
   nlohmann::json value;
-  // backend=compute (settings.backend, resolved from auto): our BVH, built once for every ray pass.
-  const TraceBvh* traceBvh = nullptr;
+  // The frame's ray tracer (ray_backend.h): the backend that runs and what it traces through, for
+  // every pass that traces; null when nothing in the frame traces.
+  const RayTracer* tracer = nullptr;
 };
 
 }  // namespace hb

@@ -91,7 +91,7 @@ struct BuiltResource {
   std::string key;      // everything that decides its content, as text
   std::string builtBy;  // the part or pass that asked first
   uint64_t bytes = 0;
-  double buildMs = 0;   // CPU wall clock around the build; GPU work it waits for (uploads, a counting build) included
+  double buildMs = 0;  // CPU wall clock around the build; GPU work it waits for (uploads, a counting build) included
   std::shared_ptr<void> object;
   std::type_index type = typeid(void);
 };

@@ -128,10 +128,11 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
         res::kTlas, accelerationStructuresKey(), "renderer",
         [&] { return std::make_unique<AccelerationStructures>(ctx, gpuScene_); },
         [](const AccelerationStructures& as) { return as.bytes(); });
-    backendChoice_ = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
-    settings_.backend = backendChoice_.ran;
-    if (settings_.backend == RtBackend::Compute)  // once, for every ray pass
-      traceBvh_ = &frameTraceBvh(resources_, ctx, scene, settings.bvhWidth, "renderer");
+    tracer_.choice = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
+    tracer_.tlas = accel_->tlas();
+    settings_.backend = tracer_.choice.ran;
+    if (tracer_.compute())  // once, for every ray pass
+      tracer_.bvh = &frameTraceBvh(resources_, ctx, scene, settings.bvhWidth, "renderer");
   }
   resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
@@ -140,12 +141,12 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT");
   resources_.publishSampler(res::kPointSampler, pointSampler_);
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
-  if (traceBvh_)
-    resources_.publish(res::kTraceBvh, traceBvh_->nodes, "gpu::PrimaryBvhNode (+ triangles, trace_bvh.h)",
-                       std::to_string(traceBvh_->nodeCount) + " nodes");
+  if (tracer_.bvh)
+    resources_.publish(res::kTraceBvh, tracer_.bvh->nodes, "gpu::PrimaryBvhNode (+ triangles, trace_bvh.h)",
+                       std::to_string(tracer_.bvh->nodeCount) + " nodes");
 
   FrameBuilder builder{ctx,   scene,     settings_,  plan_, camera_, view_,
-                       proj_, gpuScene_, resources_, fc,    nullptr, traceBvh_};
+                       proj_, gpuScene_, resources_, fc,    nullptr, rayTracer()};
   auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) {
     parts_.emplace_back(std::move(name), std::move(part));
   };

@@ -19,7 +19,7 @@ AoPart::AoPart(FrameBuilder& f) {
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
   const AoInputs ai = surfaceBindings(f, surface);
-  if (f.settings.backend == RtBackend::Compute && ai.tlas) as.computeBvh = f.traceBvh;  // traces through our BVH
+  as.tracer = f.tracer;
   const AoPassNames names{ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
                           res::kAmbientOcclusion};
   FrameLdmSet ldm;
@@ -51,7 +51,7 @@ std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& ao, const SurfaceI
   pass.reads = surfaceReads(surface);
   if (ao.buildsLdms()) pass.reads.push_back(ldm.resource);
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
-  if (ao.settings().computeBvh) pass.reads.push_back(res::kTraceBvh);
+  if (ao.settings().computeBvh()) pass.reads.push_back(res::kTraceBvh);
   pass.writes = {names.output};
   pass.record = [&ao](VkCommandBuffer cmd, const PassFrame&) { ao.recordAo(cmd); };
   pass.work = [pixels = double(f.settings.width) * f.settings.height, effect = std::string(names.effect),

@@ -17,7 +17,7 @@ class AoPart : public FramePart {
  public:
   explicit AoPart(FrameBuilder& frame);
   AoPass& pass() const { return *ao_; }
-  const TraceBvh* computeBvh() const { return ao_->settings().computeBvh; }  // backend=compute; null otherwise
+  const TraceBvh* computeBvh() const { return ao_->settings().computeBvh(); }  // backend=compute; null otherwise
 
  private:
   std::unique_ptr<AoPass> ao_;

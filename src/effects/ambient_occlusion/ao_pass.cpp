@@ -126,12 +126,12 @@ AoPass::AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSetting
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
   auto makeSets = [&](const Buffer& out, const Buffer& params) {
     auto sets = std::make_unique<DescriptorSets>(
-        ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE, settings.computeBvh != nullptr));
+        ctx, aoBindings(stages, tlas_ != VK_NULL_HANDLE, settings.computeBvh() != nullptr));
     sets->writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
     sets->writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                      VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
     if (tlas_) sets->writeAccelerationStructure(0, HB_SURFACE_TLAS, tlas_);
-    if (const TraceBvh* bvh = settings.computeBvh) {
+    if (const TraceBvh* bvh = settings.computeBvh()) {
       sets->writeBuffer(0, HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->nodes.handle());
       sets->writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bvh->triangles.handle());
     }
@@ -180,9 +180,9 @@ const AoPass::Program& AoPass::program(AoMethod method) {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
                               method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced, radiance}};
-    if (settings_.computeBvh) {
+    if (settings_.computeBvh()) {
       SpecConstants withStack = spec;
-      for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64, false)) withStack.values.push_back(v);  // 8x8 threads
+      for (uint32_t v : traceBvhSpec(*settings_.computeBvh(), 64, false)) withStack.values.push_back(v);  // 8x8 threads
       p->compute.createLayout({sets_->layout()}, 0);
       p->compute.createCompute("ao_computetrace.comp", withStack);
     } else if (ctx_.info().rayQuery) {

@@ -35,9 +35,11 @@ struct AoPassSettings {
   AoSettings ao;
   NormalCulling normals = NormalCulling::Improved;  // frame_builder.h SurfaceInputs
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
-  // backend=compute: raytraced and reference trace through this BVH (compute_occluded.glsl.inc)
-  // instead of the TLAS; null: the device's ray query or ray-tracing pipeline.
-  const TraceBvh* computeBvh = nullptr;
+  // The frame's ray tracer (null: none, only ldm, hbao and gtao run). backend=compute: raytraced and
+  // reference trace through its BVH (compute_occluded.glsl.inc) instead of the TLAS; else through
+  // the device's ray query where it has it, or the ray-tracing pipeline.
+  const RayTracer* tracer = nullptr;
+  const TraceBvh* computeBvh() const { return tracer && tracer->compute() ? tracer->bvh : nullptr; }
   // Environment light (effects/environment_light/env_effect.h): the same methods (ldm, raytraced,
   // reference) weighing each direction by this environment's radiance (ao_common.glsl.inc
   // RADIANCE); output() then holds 4 floats a pixel. Null: ambient occlusion.

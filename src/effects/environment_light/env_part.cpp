@@ -19,7 +19,7 @@ EnvironmentLightPart::EnvironmentLightPart(FrameBuilder& f) {
   ps.environment = &*f.scene.environment;
   ps.effect = environmentLightEffect().name;
   const AoInputs in = surfaceBindings(f, surface);
-  if (f.settings.backend == RtBackend::Compute && in.tlas) ps.computeBvh = f.traceBvh;  // traces through our BVH
+  ps.tracer = f.tracer;
   const AoPassNames names{environmentLightEffect().name, kEnvironmentLdmBuildPass, "environment_light.ldm",
                           kEnvironmentLightPass, res::kEnvironmentLight};
   FrameLdmSet ldm;

@@ -16,14 +16,13 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.indirect = indirectSettingsOf(f.value);
   is.worldPos = surface.worldPos;  // the surface as ambient occlusion takes it
   is.normals = surface.normals;
-  is.rayQuery = f.settings.backend == RtBackend::RayQuery;  // the renderer resolved auto
-  if (f.settings.backend == RtBackend::Compute) is.computeBvh = f.traceBvh;
+  is.tracer = f.tracer;
   const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
   FrameLdmSet ldm;
   const LdmSource ldmSource = [&](const std::vector<glm::dvec3>& dirs) -> const LdmBuild& {
     const IndirectSettings& s = is.indirect;
-    ldm = frameLdmSet(f, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect", "indirect.ldm",
-                      kIndirectLdmBuildPass);
+    ldm =
+        frameLdmSet(f, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect", "indirect.ldm", kIndirectLdmBuildPass);
     return *ldm.ldm;
   };
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii,

@@ -164,8 +164,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
   textures_ = std::make_unique<GpuTextures>(ctx, scene);
 
-  if (s.method == IndirectMethod::Ldm)
-    ldm_ = &ldmSource(dirs);
+  if (s.method == IndirectMethod::Ldm) ldm_ = &ldmSource(dirs);
   gpu::IndirectConstants c{};
   c.directions = s.directions;
   c.resolution = s.ldmResolution;
@@ -193,9 +192,9 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
 
-  if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
+  rayQuery_ = settings.tracer && settings.tracer->rayQuery() && ctx.info().rayQuery;
   const VkShaderStageFlags trace =
-      settings_.rayQuery || settings_.computeBvh
+      rayQuery_ || settings_.computeBvh()
           ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
           : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
                                VK_SHADER_STAGE_MISS_BIT_KHR);
@@ -222,7 +221,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
                {HB_INDIRECT_FACES, sb, trace},
                {HB_INDIRECT_IRRADIANCE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, trace | VK_SHADER_STAGE_COMPUTE_BIT},
                {HB_INDIRECT_TEXTURES, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, trace, 0, true}};
-  if (settings_.computeBvh) {  // our BVH instead of the TLAS
+  if (settings_.computeBvh()) {  // our BVH instead of the TLAS
     std::erase_if(bindings_, [](const Binding& b) { return b.binding == HB_SURFACE_TLAS; });
     bindings_.push_back({HB_SURFACE_BVH_NODES, sb, trace});
     bindings_.push_back({HB_SURFACE_BVH_TRIANGLES, sb, trace});
@@ -333,7 +332,7 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   d.writeBuffer(0, HB_INDIRECT_LIGHTS, sb, in_.lights->handle());
   d.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in_.depth->view(),
                VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  if (const TraceBvh* bvh = settings_.computeBvh) {
+  if (const TraceBvh* bvh = settings_.computeBvh()) {
     d.writeBuffer(0, HB_SURFACE_BVH_NODES, sb, bvh->nodes.handle());
     d.writeBuffer(0, HB_SURFACE_BVH_TRIANGLES, sb, bvh->triangles.handle());
   } else {
@@ -385,12 +384,12 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method, uint32
                      : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
                                                            : gpu::kIndirectReference;
   const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m, bounce}};
-  if (const TraceBvh* bvh = settings_.computeBvh) {  // 64 threads a group
+  if (const TraceBvh* bvh = settings_.computeBvh()) {  // 64 threads a group
     SpecConstants withStack = spec;
     for (uint32_t v : traceBvhSpec(*bvh, 64, true)) withStack.values.push_back(v);
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute("indirect_computetrace.comp", withStack);
-  } else if (settings_.rayQuery) {
+  } else if (rayQuery_) {
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute("indirect.comp", spec);
   } else {

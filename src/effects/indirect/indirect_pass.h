@@ -44,8 +44,10 @@ struct IndirectPassSettings {
   IndirectSettings indirect;
   NormalCulling normals = NormalCulling::Improved;  // as AoPassSettings
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
-  bool rayQuery = true;  // trace through ray queries (false: the ray-tracing pipeline); the frame's backend
-  const TraceBvh* computeBvh = nullptr;  // backend=compute: our BVH instead of either (the frame's)
+  // The frame's ray tracer (required): its backend, where the device has ray queries (else the
+  // ray-tracing pipeline), and backend=compute's BVH instead of either.
+  const RayTracer* tracer = nullptr;
+  const TraceBvh* computeBvh() const { return tracer && tracer->compute() ? tracer->bvh : nullptr; }
 };
 
 struct IndirectMemory {
@@ -133,6 +135,7 @@ class IndirectPass {
   const VulkanContext& ctx_;
   const GpuScene& gpuScene_;
   IndirectPassSettings settings_;
+  bool rayQuery_ = false;  // the frame's backend is rayquery and the device has it (else the pipeline, or compute)
   IndirectInputs in_;
   uint32_t width_, height_;
   uint32_t primaries_ = 0, emitters_ = 0;

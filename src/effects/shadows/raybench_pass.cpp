@@ -8,7 +8,7 @@
 
 namespace hb {
 
-RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
+RayBenchPass::RayBenchPass(const VulkanContext& ctx, RtBackend backend, uint32_t width, uint32_t height,
                            const ShadowInputs& in, const ShadowPass& shadows, const TraceBvh* bvh)
     : ctx_(ctx),
       backend_(backend),
@@ -19,7 +19,7 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
               VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx,
             [&] {
-              const VkShaderStageFlags st = backend != ShadowBackend::Pipeline
+              const VkShaderStageFlags st = backend != RtBackend::Pipeline
                                                 ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
                                                 : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
               std::vector<Binding> b{{HB_RAYBENCH_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, st},
@@ -31,7 +31,7 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
                                      {HB_RAYBENCH_TLAS, VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, st},
                                      {HB_RAYBENCH_RESULT, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, st},
                                      {HB_RAYBENCH_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st}};
-              if (backend == ShadowBackend::Compute) {  // our BVH instead of the TLAS
+              if (backend == RtBackend::Compute) {  // our BVH instead of the TLAS
                 std::erase_if(b, [](const Binding& x) { return x.binding == HB_RAYBENCH_TLAS; });
                 b.push_back({HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
                 b.push_back({HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, st});
@@ -46,7 +46,7 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   sets_.writeImage(0, HB_RAYBENCH_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, shadows.positions().view(),
                    VK_IMAGE_LAYOUT_GENERAL);
   sets_.writeBuffer(0, HB_RAYBENCH_TRACED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, shadows.traced().handle());
-  if (backend == ShadowBackend::Compute) {
+  if (backend == RtBackend::Compute) {
     sets_.writeBuffer(0, HB_RAYBENCH_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhNodes->handle());
     sets_.writeBuffer(0, HB_RAYBENCH_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.bvhTriangles->handle());
   } else {
@@ -57,10 +57,9 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   const bool stackShared = bvh ? traceStackShared(*bvh, 64) : shadows.settings().raybenchStackShared;
   const SpecConstants spec{{shadows.settings().listMode, bvh ? bvh->stack : shadows.settings().bvhStack,
                             stackShared ? 1u : 0u, bvh ? bvh->width : shadows.settings().bvhWidth}};
-  if (backend != ShadowBackend::Pipeline) {
+  if (backend != RtBackend::Pipeline) {
     compute_.createLayout({sets_.layout()}, 0);
-    compute_.createCompute(backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",
-                           spec);
+    compute_.createCompute(backend == RtBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp", spec);
   } else {
     rt_ = std::make_unique<RaygenMissPipeline>(ctx, sets_.layout(), "raybench.rgen", "shadows.rmiss", spec);
   }

@@ -10,15 +10,6 @@
 
 namespace hb {
 
-const char* toString(ShadowBackend b) {
-  switch (b) {
-    case ShadowBackend::RayQuery: return "rayquery";
-    case ShadowBackend::Pipeline: return "pipeline";
-    case ShadowBackend::Compute: return "compute";
-  }
-  return "?";
-}
-
 namespace {
 
 // Visibility (or traced-ray) words: settings.visibilityWords per pixel, plus the z-bin range plane.
@@ -38,7 +29,7 @@ VkDeviceSize visibilityBytes(const VulkanContext& ctx, const ShadowSettings& s, 
   return bytes;
 }
 
-std::vector<Binding> shadowBindings(ShadowBackend backend, VkShaderStageFlags stages) {
+std::vector<Binding> shadowBindings(RtBackend backend, VkShaderStageFlags stages) {
   std::vector<Binding> b = {{HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
                             {HB_SHADOW_LIGHTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {HB_SHADOW_GRID, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
@@ -53,7 +44,7 @@ std::vector<Binding> shadowBindings(ShadowBackend backend, VkShaderStageFlags st
                             {HB_SURFACE_HIT_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages},
                             {HB_SURFACE_HIT_RAYS, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, stages},
                             {HB_SURFACE_HIT_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages}};
-  if (backend == ShadowBackend::Compute) {  // our BVH instead of the TLAS
+  if (backend == RtBackend::Compute) {  // our BVH instead of the TLAS
     std::erase_if(b, [](const Binding& x) { return x.binding == HB_SURFACE_TLAS; });
     b.push_back({HB_SURFACE_BVH_NODES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
     b.push_back({HB_SURFACE_BVH_TRIANGLES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, stages});
@@ -61,9 +52,9 @@ std::vector<Binding> shadowBindings(ShadowBackend backend, VkShaderStageFlags st
   return b;
 }
 
-VkShaderStageFlags stagesFor(ShadowBackend b) {
-  return b != ShadowBackend::Pipeline ? VK_SHADER_STAGE_COMPUTE_BIT
-                                      : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
+VkShaderStageFlags stagesFor(RtBackend b) {
+  return b != RtBackend::Pipeline ? VK_SHADER_STAGE_COMPUTE_BIT
+                                  : VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR;
 }
 
 }  // namespace
@@ -75,12 +66,11 @@ struct ShadowPass::Variant {
   Variant(const VulkanContext& c, const ShadowSettings& s, VkDescriptorSetLayout layout, bool analysis) : compute(c) {
     SpecConstants spec{
         {s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
-    if (s.backend == ShadowBackend::Compute)
+    if (s.backend == RtBackend::Compute)
       spec.values.insert(spec.values.end(), {s.bvhStack, s.bvhStackShared ? 1u : 0u, s.bvhWidth});
-    if (s.backend != ShadowBackend::Pipeline) {
+    if (s.backend != RtBackend::Pipeline) {
       compute.createLayout({layout}, 0);
-      compute.createCompute(s.backend == ShadowBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp",
-                            spec);
+      compute.createCompute(s.backend == RtBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp", spec);
     } else {
       rtProgram = std::make_unique<RaygenMissPipeline>(c, layout, "shadows.rgen", "shadows.rmiss", spec);
     }
@@ -105,10 +95,10 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
       positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       sets_(ctx, shadowBindings(settings.backend, stagesFor(settings.backend))) {
-  if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
+  if (settings.backend == RtBackend::RayQuery && !ctx.info().rayQuery)
     throw InputError("backend=rayquery: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_query; use backend=pipeline or backend=auto");
-  if (settings.backend == ShadowBackend::Pipeline && !ctx.info().rayTracingPipeline)
+  if (settings.backend == RtBackend::Pipeline && !ctx.info().rayTracingPipeline)
     throw InputError("backend=pipeline: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
   sets_.writeBuffer(0, HB_SURFACE_FRAME, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, in.frameConstants->handle());
@@ -117,7 +107,7 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   sets_.writeBuffer(0, HB_SHADOW_INDICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, in.indices->handle());
   sets_.writeImage(0, HB_SURFACE_DEPTH, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, in.depth->view(),
                    VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-  if (settings.backend == ShadowBackend::Compute) {
+  if (settings.backend == RtBackend::Compute) {
     if (!ctx.info().shaderFloat64)
       throw DeviceError("backend=compute: device \"" + ctx.info().name +
                         "\" lacks shaderFloat64, which its watertight triangle test needs at exact zeros; use "
@@ -162,7 +152,7 @@ void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
   VkDescriptorSet set = sets_.set();
   vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
   vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
-  if (settings_.backend != ShadowBackend::Pipeline) {
+  if (settings_.backend != RtBackend::Pipeline) {
     const uint32_t t = settings_.tileSize;
     vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
   } else {

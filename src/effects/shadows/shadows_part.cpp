@@ -40,11 +40,9 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
     throw InputError(std::string("projection=") + toString(f.camera.projection) +
                      " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
                      "matrix otherwise)");
+  HB_ASSERT(f.tracer != nullptr);  // the plan traces for shadows
   ShadowSettings ss;
-  // The renderer resolved auto (frame/ray_backend.h).
-  ss.backend = s.backend == RtBackend::Compute    ? ShadowBackend::Compute
-               : s.backend == RtBackend::RayQuery ? ShadowBackend::RayQuery
-                                                  : ShadowBackend::Pipeline;
+  ss.backend = f.tracer->backend();
   ss.tileSize = s.tileSize;
   ss.normals = s.normals;
   ss.worldPos = s.worldPos;
@@ -58,10 +56,7 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
              &r.requireImage(res::kDepth),
              r.sampler(res::kPointSampler),
              r.tlas(res::kTlas)};
-  if (ss.backend == ShadowBackend::Compute) {
-    HB_ASSERT(f.traceBvh != nullptr);  // the renderer builds it for backend=compute
-    useBvh(ss, inputs_, *f.traceBvh, s.tileSize);
-  }
+  if (f.tracer->compute()) useBvh(ss, inputs_, *f.tracer->bvh, s.tileSize);
   inputs_.hitIds = r.buffer(res::kVisibility);
   inputs_.hitRays = r.buffer(res::kVisibilityRays);
   inputs_.hitTriangles = r.buffer(res::kVisibilityTriangles);
@@ -73,7 +68,7 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
   FramePass pass;
   pass.name = kShadowsPass;
   pass.reads = {res::kFrameConstants, res::kListLights, res::kListGrid, res::kListIndices, res::kDepth, res::kTlas};
-  if (f.traceBvh) pass.reads.push_back(res::kTraceBvh);
+  if (f.tracer->bvh) pass.reads.push_back(res::kTraceBvh);
   if (inputs_.hitIds)
     pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
@@ -114,24 +109,24 @@ ShadowReadback ShadowsPart::readShadows() const {
   return r;
 }
 
-std::vector<ShadowBackend> ShadowsPart::rayBenchBackends() const {
-  std::vector<ShadowBackend> out{shadows_->settings().backend};
-  for (ShadowBackend b : {ShadowBackend::RayQuery, ShadowBackend::Pipeline, ShadowBackend::Compute}) {
-    const bool available = b == ShadowBackend::Compute    ? true
-                           : b == ShadowBackend::RayQuery ? ctx_.info().rayQuery
-                                                          : ctx_.info().rayTracingPipeline;
+std::vector<RtBackend> ShadowsPart::rayBenchBackends() const {
+  std::vector<RtBackend> out{shadows_->settings().backend};
+  for (RtBackend b : {RtBackend::RayQuery, RtBackend::Pipeline, RtBackend::Compute}) {
+    const bool available = b == RtBackend::Compute    ? true
+                           : b == RtBackend::RayQuery ? ctx_.info().rayQuery
+                                                      : ctx_.info().rayTracingPipeline;
     if (available && b != out.front()) out.push_back(b);
   }
   return out;
 }
 
-std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<ShadowBackend> backend) {
-  const ShadowBackend b = backend.value_or(shadows_->settings().backend);
+std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<RtBackend> backend) {
+  const RtBackend b = backend.value_or(shadows_->settings().backend);
   std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(b)];
   if (!bench) {
     ShadowInputs in = inputs_;
     const TraceBvh* bvh = nullptr;
-    if (b == ShadowBackend::Compute) {  // the frame's BVH, built here (keyed) when the frame traces with the driver's
+    if (b == RtBackend::Compute) {  // the frame's BVH, built here (keyed) when the frame traces with the driver's
       bvh = &frameTraceBvh(resources_, ctx_, scene_, bvhWidth_, "raybench");
       resources_.use(res::kTraceBvh, "raybench");
       in.bvhNodes = &bvh->nodes;
@@ -155,7 +150,7 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions,
   return ms;
 }
 
-std::vector<uint32_t> ShadowsPart::readRayBench(std::optional<ShadowBackend> backend) const {
+std::vector<uint32_t> ShadowsPart::readRayBench(std::optional<RtBackend> backend) const {
   const std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(backend.value_or(shadows_->settings().backend))];
   HB_ASSERT(bench);
   return bench->readResult();

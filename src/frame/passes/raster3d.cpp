@@ -120,7 +120,7 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
                            uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
-                           const RayCastInputs& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta,
+                           const RayTracer& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta,
                            AntiAliasing aa)
     : ctx_(ctx),
       mode_(mode),
@@ -183,7 +183,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     idBase_ = uploadBuffer(ctx, idBase.data(), idBase.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            MemClass::Other);
     const VkShaderStageFlags stages =
-        rayCast.rayQuery || rayCast.bvh
+        rayCast.rayQuery() || rayCast.bvh
             ? VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT)
             : VkShaderStageFlags(VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR);
     castSets_ = std::make_unique<DescriptorSets>(ctx, castBindings(stages, rayCast.bvh != nullptr));
@@ -199,7 +199,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     }
     castSets_->writeBuffer(0, HB_CAST_COUNTERS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, counters_.handle());
     castSets_->writeBuffer(0, HB_CAST_COVERAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, coverage_.handle());
-    if (rayCast.rayQuery || rayCast.bvh) {
+    if (rayCast.rayQuery() || rayCast.bvh) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
       for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {
