@@ -83,6 +83,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   };
   std::vector<std::string> traceReads = surfaceReads(surface);
   traceReads.push_back(res::kTlas);
+  if (indirect_->settings().computeBvh()) traceReads.push_back(res::kTraceBvh);  // backend=compute: our BVH
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
     addLdmBuildPass(f, ldm, kIndirectLdmBuildPass, "indirect", passes_, skipped_);
