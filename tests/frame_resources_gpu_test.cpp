@@ -111,7 +111,7 @@ TEST_F(FrameResourcesGpuTest, EveryTracingPassSharesOneBvhAndOneAccelerationStru
   const nlohmann::json res = r.resources().toJson();
   ASSERT_TRUE(res.contains("trace_bvh")) << res.dump(1);
   EXPECT_EQ(res["trace_bvh"]["key"], traceBvhKey(r.settings().bvhWidth));
-  EXPECT_EQ(res["trace_bvh"]["bytes"], r.traceBvh()->bytes);
+  EXPECT_EQ(res["trace_bvh"]["built_bytes"], r.traceBvh()->bytes);
   EXPECT_GE(res["trace_bvh"]["build_ms"].get<double>(), 0.0);
   EXPECT_EQ(res["trace_bvh"]["build_clock"], "cpu");
   for (const char* pass : {"shadows", "ambient_occlusion", "environment_light", "photon_trace"})
@@ -186,7 +186,7 @@ TEST_F(FrameResourcesGpuTest, EffectsWithTheSameLdmKeyShareOneSetAndComputeWhatT
   EXPECT_FALSE(res.contains("indirect.ldm"));
   const nlohmann::json& set = res["ambient_occlusion.ldm"];
   EXPECT_EQ(set["built_by"], "ldm_build");
-  EXPECT_EQ(set["bytes"], ao->ldm()->memoryBytes());
+  EXPECT_EQ(set["built_bytes"], ao->ldm()->memoryBytes());
   EXPECT_NE(set["key"].get<std::string>().find("ldmDirections(16), 64 x 64"), std::string::npos) << set["key"];
   for (const char* pass : {"ambient_occlusion", "environment_light", "photon_trace"})
     EXPECT_TRUE(usedBy(res, "ambient_occlusion.ldm", pass)) << pass << ": " << set.dump();

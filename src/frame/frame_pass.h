@@ -144,7 +144,8 @@ class FrameResources {
   VkImageLayout imageLayout(std::string_view name) const;  // precondition: a published image
 
   // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400, "users": [...]}, ...};
-  // a keyed resource adds "key", "build_ms", "build_clock" ("cpu") and "built_by", and is listed even
+  // a keyed resource adds "key", "built_bytes" (all of it), "build_ms", "build_clock" ("cpu") and
+  // "built_by", and is listed even
   // where no pass of the frame reads it (raybench's own BVH).
   nlohmann::json toJson() const;
 

@@ -135,7 +135,9 @@ nlohmann::json FrameResources::toJson() const {
     nlohmann::json& e = j[b.name];
     if (!e.contains("format")) e["format"] = "";  // built, but read by no pass of the frame (raybench's BVH)
     e["key"] = b.key;
-    e["bytes"] = b.bytes;
+    // "bytes" stays what the frame publishes (our BVH's nodes, an LDM set's node pool); built_bytes is all of it.
+    if (!e.contains("bytes")) e["bytes"] = b.bytes;
+    e["built_bytes"] = b.bytes;
     e["build_ms"] = b.buildMs;
     e["build_clock"] = "cpu";
     e["built_by"] = b.builtBy;
