@@ -167,7 +167,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
     // device, whose timings do not bracket ray work): the rate and whether each ray's answer agrees.
     if (!cpu) {
       const std::vector<uint32_t> own = shadows->readRayBench();
-      for (ShadowBackend b : shadows->rayBenchBackends()) {
+      for (RtBackend b : shadows->rayBenchBackends()) {
         if (b == shadows->shadowPass().settings().backend) continue;
         shadows->rayBench(renderer.timer(), reps, b);  // warm-up
         RayBenchRun r{toString(b), shadows->rayBench(renderer.timer(), reps, b), 0};

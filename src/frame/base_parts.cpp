@@ -129,10 +129,7 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
                     "the index buffer read and the depth written once (vertex fetches not counted)")}}};
     };
   } else {
-    RayCastInputs cast;
-    if (const VkAccelerationStructureKHR tlas = f.resources.tlas(res::kTlas))
-      cast = {tlas, f.settings.backend == RtBackend::RayQuery,
-              f.settings.backend == RtBackend::Compute ? f.traceBvh : nullptr};
+    const RayTracer cast = f.tracer ? *f.tracer : RayTracer{};
     raster3d_ = std::make_unique<Raster3dPass>(
         f.ctx, f.scene, f.camera, f.settings.width, f.settings.height, f.settings.primary, f.settings.raster3dThreadBox,
         f.settings.fp64Fallback, cast, f.settings.raster3dListPerTile,

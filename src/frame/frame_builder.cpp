@@ -37,6 +37,48 @@ std::vector<std::string> surfaceReads(const SurfaceInputs& surface) {
   return reads;
 }
 
+std::string accelerationStructuresKey() {
+  return "acceleration_structures: a BLAS per mesh, a TLAS over the instances";
+}
+
+std::string traceBvhKey(uint32_t width) {
+  return "trace_bvh: binary SAH" + (width == 2 ? std::string() : ", collapsed to width " + std::to_string(width));
+}
+
+const TraceBvh& frameTraceBvh(FrameResources& resources, const VulkanContext& ctx, const Scene& scene, uint32_t width,
+                              const std::string& who) {
+  return resources.build<TraceBvh>(
+      res::kTraceBvh, traceBvhKey(width), who,
+      [&] { return std::make_unique<TraceBvh>(buildTraceBvh(ctx, scene, width)); },
+      [](const TraceBvh& b) { return b.bytes; });
+}
+
+FrameLdmSet frameLdmSet(FrameBuilder& f, const std::vector<glm::dvec3>& dirs, uint32_t resolution,
+                        LdmBuildMethod method, LdmList list, const char* effect, const char* resource,
+                        const char* buildPass) {
+  FrameLdmSet set;
+  set.key = "ldm: ldmDirections(" + std::to_string(dirs.size()) + "), " + std::to_string(resolution) + " x " +
+            std::to_string(resolution) + ", ldm_build=" + toString(method) + ", ldm_list=" + toString(list);
+  set.built = f.resources.built(set.key) == nullptr;
+  set.ldm = &f.resources.build<LdmBuild>(
+      resource, set.key, buildPass,
+      [&] { return makeSizedLdmBuild(f.ctx, f.gpuScene, f.scene, dirs, resolution, method, list, effect); },
+      [](const LdmBuild& l) { return l.memoryBytes(); });
+  const BuiltResource* entry = f.resources.built(set.key);
+  set.resource = entry->name;
+  set.buildPass = entry->builtBy;
+  return set;
+}
+
+void addLdmBuildPass(FrameBuilder& f, const FrameLdmSet& set, const char* ownBuildPass, const char* effect,
+                     std::vector<FramePass>& passes, std::vector<std::pair<std::string, std::string>>& skipped) {
+  if (set.built)
+    passes.push_back(ldmBuildPass(f, *set.ldm, ownBuildPass, set.resource.c_str(), effect));
+  else
+    skipped.push_back(
+        {ownBuildPass, set.buildPass + " builds its LDM set (" + set.resource + ", the same key: " + set.key + ")"});
+}
+
 FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* name, const char* resource,
                        const char* effect) {
   frame.resources.publish(resource, ldm.links(), "u64 or u32 list nodes", "counted per frame + 5 %");

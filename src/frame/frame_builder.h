@@ -6,12 +6,18 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "frame/frame_pass.h"
+#include "frame/ray_backend.h"
 #include "frame/render_settings.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_context.h"
 #include "plan/effects.h"
+#include "plan/ldm_settings.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 #include "shared/gpu_types.h"
@@ -55,8 +61,9 @@ struct FrameBuilder {
   gpu::FrameConstants& constants;
   // The value of the effect being built, after precedence (null for a base part).
   nlohmann::json value;
-  // backend=compute (settings.backend, resolved from auto): our BVH, built once for every ray pass.
-  const TraceBvh* traceBvh = nullptr;
+  // The frame's ray tracer (ray_backend.h): the backend that runs and what it traces through, for
+  // every pass that traces; null when nothing in the frame traces.
+  const RayTracer* tracer = nullptr;
 };
 
 }  // namespace hb
@@ -94,11 +101,43 @@ SurfaceBindings surfaceBindings(const FrameBuilder& frame, const SurfaceInputs& 
 // buffer with its rays and triangles where the primary gives them.
 std::vector<std::string> surfaceReads(const SurfaceInputs& surface);
 
+// The keyed resources of the frame (FrameResources::build): built once per frame for their key,
+// shared by every part and pass that asks for the same. A key holds everything that decides the
+// content; the scene is the frame's, one per Renderer.
+//  - the driver's acceleration structures (published as "tlas"): one key, a BLAS per mesh and a TLAS;
+//  - our BVH (published as "trace_bvh"): its width;
+//  - an LDM set (published as the first asker's "<effect>.ldm"): its directions (ldmDirections(N),
+//    one set for every effect: no effect rotates or jitters them), resolution, build method and
+//    list kind; its node pool is then sized by a counting build of exactly these.
+std::string accelerationStructuresKey();
+std::string traceBvhKey(uint32_t width);
+// Our BVH of `width` over the frame's scene; `who` builds it if it is the first to ask.
+const TraceBvh& frameTraceBvh(FrameResources& resources, const VulkanContext& ctx, const Scene& scene, uint32_t width,
+                              const std::string& who);
+
 class LdmBuild;
+// The LDM set an effect asks for, as the frame holds it.
+struct FrameLdmSet {
+  const LdmBuild* ldm = nullptr;
+  std::string key;
+  std::string resource;   // the frame resource its lists are published as (the builder's name)
+  std::string buildPass;  // the pass that draws its lists each frame
+  bool built = false;     // this request built it (its build pass runs); else buildPass is an earlier effect's
+};
+// The LDM set of these settings: built (sized, frame/passes/ldm_build.h makeSizedLdmBuild) by the
+// first effect that asks, whose `buildPass` draws it each frame and publishes it as `resource`; a
+// later effect with the same key gets the same set. `effect` names the asker in errors.
+FrameLdmSet frameLdmSet(FrameBuilder& frame, const std::vector<glm::dvec3>& dirs, uint32_t resolution,
+                        LdmBuildMethod method, LdmList list, const char* effect, const char* resource,
+                        const char* buildPass);
 // An effect's layered depth maps as a frame pass: publishes ldm's lists as `resource`, rebuilds them
 // every frame timed as `name` with their steps as sub-passes (LdmBuild::subPasses), and takes its
 // work from the analysis record's `effect` entry (pass_work.h ldmBuildWork).
 FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* name, const char* resource,
                        const char* effect);
+// What an effect of `set` adds to the frame for it: its build pass where it built the set (into
+// `passes`), else that pass `ownBuildPass` listed as skipped, naming the pass that builds it.
+void addLdmBuildPass(FrameBuilder& frame, const FrameLdmSet& set, const char* ownBuildPass, const char* effect,
+                     std::vector<FramePass>& passes, std::vector<std::pair<std::string, std::string>>& skipped);
 
 }  // namespace hb

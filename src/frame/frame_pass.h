@@ -6,11 +6,14 @@
 // shading), builds: the GPU state it owns and its passes. It publishes what it writes into the
 // frame's FrameResources under the declared names; a later part finds its inputs there by name.
 #pragma once
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
 #include <string>
 #include <string_view>
+#include <typeindex>
+#include <utility>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -78,8 +81,46 @@ struct NamedResource {
   VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;  // an image's layout between frames
 };
 
+// A resource built from the scene and the settings rather than written by a pass each frame: our
+// BVH, the driver's acceleration structures, an LDM set (its objects and node pool; its build pass
+// still draws the lists each frame). Built once per frame (per Renderer) for its key, by whoever
+// asks first, and shared with every later part that asks for the same key (docs/frame.md "Keyed
+// resources"); frame_resources reports it with its key, build time and users.
+struct BuiltResource {
+  std::string name;     // the frame resource it is published as ("trace_bvh", "tlas", "ambient_occlusion.ldm")
+  std::string key;      // everything that decides its content, as text
+  std::string builtBy;  // the part or pass that asked first
+  uint64_t bytes = 0;
+  double buildMs = 0;  // CPU wall clock around the build; GPU work it waits for (uploads, a counting build) included
+  std::shared_ptr<void> object;
+  std::type_index type = typeid(void);
+};
+
 class FrameResources {
  public:
+  // The resource of `key`: built by make() (a std::unique_ptr<T>) the first time the key is asked
+  // for, timed and counted, and reported under `name` as built by `who` (a part or pass); later
+  // calls return the same object. bytesOf(const T&): its memory. Its users are the passes that
+  // declare reading `name` (the Renderer adds them) and those use() adds.
+  template <typename T, typename Make, typename BytesOf>
+  T& build(const std::string& name, const std::string& key, const std::string& who, Make&& make, BytesOf&& bytesOf) {
+    if (BuiltResource* e = findBuilt(key)) {
+      checkType(*e, typeid(T));
+      return *static_cast<T*>(e->object.get());
+    }
+    const auto start = std::chrono::steady_clock::now();
+    std::shared_ptr<T> object(make());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const uint64_t bytes = bytesOf(*object);
+    addBuilt({name, key, who, bytes, ms, object, typeid(T)});
+    return *object;
+  }
+  // The keyed resource of `key`, or null when no part asked for it.
+  const BuiltResource* built(std::string_view key) const;
+  const std::vector<BuiltResource>& builtResources() const { return built_; }
+  // Records that `who` (a pass, or raybench) uses the resource `name` (frame_resources "users").
+  void use(const std::string& name, const std::string& who);
+
   // Publishes a resource under `name` (a name is published once: HB_ASSERT).
   void publish(const std::string& name, const Buffer& buffer, std::string format, std::string size);
   void publish(const std::string& name, const Image& image, std::string format,
@@ -102,12 +143,20 @@ class FrameResources {
   const Image& requireImage(std::string_view name) const;
   VkImageLayout imageLayout(std::string_view name) const;  // precondition: a published image
 
-  // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400}, ...}
+  // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400, "users": [...]}, ...};
+  // a keyed resource adds "key", "built_bytes" (all of it), "build_ms", "build_clock" ("cpu") and
+  // "built_by", and is listed even
+  // where no pass of the frame reads it (raybench's own BVH).
   nlohmann::json toJson() const;
 
  private:
   const NamedResource* find(std::string_view name) const;
+  BuiltResource* findBuilt(std::string_view key);
+  void addBuilt(BuiltResource r);
+  static void checkType(const BuiltResource& r, std::type_index type);
   std::vector<NamedResource> resources_;
+  std::vector<BuiltResource> built_;
+  std::map<std::string, std::vector<std::string>> users_;  // by resource name, in the order they came
 };
 
 // What an effect or a base part builds. Derived classes own the GPU state and fill passes_ in
@@ -116,11 +165,15 @@ class FramePart {
  public:
   virtual ~FramePart() = default;
   const std::vector<FramePass>& passes() const { return passes_; }
+  // Passes of the plan this part did not build, with the reason: an LDM build whose set an earlier
+  // part's pass builds (the same key). The Renderer lists them as skipped.
+  const std::vector<std::pair<std::string, std::string>>& skipped() const { return skipped_; }
   // Work recorded once, before the first frame's timed passes (the tile frustums, say).
   virtual void recordOnce(VkCommandBuffer /*cmd*/) const {}
 
  protected:
   std::vector<FramePass> passes_;
+  std::vector<std::pair<std::string, std::string>> skipped_;
 };
 
 }  // namespace hb

@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include <vulkan/vulkan.hpp>                // vk::to_string: a format's name
 #include <vulkan/vulkan_format_traits.hpp>  // vk::blockSize: its texel size
 
@@ -97,12 +99,51 @@ const Image& FrameResources::requireImage(std::string_view name) const {
   return *i;
 }
 
+const BuiltResource* FrameResources::built(std::string_view key) const {
+  for (const BuiltResource& r : built_)
+    if (r.key == key) return &r;
+  return nullptr;
+}
+
+BuiltResource* FrameResources::findBuilt(std::string_view key) {
+  for (BuiltResource& r : built_)
+    if (r.key == key) return &r;
+  return nullptr;
+}
+
+void FrameResources::addBuilt(BuiltResource r) {
+  for (const BuiltResource& other : built_) HB_ASSERT(other.name != r.name);  // two keys under one name
+  built_.push_back(std::move(r));
+}
+
+void FrameResources::checkType(const BuiltResource& r, std::type_index type) {
+  HB_ASSERT(r.type == type);  // one key asked for as two types
+}
+
+void FrameResources::use(const std::string& name, const std::string& who) {
+  std::vector<std::string>& users = users_[name];
+  if (std::find(users.begin(), users.end(), who) == users.end()) users.push_back(who);
+}
+
 nlohmann::json FrameResources::toJson() const {
   nlohmann::json j = nlohmann::json::object();
   for (const NamedResource& r : resources_) {
     if (r.sampler != VK_NULL_HANDLE) continue;  // not memory
     j[r.name] = {{"format", r.format}, {"size", r.size}, {"bytes", r.bytes}};
   }
+  for (const BuiltResource& b : built_) {
+    nlohmann::json& e = j[b.name];
+    if (!e.contains("format")) e["format"] = "";  // built, but read by no pass of the frame (raybench's BVH)
+    e["key"] = b.key;
+    // "bytes" stays what the frame publishes (our BVH's nodes, an LDM set's node pool); built_bytes is all of it.
+    if (!e.contains("bytes")) e["bytes"] = b.bytes;
+    e["built_bytes"] = b.bytes;
+    e["build_ms"] = b.buildMs;
+    e["build_clock"] = "cpu";
+    e["built_by"] = b.builtBy;
+  }
+  for (const auto& [name, users] : users_)
+    if (j.contains(name)) j[name]["users"] = users;
   return j;
 }
 

@@ -9,6 +9,7 @@
 
 #include "frame/render_settings.h"
 #include "gpu/peaks.h"
+#include "gpu/trace_bvh.h"
 #include "gpu/vk_context.h"
 
 namespace hb {
@@ -17,6 +18,22 @@ struct BackendChoice {
   RtBackend requested = RtBackend::Auto;
   RtBackend ran = RtBackend::RayQuery;  // never Auto
   std::string reason;
+};
+
+// The frame's ray tracer: resolved once by the Renderer (chooseBackend) and taken as it is by every
+// pass that traces (shadows, raybench, ambient occlusion, the environment light, indirect light,
+// primary=raycast), which reads the backend and the handles from it instead of re-encoding the
+// choice. The frame's keyed resources own the handles (frame_builder.h).
+struct RayTracer {
+  BackendChoice choice;  // which ran (never Auto) and why
+  // The driver's scene: built whenever the frame traces, also with backend=compute (an analysis
+  // frame's references trace through it; raybench compares the backends).
+  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
+  const TraceBvh* bvh = nullptr;  // backend=compute: our BVH (nodes, triangles, width, stack); else null
+
+  RtBackend backend() const { return choice.ran; }
+  bool compute() const { return choice.ran == RtBackend::Compute; }
+  bool rayQuery() const { return choice.ran == RtBackend::RayQuery; }  // else the pipeline (or compute)
 };
 
 // Ours must beat the driver's by this factor on both ray kinds for auto to take it: above the

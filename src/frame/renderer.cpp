@@ -124,11 +124,15 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   // before it published (frame/frame_builder.h).
   passesSkipped_ = plan_.skipped;
   if (plan_.needs(FrameResource::AccelerationStructures)) {
-    accel_ = std::make_unique<AccelerationStructures>(ctx, gpuScene_);
-    backendChoice_ = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
-    settings_.backend = backendChoice_.ran;
-    if (settings_.backend == RtBackend::Compute)
-      traceBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx, scene, settings.bvhWidth));  // once, for every ray pass
+    accel_ = &resources_.build<AccelerationStructures>(
+        res::kTlas, accelerationStructuresKey(), "renderer",
+        [&] { return std::make_unique<AccelerationStructures>(ctx, gpuScene_); },
+        [](const AccelerationStructures& as) { return as.bytes(); });
+    tracer_.choice = chooseBackend(settings.backend, ctx.info(), settings.rayRates);
+    tracer_.tlas = accel_->tlas();
+    settings_.backend = tracer_.choice.ran;
+    if (tracer_.compute())  // once, for every ray pass
+      tracer_.bvh = &frameTraceBvh(resources_, ctx, scene, settings.bvhWidth, "renderer");
   }
   resources_.publish(res::kSceneVertices, gpuScene_.vertices(), "gpu_scene.h vertex", "the scene's vertices");
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
@@ -137,12 +141,12 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT");
   resources_.publishSampler(res::kPointSampler, pointSampler_);
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
-  if (traceBvh_)
-    resources_.publish(res::kTraceBvh, traceBvh_->nodes, "gpu::PrimaryBvhNode (+ triangles, trace_bvh.h)",
-                       std::to_string(traceBvh_->nodeCount) + " nodes");
+  if (tracer_.bvh)
+    resources_.publish(res::kTraceBvh, tracer_.bvh->nodes, "gpu::PrimaryBvhNode (+ triangles, trace_bvh.h)",
+                       std::to_string(tracer_.bvh->nodeCount) + " nodes");
 
   FrameBuilder builder{ctx,   scene,     settings_,  plan_, camera_, view_,
-                       proj_, gpuScene_, resources_, fc,    nullptr, traceBvh_.get()};
+                       proj_, gpuScene_, resources_, fc,    nullptr, rayTracer()};
   auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) {
     parts_.emplace_back(std::move(name), std::move(part));
   };
@@ -162,6 +166,15 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   addPart("shading", std::make_unique<ShadingPart>(builder));
   addEffects(FramePhase::AfterShading);
   std::memcpy(frameConstants_.mapped(), &fc, sizeof fc);
+  // A pass whose work an earlier part's pass does (an LDM set of the same key) is skipped.
+  for (const auto& [partName, part] : parts_)
+    for (const auto& [pass, why] : part->skipped()) {
+      const auto at = std::find(plan_.passes.begin(), plan_.passes.end(), pass);
+      HB_ASSERT(at != plan_.passes.end());  // a part skips a pass the plan does not run
+      plan_.passes.erase(at);
+      plan_.skipped.push_back({pass, why});
+      passesSkipped_.push_back({pass, why});
+    }
 
   // The declarations hold the frame together: every pass the plan runs is built exactly once,
   // and reads only what the frame or a pass before it wrote.
@@ -180,6 +193,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
         }
     HB_ASSERT(found != nullptr && found->record);  // the plan runs a pass no part built
     for (const std::string& read : found->reads) {
+      resources_.use(read, name);
       const bool before = std::find(written.begin(), written.end(), read) != written.end();
       if (!before)
         std::fprintf(stderr, "internal error: pass %s reads %s before any pass writes it\n", name.c_str(),

@@ -97,11 +97,13 @@ class Renderer {
   bool hasCulling() const;
   uint64_t listMemoryBytes() const;      // grid, lists, bins; 0 without culling
   const Raster3dPass* raster3d() const;  // primary visibility by compute (raster3d, raycast) only
-  const AccelerationStructures* accel() const { return accel_.get(); }
+  const AccelerationStructures* accel() const { return accel_; }
   // backend=compute: our BVH, shared by every pass that traces (null otherwise).
-  const TraceBvh* traceBvh() const { return traceBvh_.get(); }
+  const TraceBvh* traceBvh() const { return tracer_.bvh; }
   // Which ray tracer the frame's ray passes use, and why (settings().backend is the one that ran).
-  const BackendChoice& backendChoice() const { return backendChoice_; }
+  const BackendChoice& backendChoice() const { return tracer_.choice; }
+  // The ray tracer every tracing pass takes; null when nothing in the frame traces.
+  const RayTracer* rayTracer() const { return accel_ ? &tracer_ : nullptr; }
 
   // Readbacks (analysis frames only).
   std::vector<float> readDepth() const;
@@ -122,10 +124,11 @@ class Renderer {
   Image depth_;
   VkSampler pointSampler_ = VK_NULL_HANDLE;
   Buffer frameConstants_, lights_;
-  std::unique_ptr<AccelerationStructures> accel_;
-  BackendChoice backendChoice_;
-  std::unique_ptr<TraceBvh> traceBvh_;
+  // The frame's resources by name, and the keyed ones it owns: the acceleration structures and our
+  // BVH that tracer_ points at, the LDM sets (built once per key, frame_pass.h FrameResources::build).
   FrameResources resources_;
+  const AccelerationStructures* accel_ = nullptr;
+  RayTracer tracer_;  // resolved once, when the frame traces
   std::vector<std::pair<std::string, std::unique_ptr<FramePart>>> parts_;
   std::vector<const FramePass*> order_;  // the plan's passes, in frame order
   std::unique_ptr<GpuTimer> timer_;      // sized from the passes' declarations

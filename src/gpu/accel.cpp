@@ -1,5 +1,6 @@
 #include "gpu/accel.h"
 
+#include <atomic>
 #include <chrono>
 #include <cstring>
 
@@ -7,7 +8,12 @@
 
 namespace hb {
 
+static std::atomic<uint64_t> gAccelBuilds{0};
+
+uint64_t AccelerationStructures::buildCount() { return gAccelBuilds.load(); }
+
 AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const GpuScene& gpuScene) : ctx_(ctx) {
+  ++gAccelBuilds;
   HB_ASSERT(ctx.info().accelerationStructure);
   const Scene& scene = gpuScene.scene();
   const RtFunctions& rt = ctx.rt();

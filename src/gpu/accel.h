@@ -20,6 +20,8 @@ class AccelerationStructures {
   double buildMs() const { return buildMs_; }  // wall-clock time of the builds (submit to fence)
   uint64_t bytes() const { return bytes_; }    // BLAS + TLAS storage
   uint32_t blasCount() const { return uint32_t(blas_.size()); }
+  // Builds since the process started (every constructor), for tests that count a frame's builds.
+  static uint64_t buildCount();
 
  private:
   const VulkanContext& ctx_;

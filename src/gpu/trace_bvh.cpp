@@ -1,6 +1,7 @@
 #include "gpu/trace_bvh.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <vector>
@@ -112,7 +113,12 @@ uint32_t traceBvhTriangleId(const TraceBvhLayout& layout, size_t slot) {
   return id;
 }
 
+static std::atomic<uint64_t> gTraceBvhBuilds{0};
+
+uint64_t traceBvhBuildCount() { return gTraceBvhBuilds.load(); }
+
 TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width) {
+  ++gTraceBvhBuilds;
   TraceBvhLayout l = layoutTraceBvh(scene.worldTriangles(), width);
   if (l.triangles.empty()) l.triangles.assign(3, glm::vec4(0.0f));  // no triangle: a leaf of nothing is never read
   TraceBvh b;

@@ -58,6 +58,8 @@ struct TraceBvh {
 };
 
 TraceBvh buildTraceBvh(const VulkanContext& ctx, const Scene& scene, uint32_t width = 2);
+// buildTraceBvh's calls since the process started, for tests that count a frame's builds.
+uint64_t traceBvhBuildCount();
 
 // Whether a workgroup of `threads` keeps its traversal stacks in shared memory (compute_occluded's
 // second specialization constant): at most 8 KiB of them, else the thread's local memory. An entry

@@ -19,26 +19,39 @@ AoPart::AoPart(FrameBuilder& f) {
   as.worldPos = surface.worldPos;
   as.normals = surface.normals;
   const AoInputs ai = surfaceBindings(f, surface);
-  if (f.settings.backend == RtBackend::Compute && ai.tlas) as.computeBvh = f.traceBvh;  // traces through our BVH
-  ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
+  as.tracer = f.tracer;
+  const AoPassNames names{ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
+                          res::kAmbientOcclusion};
+  FrameLdmSet ldm;
+  ao_ = makeFrameAoPass(f, as, ai, names, ldm);
   f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
-  passes_ = aoFramePasses(f, *ao_, surface,
-                          {ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
-                           res::kAmbientOcclusion});
+  passes_ = aoFramePasses(f, *ao_, surface, names, ldm, skipped_);
+}
+
+std::unique_ptr<AoPass> makeFrameAoPass(FrameBuilder& f, const AoPassSettings& settings, const AoInputs& inputs,
+                                        const AoPassNames& names, FrameLdmSet& ldm) {
+  const AoSettings& ao = settings.ao;
+  const LdmSource source = [&](const std::vector<glm::dvec3>& dirs) -> const LdmBuild& {
+    ldm = frameLdmSet(f, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, names.effect, names.ldmResource,
+                      names.buildPass);
+    return *ldm.ldm;
+  };
+  return std::make_unique<AoPass>(f.ctx, f.scene, settings, f.settings.width, f.settings.height, inputs, source);
 }
 
 std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& ao, const SurfaceInputs& surface,
-                                     const AoPassNames& names) {
+                                     const AoPassNames& names, const FrameLdmSet& ldm,
+                                     std::vector<std::pair<std::string, std::string>>& skipped) {
   std::vector<FramePass> passes;
-  if (ao.buildsLdms()) passes.push_back(ldmBuildPass(f, *ao.ldm(), names.buildPass, names.ldmResource, names.effect));
+  if (ao.buildsLdms()) addLdmBuildPass(f, ldm, names.buildPass, names.effect, passes, skipped);
   FramePass pass;
   pass.name = names.pass;
   pass.reads = surfaceReads(surface);
-  if (ao.buildsLdms()) pass.reads.push_back(names.ldmResource);
+  if (ao.buildsLdms()) pass.reads.push_back(ldm.resource);
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
-  if (ao.settings().computeBvh) pass.reads.push_back(res::kTraceBvh);
+  if (ao.settings().computeBvh()) pass.reads.push_back(res::kTraceBvh);
   pass.writes = {names.output};
   pass.record = [&ao](VkCommandBuffer cmd, const PassFrame&) { ao.recordAo(cmd); };
   pass.work = [pixels = double(f.settings.width) * f.settings.height, effect = std::string(names.effect),

@@ -17,7 +17,7 @@ class AoPart : public FramePart {
  public:
   explicit AoPart(FrameBuilder& frame);
   AoPass& pass() const { return *ao_; }
-  const TraceBvh* computeBvh() const { return ao_->settings().computeBvh; }  // backend=compute; null otherwise
+  const TraceBvh* computeBvh() const { return ao_->settings().computeBvh(); }  // backend=compute; null otherwise
 
  private:
   std::unique_ptr<AoPass> ao_;
@@ -34,8 +34,15 @@ struct AoPassNames {
   const char* pass;         // "ambient_occlusion", "environment_light"
   const char* output;       // the frame resource it writes
 };
+// `ldm`: the set the pass traces through (method ldm); where an earlier effect built it, the build
+// pass is listed in `skipped` instead.
 std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& pass, const SurfaceInputs& surface,
-                                     const AoPassNames& names);
+                                     const AoPassNames& names, const FrameLdmSet& ldm,
+                                     std::vector<std::pair<std::string, std::string>>& skipped);
+// An AoPass of these settings on the frame's surface; its LDM set (method ldm) is the frame's for
+// its key (frameLdmSet), returned in `ldm`.
+std::unique_ptr<AoPass> makeFrameAoPass(FrameBuilder& f, const AoPassSettings& settings, const AoInputs& inputs,
+                                        const AoPassNames& names, FrameLdmSet& ldm);
 
 // What an AoPass's report says of it whatever it computes (ao_report.cpp): pixels_sky and
 // pixels_without_normal counted from its output `values` (their status channel), the tracer of its

@@ -21,8 +21,8 @@ struct AoPass::Program {
   const Pipeline& pipeline() const { return rt ? rt->pipeline() : compute; }
 };
 
-AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
-               uint32_t width, uint32_t height, const AoInputs& in)
+AoPass::AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSettings& settings, uint32_t width,
+               uint32_t height, const AoInputs& in, const LdmSource& ldmSource)
     : ctx_(ctx), settings_(settings), width_(width), height_(height), tlas_(in.tlas) {
   const AoSettings& ao = settings.ao;
   const Environment* env = settings.environment;
@@ -47,7 +47,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
                              MemClass::Other);
   uint32_t maxSteps = 1;
   if (ao.method == AoMethod::Ldm) {
-    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, ao.ldmResolution, ao.ldmBuild, ao.ldmList, settings.effect);
+    ldm_ = &ldmSource(dirs);
     maxSteps = ldm_->nodeCapacity();
   }
   gpu::AoConstants c{};
@@ -101,7 +101,7 @@ AoPass::AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& 
   auto provide = [&](DescriptorBinder& b, const Buffer& out, const Buffer& params) {
     b.provide("Frame", *in.frameConstants);
     b.provide("depthTex", *in.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-    if (const TraceBvh* bvh = settings.computeBvh) {  // backend=compute traces our BVH, not the TLAS
+    if (const TraceBvh* bvh = settings.computeBvh()) {  // backend=compute traces our BVH, not the TLAS
       b.provide("BvhNodes", bvh->nodes);
       b.provide("BvhTriangles", bvh->triangles);
     } else if (tlas_) {
@@ -151,9 +151,9 @@ const AoPass::Program& AoPass::program(AoMethod method) {
     HB_ASSERT(tlas_);
     const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos),
                               method == AoMethod::Reference ? gpu::kAoReference : gpu::kAoRayTraced, radiance}};
-    if (settings_.computeBvh) {
+    if (settings_.computeBvh()) {
       SpecConstants withStack = spec;
-      for (uint32_t v : traceBvhSpec(*settings_.computeBvh, 64, false)) withStack.values.push_back(v);  // 8x8 threads
+      for (uint32_t v : traceBvhSpec(*settings_.computeBvh(), 64, false)) withStack.values.push_back(v);  // 8x8 threads
       p->compute.createCompute(*binder_, "ao_computetrace.comp", 0, withStack);
       p->scratch = scratchBinder_->write(ctx_, ShaderProgram({"ao_computetrace.comp"}));
     } else if (ctx_.info().rayQuery) {

@@ -36,9 +36,11 @@ struct AoPassSettings {
   AoSettings ao;
   NormalCulling normals = NormalCulling::Improved;  // frame_builder.h SurfaceInputs
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
-  // backend=compute: raytraced and reference trace through this BVH (compute_occluded.glsl.inc)
-  // instead of the TLAS; null: the device's ray query or ray-tracing pipeline.
-  const TraceBvh* computeBvh = nullptr;
+  // The frame's ray tracer (null: none, only ldm, hbao and gtao run). backend=compute: raytraced and
+  // reference trace through its BVH (compute_occluded.glsl.inc) instead of the TLAS; else through
+  // the device's ray query where it has it, or the ray-tracing pipeline.
+  const RayTracer* tracer = nullptr;
+  const TraceBvh* computeBvh() const { return tracer && tracer->compute() ? tracer->bvh : nullptr; }
   // Environment light (effects/environment_light/env_effect.h): the same methods (ldm, raytraced,
   // reference) weighing each direction by this environment's radiance (ao_common.glsl.inc
   // RADIANCE); output() then holds 4 floats a pixel. Null: ambient occlusion.
@@ -55,8 +57,9 @@ struct AoMemory {
 class AoPass {
  public:
   // Throws InputError when the settings cannot run here (directions, a method without a tracer).
-  AoPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene, const AoPassSettings& settings,
-         uint32_t width, uint32_t height, const AoInputs& inputs);
+  // Method ldm traces through the set ldmSource gives for its directions (the frame's, shared).
+  AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSettings& settings, uint32_t width, uint32_t height,
+         const AoInputs& inputs, const LdmSource& ldmSource);
   ~AoPass();
 
   // The AO computation ("ambient_occlusion"; the LDM build, ldm(), is its own pass: ldmBuildPass).
@@ -76,7 +79,7 @@ class AoPass {
   const VulkanContext& context() const { return ctx_; }
 
   const AoPassSettings& settings() const { return settings_; }
-  const LdmBuild* ldm() const { return ldm_.get(); }
+  const LdmBuild* ldm() const { return ldm_; }
   AoMemory memory() const;
   uint32_t ldmNodeCapacity() const { return ldm_ ? ldm_->nodeCapacity() : 0; }
 
@@ -90,7 +93,7 @@ class AoPass {
   AoPassSettings settings_;
   uint32_t width_, height_;
   VkAccelerationStructureKHR tlas_;
-  std::unique_ptr<LdmBuild> ldm_;
+  const LdmBuild* ldm_ = nullptr;  // the frame's (frame_builder.h frameLdmSet), maybe shared
   Buffer directions_, params_, scratchParams_, output_, scratch_, placeholder_, environment_;
   // The pass's resources by name: over output_ and params_, and (with a tracer) over scratch_ and
   // scratchParams_; kept, since a method's program is built when first used.

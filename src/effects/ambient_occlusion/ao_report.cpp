@@ -59,7 +59,7 @@ void addAoPassFacts(nlohmann::json& a, const AoPass& pass, const std::vector<flo
   a["pixels_without_normal"] = noNormal;
   // What traces the raytraced and reference methods' rays (backend=compute: our BVH).
   a["tracer"] = !pass.canTrace()                 ? "none"
-                : pass.settings().computeBvh     ? "compute"
+                : pass.settings().computeBvh()   ? "compute"
                 : pass.context().info().rayQuery ? "rayquery"
                                                  : "pipeline";
   const AoMemory m = pass.memory();

@@ -19,15 +19,16 @@ EnvironmentLightPart::EnvironmentLightPart(FrameBuilder& f) {
   ps.environment = &*f.scene.environment;
   ps.effect = environmentLightEffect().name;
   const AoInputs in = surfaceBindings(f, surface);
-  if (f.settings.backend == RtBackend::Compute && in.tlas) ps.computeBvh = f.traceBvh;  // traces through our BVH
-  pass_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, ps, f.settings.width, f.settings.height, in);
+  ps.tracer = f.tracer;
+  const AoPassNames names{environmentLightEffect().name, kEnvironmentLdmBuildPass, "environment_light.ldm",
+                          kEnvironmentLightPass, res::kEnvironmentLight};
+  FrameLdmSet ldm;
+  pass_ = makeFrameAoPass(f, ps, in, names, ldm);
   f.resources.publish(res::kEnvironmentLight, pass_->output(),
                       "vec4 per pixel: (1/pi) integral of L V cos (rgb), w = 1 or kAoSky / kAoNoNormal",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
 
-  passes_ = aoFramePasses(f, *pass_, surface,
-                          {environmentLightEffect().name, kEnvironmentLdmBuildPass, "environment_light.ldm",
-                           kEnvironmentLightPass, res::kEnvironmentLight});
+  passes_ = aoFramePasses(f, *pass_, surface, names, ldm, skipped_);
 }
 
 AoPass* environmentPassOf(const Renderer& renderer) {

@@ -16,10 +16,17 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   is.indirect = indirectSettingsOf(f.value);
   is.worldPos = surface.worldPos;  // the surface as ambient occlusion takes it
   is.normals = surface.normals;
-  is.rayQuery = f.settings.backend == RtBackend::RayQuery;  // the renderer resolved auto
-  if (f.settings.backend == RtBackend::Compute) is.computeBvh = f.traceBvh;
+  is.tracer = f.tracer;
   const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
-  indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
+  FrameLdmSet ldm;
+  const LdmSource ldmSource = [&](const std::vector<glm::dvec3>& dirs) -> const LdmBuild& {
+    const IndirectSettings& s = is.indirect;
+    ldm =
+        frameLdmSet(f, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect", "indirect.ldm", kIndirectLdmBuildPass);
+    return *ldm.ldm;
+  };
+  indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii,
+                                             ldmSource);
   f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
 
   const double pixels = double(f.settings.width) * f.settings.height;
@@ -76,10 +83,11 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   };
   std::vector<std::string> traceReads = surfaceReads(surface);
   traceReads.push_back(res::kTlas);
+  if (indirect_->settings().computeBvh()) traceReads.push_back(res::kTraceBvh);  // backend=compute: our BVH
   traceReads.push_back(res::kLights);
   if (indirect_->buildsLdms()) {
-    passes_.push_back(ldmBuildPass(f, *indirect_->ldm(), kIndirectLdmBuildPass, "indirect.ldm", "indirect"));
-    traceReads.push_back("indirect.ldm");
+    addLdmBuildPass(f, ldm, kIndirectLdmBuildPass, "indirect", passes_, skipped_);
+    traceReads.push_back(ldm.resource);
   }
   if (indirect_->method() == IndirectMethod::Reference) {
     add(kIndirectGatherPass, traceReads, {res::kIndirectIrradiance}, &IndirectPass::recordGather);

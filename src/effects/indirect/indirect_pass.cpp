@@ -81,7 +81,7 @@ struct IndirectPass::ComputeSplat {
 
 IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                            const IndirectPassSettings& settings, uint32_t width, uint32_t height,
-                           const IndirectInputs& in)
+                           const IndirectInputs& in, const LdmSource& ldmSource)
     : ctx_(ctx), gpuScene_(gpuScene), settings_(settings), in_(in), width_(width), height_(height), splat_(ctx) {
   const IndirectSettings& s = settings.indirect;
   if (!in.tlas)
@@ -163,8 +163,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   placeholder_ = Buffer(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other);
   textures_ = std::make_unique<GpuTextures>(ctx, scene);
 
-  if (s.method == IndirectMethod::Ldm)
-    ldm_ = makeSizedLdmBuild(ctx, gpuScene, scene, dirs, s.ldmResolution, s.ldmBuild, s.ldmList, "indirect");
+  if (s.method == IndirectMethod::Ldm) ldm_ = &ldmSource(dirs);
   gpu::IndirectConstants c{};
   c.directions = s.directions;
   c.resolution = s.ldmResolution;
@@ -192,7 +191,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   }
   params_ = uploadBuffer(ctx, &c, sizeof c, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
 
-  if (settings_.rayQuery && !ctx.info().rayQuery) settings_.rayQuery = false;
+  rayQuery_ = settings.tracer && settings.tracer->rayQuery() && ctx.info().rayQuery;
   const bool needsHits = settings.worldPos == WorldPosMethod::Hit || settings.normals == NormalCulling::Geometric;
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
 
@@ -200,9 +199,9 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   // The trace, the gather and the splat share one set per target (makeTarget), laid out from all
   // their shaders together: the tracer's, the raster splat's and, with splat=compute, its own.
   std::vector<std::string> shaders =
-      settings_.computeBvh ? std::vector<std::string>{"indirect_computetrace.comp"}
-      : settings_.rayQuery ? std::vector<std::string>{"indirect.comp"}
-                           : std::vector<std::string>{"indirect.rgen", "indirect.rmiss", "indirect.rchit"};
+      settings_.computeBvh() ? std::vector<std::string>{"indirect_computetrace.comp"}
+      : rayQuery_            ? std::vector<std::string>{"indirect.comp"}
+                             : std::vector<std::string>{"indirect.rgen", "indirect.rmiss", "indirect.rchit"};
   shaders.insert(shaders.end(), {"photon_splat.vert", "photon_splat.frag"});
   if (splatCompute) shaders.insert(shaders.end(), {"photon_splat_bin.comp", "photon_splat.comp"});
   shaders_ = std::make_unique<ShaderProgram>(shaders);
@@ -297,7 +296,7 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   binder.provide("Frame", *in_.frameConstants);
   binder.provide("Lights", *in_.lights);
   binder.provide("depthTex", *in_.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
-  if (const TraceBvh* bvh = settings_.computeBvh) {  // our traversal gives draw-order ids itself
+  if (const TraceBvh* bvh = settings_.computeBvh()) {  // our traversal gives draw-order ids itself
     binder.provide("BvhNodes", bvh->nodes);
     binder.provide("BvhTriangles", bvh->triangles);
   } else {
@@ -353,12 +352,12 @@ const IndirectPass::Program& IndirectPass::program(IndirectMethod method, uint32
                      : method == IndirectMethod::RayTraced ? gpu::kIndirectRayTraced
                                                            : gpu::kIndirectReference;
   const SpecConstants spec{{uint32_t(settings_.normals), uint32_t(settings_.worldPos), m, bounce}};
-  if (const TraceBvh* bvh = settings_.computeBvh) {  // 64 threads a group
+  if (const TraceBvh* bvh = settings_.computeBvh()) {  // 64 threads a group
     SpecConstants withStack = spec;
     for (uint32_t v : traceBvhSpec(*bvh, 64, true)) withStack.values.push_back(v);
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute(*shaders_, "indirect_computetrace.comp", withStack);
-  } else if (settings_.rayQuery) {
+  } else if (rayQuery_) {
     p->compute.createLayout({frame_.sets->layout()}, 0);
     p->compute.createCompute(*shaders_, "indirect.comp", spec);
   } else {

@@ -44,8 +44,10 @@ struct IndirectPassSettings {
   IndirectSettings indirect;
   NormalCulling normals = NormalCulling::Improved;  // as AoPassSettings
   WorldPosMethod worldPos = WorldPosMethod::Alg41;
-  bool rayQuery = true;  // trace through ray queries (false: the ray-tracing pipeline); the frame's backend
-  const TraceBvh* computeBvh = nullptr;  // backend=compute: our BVH instead of either (the frame's)
+  // The frame's ray tracer (required): its backend, where the device has ray queries (else the
+  // ray-tracing pipeline), and backend=compute's BVH instead of either.
+  const RayTracer* tracer = nullptr;
+  const TraceBvh* computeBvh() const { return tracer && tracer->compute() ? tracer->bvh : nullptr; }
 };
 
 struct IndirectMemory {
@@ -69,9 +71,11 @@ class IndirectPass {
  public:
   // Throws InputError when the settings cannot run here (directions; a photon buffer over the
   // device's storage-buffer range; no ray tracer; splat=compute without compute subgroup ballots),
-  // DeviceError when the device cannot blend RGBA32F.
+  // DeviceError when the device cannot blend RGBA32F. Method ldm traces through the set ldmSource
+  // gives for its directions (the frame's, shared).
   IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
-               const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs);
+               const IndirectPassSettings& settings, uint32_t width, uint32_t height, const IndirectInputs& inputs,
+               const LdmSource& ldmSource);
   ~IndirectPass();
 
   bool buildsLdms() const { return bool(ldm_); }
@@ -104,7 +108,7 @@ class IndirectPass {
   // The landing test's LDM term, (√2/2)·s_ldm + 2·kShadowTMin (indirect_common.glsl.inc
   // landsVisible): how far off the surface an LDM-traced photon may land.
   double landingTolerance() const { return 0.70710678 * ldmPixel_ + 2.0 * gpu::kShadowTMin; }
-  const LdmBuild* ldm() const { return ldm_.get(); }
+  const LdmBuild* ldm() const { return ldm_; }
   IndirectMemory memory() const;
   // splat=compute, after a frame: the coarse bins' list entries (slot-bin pairs), the bins, and the
   // bins whose entries passed the list's capacity (gathered from every slot instead).
@@ -131,12 +135,13 @@ class IndirectPass {
   const VulkanContext& ctx_;
   const GpuScene& gpuScene_;
   IndirectPassSettings settings_;
+  bool rayQuery_ = false;  // the frame's backend is rayquery and the device has it (else the pipeline, or compute)
   IndirectInputs in_;
   uint32_t width_, height_;
   uint32_t primaries_ = 0, emitters_ = 0;
   double emittedFlux_ = 0, ldmPixel_ = 0;
   std::unique_ptr<GpuTextures> textures_;
-  std::unique_ptr<LdmBuild> ldm_;
+  const LdmBuild* ldm_ = nullptr;  // the frame's (frame_builder.h frameLdmSet), maybe shared
   Buffer directions_, params_, faces_, draws_, triangleDraw_, idBase_, placeholder_;
   std::unique_ptr<ShaderProgram> shaders_;  // every shader a target's set serves, their bindings merged
   Target frame_, scratch_;

@@ -8,7 +8,7 @@
 
 namespace hb {
 
-RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
+RayBenchPass::RayBenchPass(const VulkanContext& ctx, RtBackend backend, uint32_t width, uint32_t height,
                            const ShadowInputs& in, const ShadowPass& shadows, const TraceBvh* bvh)
     : ctx_(ctx),
       backend_(backend),
@@ -25,7 +25,7 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   binder.provide("Indices", *in.indices);
   binder.provide("positionImage", shadows.positions(), VK_IMAGE_LAYOUT_GENERAL);
   binder.provide("Traced", shadows.traced());
-  if (backend == ShadowBackend::Compute) {
+  if (backend == RtBackend::Compute) {
     binder.provide("BvhNodes", *in.bvhNodes);
     binder.provide("BvhTriangles", *in.bvhTriangles);
   } else {
@@ -36,9 +36,9 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint
   const bool stackShared = bvh ? traceStackShared(*bvh, 64) : shadows.settings().raybenchStackShared;
   const SpecConstants spec{{shadows.settings().listMode, bvh ? bvh->stack : shadows.settings().bvhStack,
                             stackShared ? 1u : 0u, bvh ? bvh->width : shadows.settings().bvhWidth}};
-  if (backend != ShadowBackend::Pipeline) {
-    compute_.createCompute(
-        binder, backend == ShadowBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp", 0, spec);
+  if (backend != RtBackend::Pipeline) {
+    compute_.createCompute(binder, backend == RtBackend::Compute ? "raybench_compute.comp" : "raybench_rayquery.comp",
+                           0, spec);
   } else {
     rt_ = std::make_unique<RaygenMissPipeline>(ctx, binder, "raybench.rgen", "shadows.rmiss", spec);
   }

@@ -16,8 +16,8 @@ namespace hb {
 
 class RayBenchPass {
  public:
-  RayBenchPass(const VulkanContext& ctx, ShadowBackend backend, uint32_t width, uint32_t height,
-               const ShadowInputs& inputs, const ShadowPass& shadows, const TraceBvh* bvh = nullptr);
+  RayBenchPass(const VulkanContext& ctx, RtBackend backend, uint32_t width, uint32_t height, const ShadowInputs& inputs,
+               const ShadowPass& shadows, const TraceBvh* bvh = nullptr);
   ~RayBenchPass();
   void record(VkCommandBuffer cmd) const;
   // Per pixel (row-major) the number of its traced rays found unoccluded by the last record():
@@ -28,7 +28,7 @@ class RayBenchPass {
 
  private:
   const VulkanContext& ctx_;
-  ShadowBackend backend_;
+  RtBackend backend_;
   uint32_t width_, height_;
   Image result_;
   Pipeline compute_;

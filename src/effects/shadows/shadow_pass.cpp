@@ -10,15 +10,6 @@
 
 namespace hb {
 
-const char* toString(ShadowBackend b) {
-  switch (b) {
-    case ShadowBackend::RayQuery: return "rayquery";
-    case ShadowBackend::Pipeline: return "pipeline";
-    case ShadowBackend::Compute: return "compute";
-  }
-  return "?";
-}
-
 namespace {
 
 // Visibility (or traced-ray) words: settings.visibilityWords per pixel, plus the z-bin range plane.
@@ -47,11 +38,11 @@ struct ShadowPass::Variant {
   Variant(const VulkanContext& c, const ShadowSettings& s, const DescriptorBinder& binder, bool analysis) : compute(c) {
     SpecConstants spec{
         {s.tileSize, uint32_t(s.normals), uint32_t(s.worldPos), s.rangeTest ? 1u : 0u, analysis ? 1u : 0u, s.listMode}};
-    if (s.backend == ShadowBackend::Compute)
+    if (s.backend == RtBackend::Compute)
       spec.values.insert(spec.values.end(), {s.bvhStack, s.bvhStackShared ? 1u : 0u, s.bvhWidth});
-    if (s.backend != ShadowBackend::Pipeline) {
-      compute.createCompute(
-          binder, s.backend == ShadowBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp", 0, spec);
+    if (s.backend != RtBackend::Pipeline) {
+      compute.createCompute(binder, s.backend == RtBackend::Compute ? "shadows_compute.comp" : "shadows_rayquery.comp",
+                            0, spec);
     } else {
       rtProgram = std::make_unique<RaygenMissPipeline>(c, binder, "shadows.rgen", "shadows.rmiss", spec);
     }
@@ -75,10 +66,10 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       positions_(ctx, width, height, VK_FORMAT_R32G32B32A32_SFLOAT,
                  VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT, VK_IMAGE_ASPECT_COLOR_BIT) {
-  if (settings.backend == ShadowBackend::RayQuery && !ctx.info().rayQuery)
+  if (settings.backend == RtBackend::RayQuery && !ctx.info().rayQuery)
     throw InputError("backend=rayquery: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_query; use backend=pipeline or backend=auto");
-  if (settings.backend == ShadowBackend::Pipeline && !ctx.info().rayTracingPipeline)
+  if (settings.backend == RtBackend::Pipeline && !ctx.info().rayTracingPipeline)
     throw InputError("backend=pipeline: device \"" + ctx.info().name +
                      "\" has no VK_KHR_ray_tracing_pipeline; use backend=rayquery or backend=auto");
   DescriptorBinder binder("shadows");
@@ -87,7 +78,7 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   binder.provide("Grid", *in.grid);
   binder.provide("Indices", *in.indices);
   binder.provide("depthTex", *in.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
-  if (settings.backend == ShadowBackend::Compute) {
+  if (settings.backend == RtBackend::Compute) {
     if (!ctx.info().shaderFloat64)
       throw DeviceError("backend=compute: device \"" + ctx.info().name +
                         "\" lacks shaderFloat64, which its watertight triangle test needs at exact zeros; use "
@@ -130,7 +121,7 @@ void ShadowPass::record(VkCommandBuffer cmd, bool analysis) const {
   VkDescriptorSet set = v.pipeline().set();
   vkCmdBindPipeline(cmd, v.pipeline().bindPoint(), v.pipeline().handle());
   vkCmdBindDescriptorSets(cmd, v.pipeline().bindPoint(), v.pipeline().layout(), 0, 1, &set, 0, nullptr);
-  if (settings_.backend != ShadowBackend::Pipeline) {
+  if (settings_.backend != RtBackend::Pipeline) {
     const uint32_t t = settings_.tileSize;
     vkCmdDispatch(cmd, (width_ + t - 1) / t, (height_ + t - 1) / t, 1);
   } else {

@@ -14,12 +14,10 @@
 
 namespace hb {
 
-// Compute: our BVH (primary_bvh.h) traversed in a compute shader (compute_occluded.glsl.inc).
-enum class ShadowBackend { RayQuery, Pipeline, Compute };
-const char* toString(ShadowBackend);
-
 struct ShadowSettings {
-  ShadowBackend backend = ShadowBackend::RayQuery;
+  // The frame's ray tracer (frame/ray_backend.h RayTracer), never Auto; compute: our BVH
+  // (trace_bvh.h) traversed in a compute shader (compute_occluded.glsl.inc).
+  RtBackend backend = RtBackend::RayQuery;
   uint32_t tileSize = 16;
   NormalCulling normals = NormalCulling::Off;       // geometric needs hit ids
   WorldPosMethod worldPos = WorldPosMethod::Alg41;  // hit needs hit ids

@@ -29,7 +29,8 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
       scene_(f.scene),
       width_(f.settings.width),
       height_(f.settings.height),
-      bvhWidth_(f.settings.bvhWidth) {
+      bvhWidth_(f.settings.bvhWidth),
+      resources_(f.resources) {
   const RenderSettings& s = f.settings;
   const FrameResources& r = f.resources;
   // Depth turns back into positions through a planar matrix (perspective or orthographic).
@@ -39,11 +40,9 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
     throw InputError(std::string("projection=") + toString(f.camera.projection) +
                      " with shadows needs world_pos=hit (depth is turned back into positions through a planar "
                      "matrix otherwise)");
+  HB_ASSERT(f.tracer != nullptr);  // the plan traces for shadows
   ShadowSettings ss;
-  // The renderer resolved auto (frame/ray_backend.h).
-  ss.backend = s.backend == RtBackend::Compute    ? ShadowBackend::Compute
-               : s.backend == RtBackend::RayQuery ? ShadowBackend::RayQuery
-                                                  : ShadowBackend::Pipeline;
+  ss.backend = f.tracer->backend();
   ss.tileSize = s.tileSize;
   ss.normals = s.normals;
   ss.worldPos = s.worldPos;
@@ -57,10 +56,7 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
              &r.requireImage(res::kDepth),
              r.sampler(res::kPointSampler),
              r.tlas(res::kTlas)};
-  if (ss.backend == ShadowBackend::Compute) {
-    HB_ASSERT(f.traceBvh != nullptr);  // the renderer builds it for backend=compute
-    useBvh(ss, inputs_, *f.traceBvh, s.tileSize);
-  }
+  if (f.tracer->compute()) useBvh(ss, inputs_, *f.tracer->bvh, s.tileSize);
   inputs_.hitIds = r.buffer(res::kVisibility);
   inputs_.hitRays = r.buffer(res::kVisibilityRays);
   inputs_.hitTriangles = r.buffer(res::kVisibilityTriangles);
@@ -72,7 +68,7 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
   FramePass pass;
   pass.name = kShadowsPass;
   pass.reads = {res::kFrameConstants, res::kListLights, res::kListGrid, res::kListIndices, res::kDepth, res::kTlas};
-  if (f.traceBvh) pass.reads.push_back(res::kTraceBvh);
+  if (f.tracer->bvh) pass.reads.push_back(res::kTraceBvh);
   if (inputs_.hitIds)
     pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
@@ -113,28 +109,29 @@ ShadowReadback ShadowsPart::readShadows() const {
   return r;
 }
 
-std::vector<ShadowBackend> ShadowsPart::rayBenchBackends() const {
-  std::vector<ShadowBackend> out{shadows_->settings().backend};
-  for (ShadowBackend b : {ShadowBackend::RayQuery, ShadowBackend::Pipeline, ShadowBackend::Compute}) {
-    const bool available = b == ShadowBackend::Compute    ? true
-                           : b == ShadowBackend::RayQuery ? ctx_.info().rayQuery
-                                                          : ctx_.info().rayTracingPipeline;
+std::vector<RtBackend> ShadowsPart::rayBenchBackends() const {
+  std::vector<RtBackend> out{shadows_->settings().backend};
+  for (RtBackend b : {RtBackend::RayQuery, RtBackend::Pipeline, RtBackend::Compute}) {
+    const bool available = b == RtBackend::Compute    ? true
+                           : b == RtBackend::RayQuery ? ctx_.info().rayQuery
+                                                      : ctx_.info().rayTracingPipeline;
     if (available && b != out.front()) out.push_back(b);
   }
   return out;
 }
 
-std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<ShadowBackend> backend) {
-  const ShadowBackend b = backend.value_or(shadows_->settings().backend);
+std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<RtBackend> backend) {
+  const RtBackend b = backend.value_or(shadows_->settings().backend);
   std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(b)];
   if (!bench) {
     ShadowInputs in = inputs_;
-    if (b == ShadowBackend::Compute && !in.bvhNodes) {  // the frame traces with the driver's: ours for the bench
-      if (!ownBvh_) ownBvh_ = std::make_unique<TraceBvh>(buildTraceBvh(ctx_, scene_, bvhWidth_));
-      in.bvhNodes = &ownBvh_->nodes;
-      in.bvhTriangles = &ownBvh_->triangles;
+    const TraceBvh* bvh = nullptr;
+    if (b == RtBackend::Compute) {  // the frame's BVH, built here (keyed) when the frame traces with the driver's
+      bvh = &frameTraceBvh(resources_, ctx_, scene_, bvhWidth_, "raybench");
+      resources_.use(res::kTraceBvh, "raybench");
+      in.bvhNodes = &bvh->nodes;
+      in.bvhTriangles = &bvh->triangles;
     }
-    const TraceBvh* bvh = b == ShadowBackend::Compute && ownBvh_ ? ownBvh_.get() : nullptr;
     bench = std::make_unique<RayBenchPass>(ctx_, b, width_, height_, in, *shadows_, bvh);
   }
   std::vector<double> ms;
@@ -153,7 +150,7 @@ std::vector<double> ShadowsPart::rayBench(GpuTimer& timer, uint32_t repetitions,
   return ms;
 }
 
-std::vector<uint32_t> ShadowsPart::readRayBench(std::optional<ShadowBackend> backend) const {
+std::vector<uint32_t> ShadowsPart::readRayBench(std::optional<RtBackend> backend) const {
   const std::unique_ptr<RayBenchPass>& bench = rayBenches_[size_t(backend.value_or(shadows_->settings().backend))];
   HB_ASSERT(bench);
   return bench->readResult();

@@ -24,22 +24,22 @@ class ShadowsPart : public FramePart {
   // Re-traces the rays of the last analysis frame `repetitions` times as a pure ray workload,
   // through `backend` (default: the frame's); returns each repetition's GPU time in ms.
   // Precondition: the last frame was an analysis frame.
-  std::vector<double> rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<ShadowBackend> backend = {});
+  std::vector<double> rayBench(GpuTimer& timer, uint32_t repetitions, std::optional<RtBackend> backend = {});
   // The backends raybench can trace on this device, the frame's first (sweep: "raybench.backends").
-  std::vector<ShadowBackend> rayBenchBackends() const;
+  std::vector<RtBackend> rayBenchBackends() const;
   // Per pixel the traced rays the last rayBench() repetition through `backend` found visible
   // (RayBenchPass::readResult). Precondition: rayBench() has run through it.
-  std::vector<uint32_t> readRayBench(std::optional<ShadowBackend> backend = {}) const;
+  std::vector<uint32_t> readRayBench(std::optional<RtBackend> backend = {}) const;
 
  private:
   const VulkanContext& ctx_;
   const Scene& scene_;
   uint32_t width_, height_;
-  uint32_t bvhWidth_;  // bvh_width: raybench's own BVH, where the frame has none
+  uint32_t bvhWidth_;          // bvh_width: raybench's BVH, where the frame has none
+  FrameResources& resources_;  // the frame's: raybench through compute asks it for our BVH (keyed)
   ShadowInputs inputs_{};
   std::unique_ptr<ShadowPass> shadows_;
-  std::unique_ptr<TraceBvh> ownBvh_;             // raybench through compute when the frame traces with the driver's
-  std::unique_ptr<RayBenchPass> rayBenches_[3];  // by ShadowBackend
+  std::unique_ptr<RayBenchPass> rayBenches_[4];  // by RtBackend (never Auto)
 };
 
 // The frame's shadows part; null when the effect does not run.

@@ -1,6 +1,7 @@
 #include "frame/passes/ldm_build.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstring>
 
@@ -300,9 +301,14 @@ std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec
   return maps;
 }
 
+static std::atomic<uint64_t> gLdmSetBuilds{0};
+
+uint64_t ldmSetBuildCount() { return gLdmSetBuilds.load(); }
+
 std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                                             const std::vector<glm::dvec3>& dirs, uint32_t resolution,
                                             LdmBuildMethod method, LdmList kind, const char* effect) {
+  ++gLdmSetBuilds;
   std::vector<gpu::LdmMap> maps = ldmMaps(scene, dirs, resolution);
   uint64_t fragments = 0, chunks = 0;
   {

@@ -8,6 +8,7 @@
 // The node pool is sized up front; fragments past it are counted (overflow), never silent.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -108,5 +109,10 @@ std::vector<gpu::LdmMap> ldmMaps(const Scene& scene, const std::vector<glm::dvec
 std::unique_ptr<LdmBuild> makeSizedLdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
                                             const std::vector<glm::dvec3>& dirs, uint32_t resolution,
                                             LdmBuildMethod build, LdmList list, const char* effect);
+// Where a pass that traces through LDMs gets them, given its directions: the frame's LDM set of
+// its settings, built once per key and shared (frame_builder.h frameLdmSet).
+using LdmSource = std::function<const LdmBuild&(const std::vector<glm::dvec3>& dirs)>;
+// makeSizedLdmBuild's calls since the process started, for tests that count a frame's LDM sets.
+uint64_t ldmSetBuildCount();
 
 }  // namespace hb

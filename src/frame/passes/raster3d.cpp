@@ -102,7 +102,7 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
                            uint32_t height, PrimaryMethod mode, uint32_t smallArea, bool fp64Fallback,
-                           const RayCastInputs& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta,
+                           const RayTracer& rayCast, uint32_t listPerTile, const Raster3dFrustumOptions& frusta,
                            AntiAliasing aa)
     : ctx_(ctx),
       mode_(mode),
@@ -168,7 +168,7 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       binder.provide("tlas", rayCast.tlas);
       binder.provide("IdBase", idBase_);
     }
-    if (rayCast.rayQuery || rayCast.bvh) {
+    if (rayCast.rayQuery() || rayCast.bvh) {
       castTimed_ = std::make_unique<Pipeline>(ctx);
       castAnalysis_ = std::make_unique<Pipeline>(ctx);
       for (auto [p, analysis] : {std::pair{castTimed_.get(), 0u}, std::pair{castAnalysis_.get(), 1u}}) {

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "config/config.h"
+#include "frame/ray_backend.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/trace_bvh.h"
@@ -74,23 +75,16 @@ struct Raster3dBvhStats {
   double buildMs = 0.0;
 };
 
-// What ray casting needs: the TLAS and the device's way to trace.
-struct RayCastInputs {
-  VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
-  bool rayQuery = true;           // false: the ray-tracing pipeline
-  const TraceBvh* bvh = nullptr;  // backend=compute: our BVH instead of either
-};
-
 class Raster3dPass {
  public:
   static constexpr uint32_t kDefaultSmallArea = 64;
 
   // Precondition: the device has 64-bit buffer atomics and shaderFloat64 (checked: DeviceError);
-  // RayCast: rayCast.tlas is set. fp64Fallback false only measures what the fallback prevents
+  // RayCast: rayCast (the frame's ray tracer) has its TLAS. fp64Fallback false only measures what the fallback prevents
   // (holes, double covers).
   Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width, uint32_t height,
                PrimaryMethod mode = PrimaryMethod::Raster3d, uint32_t smallArea = kDefaultSmallArea,
-               bool fp64Fallback = true, const RayCastInputs& rayCast = {}, uint32_t listPerTile = 64,
+               bool fp64Fallback = true, const RayTracer& rayCast = {}, uint32_t listPerTile = 64,
                const Raster3dFrustumOptions& frusta = {}, AntiAliasing aa = AntiAliasing::None);
   ~Raster3dPass();
 
