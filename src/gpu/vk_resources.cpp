@@ -174,6 +174,7 @@ void imageBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout from, V
   di.imageMemoryBarrierCount = 1;
   di.pImageMemoryBarriers = &b;
   vkCmdPipelineBarrier2(cmd, &di);
+  *image.layoutRecord() = to;
 }
 
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,

@@ -73,6 +73,10 @@ class Image {
   uint32_t height() const { return f_.height; }
   uint32_t mipLevels() const { return f_.mips; }
   VkImageAspectFlags aspect() const { return f_.aspect; }
+  // The layout the commands recorded so far leave the image in: a Sync (gpu/sync.h) keeps it as it
+  // records transitions, and starts the next command buffer from it.
+  VkImageLayout layout() const { return f_.layout; }
+  VkImageLayout* layoutRecord() const { return &f_.layout; }
   explicit operator bool() const { return f_.image != VK_NULL_HANDLE; }
 
  private:
@@ -88,6 +92,7 @@ class Image {
     VkDeviceSize bytes = 0;
     VkImageAspectFlags aspect = 0;
     MemClass cls = MemClass::Images;
+    mutable VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
   } f_;
 };
 
