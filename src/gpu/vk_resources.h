@@ -96,15 +96,7 @@ class Image {
   } f_;
 };
 
-// A whole-image layout transition (all mips) with synchronization2 masks.
-void imageBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess);
-// A global memory barrier.
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
-                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
-
-// Copies mip 0 of an image (in layout `layout`, restored afterwards) into host memory.
+// Copies mip 0 of an image into host memory, and leaves it in `layout` (where its users expect it).
 std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout,
                                    uint32_t bytesPerPixel);
 std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buffer);

@@ -5,6 +5,7 @@
 
 #include "base/errors.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/sync.h"
 #include "shared/bindings.h"
 #include "shared/gpu_types.h"
 
@@ -148,10 +149,11 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
     sets_.writeImage(0, imageBindings[i], VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, images[i]->view(), VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), false);
   analysis_ = std::make_unique<Variant>(ctx, settings, sets_.layout(), true);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const Image* img : images)
-      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {  // the analysis images live in GENERAL
+    Sync sync;
+    sync.use(cmd, {{accounting_, access::kRayWrite.discarding()},
+                   {normals_, access::kRayWrite.discarding()},
+                   {positions_, access::kRayWrite.discarding()}});
   });
 }
 
