@@ -127,7 +127,7 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
       // Each repetition waits for the writes before it (the fill, the last repetition), as a dispatch
       // of a frame would: the barrier is part of what is timed.
       Sync sync;
-      const Access before{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_CLEAR_BIT,
+      const Access before{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | access::kFill.stages,
                           VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT};
       sync.assume(src, before);
       sync.assume(dst, before);

@@ -74,8 +74,10 @@ constexpr Access kColorAttachment{VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BI
 // A draw's vertices and indices.
 constexpr Access kVertexInput{VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT,
                               VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT};
-// vkCmdFillBuffer and clears; copies from and into a resource.
-constexpr Access kFill{VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+// vkCmdFillBuffer and clears (all transfer stages: the spec counts a fill among the clears, the
+// validation layer's synchronization checks (1.3.239) among the copies); copies from and into a
+// resource.
+constexpr Access kFill{VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL};
 constexpr Access kCopyRead{VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                            VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};

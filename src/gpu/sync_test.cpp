@@ -54,7 +54,7 @@ TEST(Sync, WriteAfterReadWaitsForEveryReadWithNothingToMakeAvailable) {
   ASSERT_EQ(b.buffers.size(), 1u);
   EXPECT_EQ(b.buffers[0].srcStageMask, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT);
   EXPECT_EQ(b.buffers[0].srcAccessMask, VK_ACCESS_2_NONE);
-  EXPECT_EQ(b.buffers[0].dstStageMask, VK_PIPELINE_STAGE_2_CLEAR_BIT);
+  EXPECT_EQ(b.buffers[0].dstStageMask, access::kFill.stages);
   EXPECT_EQ(b.buffers[0].dstAccessMask, VK_ACCESS_2_TRANSFER_WRITE_BIT);
 }
 
@@ -64,7 +64,7 @@ TEST(Sync, WriteAfterWriteWaitsForTheWrite) {
   plan(sync, {{a, access::kFill}});
   const Barriers b = plan(sync, {{a, access::kComputeWrite}});
   ASSERT_EQ(b.buffers.size(), 1u);
-  EXPECT_EQ(b.buffers[0].srcStageMask, VK_PIPELINE_STAGE_2_CLEAR_BIT);
+  EXPECT_EQ(b.buffers[0].srcStageMask, access::kFill.stages);
   EXPECT_EQ(b.buffers[0].srcAccessMask, VK_ACCESS_2_TRANSFER_WRITE_BIT);
   EXPECT_EQ(b.buffers[0].dstAccessMask, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
   // Dispatch after dispatch on one buffer: each waits for the one before.
