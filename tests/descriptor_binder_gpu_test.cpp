@@ -8,6 +8,7 @@
 #include "bind_mismatch_frag.h"
 #include "bind_mismatch_vert.h"
 #include "gpu/descriptor_binder.h"
+#include "gpu/sync.h"
 #include "gpu_fixture.h"
 
 namespace hb {
@@ -55,12 +56,13 @@ TEST_F(DescriptorBinderTest, ASetWrittenByTheShadersNamesRunsThePass) {
   pipeline.createCompute(binder, "bind_double.comp", 0);
   binder.checkEveryNameRead();
   ctx->submitAndWait([&](VkCommandBuffer cmd) {
+    Sync sync;
+    sync.use(cmd, {{source, access::kComputeRead}, {doubled, access::kComputeWrite}});
     VkDescriptorSet set = pipeline.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cmd, kCount / 64, 1, 1);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+    sync.use(cmd, {{doubled, Access{VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT}}});  // read back mapped
   });
   const auto* out = static_cast<const uint32_t*>(doubled.mapped());
   for (uint32_t i = 0; i < kCount; ++i) ASSERT_EQ(out[i], 2 * (i * 7 + 1)) << "element " << i;

@@ -27,6 +27,7 @@
 #include "effects/shadows/shadows_part.h"
 #include "frame/renderer.h"
 #include "gpu/descriptor_binder.h"
+#include "gpu/sync.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "gpu_fixture.h"
@@ -196,15 +197,14 @@ void overwritePositions(const VulkanContext& ctx, const Image& positions, const 
   binder.checkEveryNameRead();
   const uint32_t count = uint32_t(points.size());
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
+    Sync sync;
+    sync.assume(positions, access::kAnyAccess);  // the frame that wrote and read it
+    sync.use(cmd, {{positions, access::kComputeWrite}});
     VkDescriptorSet set = pipeline.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline.layout(), VK_SHADER_STAGE_ALL, 0, sizeof count, &count);
     vkCmdDispatch(cmd, (count + 63) / 64, 1, 1);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   });
 }
 

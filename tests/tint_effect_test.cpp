@@ -72,38 +72,27 @@ class TintPart : public FramePart {
     pass.name = kTintPass;
     pass.reads = {res::kColor, res::kListGrid};
     pass.writes = {res::kColor};
-    pass.record = [this](VkCommandBuffer cmd, const PassFrame&) { record(cmd); };
+    pass.syncedInside = {res::kColor};  // two images under one name: its steps declare each
+    pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { record(cmd, *frame.sync); };
     passes_.push_back(std::move(pass));
   }
   const Image& shaded() const { return source_; }  // the colour before the tint
   const Image& tinted() const { return tinted_; }
 
  private:
-  void record(VkCommandBuffer cmd) const {
-    imageBarrier(cmd, source_, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
-    imageBarrier(cmd, tinted_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  void record(VkCommandBuffer cmd, Sync& sync) const {
+    sync.use(cmd, {{source_, access::kCopyRead}, {tinted_, access::kCopyWrite.discarding()}});
     VkImageCopy region{};
     region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.extent = {push_.width, push_.height, 1};
     vkCmdCopyImage(cmd, source_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tinted_.handle(),
                    VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    imageBarrier(cmd, source_, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_TRANSFER_READ_BIT);
-    imageBarrier(cmd, tinted_, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    sync.use(cmd, {{tinted_, access::kComputeWrite}});
     VkDescriptorSet set = pipeline_.set();
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push_, &push_);
     vkCmdDispatch(cmd, (push_.width + 7) / 8, (push_.height + 7) / 8, 1);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
   }
 
   const VulkanContext& ctx_;

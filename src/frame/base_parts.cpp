@@ -100,23 +100,13 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
   if (f.settings.primary == PrimaryMethod::Hardware) {
     prepass_ = std::make_unique<DepthPrepass>(f.ctx);
     pass.reads = {res::kSceneVertices, res::kSceneIndices};
-    pass.before = [&depth](VkCommandBuffer cmd) {
-      imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                   VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT);
-    };
+    pass.stages = VK_PIPELINE_STAGE_2_VERTEX_INPUT_BIT;
+    pass.access = {{res::kDepth, access::kDepthAttachment.discarding()},
+                   {res::kSceneVertices, access::kVertexInput},
+                   {res::kSceneIndices, access::kVertexInput}};
     const glm::mat4 viewProj = f.proj * f.view;
     pass.record = [this, &gpuScene = f.gpuScene, viewProj, &depth](VkCommandBuffer cmd, const PassFrame&) {
       prepass_->record(cmd, gpuScene, viewProj, depth);
-    };
-    pass.after = [&depth](VkCommandBuffer cmd) {
-      imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                   VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                   VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                       VK_ACCESS_2_TRANSFER_READ_BIT);
     };
     const double triangles = double(f.scene.triangleCount());
     const double pixels = double(f.settings.width) * f.settings.height;
@@ -146,9 +136,12 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
                  tiles = double(raster3d_->screenTiles()), method = f.settings.primary](const nlohmann::json& a) {
       return primaryWork(name, a, pixels, tiles, method);
     };
+    // Its steps declare their own accesses (a dispatch writes the visibility buffer, a copy the depth).
+    pass.syncedInside = {res::kDepth, res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles};
+    if (f.settings.primary == PrimaryMethod::RayCast) pass.stages = access::kRayStages;
     // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
     pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {
-      raster3d_->record(cmd, depth, frame.analysis, frame.timer);
+      raster3d_->record(cmd, *frame.sync, depth, frame.analysis, frame.timer);
     };
     f.resources.publish(res::kVisibility, raster3d_->visibility(), "u64: t bits << 32 | triangle id",
                         std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
@@ -201,8 +194,9 @@ LightListsPart::LightListsPart(FrameBuilder& f) {
   pass.reads = {res::kFrameConstants, res::kLights, res::kDepth};
   pass.writes = {res::kListLights, res::kListGrid, res::kListIndices};
   pass.subPasses = culling_->subPasses();
+  pass.syncedInside = pass.writes;  // each dispatch declares its own
   pass.record = [this, lightCount](VkCommandBuffer cmd, const PassFrame& frame) {
-    culling_->recordCulling(cmd, lightCount, frame.timer);
+    culling_->recordCulling(cmd, *frame.sync, lightCount, frame.timer);
   };
   pass.work = [this, pixels = double(s.width) * s.height, lightCount](const nlohmann::json&) {
     const double bytes = 4 * pixels + double(lightCount) * sizeof(gpu::GpuLight) + double(culling_->memoryBytes());
@@ -217,16 +211,10 @@ LightListsPart::LightListsPart(FrameBuilder& f) {
     }
     return work;
   };
-  pass.after = [](VkCommandBuffer cmd) {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
-  };
   passes_.push_back(std::move(pass));
 }
 
-void LightListsPart::recordOnce(VkCommandBuffer cmd) const { culling_->recordFrustums(cmd); }
+void LightListsPart::recordOnce(VkCommandBuffer cmd, Sync& sync) const { culling_->recordFrustums(cmd, sync); }
 
 // --- shading ------------------------------------------------------------------------------------
 
@@ -269,6 +257,19 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
     if (r.has(optional)) pass.reads.push_back(optional);
   if (!lists) pass.reads.push_back(res::kLights);
   pass.writes = {res::kColor, res::kRefNormals};
+  if (s.shading == ShadingMethod::Visbuffer) {
+    pass.access = {{res::kColor, access::kComputeWrite}, {res::kRefNormals, access::kComputeWrite}};
+  } else {  // a draw: the targets cleared and written, the depth tested and sampled, never written
+    pass.stages = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    const Access depth{access::kDepthTest.stages | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT,
+                       access::kDepthTest.access | VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
+                       VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL};
+    pass.access = {{res::kColor, access::kColorAttachment.discarding()},
+                   {res::kRefNormals, access::kColorAttachment.discarding()},
+                   {res::kDepth, depth},
+                   {res::kSceneVertices, access::kVertexInput},
+                   {res::kSceneIndices, access::kVertexInput}};
+  }
   // Per pixel: depth (or the visibility buffer's 8 B), the shadow pass's words, the colour
   // (RGBA16F) written; the lists, materials and textures are not counted.
   const bool visbuffer = s.shading == ShadingMethod::Visbuffer;
@@ -285,11 +286,6 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   const glm::mat4 viewProj = f.proj * f.view;
   pass.record = [this, viewProj](VkCommandBuffer cmd, const PassFrame& frame) {
     shading_->record(cmd, viewProj, frame.analysis);
-  };
-  pass.after = [](VkCommandBuffer cmd) {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COPY_BIT | VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                  VK_ACCESS_2_TRANSFER_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
   };
   passes_.push_back(std::move(pass));
 }

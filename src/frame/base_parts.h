@@ -39,7 +39,7 @@ class PrimaryPart : public FramePart {
 class LightListsPart : public FramePart {
  public:
   explicit LightListsPart(FrameBuilder& frame);
-  void recordOnce(VkCommandBuffer cmd) const override;  // the tile frustums
+  void recordOnce(VkCommandBuffer cmd, Sync& sync) const override;  // the tile frustums
   const LightCulling& culling() const { return *culling_; }
 
  private:

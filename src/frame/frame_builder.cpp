@@ -87,7 +87,8 @@ FramePass ldmBuildPass(FrameBuilder& frame, const LdmBuild& ldm, const char* nam
   pass.reads = {res::kSceneVertices, res::kSceneIndices};
   pass.writes = {resource};
   pass.subPasses = ldm.subPasses(name);
-  pass.record = [&ldm, name](VkCommandBuffer cmd, const PassFrame& f) { ldm.record(cmd, f.timer, name); };
+  pass.syncedInside = {resource};  // each step declares its own
+  pass.record = [&ldm, name](VkCommandBuffer cmd, const PassFrame& f) { ldm.record(cmd, *f.sync, f.timer, name); };
   pass.work = [name, effect, triangles = double(frame.scene.triangleCount())](const nlohmann::json& a) {
     return ldmBuildWork(name, a.contains(effect) ? a[effect] : nlohmann::json::object(), triangles);
   };

@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gpu/sync.h"
+
 namespace hb {
 
 class Buffer;
@@ -30,6 +32,7 @@ class GpuTimer;
 struct PassFrame {
   bool analysis = false;      // an analysis frame (counters, readback images); never timed in a sweep
   GpuTimer* timer = nullptr;  // for sub-passes (FramePass::subPasses); open: the pass's own interval
+  Sync* sync = nullptr;       // the frame's: a pass declares the accesses of its own steps through it
 };
 
 // The work of one timed entry (a pass or one of its sub-passes) in the analysis frame, in the units
@@ -56,11 +59,16 @@ struct FramePass {
   std::vector<std::string> reads;      // frame resources it reads (FrameResources names)
   std::vector<std::string> writes;     // frame resources it writes
   std::vector<std::string> subPasses;  // timer entries it records inside its own ("raster3d.tiles")
-  // Outside the timed interval: before it (layout transitions) and after it (the barrier that
-  // makes its writes visible to the passes after it). Either may be empty.
-  std::function<void(VkCommandBuffer)> before;
+  // How it touches the buffers and images it reads and writes (docs/frame.md "Barriers"): its
+  // shaders run in `stages`, where they read what it reads and read and write what it writes, an
+  // image in the layout it is published in; `access` names the exceptions (an attachment, a copy).
+  // Before the pass, outside its timed interval, the Renderer records the barriers these need
+  // (gpu/sync.h). A resource in `syncedInside` is the pass's to declare: its steps declare their
+  // accesses to it through PassFrame::sync as they record. A pass never records a barrier itself.
+  VkPipelineStageFlags2 stages = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  std::map<std::string, Access> access;
+  std::vector<std::string> syncedInside;
   std::function<void(VkCommandBuffer, const PassFrame&)> record;
-  std::function<void(VkCommandBuffer)> after;
   // The work of the pass and of each of its sub-passes, after an analysis frame; `analysis` is the
   // run's record of that frame (render.json's fields: "rays", "primary", "ambient_occlusion", ...),
   // where the counted figures are. Every timed entry has one (tests/peaks_roofline_test.cpp).
@@ -78,7 +86,7 @@ struct NamedResource {
   const Image* image = nullptr;
   VkAccelerationStructureKHR tlas = VK_NULL_HANDLE;
   VkSampler sampler = VK_NULL_HANDLE;
-  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;  // an image's layout between frames
+  VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL;  // an image's layout for the frame's shaders and readbacks
 };
 
 // A resource built from the scene and the settings rather than written by a pass each frame: our
@@ -168,8 +176,9 @@ class FramePart {
   // Passes of the plan this part did not build, with the reason: an LDM build whose set an earlier
   // part's pass builds (the same key). The Renderer lists them as skipped.
   const std::vector<std::pair<std::string, std::string>>& skipped() const { return skipped_; }
-  // Work recorded once, before the first frame's timed passes (the tile frustums, say).
-  virtual void recordOnce(VkCommandBuffer /*cmd*/) const {}
+  // Work recorded once, before the first frame's timed passes (the tile frustums, say), declaring
+  // its accesses through `sync` (the frame's).
+  virtual void recordOnce(VkCommandBuffer /*cmd*/, Sync& /*sync*/) const {}
 
  protected:
   std::vector<FramePass> passes_;

@@ -72,6 +72,31 @@ static Camera pickCamera(const Scene& scene, const RenderSettings& settings) {
   return c;
 }
 
+// What a pass declares it does to the frame's buffers and images (FramePass::stages, access): a
+// shader read of what it reads, a shader read and write of what it writes, an image in the layout
+// it is published in, unless the pass names the access or declares it inside.
+static std::vector<Use> declaredUses(const FramePass& pass, const FrameResources& resources) {
+  std::vector<Use> uses;
+  auto add = [&](const std::string& name, bool write) {
+    if (std::find(pass.syncedInside.begin(), pass.syncedInside.end(), name) != pass.syncedInside.end()) return;
+    const Buffer* buffer = resources.buffer(name);
+    const Image* image = resources.image(name);
+    if (!buffer && !image) return;  // an acceleration structure or a sampler: nothing the frame writes
+    Access a{pass.stages, write ? access::kShaderReadWrite : VkAccessFlags2(VK_ACCESS_2_SHADER_READ_BIT),
+             image ? resources.imageLayout(name) : VK_IMAGE_LAYOUT_UNDEFINED};
+    if (auto named = pass.access.find(name); named != pass.access.end()) a = named->second;
+    HB_ASSERT(a.writes() == write);  // a declared access reads what the pass reads, writes what it writes
+    uses.push_back(buffer ? Use{*buffer, a} : Use{*image, a});
+  };
+  for (const std::string& name : pass.reads)
+    if (std::find(pass.writes.begin(), pass.writes.end(), name) == pass.writes.end()) add(name, false);
+  for (const std::string& name : pass.writes) add(name, true);
+  for (const auto& [name, a] : pass.access)  // an access names a resource the pass reads or writes
+    HB_ASSERT(std::find(pass.reads.begin(), pass.reads.end(), name) != pass.reads.end() ||
+              std::find(pass.writes.begin(), pass.writes.end(), name) != pass.writes.end());
+  return uses;
+}
+
 Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx),
       scene_(scene),
@@ -138,7 +163,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
   resources_.publish(res::kFrameConstants, frameConstants_, "gpu::FrameConstants", "1");
   resources_.publish(res::kLights, lights_, "gpu::GpuLight", std::to_string(lightCount) + " lights");
-  resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT");
+  resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT", VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
   resources_.publishSampler(res::kPointSampler, pointSampler_);
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
   if (tracer_.bvh)
@@ -148,6 +173,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   FrameBuilder builder{ctx,   scene,     settings_,  plan_, camera_, view_,
                        proj_, gpuScene_, resources_, fc,    nullptr, rayTracer()};
   auto addPart = [&](std::string name, std::unique_ptr<FramePart> part) {
+    for (const FramePass& pass : part->passes()) uses_[&pass] = declaredUses(pass, resources_);
     parts_.emplace_back(std::move(name), std::move(part));
   };
   addPart("primary", std::make_unique<PrimaryPart>(builder));
@@ -232,18 +258,18 @@ FrameTiming Renderer::renderFrame(bool analysis) {
   passesRun_.clear();
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     GpuTimer& timer = *timer_;
+    Sync sync;  // every barrier of the frame, from the passes' declared accesses
     timer.reset(cmd);
     if (!onceDone_)  // once per camera/resolution/tile size
-      for (const auto& [name, part] : parts_) part->recordOnce(cmd);
+      for (const auto& [name, part] : parts_) part->recordOnce(cmd, sync);
     onceDone_ = true;
     timer.frameBegin(cmd);
-    const PassFrame frame{analysis, &timer};
+    const PassFrame frame{analysis, &timer, &sync};
     for (const FramePass* pass : order_) {
-      if (pass->before) pass->before(cmd);
+      sync.use(cmd, uses_.at(pass));  // outside the pass's timed interval
       timer.begin(cmd, pass->name);
       pass->record(cmd, frame);
       timer.end(cmd);
-      if (pass->after) pass->after(cmd);
       passesRun_.push_back(pass->name);
     }
     timer.frameEnd(cmd);

@@ -6,6 +6,7 @@
 // declarations and records the passes in one loop. passesRun() and passesSkipped() say which ran
 // and why the others did not.
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -131,7 +132,10 @@ class Renderer {
   RayTracer tracer_;  // resolved once, when the frame traces
   std::vector<std::pair<std::string, std::unique_ptr<FramePart>>> parts_;
   std::vector<const FramePass*> order_;  // the plan's passes, in frame order
-  std::unique_ptr<GpuTimer> timer_;      // sized from the passes' declarations
+  // Each pass's declared accesses, resolved to the frame's buffers and images when its part was built
+  // (a later part may replace an image under the same name).
+  std::map<const FramePass*, std::vector<Use>> uses_;
+  std::unique_ptr<GpuTimer> timer_;  // sized from the passes' declarations
   bool onceDone_ = false;
   std::vector<std::string> passesRun_;
   std::vector<std::pair<std::string, std::string>> passesSkipped_;

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "base/errors.h"
+#include "gpu/sync.h"
 
 namespace hb {
 
@@ -139,18 +140,25 @@ AccelerationStructures::AccelerationStructures(const VulkanContext& ctx, const G
           infos.push_back(b.info);
           ranges.push_back(b.ranges.data());
         }
+        // The BLAS builds write their structures and the scratch; the TLAS build reads the BLASes and
+        // the instances and writes its structure and the scratch (another range, one buffer).
+        Sync sync;
+        std::vector<Use> blas = {{scratch, access::kAccelBuildWrite}};
+        for (const Buffer& b : blasBuffers_) blas.push_back({b, access::kAccelBuildWrite});
+        sync.use(cmd, blas);
         if (!infos.empty()) rt.cmdBuild(cmd, uint32_t(infos.size()), infos.data(), ranges.data());
-        memoryBarrier(
-            cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-            VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-            VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR | VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR);
+        std::vector<Use> tlas = {{scratch, access::kAccelBuildWrite},
+                                 {tlasBuffer_, access::kAccelBuildWrite},
+                                 {instances_, access::kAccelBuildInput}};
+        for (const Buffer& b : blasBuffers_)
+          tlas.push_back({b,
+                          {VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                           VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR}});
+        sync.use(cmd, tlas);
         VkAccelerationStructureBuildRangeInfoKHR tr{instCount, 0, 0, 0};
         const VkAccelerationStructureBuildRangeInfoKHR* trp = &tr;
         rt.cmdBuild(cmd, 1, &tinfo, &trp);
-        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                      VK_ACCESS_2_ACCELERATION_STRUCTURE_WRITE_BIT_KHR,
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                      VK_ACCESS_2_ACCELERATION_STRUCTURE_READ_BIT_KHR);
+        // The frames that trace it are later submissions, after this one is waited for.
       },
       "the BLAS/TLAS build");
   buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "base/errors.h"
+#include "gpu/sync.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -19,55 +20,36 @@ static Image uploadTexture(const VulkanContext& ctx, const Texture& t) {
   std::memcpy(staging.mapped(), t.rgba.data(), t.rgba.size());
   ctx.submitAndWait(
       [&](VkCommandBuffer cmd) {
-        imageBarrier(cmd, img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                     VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        // Each level goes its own way (written, then read by the next level's blit): one target each.
+        std::vector<VkImageLayout> layouts(mips, VK_IMAGE_LAYOUT_UNDEFINED);
+        auto level = [&](uint32_t l) {
+          return SyncTarget::image(img.handle(), {VK_IMAGE_ASPECT_COLOR_BIT, l, 1, 0, 1}, &layouts[l]);
+        };
+        Sync sync;
+        sync.use(cmd, {{level(0), access::kCopyWrite.discarding()}});
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         region.imageExtent = {t.width, t.height, 1};
         vkCmdCopyBufferToImage(cmd, staging.handle(), img.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
         // Mip chain by successive linear blits, each level from the one above.
         int32_t w = int32_t(t.width), h = int32_t(t.height);
-        for (uint32_t level = 1; level < mips; ++level) {
-          VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-          b.srcStageMask = b.dstStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-          b.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-          b.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-          b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-          b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-          b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-          b.image = img.handle();
-          b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 1, 0, 1};
-          VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-          di.imageMemoryBarrierCount = 1;
-          di.pImageMemoryBarriers = &b;
-          vkCmdPipelineBarrier2(cmd, &di);
+        for (uint32_t l = 1; l < mips; ++l) {
+          sync.use(cmd, {{level(l - 1), access::kBlitRead}, {level(l), access::kBlitWrite.discarding()}});
           VkImageBlit blit{};
-          blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level - 1, 0, 1};
+          blit.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, l - 1, 0, 1};
           blit.srcOffsets[1] = {w, h, 1};
           w = std::max(w / 2, 1);
           h = std::max(h / 2, 1);
-          blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
+          blit.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, l, 0, 1};
           blit.dstOffsets[1] = {w, h, 1};
           vkCmdBlitImage(cmd, img.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, img.handle(),
                          VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &blit, VK_FILTER_LINEAR);
         }
-        // Levels 0..mips-2 are TRANSFER_SRC, the last is TRANSFER_DST: bring each to SHADER_READ_ONLY.
-        for (uint32_t level = 0; level < mips; ++level) {
-          VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-          b.srcStageMask = VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT;
-          b.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT;
-          b.dstStageMask = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
-          b.dstAccessMask = VK_ACCESS_2_SHADER_SAMPLED_READ_BIT;
-          b.oldLayout = level + 1 < mips ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL : VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-          b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-          b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-          b.image = img.handle();
-          b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, 1};
-          VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-          di.imageMemoryBarrierCount = 1;
-          di.pImageMemoryBarriers = &b;
-          vkCmdPipelineBarrier2(cmd, &di);
-        }
+        // Every level to SHADER_READ_ONLY, where the shaders sample it from now on.
+        std::vector<Use> sampled;
+        for (uint32_t l = 0; l < mips; ++l) sampled.push_back({level(l), access::kSampled});
+        sync.use(cmd, sampled);
+        *img.layoutRecord() = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
       },
       "a texture upload");
   return img;

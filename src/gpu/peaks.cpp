@@ -20,6 +20,7 @@
 #include "gpu/gpu_timer.h"
 #include "gpu/raster_pipeline.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/sync.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
@@ -105,12 +106,6 @@ Peak makePeak(std::string key, std::string unit, double work, std::vector<double
   return p;
 }
 
-void computeBarrier(VkCommandBuffer cmd) {
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_TRANSFER_BIT,
-                VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-}
-
 void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Peak>& out) {
   const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   Buffer src(ctx, sizes.bufferBytes, usage, false), dst(ctx, sizes.bufferBytes, usage, false);
@@ -128,7 +123,14 @@ void measureCompute(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pe
     Pipeline p(ctx);
     p.createCompute(binder, shader, sizeof(PushConstants), spec);
     return timeRepetitions(ctx, sizes, [&](VkCommandBuffer cmd) {
-      computeBarrier(cmd);
+      // Each repetition waits for the writes before it (the fill, the last repetition), as a dispatch
+      // of a frame would: the barrier is part of what is timed.
+      Sync sync;
+      const Access before{VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | access::kFill.stages,
+                          VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT};
+      sync.assume(src, before);
+      sync.assume(dst, before);
+      sync.use(cmd, {{src, access::kComputeWrite}, {dst, access::kComputeWrite}});
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
       VkDescriptorSet s = p.set();
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &s, 0, nullptr);
@@ -185,9 +187,8 @@ void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pea
   Image depth(ctx, size, size, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
               VK_IMAGE_ASPECT_DEPTH_BIT);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    Sync sync;
+    sync.use(cmd, {{depth, access::kDepthAttachment.discarding()}});
   });
   // The grid's index buffer: cells x cells cells of two triangles over (cells + 1)² vertices.
   auto gridIndices = [&](uint32_t cells) {
@@ -204,8 +205,12 @@ void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pea
     const uint32_t push[4] = {cells, cells, 0, 0};
     const Buffer indices = gridIndices(cells);
     return timeRepetitions(ctx, sizes, [&](VkCommandBuffer cmd) {
-      memoryBarrier(cmd, VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                    VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+      // The last repetition's depth writes before this one's clear, inside the timing.
+      Sync sync;
+      sync.assume(depth, {VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT});
+      sync.use(cmd, {{depth,
+                      {VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT, VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL}}});
       VkRenderingAttachmentInfo da{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
       da.imageView = depth.view();
       da.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
@@ -356,30 +361,30 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
       const bool persistent = b.ours && b.ours->persistent;
       VkDescriptorSet set = (rt ? rt->pipeline() : compute).set();
       const uint32_t size[2] = {width, height};
-      Peak peak = makePeak(
-          b.pipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
-          timeRepetitions(ctx, sizes,
-                          [&](VkCommandBuffer cmd) {
-                            if (persistent) {  // the counter back to the first ray, inside the timing
-                              vkCmdFillBuffer(cmd, nextRay.handle(), 0, 4, 0);
-                              memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                            VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                                            VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-                            }
-                            const Pipeline& p = rt ? rt->pipeline() : compute;
-                            vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
-                            vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
-                            if (rt) {
-                              rt->traceRays(cmd, width, height);
-                            } else {
-                              vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
-                              if (persistent)
-                                vkCmdDispatch(cmd, persistentGroups, 1, 1);
-                              else
-                                vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
-                            }
-                          }),
-          std::string(what[mode]) + where + ", through " + b.through);
+      Peak peak =
+          makePeak(b.pipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
+                   timeRepetitions(ctx, sizes,
+                                   [&](VkCommandBuffer cmd) {
+                                     if (persistent) {  // the counter back to the first ray, inside the timing
+                                       Sync sync;
+                                       sync.use(cmd, {{nextRay, access::kFill}});
+                                       vkCmdFillBuffer(cmd, nextRay.handle(), 0, 4, 0);
+                                       sync.use(cmd, {{nextRay, access::kComputeWrite}});
+                                     }
+                                     const Pipeline& p = rt ? rt->pipeline() : compute;
+                                     vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
+                                     vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
+                                     if (rt) {
+                                       rt->traceRays(cmd, width, height);
+                                     } else {
+                                       vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
+                                       if (persistent)
+                                         vkCmdDispatch(cmd, persistentGroups, 1, 1);
+                                       else
+                                         vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+                                     }
+                                   }),
+                   std::string(what[mode]) + where + ", through " + b.through);
       peak.backend = b.name;
       const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
       const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "base/errors.h"
+#include "gpu/sync.h"
 
 namespace hb {
 
@@ -156,56 +157,22 @@ Image& Image::operator=(Image&& o) noexcept {
   return *this;
 }
 
-void imageBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess) {
-  VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-  b.srcStageMask = srcStage;
-  b.srcAccessMask = srcAccess;
-  b.dstStageMask = dstStage;
-  b.dstAccessMask = dstAccess;
-  b.oldLayout = from;
-  b.newLayout = to;
-  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image.handle();
-  b.subresourceRange = {image.aspect(), 0, image.mipLevels(), 0, 1};
-  VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  di.imageMemoryBarrierCount = 1;
-  di.pImageMemoryBarriers = &b;
-  vkCmdPipelineBarrier2(cmd, &di);
-}
-
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
-                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
-  VkMemoryBarrier2 b{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  b.srcStageMask = srcStage;
-  b.srcAccessMask = srcAccess;
-  b.dstStageMask = dstStage;
-  b.dstAccessMask = dstAccess;
-  VkDependencyInfo di{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  di.memoryBarrierCount = 1;
-  di.pMemoryBarriers = &b;
-  vkCmdPipelineBarrier2(cmd, &di);
-}
-
 std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout,
                                    uint32_t bytesPerPixel) {
   VkDeviceSize size = VkDeviceSize(image.width()) * image.height() * bytesPerPixel;
   Buffer staging(ctx, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
   ctx.submitAndWait(
       [&](VkCommandBuffer cmd) {
-        imageBarrier(cmd, image, layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                     VK_ACCESS_2_MEMORY_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        Sync sync;
+        sync.assume(image, access::kAnyWrite);  // whatever wrote it before this command buffer
+        sync.use(cmd, {{image, access::kCopyRead}, {staging, access::kCopyWrite}});
         VkBufferImageCopy region{};
         region.imageSubresource = {
             image.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT ? VkImageAspectFlags(VK_IMAGE_ASPECT_DEPTH_BIT) : image.aspect(),
             0, 0, 1};
         region.imageExtent = {image.width(), image.height(), 1};
         vkCmdCopyImageToBuffer(cmd, image.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1, &region);
-        imageBarrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout, VK_PIPELINE_STAGE_2_COPY_BIT,
-                     VK_ACCESS_2_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
-                     VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+        sync.use(cmd, {{image, access::kAnyAccess.in(layout)}});  // back where its users expect it
       },
       "an image readback");
   std::vector<uint8_t> out(size);
@@ -217,8 +184,9 @@ std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buff
   Buffer staging(ctx, buffer.size(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Staging);
   ctx.submitAndWait(
       [&](VkCommandBuffer cmd) {
-        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT,
-                      VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT);
+        Sync sync;
+        sync.assume(buffer, access::kAnyWrite);
+        sync.use(cmd, {{buffer, access::kCopyRead}, {staging, access::kCopyWrite}});
         VkBufferCopy region{0, 0, buffer.size()};
         vkCmdCopyBuffer(cmd, buffer.handle(), staging.handle(), 1, &region);
       },

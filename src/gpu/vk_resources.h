@@ -73,6 +73,10 @@ class Image {
   uint32_t height() const { return f_.height; }
   uint32_t mipLevels() const { return f_.mips; }
   VkImageAspectFlags aspect() const { return f_.aspect; }
+  // The layout the commands recorded so far leave the image in: a Sync (gpu/sync.h) keeps it as it
+  // records transitions, and starts the next command buffer from it.
+  VkImageLayout layout() const { return f_.layout; }
+  VkImageLayout* layoutRecord() const { return &f_.layout; }
   explicit operator bool() const { return f_.image != VK_NULL_HANDLE; }
 
  private:
@@ -88,18 +92,11 @@ class Image {
     VkDeviceSize bytes = 0;
     VkImageAspectFlags aspect = 0;
     MemClass cls = MemClass::Images;
+    mutable VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;
   } f_;
 };
 
-// A whole-image layout transition (all mips) with synchronization2 masks.
-void imageBarrier(VkCommandBuffer cmd, const Image& image, VkImageLayout from, VkImageLayout to,
-                  VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-                  VkAccessFlags2 dstAccess);
-// A global memory barrier.
-void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
-                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
-
-// Copies mip 0 of an image (in layout `layout`, restored afterwards) into host memory.
+// Copies mip 0 of an image into host memory, and leaves it in `layout` (where its users expect it).
 std::vector<uint8_t> readbackImage(const VulkanContext& ctx, const Image& image, VkImageLayout layout,
                                    uint32_t bytesPerPixel);
 std::vector<uint8_t> readbackBuffer(const VulkanContext& ctx, const Buffer& buffer);

@@ -53,6 +53,7 @@ std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& ao, const SurfaceI
   if (f.resources.tlas(res::kTlas)) pass.reads.push_back(res::kTlas);
   if (ao.settings().computeBvh()) pass.reads.push_back(res::kTraceBvh);
   pass.writes = {names.output};
+  pass.stages = access::kRayStages;
   pass.record = [&ao](VkCommandBuffer cmd, const PassFrame&) { ao.recordAo(cmd); };
   pass.work = [pixels = double(f.settings.width) * f.settings.height, effect = std::string(names.effect),
                name = std::string(names.pass)](const nlohmann::json& a) {

@@ -176,11 +176,6 @@ void AoPass::recordProgram(VkCommandBuffer cmd, const Program& p, bool scratch) 
     p.rt->traceRays(cmd, width_, height_);
   else
     vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
-  memoryBarrier(
-      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-      VK_ACCESS_2_SHADER_WRITE_BIT,
-      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
 void AoPass::recordAo(VkCommandBuffer cmd) const { recordProgram(cmd, *programs_.at(settings_.ao.method), false); }

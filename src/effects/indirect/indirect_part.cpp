@@ -72,12 +72,16 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     return std::vector<PassWork>{{name, items}};
   };
   auto add = [&](const char* name, std::vector<std::string> reads, std::vector<std::string> writes,
-                 void (IndirectPass::*record)(VkCommandBuffer) const) {
+                 void (IndirectPass::*record)(VkCommandBuffer, Sync&) const) {
     FramePass pass;
     pass.name = name;
     pass.reads = std::move(reads);
     pass.writes = std::move(writes);
-    pass.record = [this, record](VkCommandBuffer cmd, const PassFrame&) { (indirect_.get()->*record)(cmd); };
+    pass.stages = access::kRayStages;
+    pass.syncedInside = pass.writes;  // declared by its steps
+    pass.record = [this, record](VkCommandBuffer cmd, const PassFrame& frame) {
+      (indirect_.get()->*record)(cmd, *frame.sync);
+    };
     pass.work = [workOf, name = std::string(name)](const nlohmann::json& a) { return workOf(name, a); };
     passes_.push_back(std::move(pass));
   };
@@ -99,8 +103,11 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     splat.name = kPhotonSplatPass;
     splat.reads = {"indirect.photons", res::kFrameConstants};
     splat.writes = {res::kIndirectIrradiance};
-    splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
-    splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { indirect_->recordSplat(cmd, frame.timer); };
+    splat.subPasses = indirect_->splatSubPasses();                        // splat=compute: its five steps, timed inside
+    splat.syncedInside = {"indirect.photons", res::kIndirectIrradiance};  // declared by its steps
+    splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
+      indirect_->recordSplat(cmd, *frame.sync, frame.timer);
+    };
     splat.work = [workOf](const nlohmann::json& a) { return workOf(kPhotonSplatPass, a); };
     passes_.push_back(std::move(splat));
   }

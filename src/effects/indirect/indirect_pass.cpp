@@ -285,8 +285,8 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
                        VK_IMAGE_ASPECT_COLOR_BIT);
   ctx_.submitAndWait(
       [&](VkCommandBuffer cmd) {
-        imageBarrier(cmd, t.irradiance, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                     VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+        Sync sync;
+        sync.use(cmd, {{t.irradiance, access::kFill.in(VK_IMAGE_LAYOUT_GENERAL).discarding()}});
         VkClearColorValue zero{};
         VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
         vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
@@ -386,39 +386,37 @@ void IndirectPass::recordDispatch(VkCommandBuffer cmd, const Program& p, const T
     const uint32_t groups = pixels ? (count + 63) / 64 : count, gx = std::min<uint32_t>(groups, 65535u);
     vkCmdDispatch(cmd, gx, (groups + gx - 1) / gx, 1);
   }
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void IndirectPass::recordTraceInto(VkCommandBuffer cmd, IndirectMethod method, const Target& t) const {
+void IndirectPass::recordTraceInto(VkCommandBuffer cmd, Sync& sync, IndirectMethod method, const Target& t) const {
+  sync.use(cmd, {{t.photons, access::kRayWrite}});
   recordDispatch(cmd, *programs_.at({method, 1u}), t, primaries_, false);
   // Bounces 2..K: a thread per slot, 64 a group (a 64-lane launch row in the pipeline); each
   // retraces its chain, so the dispatches do not depend on each other.
   for (uint32_t b = 2; b <= settings_.indirect.bounces; ++b) {
     const uint64_t groups = (bounceSlots(b) + 63) / 64;
     HB_ASSERT(groups <= 0xFFFFFFFFull);
+    sync.use(cmd, {{t.photons, access::kRayWrite}});  // other slots, but one buffer to the layers
     recordDispatch(cmd, *programs_.at({method, b}), t, uint32_t(groups), false);
   }
 }
 
-void IndirectPass::recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const {
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT);
+void IndirectPass::recordGatherInto(VkCommandBuffer cmd, Sync& sync, const Program& p, const Target& t) const {
+  sync.use(cmd, {{t.irradiance, access::kRayWrite}});
   recordDispatch(cmd, p, t, width_ * height_, true);
 }
 
-void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const {
+void IndirectPass::recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const {
   if (computeSplat_) {
-    recordComputeSplat(cmd, t, timer);
+    recordComputeSplat(cmd, sync, t, timer);
     return;
   }
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT,
-                VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
+  // A quad per photon, blended into the target (an attachment in GENERAL, as the shaders bind it).
+  sync.use(
+      cmd,
+      {{t.photons,
+        {VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT}},
+       {t.irradiance, access::kColorAttachment.in(VK_IMAGE_LAYOUT_GENERAL)}});
   VkRenderingAttachmentInfo ca{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
   ca.imageView = t.irradiance.view();
   ca.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
@@ -442,10 +440,6 @@ void IndirectPass::recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTime
   HB_ASSERT(vertices <= 0xFFFFFFFFull);
   vkCmdDraw(cmd, uint32_t(vertices), 1, 0, 0);
   vkCmdEndRendering(cmd);
-  memoryBarrier(
-      cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
-      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
 // Boxes, counts, starts, lists, then the gather (photon_splat_bin.comp.glsl, photon_splat.comp.glsl),
@@ -455,17 +449,14 @@ std::vector<std::string> IndirectPass::splatSubPasses() const {
   return {"photon_splat.boxes", "photon_splat.count", "photon_splat.scan", "photon_splat.fill", "photon_splat.gather"};
 }
 
-void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const {
+void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const {
+  using namespace access;
   const ComputeSplat& cs = *computeSplat_;
   const gpu::SplatConstants& k = cs.constants;
-  auto step = [&]() {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  };
-  // The photons (and the depth) before any step reads them; the target's last readers before the
-  // gather writes it.
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_WRITE_BIT | VK_ACCESS_2_MEMORY_READ_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+  // Each step reads the photons and what the steps before it wrote, and updates the bins; the
+  // gather (the last) writes the target.
+  std::vector<Use> step = {{t.photons, kComputeRead},  {cs.boxes, kComputeWrite}, {cs.coarse, kComputeWrite},
+                           {cs.counts, kComputeWrite}, {cs.bins, kComputeWrite},  {cs.list, kComputeWrite}};
   const VkDescriptorSet set = t.sets->set();
   auto bind = [&](const Pipeline& p) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
@@ -475,27 +466,26 @@ void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuT
   const uint32_t slotGroups = (k.slots + 255) / 256, gx = std::max(1u, std::min(slotGroups, 65535u));
   const std::vector<std::string> names = splatSubPasses();
   auto dispatch = [&](size_t i, const Pipeline& p, uint32_t x, uint32_t y) {
+    if (i + 1 == names.size()) step.push_back({t.irradiance, kComputeWrite});
+    sync.use(cmd, step);
     if (timer) timer->begin(cmd, names[i]);
     bind(p);
     vkCmdDispatch(cmd, x, y, 1);
     if (timer) timer->end(cmd);
-    if (i + 1 < names.size()) step();
   };
   dispatch(0, *cs.bin[0], gx, (slotGroups + gx - 1) / gx);
   dispatch(1, *cs.bin[1], k.chunks, k.binsX * k.binsY);
   dispatch(2, *cs.bin[2], 1, 1);
   dispatch(3, *cs.bin[3], k.chunks, k.binsX * k.binsY);
   dispatch(4, cs.gather, k.tilesX, k.tilesY);
-  memoryBarrier(
-      cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-      VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-      VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
-void IndirectPass::recordTrace(VkCommandBuffer cmd) const { recordTraceInto(cmd, method(), frame_); }
-void IndirectPass::recordSplat(VkCommandBuffer cmd, GpuTimer* timer) const { recordSplatInto(cmd, frame_, timer); }
-void IndirectPass::recordGather(VkCommandBuffer cmd) const {
-  recordGatherInto(cmd, *programs_.at({IndirectMethod::Reference, 1u}), frame_);
+void IndirectPass::recordTrace(VkCommandBuffer cmd, Sync& sync) const { recordTraceInto(cmd, sync, method(), frame_); }
+void IndirectPass::recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer) const {
+  recordSplatInto(cmd, sync, frame_, timer);
+}
+void IndirectPass::recordGather(VkCommandBuffer cmd, Sync& sync) const {
+  recordGatherInto(cmd, sync, *programs_.at({IndirectMethod::Reference, 1u}), frame_);
 }
 
 static std::vector<float> readRgba(const VulkanContext& ctx, const Image& img) {
@@ -529,12 +519,18 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
   const Program& p = program(m);
   for (uint32_t b = 2; m != IndirectMethod::Reference && b <= settings_.indirect.bounces; ++b) program(m, b);
   if (m == IndirectMethod::Reference) {
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordGatherInto(cmd, p, scratch_); }, "the gathered indirect light");
+    ctx_.submitAndWait(
+        [&](VkCommandBuffer cmd) {
+          Sync sync;
+          recordGatherInto(cmd, sync, p, scratch_);
+        },
+        "the gathered indirect light");
   } else {
     ctx_.submitAndWait(
         [&](VkCommandBuffer cmd) {
-          recordTraceInto(cmd, m, scratch_);
-          recordSplatInto(cmd, scratch_, nullptr);
+          Sync sync;
+          recordTraceInto(cmd, sync, m, scratch_);
+          recordSplatInto(cmd, sync, scratch_, nullptr);
         },
         "the ray-traced photons");
     if (photons) *photons = readSlots(ctx_, scratch_.photons);

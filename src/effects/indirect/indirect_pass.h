@@ -27,6 +27,7 @@
 #include "gpu/gpu_textures.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/sync.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
@@ -79,11 +80,12 @@ class IndirectPass {
   ~IndirectPass();
 
   bool buildsLdms() const { return bool(ldm_); }
-  void recordTrace(VkCommandBuffer cmd) const;  // "photon_trace" (ldm, raytraced)
+  // Each declares its steps' accesses to the photons and the target through `sync` (the frame's).
+  void recordTrace(VkCommandBuffer cmd, Sync& sync) const;  // "photon_trace" (ldm, raytraced)
   // "photon_splat"; splat=compute times its steps inside it (splatSubPasses) where `timer` is given.
-  void recordSplat(VkCommandBuffer cmd, GpuTimer* timer = nullptr) const;
-  std::vector<std::string> splatSubPasses() const;  // "photon_splat.boxes", ... (splat=compute)
-  void recordGather(VkCommandBuffer cmd) const;     // "indirect_gather" (reference)
+  void recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer = nullptr) const;
+  std::vector<std::string> splatSubPasses() const;           // "photon_splat.boxes", ... (splat=compute)
+  void recordGather(VkCommandBuffer cmd, Sync& sync) const;  // "indirect_gather" (reference)
 
   const IndirectPassSettings& settings() const { return settings_; }
   IndirectMethod method() const { return settings_.indirect.method; }
@@ -127,9 +129,9 @@ class IndirectPass {
   Target makeTarget(bool withPhotons);
   const Program& program(IndirectMethod method, uint32_t bounce = 1);
   // Every bounce's trace (programs created: program(method, b) for b = 1..bounces).
-  void recordTraceInto(VkCommandBuffer cmd, IndirectMethod method, const Target& t) const;
-  void recordSplatInto(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
-  void recordGatherInto(VkCommandBuffer cmd, const Program& p, const Target& t) const;
+  void recordTraceInto(VkCommandBuffer cmd, Sync& sync, IndirectMethod method, const Target& t) const;
+  void recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const;
+  void recordGatherInto(VkCommandBuffer cmd, Sync& sync, const Program& p, const Target& t) const;
   void recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count, bool pixels) const;
 
   const VulkanContext& ctx_;
@@ -149,7 +151,7 @@ class IndirectPass {
   // splat=compute: the binning's buffers (in the targets' sets), its four steps and the gather.
   struct ComputeSplat;
   std::unique_ptr<ComputeSplat> computeSplat_;
-  void recordComputeSplat(VkCommandBuffer cmd, const Target& t, GpuTimer* timer) const;
+  void recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const;
   std::map<std::pair<IndirectMethod, uint32_t>, std::unique_ptr<Program>> programs_;  // (method, bounce)
 };
 

@@ -5,6 +5,7 @@
 
 #include "base/errors.h"
 #include "gpu/descriptor_binder.h"
+#include "gpu/sync.h"
 
 namespace hb {
 
@@ -45,13 +46,11 @@ RayBenchPass::RayBenchPass(const VulkanContext& ctx, RtBackend backend, uint32_t
   binder.checkEveryNameRead();
   // Cleared once, so that the pixels raybench never writes (sky) read back as 0.
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    imageBarrier(cmd, result_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                 VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    Sync sync;
+    sync.use(cmd, {{result_, access::kFill.in(VK_IMAGE_LAYOUT_GENERAL).discarding()}});
     const VkClearColorValue zero{};
     const VkImageSubresourceRange all{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     vkCmdClearColorImage(cmd, result_.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &all);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
   });
 }
 

@@ -6,6 +6,7 @@
 #include "base/errors.h"
 #include "gpu/descriptor_binder.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/sync.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -100,17 +101,17 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   binder.provide("HitTriangles", *(in.hitTriangles ? in.hitTriangles : in.lights));
   binder.provide("Visibility", visibility_);
   binder.provide("Traced", traced_);
-  const Image* images[3] = {&accounting_, &normals_, &positions_};
   binder.provide("accountingImage", accounting_, VK_IMAGE_LAYOUT_GENERAL);
   binder.provide("normalImage", normals_, VK_IMAGE_LAYOUT_GENERAL);
   binder.provide("positionImage", positions_, VK_IMAGE_LAYOUT_GENERAL);
   timed_ = std::make_unique<Variant>(ctx, settings, binder, false);
   analysis_ = std::make_unique<Variant>(ctx, settings, binder, true);
   binder.checkEveryNameRead();
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const Image* img : images)
-      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {  // the analysis images live in GENERAL
+    Sync sync;
+    sync.use(cmd, {{accounting_, access::kRayWrite.discarding()},
+                   {normals_, access::kRayWrite.discarding()},
+                   {positions_, access::kRayWrite.discarding()}});
   });
 }
 

@@ -72,17 +72,11 @@ ShadowsPart::ShadowsPart(FrameBuilder& f)
   if (inputs_.hitIds)
     pass.reads.insert(pass.reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
   pass.writes = {res::kShadowVisibility};
+  pass.stages = access::kRayStages;
   pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { shadows_->record(cmd, frame.analysis); };
   pass.work = [](const nlohmann::json& a) {
     return std::vector<PassWork>{
         {kShadowsPass, {counted("rays", figureAt(a, {"rays", "traced"}), "shadow rays traced (rays.traced)")}}};
-  };
-  pass.after = [](VkCommandBuffer cmd) {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                  VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT |
-                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
   };
   passes_.push_back(std::move(pass));
 }

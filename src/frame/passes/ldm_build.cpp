@@ -134,23 +134,30 @@ LdmBuild::LdmBuild(const VulkanContext& ctx, const GpuScene& gpuScene, const Sce
 
 LdmBuild::~LdmBuild() = default;
 
-void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const {
+std::vector<Use> LdmBuild::working(Access a) const {
+  std::vector<Use> uses;
+  for (const Buffer* b : {&links_, &counters_, &chunks_, &blockSums_}) uses.push_back({*b, a});
+  return uses;
+}
+
+void LdmBuild::recordGeometry(VkCommandBuffer cmd, Sync& sync, const Pipeline& p, const Pipeline* chunks) const {
   VkDescriptorSet set = p.set();
   if (method_ == LdmBuildMethod::Raster3d) {
+    sync.use(cmd, working(access::kComputeWrite));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
     if (triangleCount_ > 0) vkCmdDispatch(cmd, (triangleCount_ + 63) / 64, uint32_t(maps_.size()), 1);
     // The listed chunks (ldm_build_3dr.comp.glsl MODE 1): the pair pass's list, read after it.
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
+    sync.use(cmd, working(access::kComputeWrite));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->handle());
     set = chunks->set();
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, chunks->layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, chunks->layout(), VK_SHADER_STAGE_ALL, 0, sizeof triangleCount_, &triangleCount_);
     // A grid-stride loop over the list: enough workgroups of 64 to fill a large GPU once.
     vkCmdDispatch(cmd, std::min<uint32_t>(kChunkGroups, chunkCapacity_), 1, 1);
-  } else {
+  } else {  // the fragment shader builds the lists
+    sync.use(cmd, working({VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT, access::kShaderReadWrite}));
     VkRenderingInfo ri{VK_STRUCTURE_TYPE_RENDERING_INFO};
     ri.renderArea = {{0, 0}, {resolution_, resolution_}};
     ri.layerCount = 1;
@@ -160,11 +167,6 @@ void LdmBuild::recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipe
     drawScene(cmd, scene_, p.layout(), glm::mat4(1.0f), resolution_, resolution_, uint32_t(maps_.size()));
     vkCmdEndRendering(cmd);
   }
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
 std::vector<std::string> LdmBuild::subPasses(const std::string& pass) const {
@@ -172,7 +174,12 @@ std::vector<std::string> LdmBuild::subPasses(const std::string& pass) const {
   return {pass + ".count", pass + ".scan", pass + ".fill", pass + ".sort"};
 }
 
-void LdmBuild::record(VkCommandBuffer cmd, GpuTimer* timer, const std::string& pass) const {
+void LdmBuild::record(VkCommandBuffer cmd) const {
+  Sync sync;
+  record(cmd, sync);
+}
+
+void LdmBuild::record(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer, const std::string& pass) const {
   const std::vector<std::string> steps = timer ? subPasses(pass) : std::vector<std::string>{};
   size_t step = 0;
   auto begin = [&] {
@@ -188,25 +195,20 @@ void LdmBuild::record(VkCommandBuffer cmd, GpuTimer* timer, const std::string& p
                                : list_ == LdmList::Cas   ? pixels * 4
                                                          : VK_WHOLE_SIZE;
   begin();
+  sync.use(cmd, {{links_, access::kFill}, {counters_, access::kFill}});
   vkCmdFillBuffer(cmd, links_.handle(), 0, cleared, 0);
   vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_CLEAR_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-  recordGeometry(cmd, pipeline_, insertChunks_.get());
+  recordGeometry(cmd, sync, pipeline_, insertChunks_.get());
   end();
   if (list_ != LdmList::Sbuffer) return;
   // Counts → offsets (three scan stages), the fill pass, then each range sorted.
   const uint32_t blocks = uint32_t((pixels + 4095) / 4096), groups = uint32_t((pixels + 255) / 256);
   auto stage = [&](uint32_t s, uint32_t x, uint32_t y) {
     VkDescriptorSet set = scan_[s]->set();
+    sync.use(cmd, working(access::kComputeWrite));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, scan_[s]->layout(), 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cmd, x, y, 1);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
-                      VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
-                  VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
   };
   begin();
   stage(0, blocks, 1);
@@ -214,7 +216,7 @@ void LdmBuild::record(VkCommandBuffer cmd, GpuTimer* timer, const std::string& p
   stage(2, blocks, 1);
   end();
   begin();
-  recordGeometry(cmd, *fill_, fillChunks_.get());
+  recordGeometry(cmd, sync, *fill_, fillChunks_.get());
   end();
   begin();
   stage(3, std::min<uint32_t>(groups, 1024), (groups + 1023) / 1024);

@@ -16,6 +16,7 @@
 
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_timer.h"
+#include "gpu/sync.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "shared/gpu_types.h"
@@ -53,8 +54,10 @@ class LdmBuild {
            LdmList list = LdmList::Max64, LdmBuildTuning tuning = {});
   ~LdmBuild();
 
-  // Clears the lists and draws them anew. With a timer, each step is a sub-pass of `pass` (subPasses).
-  void record(VkCommandBuffer cmd, GpuTimer* timer = nullptr, const std::string& pass = "") const;
+  // Clears the lists and draws them anew, declaring each step's accesses through `sync` (a frame's;
+  // its readers declare theirs). With a timer, each step is a sub-pass of `pass` (subPasses).
+  void record(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer = nullptr, const std::string& pass = "") const;
+  void record(VkCommandBuffer cmd) const;  // alone in its command buffer
   // The timer entries record() opens inside `pass`: "<pass>.insert" (max64, cas) or "<pass>.count",
   // ".scan", ".fill", ".sort" (sbuffer).
   std::vector<std::string> subPasses(const std::string& pass) const;
@@ -95,7 +98,9 @@ class LdmBuild {
   std::unique_ptr<Pipeline> fill_, scan_[4];
   // 3dr: the listed chunks' pass after each pair pass (the insert or count phase, and the fill phase).
   std::unique_ptr<Pipeline> insertChunks_, fillChunks_;
-  void recordGeometry(VkCommandBuffer cmd, const Pipeline& p, const Pipeline* chunks) const;
+  void recordGeometry(VkCommandBuffer cmd, Sync& sync, const Pipeline& p, const Pipeline* chunks) const;
+  // The buffers the steps read and update, each as `a`.
+  std::vector<Use> working(Access a) const;
 };
 
 // The N maps over the scene's bounding sphere: the AABB's centre and half its diagonal times

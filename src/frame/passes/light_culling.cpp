@@ -123,10 +123,9 @@ void LightCulling::dispatch(VkCommandBuffer cmd, const Pipeline& pipeline, uint3
   vkCmdDispatch(cmd, groupsX, groupsY, 1);
 }
 
-void LightCulling::recordFrustums(VkCommandBuffer cmd) const {
+void LightCulling::recordFrustums(VkCommandBuffer cmd, Sync& sync) const {
+  sync.use(cmd, {{frustums_, access::kComputeWrite}});
   dispatch(cmd, frustumPipeline_, 0, (tilesX_ * tilesY_ + 63) / 64);
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
 }
 
 std::vector<std::string> LightCulling::subPasses() const {
@@ -154,11 +153,8 @@ std::vector<LightCulling::SubPassWork> LightCulling::subPassWork(uint32_t lightC
   return w;
 }
 
-void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount, GpuTimer* timer) const {
-  auto computeToCompute = [&] {
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
-  };
+void LightCulling::recordCulling(VkCommandBuffer cmd, Sync& sync, uint32_t lightCount, GpuTimer* timer) const {
+  using namespace access;
   const bool subTimed = timer && !subPasses().empty();
   auto begin = [&](const char* name) {
     if (subTimed) timer->begin(cmd, std::string("light_culling.") + name);
@@ -166,22 +162,33 @@ void LightCulling::recordCulling(VkCommandBuffer cmd, uint32_t lightCount, GpuTi
   auto end = [&] {
     if (subTimed) timer->end(cmd);
   };
+  // Each dispatch declares what it reads of the ones before it and what it writes; the barriers
+  // fall between the sub-passes' intervals.
   if (settings_.lists == LightLists::Zbin) {
     // Sort (ranks), then the bins and the view-space lights over the sorted lights, which read it.
+    sync.use(cmd, {{sortedLights_, kComputeWrite}, {order_, kComputeWrite}, {extents_, kComputeWrite}});
     begin("zbin_sort");
     dispatch(cmd, sortPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 255) / 256));
     end();
-    computeToCompute();
+    sync.use(cmd, {{extents_, kComputeRead}, {indices_, kComputeWrite}});
     begin("zbin_bins");
     dispatch(cmd, binPipeline_, lightCount, gpu::kZBins / 256);
     end();
   }
   if (settings_.lightCulling && !inlineView_) {  // the lights in view space, then every tile tests them
+    sync.use(cmd, {{sortedLights_, kComputeRead}, {viewLights_, kComputeWrite}, {viewSpheres_, kComputeWrite}});
     begin("light_view");
     dispatch(cmd, viewPipeline_, lightCount, std::max<uint32_t>(1, (lightCount + 63) / 64));
     end();
-    computeToCompute();
   }
+  sync.use(cmd, {{frustums_, kComputeRead},
+                 {sortedLights_, kComputeRead},
+                 {order_, kComputeRead},
+                 {extents_, kComputeRead},
+                 {viewLights_, kComputeRead},
+                 {viewSpheres_, kComputeRead},
+                 {grid_, kComputeWrite},
+                 {indices_, kComputeWrite}});
   begin("tiles");
   dispatch(cmd, cullPipeline_, lightCount, tilesX_, tilesY_);
   end();

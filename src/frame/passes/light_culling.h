@@ -19,6 +19,7 @@
 
 #include "config/config.h"
 #include "gpu/gpu_timer.h"
+#include "gpu/sync.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 
@@ -58,10 +59,11 @@ class LightCulling {
   ~LightCulling();
 
   // Computes the tile frustums; record once per camera/resolution/tile size.
-  void recordFrustums(VkCommandBuffer cmd) const;
-  // Culls every frame. Depth must be readable by compute shaders. With a timer, each dispatch of a
+  void recordFrustums(VkCommandBuffer cmd, Sync& sync) const;
+  // Culls every frame, declaring each dispatch's accesses through `sync` (the frame's). Depth must
+  // be readable by compute shaders (the pass declares it). With a timer, each dispatch of a
   // pass of several is timed as a sub-pass (subPasses()).
-  void recordCulling(VkCommandBuffer cmd, uint32_t lightCount, GpuTimer* timer = nullptr) const;
+  void recordCulling(VkCommandBuffer cmd, Sync& sync, uint32_t lightCount, GpuTimer* timer = nullptr) const;
   // The timer entries recordCulling writes inside the pass's own: "light_culling.zbin_sort",
   // ".zbin_bins", ".light_view" and ".tiles", those of the dispatches this configuration runs;
   // none when it runs the tile test alone.

@@ -298,34 +298,45 @@ std::vector<std::string> Raster3dPass::subPasses() const {
   return names;
 }
 
-void Raster3dPass::recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const {
-  recordPlane(cmd, 0, analysis, timer);
+std::vector<Use> Raster3dPass::working(Access a, bool analysis) const {
+  std::vector<Use> uses;
+  for (const Buffer* b : {&vis_, &big_, &bins_, &binList_, &idBase_, &bvhNodes_, &bvhOrder_}) uses.push_back({*b, a});
+  if (analysis)
+    for (const Buffer* b : {&counters_, &sampleCounters_, &coverage_, &tested_}) uses.push_back({*b, a});
+  return uses;
+}
+
+void Raster3dPass::recordRaster(VkCommandBuffer cmd, Sync& sync, bool analysis, GpuTimer* timer) const {
+  recordPlane(cmd, sync, 0, analysis, timer);
   if (planes_ == 1) return;
   // The anti-aliasing samples: the same dispatches once per sample plane, timed together.
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".samples");
   for (uint32_t p = 1; p < planes_; ++p) {
+    const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
+    std::vector<Use> cleared = {{big_, access::kFill}};
+    if (binned) cleared.push_back({bins_, access::kFill});
+    sync.use(cmd, cleared);
     vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);
-    if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
-      vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
-    recordPlane(cmd, p, analysis, nullptr);
+    if (binned) vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
+    recordPlane(cmd, sync, p, analysis, nullptr);
   }
   if (timer) timer->end(cmd);
 }
 
-void Raster3dPass::recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysis, GpuTimer* timer) const {
+void Raster3dPass::recordPlane(VkCommandBuffer cmd, Sync& sync, uint32_t plane, bool analysis, GpuTimer* timer) const {
   VkDescriptorSet set = rasterSets_[plane]->set();
   const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
+  // Each dispatch reads what the one before it wrote and atomically updates the working buffers:
+  // each waits for the one before (the barrier falls between the sub-passes' intervals).
+  const std::vector<Use> rw = working(access::kComputeWrite, analysis);
   auto dispatch = [&](uint32_t pass, uint32_t groups, const char* name) {
+    sync.use(cmd, rw);
     if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + "." + name);
     const Pipeline& p = *(analysis ? analysis_ : timed_)[pass];
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdDispatch(cmd, groups, 1, 1);
     if (timer) timer->end(cmd);
-    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                  VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
   };
   if (primaryUsesBvh(mode_)) {
     dispatch(0, frusta_, "traverse");
@@ -343,7 +354,8 @@ void Raster3dPass::recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysi
   }
 }
 
-void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
+void Raster3dPass::recordRayCast(VkCommandBuffer cmd, Sync& sync, bool analysis) const {
+  sync.use(cmd, working(access::kRayWrite, analysis));
   if (castTimed_) {
     const Pipeline& p = analysis ? *castAnalysis_ : *castTimed_;
     VkDescriptorSet set = p.set();
@@ -357,12 +369,17 @@ void Raster3dPass::recordRayCast(VkCommandBuffer cmd, bool analysis) const {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, p.pipeline().layout(), 0, 1, &set, 0, nullptr);
     p.traceRays(cmd, width_, height_);
   }
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_READ_BIT);
 }
 
-void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer) const {
+void Raster3dPass::record(VkCommandBuffer cmd, Sync& sync, const Image& depth, bool analysis, GpuTimer* timer) const {
   const bool cast = mode_ == PrimaryMethod::RayCast;
+  std::vector<Use> cleared;
+  if (!cast) cleared = {{vis_, access::kFill}, {big_, access::kFill}};
+  if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
+    cleared.push_back({bins_, access::kFill});
+  if (analysis)
+    for (const Buffer* b : {&counters_, &sampleCounters_, &coverage_, &tested_}) cleared.push_back({*b, access::kFill});
+  sync.use(cmd, cleared);
   if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
   if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);                       // the item count
   if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
@@ -373,13 +390,14 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
     vkCmdFillBuffer(cmd, coverage_.handle(), 0, VK_WHOLE_SIZE, 0);
     vkCmdFillBuffer(cmd, tested_.handle(), 0, VK_WHOLE_SIZE, 0);
   }
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_SHADER_WRITE_BIT);
   if (cast)
-    recordRayCast(cmd, analysis);
+    recordRayCast(cmd, sync, analysis);
   else
-    recordRaster(cmd, analysis, timer);
+    recordRaster(cmd, sync, analysis, timer);
+  // The resolve reads the visibility buffer into the depth buffer.
+  std::vector<Use> resolve = working(access::kComputeRead, analysis);
+  resolve.push_back({depthStaging_, access::kComputeWrite});
+  sync.use(cmd, resolve);
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
   VkDescriptorSet rset = resolve_.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
@@ -389,29 +407,14 @@ void Raster3dPass::record(VkCommandBuffer cmd, const Image& depth, bool analysis
   // The depth buffer into the depth image (a depth format cannot be a storage image), timed on its
   // own so that the roofline tells the resolve's bandwidth from the copy's.
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".depth_copy");
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_TRANSFER_READ_BIT);
-  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-               VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT, VK_PIPELINE_STAGE_2_COPY_BIT,
-               VK_ACCESS_2_TRANSFER_WRITE_BIT);
+  sync.use(cmd, {{depthStaging_, access::kCopyRead}, {depth, access::kCopyWrite.discarding()}});
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 0, 1};
   region.imageExtent = {width_, height_, 1};
   vkCmdCopyBufferToImage(cmd, depthStaging_.handle(), depth.handle(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
   if (timer) timer->end(cmd);
-  imageBarrier(cmd, depth, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL,
-               VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-               VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR |
-                   VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT |
-                   VK_PIPELINE_STAGE_2_COPY_BIT,
-               VK_ACCESS_2_SHADER_SAMPLED_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                   VK_ACCESS_2_TRANSFER_READ_BIT);
-  // The visibility buffer is read by the shading pass (fragment shader) and by readbacks.
-  memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR,
-                VK_ACCESS_2_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT |
-                    VK_PIPELINE_STAGE_2_RAY_TRACING_SHADER_BIT_KHR | VK_PIPELINE_STAGE_2_COPY_BIT,
-                VK_ACCESS_2_SHADER_READ_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
+  // The passes after it declare their reads of the depth and the visibility buffer: the frame
+  // records the barriers (and the depth's move to DEPTH_READ_ONLY_OPTIMAL) before them.
 }
 
 template <typename T>

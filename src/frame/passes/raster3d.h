@@ -27,6 +27,7 @@
 #include "frame/ray_backend.h"
 #include "gpu/gpu_timer.h"
 #include "gpu/rt_pipeline.h"
+#include "gpu/sync.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
@@ -88,11 +89,12 @@ class Raster3dPass {
                const Raster3dFrustumOptions& frusta = {}, AntiAliasing aa = AntiAliasing::None);
   ~Raster3dPass();
 
-  // Rasterizes (or casts) and writes `depth` (left in DEPTH_READ_ONLY_OPTIMAL, readable by compute,
-  // ray tracing, fragment tests and copies). An analysis frame also counts and adds coverage. With a
-  // timer, each dispatch is timed as a sub-pass ("<pass>.triangles", ".count", ".scan", ".fill",
+  // Rasterizes (or casts) and writes `depth` (by a copy), declaring each step's accesses through
+  // `sync` (the frame's; the readers of the depth and the visibility buffer declare theirs). An
+  // analysis frame also counts and adds coverage. With a timer, each dispatch is timed as a sub-pass
+  // ("<pass>.triangles", ".count", ".scan", ".fill",
   // ".tiles", ".resolve", ".depth_copy").
-  void record(VkCommandBuffer cmd, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
+  void record(VkCommandBuffer cmd, Sync& sync, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
   PrimaryMethod mode() const { return mode_; }
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
   std::vector<std::string> subPasses() const;
@@ -122,9 +124,11 @@ class Raster3dPass {
   uint32_t frusta() const { return frusta_; }  // BVH methods: workgroups of the traversal
 
  private:
-  void recordRaster(VkCommandBuffer cmd, bool analysis, GpuTimer* timer) const;
-  void recordPlane(VkCommandBuffer cmd, uint32_t plane, bool analysis, GpuTimer* timer) const;
-  void recordRayCast(VkCommandBuffer cmd, bool analysis) const;
+  void recordRaster(VkCommandBuffer cmd, Sync& sync, bool analysis, GpuTimer* timer) const;
+  void recordPlane(VkCommandBuffer cmd, Sync& sync, uint32_t plane, bool analysis, GpuTimer* timer) const;
+  void recordRayCast(VkCommandBuffer cmd, Sync& sync, bool analysis) const;
+  // The buffers the dispatches read and update (with the analysis frame's counters), each as `a`.
+  std::vector<Use> working(Access a, bool analysis) const;
 
   const VulkanContext& ctx_;
   PrimaryMethod mode_;

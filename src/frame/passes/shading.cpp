@@ -9,6 +9,7 @@
 #include "frame/passes/depth_prepass.h"
 #include "gpu/descriptor_binder.h"
 #include "gpu/raster_pipeline.h"
+#include "gpu/sync.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -70,14 +71,11 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
     analysis_ = createPipeline(true);
   }
   binder.checkEveryNameRead();
+  // The stand-in for indirect light is read, never written: into its layout once. The targets are
+  // moved into theirs by the frame (the pass declares them).
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const Image* img : {&color_, &refNormals_})
-      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    imageBarrier(cmd, dummyIndirect_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_2_NONE, 0,
-                 VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    Sync sync;
+    sync.use(cmd, {{dummyIndirect_, access::kShaderRead.discarding()}});
   });
 }
 
@@ -121,15 +119,12 @@ void ShadingPass::createMultisampled(const VulkanContext& ctx) {
   desc.colorWrites = false;
   desc.samples = samples_;
   msDepthPipeline_ = createRasterPipeline(ctx, desc);
+  // The sample targets live in their attachment layouts (cleared by every frame's pass).
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    for (const Image* img : {&msColor_, &msRefNormals_})
-      imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                   VK_PIPELINE_STAGE_2_NONE, 0, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                   VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT);
-    imageBarrier(cmd, msDepth_, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_NONE, 0,
-                 VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                 VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT);
+    Sync sync;
+    sync.use(cmd, {{msColor_, access::kColorAttachment.discarding()},
+                   {msRefNormals_, access::kColorAttachment.discarding()},
+                   {msDepth_, access::kDepthAttachment.discarding()}});
   });
 }
 
@@ -206,21 +201,11 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, DescriptorBinder& bi
 }
 
 void ShadingPass::recordVisbuffer(VkCommandBuffer cmd, bool analysis) const {
-  // The targets are colour attachments between frames (readbacks expect that layout).
-  for (const Image* img : {&color_, &refNormals_})
-    imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
-                 VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT);
   const Pipeline& p = analysis ? *vbAnalysis_ : *vbTimed_;
   VkDescriptorSet set = p.set();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
   vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
-  for (const Image* img : {&color_, &refNormals_})
-    imageBarrier(cmd, *img, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                 VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
-                 VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_READ_BIT);
 }
 
 void ShadingPass::record(VkCommandBuffer cmd, const glm::mat4& viewProj, bool analysis) const {
