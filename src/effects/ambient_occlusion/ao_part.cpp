@@ -21,12 +21,20 @@ AoPart::AoPart(FrameBuilder& f) {
   const AoInputs ai = surfaceBindings(f, surface);
   if (f.settings.backend == RtBackend::Compute && ai.tlas) as.computeBvh = f.traceBvh;  // traces through our BVH
   ao_ = std::make_unique<AoPass>(f.ctx, f.gpuScene, f.scene, as, f.settings.width, f.settings.height, ai);
-  f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
+  f.resources.publish(kAmbientOcclusionResource, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+  // A Lambertian surface sends albedo·(1 − metallic)·L_ambient·AO (scene.h Ambient); a pixel
+  // without a normal (kAoNoNormal < 0) is unoccluded.
+  const glm::vec4 ambient = f.constants.ambient;
+  f.resources.addShadingTerm({kAmbientOcclusionResource,
+                              ShadingTerm::Storage::FloatPerPixel,
+                              {ambient.r, ambient.g, ambient.b},
+                              ShadingTerm::Weight::DiffuseAlbedo,
+                              1.0f});
 
   passes_ = aoFramePasses(f, *ao_, surface,
                           {ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
-                           res::kAmbientOcclusion});
+                           kAmbientOcclusionResource});
 }
 
 std::vector<FramePass> aoFramePasses(FrameBuilder& f, AoPass& ao, const SurfaceInputs& surface,

@@ -20,7 +20,16 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   if (f.settings.backend == RtBackend::Compute) is.computeBvh = f.traceBvh;
   const IndirectInputs ii{surfaceBindings(f, surface), &f.resources.requireBuffer(res::kLights)};
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
-  f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
+  f.resources.publish(kIndirectIrradianceResource, indirect_->irradiance(), "");
+  // Reflected as Lambertian: albedo·(1 − metallic)/π·E. The scale is float's 1/π rounded from
+  // float's π, the product shading formed before (x / π, a division by a constant, is compiled as
+  // x times its reciprocal).
+  constexpr float kInvPi = 1.0f / 3.14159265358979f;
+  f.resources.addShadingTerm({kIndirectIrradianceResource,
+                              ShadingTerm::Storage::Rgba32fImage,
+                              {kInvPi, kInvPi, kInvPi},
+                              ShadingTerm::Weight::DiffuseAlbedo,
+                              0.0f});
 
   const double pixels = double(f.settings.width) * f.settings.height;
   const uint32_t bin = indirect_->settings().indirect.splatBin;
@@ -82,7 +91,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     traceReads.push_back("indirect.ldm");
   }
   if (indirect_->method() == IndirectMethod::Reference) {
-    add(kIndirectGatherPass, traceReads, {res::kIndirectIrradiance}, &IndirectPass::recordGather);
+    add(kIndirectGatherPass, traceReads, {kIndirectIrradianceResource}, &IndirectPass::recordGather);
   } else {
     f.resources.publish("indirect.photons", indirect_->photonSlots(), "gpu::Photon per slot",
                         std::to_string(indirect_->slots()) + " slots (primaries x N, then each further bounce's)");
@@ -90,7 +99,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     FramePass splat;
     splat.name = kPhotonSplatPass;
     splat.reads = {"indirect.photons", res::kFrameConstants};
-    splat.writes = {res::kIndirectIrradiance};
+    splat.writes = {kIndirectIrradianceResource};
     splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
     splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { indirect_->recordSplat(cmd, frame.timer); };
     splat.work = [workOf](const nlohmann::json& a) { return workOf(kPhotonSplatPass, a); };
