@@ -22,8 +22,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii);
   f.resources.publish(kIndirectIrradianceResource, indirect_->irradiance(), "");
   // Reflected as Lambertian: albedo·(1 − metallic)/π·E. The scale is float's 1/π rounded from
-  // float's π, the product shading formed before (x / π, a division by a constant, is compiled as
-  // x times its reciprocal).
+  // float's π: where a division by a constant is compiled as the product with its reciprocal,
+  // shading's former x / π exactly (else within one RGBA16F step: docs/frame.md "Shading terms").
   constexpr float kInvPi = 1.0f / 3.14159265358979f;
   f.resources.addShadingTerm({kIndirectIrradianceResource,
                               ShadingTerm::Storage::Rgba32fImage,
