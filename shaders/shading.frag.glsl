@@ -3,7 +3,7 @@
 // Fresnel, the GGX/Trowbridge-Reitz distribution and Smith with Schlick-GGX geometry; k_s from
 // Fresnel, k_d = (1 - k_s)(1 - metallic). glTF punctual lights (candela / lux), a distance
 // attenuation that reaches zero at the range, spot cone falloff; visibility from the shadow
-// pass's bitmask. No emission; the ambient term only where ambient occlusion runs. Writes linear HDR colour; the analysis variant also
+// pass's bitmask. No emission; the terms the frame's effects declare (shading_terms.glsl.inc) added. Writes linear HDR colour; the analysis variant also
 // writes the true face normal of the triangle (the reference for normal reconstruction).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_nonuniform_qualifier : require
@@ -16,21 +16,15 @@ layout(constant_id = 3) const uint ANALYSIS = 0;  // 1: also write the reference
 // 1: primary visibility came from 3D rasterization (frame/passes/raster3d.h): the depth test
 // is off and a fragment is shaded only where its triangle is the one the visibility buffer holds.
 layout(constant_id = 4) const uint ID_MATCH = 0;
-layout(constant_id = 5) const uint INDIRECT = 0;  // 1: add the indirect light (indirectImage)
-
-layout(constant_id = 6) const uint LIST_MODE = 0;  // kList*: the light lists
+layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
 // What a frame does not use costs it nothing (frame/passes/shading.h ShadingInputs):
-layout(constant_id = 7) const uint AMBIENT = 0;      // 1: ambient occlusion runs (the ambient term)
-layout(constant_id = 8) const uint ONE_WORD = 1;     // 1: at most 32 lights a pixel, one visibility word
-layout(constant_id = 9) const uint PERSPECTIVE = 1;  // 1: a perspective view, v = the eye minus the point
-layout(constant_id = 10) const uint ENVIRONMENT = 0;  // 1: add the environment light (EnvironmentLight)
+layout(constant_id = 6) const uint ONE_WORD = 1;     // 1: at most 32 lights a pixel, one visibility word
+layout(constant_id = 7) const uint PERSPECTIVE = 1;  // 1: a perspective view, v = the eye minus the point
+// 16 and after: the effects' terms (shading_terms.glsl.inc).
 
 #include "shading_bindings.glsl.inc"
-layout(rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
 uniform sampler2D textures[];  // bindless: the last binding
 readonly buffer VisibilityIds { uint visWords[]; };  // ID_MATCH: (id, t bits) per pixel
-readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 #include "shading_brdf.glsl.inc"

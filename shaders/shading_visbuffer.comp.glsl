@@ -9,8 +9,8 @@
 // Anti-aliasing (AA_STORED > 0, docs/methods/3d-rasterization.md "Anti-aliasing"): the visibility
 // buffer holds after the pixel-centre plane one plane per stored sample; each distinct triangle
 // among the pixel's samples is shaded once, at the pixel-centre ray's point on its plane (as a
-// multisampling rasterizer shades at the pixel centre), with the pixel's shadow, AO and indirect
-// values, and weighted by its share of the samples (the resolve). CSAA: the 12 coverage samples go
+// multisampling rasterizer shades at the pixel centre), with the pixel's shadow and effect terms
+// (shading_terms.glsl.inc), and weighted by its share of the samples (the resolve). CSAA: the 12 coverage samples go
 // to the nearest of the stored samples' triangles that covers them, or are dropped.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_nonuniform_qualifier : require
@@ -20,16 +20,14 @@ layout(constant_id = 0) const uint TILE = 16;
 layout(constant_id = 1) const uint USE_GRID = 1;
 layout(constant_id = 2) const uint SHADOWS = 1;
 layout(constant_id = 3) const uint ANALYSIS = 0;
-layout(constant_id = 4) const uint INDIRECT = 0;  // 1: add the indirect light (indirectImage)
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(constant_id = 5) const uint LIST_MODE = 0;  // kList*: the light lists
-layout(constant_id = 6) const uint AMBIENT = 0;     // 1: ambient occlusion runs (the ambient term)
-layout(constant_id = 7) const uint ONE_WORD = 1;    // 1: at most 32 lights a pixel, one visibility word
-layout(constant_id = 8) const uint AA_STORED = 0;    // anti-aliasing: stored samples (planes after the centre's)
-layout(constant_id = 9) const uint CSAA = 0;         // 1: csaa-4-12 (AA_STORED = 4)
-layout(constant_id = 10) const uint PLANE_STRIDE = 0;  // entries from one plane to the next
-layout(constant_id = 11) const uint ENVIRONMENT = 0;   // 1: add the environment light (EnvironmentLight)
+layout(constant_id = 4) const uint LIST_MODE = 0;  // kList*: the light lists
+layout(constant_id = 5) const uint ONE_WORD = 1;    // 1: at most 32 lights a pixel, one visibility word
+layout(constant_id = 6) const uint AA_STORED = 0;    // anti-aliasing: stored samples (planes after the centre's)
+layout(constant_id = 7) const uint CSAA = 0;         // 1: csaa-4-12 (AA_STORED = 4)
+layout(constant_id = 8) const uint PLANE_STRIDE = 0;  // entries from one plane to the next
+// 16 and after: the effects' terms (shading_terms.glsl.inc).
 
 #include "shading_bindings.glsl.inc"
 readonly buffer VisibilityIds { uint visWords[]; };  // (id, t bits) per pixel
@@ -38,9 +36,6 @@ readonly buffer Draws { GpuDraw draws[]; };
 readonly buffer TriangleDraws { uint triangleDraw[]; };
 layout(rgba16f) uniform writeonly image2D colorImage;
 layout(rgba32f) uniform writeonly image2D refNormalImage;
-readonly buffer AmbientOcclusion { float aoValues[]; };  // frame.ambient.w = 1 only
-layout(rgba32f) uniform readonly image2D indirectImage;  // INDIRECT = 1 only
-readonly buffer EnvironmentLight { vec4 envLight[]; };  // ENVIRONMENT = 1 only
 uniform sampler2D textures[];  // bindless: the last binding
 
 #include "shading_brdf.glsl.inc"

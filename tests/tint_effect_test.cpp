@@ -1,10 +1,12 @@
 // A test-only effect, defined entirely in this file and its shader (tests/shaders/tint.comp.glsl):
-// "tint" adds red to the shaded image in proportion to each pixel's tile light-list length, after
-// shading. Registered from the test (registerEffect, registerSpirv), it runs in the frame of the
-// real `render`, `sweep` and `tables` commands and appears under its own key in render.json and
-// results.json and as its own table — with no edit to any file under src/ beyond what every
-// effect shares (docs/contributing.md "Adding an effect or a pass" lists them). That is the proof
-// that a new effect needs one folder, not thirty files.
+// "tint" adds light to shading — red in proportion to each pixel's tile light-list length. It runs
+// before shading, writes its per-pixel term and declares it (FrameResources::addShadingTerm), and
+// shading adds it: shading names no effect (docs/frame.md "Shading terms"). Registered from the
+// test (registerEffect, registerSpirv), it runs in the frame of the real `render`, `sweep` and
+// `tables` commands and appears under its own key in render.json and results.json and as its own
+// table — with no edit to any file under src/ (docs/contributing.md "Adding an effect or a pass").
+// That is the proof that an effect that adds light needs one folder, not thirty files.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -36,69 +38,53 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 constexpr const char* kTintPass = "tint";
-constexpr const char* kTintColor = "tint.color";
+constexpr const char* kTintTerm = "tint.term";
 // Red added per light of the pixel's list: small enough that the atrium's ten lights keep the
 // image in range, large enough that one light is many RGBA16F steps above 1 (step 2^-10 there).
 constexpr float kRedPerLight = 0.0625f;
 
 struct TintPush {
   uint32_t width, height, tileSize, tilesX;
-  float redPerLight;
 };
 
-// The effect's GPU state and its one pass: copy the shaded colour into its own image, add the red
-// there, and make that image the frame's colour.
+// The effect's GPU state and its one pass: each pixel's list length into its term, declared to
+// shading as red per light, added as is.
 class TintPart : public FramePart {
  public:
   explicit TintPart(FrameBuilder& f)
-      : ctx_(f.ctx),
-        source_(f.resources.requireImage(res::kColor)),
-        grid_(f.resources.requireBuffer(res::kListGrid)),
-        tinted_(f.ctx, f.settings.width, f.settings.height, source_.format(),
-                VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                VK_IMAGE_ASPECT_COLOR_BIT),
+      : grid_(f.resources.requireBuffer(res::kListGrid)),
+        term_(f.ctx, VkDeviceSize(f.settings.width) * f.settings.height * sizeof(float),
+              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
         pipeline_(f.ctx) {
     const uint32_t tileSize = f.settings.tileSize;
-    push_ = {f.settings.width, f.settings.height, tileSize, (f.settings.width + tileSize - 1) / tileSize, kRedPerLight};
+    push_ = {f.settings.width, f.settings.height, tileSize, (f.settings.width + tileSize - 1) / tileSize};
     DescriptorBinder binder(kTintPass);  // tint.comp's bindings, by name
-    binder.provide("color", tinted_, VK_IMAGE_LAYOUT_GENERAL);
+    binder.provide("Term", term_);
     binder.provide("Grid", grid_);
     pipeline_.createCompute(binder, "tint.comp", sizeof(TintPush));
     binder.checkEveryNameRead();
-    f.resources.publish(kTintColor, tinted_, "", VK_IMAGE_LAYOUT_GENERAL);
-    f.resources.replace(res::kColor, tinted_, VK_IMAGE_LAYOUT_GENERAL);
+    f.resources.publish(kTintTerm, term_, "f32 per pixel: the tile's list length",
+                        std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+    f.resources.addShadingTerm(
+        {kTintTerm, ShadingTerm::Storage::FloatPerPixel, {kRedPerLight, 0.0f, 0.0f}, ShadingTerm::Weight::AsIs, 0.0f});
 
     FramePass pass;
     pass.name = kTintPass;
-    pass.reads = {res::kColor, res::kListGrid};
-    pass.writes = {res::kColor};
-    pass.syncedInside = {res::kColor};  // two images under one name: its steps declare each
-    pass.record = [this](VkCommandBuffer cmd, const PassFrame& frame) { record(cmd, *frame.sync); };
+    pass.reads = {res::kListGrid};
+    pass.writes = {kTintTerm};  // the frame makes it visible to shading, which reads it (a declared term)
+    pass.record = [this](VkCommandBuffer cmd, const PassFrame&) {
+      VkDescriptorSet set = pipeline_.set();
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
+      vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push_, &push_);
+      vkCmdDispatch(cmd, (push_.width + 7) / 8, (push_.height + 7) / 8, 1);
+    };
     passes_.push_back(std::move(pass));
   }
-  const Image& shaded() const { return source_; }  // the colour before the tint
-  const Image& tinted() const { return tinted_; }
 
  private:
-  void record(VkCommandBuffer cmd, Sync& sync) const {
-    sync.use(cmd, {{source_, access::kCopyRead}, {tinted_, access::kCopyWrite.discarding()}});
-    VkImageCopy region{};
-    region.srcSubresource = region.dstSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.extent = {push_.width, push_.height, 1};
-    vkCmdCopyImage(cmd, source_.handle(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, tinted_.handle(),
-                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    sync.use(cmd, {{tinted_, access::kComputeWrite}});
-    VkDescriptorSet set = pipeline_.set();
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.layout(), 0, 1, &set, 0, nullptr);
-    vkCmdPushConstants(cmd, pipeline_.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push_, &push_);
-    vkCmdDispatch(cmd, (push_.width + 7) / 8, (push_.height + 7) / 8, 1);
-  }
-
-  const VulkanContext& ctx_;
-  const Image& source_;
   const Buffer& grid_;
-  Image tinted_;
+  Buffer term_;
   Pipeline pipeline_;
   TintPush push_{};
 };
@@ -132,7 +118,7 @@ std::string tintTable(const json& results) {
 const EffectDef& tintEffect() {
   static const EffectDef def{
       .name = kTintPass,
-      .summary = "test only: red added to the shaded image in proportion to each pixel's light-list length",
+      .summary = "test only: red added to shading in proportion to each pixel's light-list length",
       .defaultValue = false,
       .validate = [](const nlohmann::ordered_json& value,
                      const json_reader::Where& where) { json_reader::readBool(value, where); },
@@ -141,7 +127,7 @@ const EffectDef& tintEffect() {
       .cannotAct = [](const Scene& scene, const json&) -> std::string {
         return scene.lights.empty() ? "the scene has no lights" : "";
       },
-      .phase = FramePhase::AfterShading,
+      .phase = FramePhase::BeforeShading,
       .build = [](FrameBuilder& f) -> std::unique_ptr<FramePart> { return std::make_unique<TintPart>(f); },
       .report = reportTint,
       .table = tintTable,
@@ -168,40 +154,60 @@ class TintEffectTest : public testing::GpuTest {
   fs::path dir;
 };
 
-TEST_F(TintEffectTest, RunsAfterShadingAndAddsRedInProportionToTheListLength) {
+TEST_F(TintEffectTest, RunsBeforeShadingWhichAddsItsTermExactly) {
   const Scene scene = makeAtrium({});
   RenderSettings rs = testing::settingsWithEffects(96, 54, {{"shadows", false}, {"tint", true}});
   rs.tileSize = 8;
-  Renderer r(*ctx, scene, rs);
-  ASSERT_EQ(r.passesRun().size(), 0u);
-  r.renderFrame(true);
-  ASSERT_FALSE(r.passesRun().empty());
-  EXPECT_EQ(r.passesRun().back(), kTintPass) << "an after-shading effect runs after shading";
-  EXPECT_EQ(r.passesRun()[r.passesRun().size() - 2], kShadingPass);
-  const auto* part = r.part<TintPart>(kTintPass);
-  ASSERT_NE(part, nullptr);
-
-  const std::vector<float> shaded = readbackHalfImage(*ctx, part->shaded(), VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-  const std::vector<float> tinted = r.readColor();  // the frame's colour is now the tint's
-  const CullingReadback lists = r.readCulling();
-  ASSERT_EQ(shaded.size(), tinted.size());
-  uint64_t checked = 0, reddened = 0;
-  for (uint32_t y = 0; y < rs.height; ++y)
-    for (uint32_t x = 0; x < rs.width; ++x) {
-      const size_t i = size_t(y) * rs.width + x;
-      const uint32_t n = lists.count[(y / rs.tileSize) * lists.tilesX + x / rs.tileSize];
-      // The shader adds in fp32 (exact to 2^-24 relative, far below what follows) and stores
-      // RGBA16F, rounded to nearest or towards zero (Vulkan allows either on a float-to-half
-      // store): the stored value is within one half-float step of the exact sum. For a sum in
-      // [2^e, 2^(e+1)) that step is 2^(e−10) (10 mantissa bits); below 2^-14 it is 2^-24.
-      const float expected = shaded[4 * i] + kRedPerLight * float(n);
-      const float ulp = std::ldexp(1.0f, std::ilogb(std::max(std::abs(expected), std::ldexp(1.0f, -14))) - 10);
-      EXPECT_NEAR(tinted[4 * i], expected, ulp) << "pixel " << x << "," << y << " list " << n;
-      for (int c = 1; c < 4; ++c) EXPECT_EQ(tinted[4 * i + c], shaded[4 * i + c]) << "only red changes";
-      reddened += n > 0;
-      ++checked;
+  RenderSettings plain = testing::settingsWithEffects(96, 54, {{"shadows", false}});  // without the effect
+  plain.tileSize = 8;
+  for (bool visbuffer : {false, true}) {
+    if (visbuffer) {  // the other shading pass, in compute
+      rs.primary = plain.primary = testing::primaryNamed("3dr");
+      rs.shading = plain.shading = ShadingMethod::Visbuffer;
     }
-  EXPECT_GT(reddened, checked / 2) << "most of the atrium's tiles hold a light";
+    Renderer r(*ctx, scene, rs);
+    ASSERT_EQ(r.passesRun().size(), 0u);
+    r.renderFrame(true);
+    const std::vector<std::string>& run = r.passesRun();
+    const auto at = [&](const char* pass) { return std::find(run.begin(), run.end(), pass) - run.begin(); };
+    ASSERT_LT(at(kTintPass), at(kShadingPass)) << "a term is written before shading adds it";
+    ASSERT_NE(r.part<TintPart>(kTintPass), nullptr);
+    Renderer without(*ctx, scene, plain);
+    without.renderFrame(true);
+    ASSERT_EQ(std::find(without.passesRun().begin(), without.passesRun().end(), kTintPass), without.passesRun().end());
+
+    const std::vector<float> shaded = without.readColor();
+    const std::vector<float> tinted = r.readColor();
+    const CullingReadback lists = r.readCulling();
+    const std::vector<float> normals = r.readRefNormals();  // w = 1 where a surface was shaded
+    ASSERT_EQ(shaded.size(), tinted.size());
+    ASSERT_EQ(normals.size(), tinted.size());
+    uint64_t checked = 0, reddened = 0;
+    for (uint32_t y = 0; y < rs.height; ++y)
+      for (uint32_t x = 0; x < rs.width; ++x) {
+        const size_t i = size_t(y) * rs.width + x;
+        // Shading adds its terms to the surfaces it shades; the sky stays as it was cleared.
+        const uint32_t n =
+            normals[4 * i + 3] == 1.0f ? lists.count[(y / rs.tileSize) * lists.tilesX + x / rs.tileSize] : 0u;
+        // Shading adds scale · value = (kRedPerLight·n, 0, 0) to the same fp32 colour c (the term is
+        // exact: a power of two times a small integer), and each frame stores its colour RGBA16F,
+        // rounded to nearest or towards zero (Vulkan allows either on a float-to-half store): within
+        // one half-float step of c and of c + term. For a value in [2^e, 2^(e+1)) that step is
+        // 2^(e−10) (10 mantissa bits), below 2^-14 it is 2^-24: the two images differ in red by the
+        // term to within the step at the larger of the two values plus the step at the smaller.
+        const float expected = shaded[4 * i] + kRedPerLight * float(n);
+        const auto step = [](float v) {
+          return std::ldexp(1.0f, std::ilogb(std::max(std::abs(v), std::ldexp(1.0f, -14))) - 10);
+        };
+        EXPECT_NEAR(tinted[4 * i], expected, step(expected) + step(shaded[4 * i]))
+            << "pixel " << x << "," << y << " list " << n << (visbuffer ? " (visbuffer)" : "");
+        // Green and blue get 0·n: c + 0 = c, bit for bit.
+        for (int c = 1; c < 4; ++c) EXPECT_EQ(tinted[4 * i + c], shaded[4 * i + c]) << "only red changes";
+        reddened += n > 0;
+        ++checked;
+      }
+    EXPECT_GT(reddened, checked / 2) << "most of the atrium's shaded pixels lie in a tile with a light";
+  }
 }
 
 TEST_F(TintEffectTest, RenderSweepAndTablesCarryItWithNoEditToTheTool) {
@@ -215,7 +221,9 @@ TEST_F(TintEffectTest, RenderSweepAndTablesCarryItWithNoEditToTheTool) {
   const json render = json::parse(rf);
   ASSERT_TRUE(render.contains("tint")) << render.dump(1).substr(0, 2000);
   EXPECT_GT(render["tint"]["pixels_tinted"].get<uint64_t>(), 0u);
-  EXPECT_EQ(render["passes_run"].back(), kTintPass);
+  const auto passesRun = render["passes_run"].get<std::vector<std::string>>();
+  EXPECT_LT(std::find(passesRun.begin(), passesRun.end(), kTintPass) - passesRun.begin(),
+            std::find(passesRun.begin(), passesRun.end(), kShadingPass) - passesRun.begin());
   EXPECT_TRUE(render["effects"]["tint"]["runs"].get<bool>());
 
   // sweep: the config calls for it; each run carries its key and its pass time.

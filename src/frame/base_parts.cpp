@@ -233,10 +233,10 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
                    r.buffer(res::kVisibility),
                    s.raster3dShadingDepthTest,
                    s.shading == ShadingMethod::Visbuffer,
-                   r.buffer(res::kVisibilityRays),
-                   r.buffer(res::kAmbientOcclusion),
-                   r.image(res::kIndirectIrradiance),
-                   r.buffer(res::kEnvironmentLight)};
+                   r.buffer(res::kVisibilityRays)};
+  for (const ShadingTerm& t : r.shadingTerms())
+    in.terms.push_back({t, t.storage == ShadingTerm::Storage::Rgba32fImage ? nullptr : &r.requireBuffer(t.resource),
+                        t.storage == ShadingTerm::Storage::Rgba32fImage ? &r.requireImage(t.resource) : nullptr});
   // What this frame does not use is specialised away (shading.h): the shadow pass's words per
   // pixel (tile lists hold at most 32 lights; masks and z-bins one bit per scene light), the view.
   const uint32_t listMode = lists ? f.constants.lists.x : gpu::kListTile;
@@ -251,10 +251,10 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   FramePass pass;
   pass.name = kShadingPass;
   pass.reads = {res::kFrameConstants, res::kDepth, res::kSceneVertices, res::kSceneIndices};
-  for (const char* optional :
-       {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility, res::kVisibility,
-        res::kVisibilityRays, res::kAmbientOcclusion, res::kIndirectIrradiance, res::kEnvironmentLight})
+  for (const char* optional : {res::kListLights, res::kListGrid, res::kListIndices, res::kShadowVisibility,
+                               res::kVisibility, res::kVisibilityRays})
     if (r.has(optional)) pass.reads.push_back(optional);
+  for (const ShadingTerm& t : r.shadingTerms()) pass.reads.push_back(t.resource);
   if (!lists) pass.reads.push_back(res::kLights);
   pass.writes = {res::kColor, res::kRefNormals};
   if (s.shading == ShadingMethod::Visbuffer) {

@@ -3,8 +3,8 @@
 //                       (frame/passes/raster3d.h), writing "depth" (and "visibility");
 //   light lists         tile frustums once, then light culling every frame, when some light can
 //                       be culled into tiles;
-//   shading             direct light through the lists, composed with what the effects before it
-//                       published (shadow visibility, ambient occlusion, indirect irradiance).
+//   shading             direct light through the lists, with the shadow pass's visibility, plus the
+//                       terms the effects before it declared (frame_pass.h ShadingTerm).
 #pragma once
 #include <memory>
 #include <vector>
@@ -18,12 +18,10 @@
 
 namespace hb {
 
-// What effects publish for shading to compose (each optional).
+// What the shadow pass publishes for shading's light loop (optional). What effects add to the
+// light they declare as terms (FrameResources::addShadingTerm) under names of their own.
 namespace res {
-inline constexpr const char* kShadowVisibility = "shadows.visibility";     // words per pixel: lights visible
-inline constexpr const char* kAmbientOcclusion = "ambient_occlusion";      // float per pixel
-inline constexpr const char* kIndirectIrradiance = "indirect.irradiance";  // RGBA32F, W/m²
-inline constexpr const char* kEnvironmentLight = "environment_light";      // vec4 per pixel (env_effect.h)
+inline constexpr const char* kShadowVisibility = "shadows.visibility";  // words per pixel: lights visible
 }  // namespace res
 
 class PrimaryPart : public FramePart {

@@ -6,7 +6,9 @@
 // shading), builds: the GPU state it owns and its passes. It publishes what it writes into the
 // frame's FrameResources under the declared names; a later part finds its inputs there by name.
 #pragma once
+#include <array>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -104,6 +106,26 @@ struct BuiltResource {
   std::type_index type = typeid(void);
 };
 
+// What an effect adds to shading's light, declared by the effect's part when it is built
+// (FrameResources::addShadingTerm) rather than named by shading (docs/frame.md "Shading terms"):
+// shading reads the published resource `resource` per pixel and adds to each pixel's colour
+//   weight · scale · value,  weight = the diffuse albedo base·(1 − metallic) (DiffuseAlbedo) or 1 (AsIs),
+// after the direct light, in the order the terms were declared (shaders/shading_terms.glsl.inc).
+struct ShadingTerm {
+  enum class Storage : uint32_t {
+    FloatPerPixel = 1,  // a buffer of one float per pixel (row-major): value = (v, v, v); none where not v >= 0
+    Vec4PerPixel = 2,   // a buffer of one vec4 per pixel: value = rgb; none where not w > 0
+    Rgba32fImage = 3,   // an RGBA32F storage image in GENERAL layout: value = rgb; never none
+  };
+  enum class Weight : uint32_t { DiffuseAlbedo, AsIs };
+  std::string resource;
+  Storage storage = Storage::FloatPerPixel;
+  std::array<float, 3> scale = {1.0f, 1.0f, 1.0f};
+  Weight weight = Weight::DiffuseAlbedo;
+  // What a pixel without a value counts as, in every channel; 0: nothing is added there.
+  float none = 0.0f;
+};
+
 class FrameResources {
  public:
   // The resource of `key`: built by make() (a std::unique_ptr<T>) the first time the key is asked
@@ -151,10 +173,14 @@ class FrameResources {
   const Image& requireImage(std::string_view name) const;
   VkImageLayout imageLayout(std::string_view name) const;  // precondition: a published image
 
+  // Declares that shading adds `term` (its resource published already, as a buffer or, for
+  // Rgba32fImage, an image: HB_ASSERT). Parts built after shading declare none.
+  void addShadingTerm(ShadingTerm term);
+  const std::vector<ShadingTerm>& shadingTerms() const { return terms_; }
+
   // {"depth": {"format": "D32_SFLOAT", "size": "1920 x 1080", "bytes": 8294400, "users": [...]}, ...};
   // a keyed resource adds "key", "built_bytes" (all of it), "build_ms", "build_clock" ("cpu") and
-  // "built_by", and is listed even
-  // where no pass of the frame reads it (raybench's own BVH).
+  // "built_by", and is listed even where no pass of the frame reads it (raybench's own BVH).
   nlohmann::json toJson() const;
 
  private:
@@ -165,6 +191,7 @@ class FrameResources {
   std::vector<NamedResource> resources_;
   std::vector<BuiltResource> built_;
   std::map<std::string, std::vector<std::string>> users_;  // by resource name, in the order they came
+  std::vector<ShadingTerm> terms_;
 };
 
 // What an effect or a base part builds. Derived classes own the GPU state and fill passes_ in

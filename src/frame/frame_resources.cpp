@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <utility>
 
 #include <vulkan/vulkan.hpp>                // vk::to_string: a format's name
 #include <vulkan/vulkan_format_traits.hpp>  // vk::blockSize: its texel size
@@ -53,6 +54,13 @@ VkImageLayout FrameResources::imageLayout(std::string_view name) const {
   const NamedResource* r = find(name);
   HB_ASSERT(r != nullptr && r->image != nullptr);
   return r->layout;
+}
+
+void FrameResources::addShadingTerm(ShadingTerm term) {
+  const NamedResource* r = find(term.resource);
+  HB_ASSERT(r != nullptr);  // published before it is declared
+  HB_ASSERT(term.storage == ShadingTerm::Storage::Rgba32fImage ? r->image != nullptr : r->buffer != nullptr);
+  terms_.push_back(std::move(term));
 }
 
 void FrameResources::publishTlas(const std::string& name, VkAccelerationStructureKHR tlas, uint64_t bytes) {

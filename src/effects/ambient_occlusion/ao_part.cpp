@@ -21,11 +21,19 @@ AoPart::AoPart(FrameBuilder& f) {
   const AoInputs ai = surfaceBindings(f, surface);
   as.tracer = f.tracer;
   const AoPassNames names{ambientOcclusionEffect().name, kLdmBuildPass, "ambient_occlusion.ldm", kAmbientOcclusionPass,
-                          res::kAmbientOcclusion};
+                          kAmbientOcclusionResource};
   FrameLdmSet ldm;
   ao_ = makeFrameAoPass(f, as, ai, names, ldm);
-  f.resources.publish(res::kAmbientOcclusion, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
+  f.resources.publish(kAmbientOcclusionResource, ao_->output(), "f32 per pixel: AO in [0, 1] (gpu_types.h kAo*)",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+  // A Lambertian surface sends albedo·(1 − metallic)·L_ambient·AO (scene.h Ambient); a pixel
+  // without a normal (kAoNoNormal < 0) is unoccluded.
+  const glm::vec4 ambient = f.constants.ambient;
+  f.resources.addShadingTerm({kAmbientOcclusionResource,
+                              ShadingTerm::Storage::FloatPerPixel,
+                              {ambient.r, ambient.g, ambient.b},
+                              ShadingTerm::Weight::DiffuseAlbedo,
+                              1.0f});
 
   passes_ = aoFramePasses(f, *ao_, surface, names, ldm, skipped_);
 }

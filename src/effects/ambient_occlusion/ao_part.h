@@ -1,6 +1,7 @@
 // Ambient occlusion in the frame: the LDM build ("ldm_build", method ldm) and the AO pass
-// ("ambient_occlusion", ao_pass.h) on the frame's surface, publishing the AO image for shading,
-// which then composes direct + ambient·AO (the frame's ambient term is set here).
+// ("ambient_occlusion", ao_pass.h) on the frame's surface, publishing the AO image and declaring
+// the ambient term it lets through, albedo·(1 − metallic)·L_ambient·AO, for shading to add
+// (frame_pass.h ShadingTerm; the frame's ambient term is set here).
 #pragma once
 #include <memory>
 
@@ -12,6 +13,7 @@ namespace hb {
 
 inline constexpr const char* kLdmBuildPass = "ldm_build";
 inline constexpr const char* kAmbientOcclusionPass = "ambient_occlusion";
+inline constexpr const char* kAmbientOcclusionResource = "ambient_occlusion";  // float per pixel
 
 class AoPart : public FramePart {
  public:

@@ -21,12 +21,18 @@ EnvironmentLightPart::EnvironmentLightPart(FrameBuilder& f) {
   const AoInputs in = surfaceBindings(f, surface);
   ps.tracer = f.tracer;
   const AoPassNames names{environmentLightEffect().name, kEnvironmentLdmBuildPass, "environment_light.ldm",
-                          kEnvironmentLightPass, res::kEnvironmentLight};
+                          kEnvironmentLightPass, kEnvironmentLightResource};
   FrameLdmSet ldm;
   pass_ = makeFrameAoPass(f, ps, in, names, ldm);
-  f.resources.publish(res::kEnvironmentLight, pass_->output(),
+  f.resources.publish(kEnvironmentLightResource, pass_->output(),
                       "vec4 per pixel: (1/pi) integral of L V cos (rgb), w = 1 or kAoSky / kAoNoNormal",
                       std::to_string(f.settings.width) + " x " + std::to_string(f.settings.height));
+  // (1/π)∫ L V cos dω per pixel (ao_common.glsl.inc RADIANCE), reflected as Lambertian; w < 0: none.
+  f.resources.addShadingTerm({kEnvironmentLightResource,
+                              ShadingTerm::Storage::Vec4PerPixel,
+                              {1.0f, 1.0f, 1.0f},
+                              ShadingTerm::Weight::DiffuseAlbedo,
+                              0.0f});
 
   passes_ = aoFramePasses(f, *pass_, surface, names, ldm, skipped_);
 }

@@ -1,7 +1,7 @@
 // The environment light in the frame: the LDM build ("environment_ldm_build", method ldm) and the
 // environment-light pass ("environment_light": effects/ambient_occlusion/ao_pass.h with the
-// scene's environment), publishing the light per pixel that shading reflects as
-// albedo·(1 − metallic)·E.
+// scene's environment), publishing the light per pixel and declaring it a term shading reflects
+// as albedo·(1 − metallic)·E (frame_pass.h ShadingTerm).
 #pragma once
 #include <memory>
 
@@ -13,6 +13,7 @@ namespace hb {
 
 inline constexpr const char* kEnvironmentLdmBuildPass = "environment_ldm_build";
 inline constexpr const char* kEnvironmentLightPass = "environment_light";
+inline constexpr const char* kEnvironmentLightResource = "environment_light";  // vec4 per pixel
 
 class EnvironmentLightPart : public FramePart {
  public:

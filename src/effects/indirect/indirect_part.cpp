@@ -27,7 +27,16 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
   };
   indirect_ = std::make_unique<IndirectPass>(f.ctx, f.gpuScene, f.scene, is, f.settings.width, f.settings.height, ii,
                                              ldmSource);
-  f.resources.publish(res::kIndirectIrradiance, indirect_->irradiance(), "");
+  f.resources.publish(kIndirectIrradianceResource, indirect_->irradiance(), "");
+  // Reflected as Lambertian: albedo·(1 − metallic)/π·E. The scale is float's 1/π rounded from
+  // float's π: where a division by a constant is compiled as the product with its reciprocal,
+  // shading's former x / π exactly (else within one RGBA16F step: docs/frame.md "Shading terms").
+  constexpr float kInvPi = 1.0f / 3.14159265358979f;
+  f.resources.addShadingTerm({kIndirectIrradianceResource,
+                              ShadingTerm::Storage::Rgba32fImage,
+                              {kInvPi, kInvPi, kInvPi},
+                              ShadingTerm::Weight::DiffuseAlbedo,
+                              0.0f});
 
   const double pixels = double(f.settings.width) * f.settings.height;
   const uint32_t bin = indirect_->settings().indirect.splatBin;
@@ -94,7 +103,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     traceReads.push_back(ldm.resource);
   }
   if (indirect_->method() == IndirectMethod::Reference) {
-    add(kIndirectGatherPass, traceReads, {res::kIndirectIrradiance}, &IndirectPass::recordGather);
+    add(kIndirectGatherPass, traceReads, {kIndirectIrradianceResource}, &IndirectPass::recordGather);
   } else {
     f.resources.publish("indirect.photons", indirect_->photonSlots(), "gpu::Photon per slot",
                         std::to_string(indirect_->slots()) + " slots (primaries x N, then each further bounce's)");
@@ -102,9 +111,9 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     FramePass splat;
     splat.name = kPhotonSplatPass;
     splat.reads = {"indirect.photons", res::kFrameConstants};
-    splat.writes = {res::kIndirectIrradiance};
-    splat.subPasses = indirect_->splatSubPasses();                        // splat=compute: its five steps, timed inside
-    splat.syncedInside = {"indirect.photons", res::kIndirectIrradiance};  // declared by its steps
+    splat.writes = {kIndirectIrradianceResource};
+    splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
+    splat.syncedInside = {"indirect.photons", kIndirectIrradianceResource};  // declared by its steps
     splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
       indirect_->recordSplat(cmd, *frame.sync, frame.timer);
     };

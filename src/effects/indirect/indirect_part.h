@@ -1,6 +1,7 @@
 // Indirect light in the frame: per method its passes ("indirect_ldm_build", "photon_trace",
 // "photon_splat" or "indirect_gather", indirect_pass.h) on the frame's surface, publishing the
-// irradiance that shading reflects as albedo·(1 − metallic)/π·E.
+// irradiance and declaring it a term shading reflects as albedo·(1 − metallic)/π·E (frame_pass.h
+// ShadingTerm).
 #pragma once
 #include <memory>
 
@@ -14,6 +15,7 @@ inline constexpr const char* kIndirectLdmBuildPass = "indirect_ldm_build";
 inline constexpr const char* kPhotonTracePass = "photon_trace";
 inline constexpr const char* kPhotonSplatPass = "photon_splat";
 inline constexpr const char* kIndirectGatherPass = "indirect_gather";
+inline constexpr const char* kIndirectIrradianceResource = "indirect.irradiance";  // RGBA32F, W/m²
 
 class IndirectPart : public FramePart {
  public:

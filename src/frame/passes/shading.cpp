@@ -1,6 +1,8 @@
 #include "frame/passes/shading.h"
 
 #include <algorithm>
+#include <bit>
+#include <string>
 #include <utility>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -30,7 +32,7 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                       (in.visbuffer ? VK_IMAGE_USAGE_STORAGE_BIT : 0),
                   VK_IMAGE_ASPECT_COLOR_BIT),
-      dummyIndirect_(ctx, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
+      dummyTermImage_(ctx, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, VK_IMAGE_USAGE_STORAGE_BIT, VK_IMAGE_ASPECT_COLOR_BIT),
       dummyVisibility_(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false, MemClass::Other),
       layout_(ctx) {
   // What both shading shaders read (shading_bindings.glsl.inc); each pass's own follow.
@@ -44,13 +46,21 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   binder.provide("Materials", textures_.materials());
   binder.provide("Positions", scene.vertices());
   binder.provide("SceneIndices", scene.indices());
-  // Without ambient occlusion AmbientOcclusion is never read (frame.ambient.w = 0); any buffer will do.
-  binder.provide("AmbientOcclusion", *(in.ambientOcclusion ? in.ambientOcclusion : &scene.indices()));
-  // Without indirect light indirectImage is never read (INDIRECT = 0); the 1x1 R32_UINT image
-  // stands in only where the format matches, so a 1x1 RGBA32F one does.
-  binder.provide("indirectImage", *(in.indirect ? in.indirect : &dummyIndirect_), VK_IMAGE_LAYOUT_GENERAL);
-  // Without an environment EnvironmentLight is never read (ENVIRONMENT = 0); any buffer will do.
-  binder.provide("EnvironmentLight", *(in.environment ? in.environment : &scene.indices()));
+  // The effects' terms (shading_terms.glsl.inc): slot i reads its term's resource through the
+  // binding of its storage; the other bindings of the slot, and every binding of an empty slot, are
+  // never read (TERMi) and take a placeholder: any buffer, and a 1x1 RGBA32F image (the format matches).
+  if (in.terms.size() > kMaxShadingTerms)
+    throw InputError(std::to_string(in.terms.size()) + " effects add a term to shading, which composes at most " +
+                     std::to_string(kMaxShadingTerms) + ": run fewer of them in one frame");
+  for (uint32_t i = 0; i < kMaxShadingTerms; ++i) {
+    const ShadingTermInput* t = i < in.terms.size() ? &in.terms[i] : nullptr;
+    const auto storage = [&](ShadingTerm::Storage k) { return t && t->term.storage == k; };
+    const std::string slot = std::to_string(i);
+    binder.provide("TermFloats" + slot, storage(ShadingTerm::Storage::FloatPerPixel) ? *t->buffer : scene.indices());
+    binder.provide("TermVec4s" + slot, storage(ShadingTerm::Storage::Vec4PerPixel) ? *t->buffer : scene.indices());
+    binder.provide("termImage" + slot, storage(ShadingTerm::Storage::Rgba32fImage) ? *t->image : dummyTermImage_,
+                   VK_IMAGE_LAYOUT_GENERAL);
+  }
   binder.provide("textures", textures_.images(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, textures_.sampler());
   if (in.aa != AntiAliasing::None && !in.visbuffer && in.visibilityIds)
     throw InputError(std::string("aa=") + toString(in.aa) +
@@ -75,7 +85,7 @@ ShadingPass::ShadingPass(const VulkanContext& ctx, const GpuScene& scene, uint32
   // moved into theirs by the frame (the pass declares them).
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     Sync sync;
-    sync.use(cmd, {{dummyIndirect_, access::kShaderRead.discarding()}});
+    sync.use(cmd, {{dummyTermImage_, access::kShaderRead.discarding()}});
   });
 }
 
@@ -134,12 +144,28 @@ ShadingPass::~ShadingPass() {
   if (analysis_) vkDestroyPipeline(ctx_.device(), analysis_, nullptr);
 }
 
+SpecConstants ShadingPass::withTerms(std::vector<uint32_t> values) const {
+  constexpr uint32_t kFirstTermId = 16;  // shading_terms.glsl.inc; the ids between are unused
+  HB_ASSERT(values.size() <= kFirstTermId);
+  values.resize(kFirstTermId, 0u);
+  for (uint32_t i = 0; i < kMaxShadingTerms; ++i) {
+    if (i >= in_.terms.size()) {
+      values.insert(values.end(), {0u, 0u, 0u, 0u, 0u});  // TERMi = 0: no term in slot i
+      continue;
+    }
+    const ShadingTerm& t = in_.terms[i].term;
+    values.push_back(uint32_t(t.storage) | (t.weight == ShadingTerm::Weight::AsIs ? 4u : 0u));  // kTermAsIs
+    for (float f : {t.scale[0], t.scale[1], t.scale[2], t.none}) values.push_back(std::bit_cast<uint32_t>(f));
+  }
+  return SpecConstants{std::move(values)};
+}
+
 VkPipeline ShadingPass::createPipeline(bool analysis) {
   const ShaderProgram program({"shading.vert", "shading.frag"});  // the numbers of layout_'s set
   ShaderModule vert(ctx_, program.spirv(0)), frag(ctx_, program.spirv(1));
-  SpecConstants spec{{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
-                      in_.visibilityIds ? 1u : 0u, in_.indirect ? 1u : 0u, in_.listMode, in_.ambientOcclusion ? 1u : 0u,
-                      in_.visibilityWords <= 1 ? 1u : 0u, in_.perspective ? 1u : 0u, in_.environment ? 1u : 0u}};
+  SpecConstants spec = withTerms({in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis ? 1u : 0u,
+                                  in_.visibilityIds ? 1u : 0u, in_.listMode, in_.visibilityWords <= 1 ? 1u : 0u,
+                                  in_.perspective ? 1u : 0u});
   std::vector<VkSpecializationMapEntry> entries;
   VkSpecializationInfo si = specializationInfo(spec, entries);
   RasterPipelineDesc desc;
@@ -192,11 +218,10 @@ void ShadingPass::createVisbuffer(const VulkanContext& ctx, DescriptorBinder& bi
   vbTimed_ = std::make_unique<Pipeline>(ctx);
   vbAnalysis_ = std::make_unique<Pipeline>(ctx);
   for (auto [p, analysis] : {std::pair{vbTimed_.get(), 0u}, std::pair{vbAnalysis_.get(), 1u}}) {
-    p->createCompute(
-        binder, "shading_visbuffer.comp", 0,
-        {{in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.indirect ? 1u : 0u, in_.listMode,
-          in_.ambientOcclusion ? 1u : 0u, in_.visibilityWords <= 1 ? 1u : 0u, aaStoredSamples(in_.aa),
-          in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride, in_.environment ? 1u : 0u}});
+    p->createCompute(binder, "shading_visbuffer.comp", 0,
+                     withTerms({in_.tileSize, in_.grid ? 1u : 0u, in_.visibility ? 1u : 0u, analysis, in_.listMode,
+                                in_.visibilityWords <= 1 ? 1u : 0u, aaStoredSamples(in_.aa),
+                                in_.aa == AntiAliasing::Csaa4x12 ? 1u : 0u, in_.planeStride}));
   }
 }
 

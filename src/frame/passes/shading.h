@@ -4,13 +4,26 @@
 // analysis variant also writes each pixel's true face normal (the reference for normal reconstruction).
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "config/config.h"
+#include "frame/frame_pass.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/gpu_textures.h"
 #include "gpu/vk_pipeline.h"
 
 namespace hb {
+
+// The most terms one frame's shading adds (shaders/shading_terms.glsl.inc has a slot for each).
+constexpr uint32_t kMaxShadingTerms = 4;
+
+// A declared term (frame_pass.h ShadingTerm) with its resource: `buffer` for the per-pixel
+// storages, `image` (RGBA32F, GENERAL layout) for Rgba32fImage.
+struct ShadingTermInput {
+  ShadingTerm term;
+  const Buffer* buffer = nullptr;
+  const Image* image = nullptr;
+};
 
 struct ShadingInputs {
   const Buffer* frameConstants;
@@ -33,14 +46,8 @@ struct ShadingInputs {
   // needs the 3DR ray constants.
   bool visbuffer = false;
   const Buffer* rays = nullptr;
-  // Ambient occlusion's output (AoPass::output), read where FrameConstants.ambient.w = 1; or null.
-  const Buffer* ambientOcclusion = nullptr;
-  // The indirect light's irradiance (IndirectPass::irradiance, RGBA32F, GENERAL layout), or null:
-  // added as albedo·(1 − metallic)/π·E.
-  const Image* indirect = nullptr;
-  // The environment light (AoPass::output with an environment: rgb, w = 1 or < 0 per pixel), or
-  // null: added as albedo·(1 − metallic)·rgb.
-  const Buffer* environment = nullptr;
+  // What the effects before shading add, in declaration order (at most kMaxShadingTerms: InputError).
+  std::vector<ShadingTermInput> terms;
   // Visibility words per pixel the shadow pass writes (1 for tile lists or at most 32 lights):
   // with 1 the word is read once before the light walk (a specialisation constant).
   uint32_t visibilityWords = 1;
@@ -71,6 +78,8 @@ class ShadingPass {
 
  private:
   VkPipeline createPipeline(bool analysis);
+  // The terms' specialisation constants (ids 16 and after) appended to a shader's own.
+  SpecConstants withTerms(std::vector<uint32_t> values) const;
   void createMultisampled(const VulkanContext& ctx);
   void createVisbuffer(const VulkanContext& ctx, DescriptorBinder& binder);
   void recordVisbuffer(VkCommandBuffer cmd, bool analysis) const;
@@ -79,7 +88,7 @@ class ShadingPass {
   ShadingInputs in_;
   uint32_t width_, height_;
   GpuTextures textures_;
-  Image color_, refNormals_, dummyIndirect_;
+  Image color_, refNormals_, dummyTermImage_;
   // Hardware MSAA: the multisampled targets and the depth-only pipeline that fills msDepth_.
   Image msColor_, msRefNormals_, msDepth_;
   VkPipeline msDepthPipeline_ = VK_NULL_HANDLE;
