@@ -65,6 +65,15 @@ RenderSettings frameOf(const nlohmann::json& effects, const char* backend = "aut
   return rs;
 }
 
+// Shadows with the three LDM effects: ambient occlusion and the environment light with the same
+// LDM settings, indirect light with `indirect`'s.
+RenderSettings withLdmEffects(const nlohmann::json& indirect) {
+  return frameOf({{"shadows", true},
+                  {"ambient_occlusion", ldmSettings()},
+                  {"environment_light", ldmSettings()},
+                  {"indirect", indirect}});
+}
+
 bool skipped(const Renderer& r, const std::string& pass) {
   for (const auto& [p, why] : r.passesSkipped())
     if (p == pass) return true;
@@ -156,11 +165,7 @@ TEST_F(FrameResourcesGpuTest, RaybenchBuildsOurBvhOnceWhereTheFrameTracesWithThe
 TEST_F(FrameResourcesGpuTest, EffectsWithTheSameLdmKeyShareOneSetAndComputeWhatTheyComputeAlone) {
   const Scene scene = everyEffectBox();
   const BuildCounts before;
-  Renderer r(*ctx, scene,
-             frameOf({{"shadows", true},
-                      {"ambient_occlusion", ldmSettings()},
-                      {"environment_light", ldmSettings()},
-                      {"indirect", indirectLdm()}}));
+  Renderer r(*ctx, scene, withLdmEffects(indirectLdm()));
   EXPECT_EQ(ldmSetBuildCount() - before.ldm, 1u);
   EXPECT_EQ(AccelerationStructures::buildCount() - before.accel, 1u);
   r.renderFrame(true);
@@ -212,11 +217,7 @@ TEST_F(FrameResourcesGpuTest, EffectsWithTheSameLdmKeyShareOneSetAndComputeWhatT
 TEST_F(FrameResourcesGpuTest, ASetWhoseKeyDiffersIsBuiltByItsOwnPass) {
   const Scene scene = everyEffectBox();
   const BuildCounts before;
-  Renderer r(*ctx, scene,
-             frameOf({{"shadows", true},
-                      {"ambient_occlusion", ldmSettings()},
-                      {"environment_light", ldmSettings()},
-                      {"indirect", indirectLdm(8)}}));
+  Renderer r(*ctx, scene, withLdmEffects(indirectLdm(8)));
   EXPECT_EQ(ldmSetBuildCount() - before.ldm, 2u);
   r.renderFrame(true);
   EXPECT_TRUE(ran(r, "ldm_build"));
