@@ -110,7 +110,9 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     add(kPhotonTracePass, traceReads, {"indirect.photons"}, &IndirectPass::recordTrace);
     FramePass splat;
     splat.name = kPhotonSplatPass;
-    splat.reads = {"indirect.photons", res::kFrameConstants};
+    splat.reads = {"indirect.photons", res::kFrameConstants, res::kDepth};
+    // splat=raster draws: its vertex and fragment shaders read the photons and sample the depth.
+    splat.stages = access::kRayStages | VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
     splat.writes = {kIndirectIrradianceResource};
     splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
     splat.syncedInside = {"indirect.photons", kIndirectIrradianceResource};  // declared by its steps

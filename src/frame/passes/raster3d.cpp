@@ -300,9 +300,12 @@ std::vector<std::string> Raster3dPass::subPasses() const {
 
 std::vector<Use> Raster3dPass::working(Access a, bool analysis) const {
   std::vector<Use> uses;
-  for (const Buffer* b : {&vis_, &big_, &bins_, &binList_, &idBase_, &bvhNodes_, &bvhOrder_}) uses.push_back({*b, a});
-  if (analysis)
-    for (const Buffer* b : {&counters_, &sampleCounters_, &coverage_, &tested_}) uses.push_back({*b, a});
+  // The counters and coverage too in a timed frame: some dispatches update them whatever the frame
+  // (the anti-aliasing sample counters), and they share the steps' one barrier call anyway.
+  (void)analysis;
+  for (const Buffer* b : {&vis_, &triangles_, &depthStaging_, &big_, &bins_, &binList_, &idBase_, &bvhNodes_,
+                          &bvhOrder_, &counters_, &sampleCounters_, &coverage_, &tested_})
+    uses.push_back({*b, a});
   return uses;
 }
 
