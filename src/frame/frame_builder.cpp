@@ -31,6 +31,12 @@ SurfaceBindings surfaceBindings(const FrameBuilder& f, const SurfaceInputs& surf
           surface.hitTriangles};
 }
 
+void provideSurfaceHits(DescriptorBinder& binder, const SurfaceBindings& surface, const Buffer& placeholder) {
+  binder.provide("HitIds", surface.hitIds ? *surface.hitIds : placeholder);
+  binder.provide("HitRays", *(surface.hitRays ? surface.hitRays : surface.frameConstants));
+  binder.provide("HitTriangles", surface.hitTriangles ? *surface.hitTriangles : placeholder);
+}
+
 std::vector<std::string> surfaceReads(const SurfaceInputs& surface) {
   std::vector<std::string> reads = {res::kFrameConstants, res::kDepth};
   if (surface.hitIds) reads.insert(reads.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});

@@ -13,6 +13,7 @@
 #include "frame/frame_pass.h"
 #include "frame/ray_backend.h"
 #include "frame/render_settings.h"
+#include "gpu/descriptor_binder.h"
 #include "gpu/gpu_scene.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_context.h"
@@ -97,6 +98,10 @@ struct SurfaceBindings {
   const Buffer* hitTriangles = nullptr;
 };
 SurfaceBindings surfaceBindings(const FrameBuilder& frame, const SurfaceInputs& surface);
+// Provides the surface's hit buffers under their shader names (surface.glsl.inc HitIds, HitRays,
+// HitTriangles). Without hits they are never read, and `placeholder` (any storage buffer) and the
+// frame constants stand in for them.
+void provideSurfaceHits(DescriptorBinder& binder, const SurfaceBindings& surface, const Buffer& placeholder);
 // The frame resources a pass on that surface reads: the constants, the depth, and the visibility
 // buffer with its rays and triangles where the primary gives them.
 std::vector<std::string> surfaceReads(const SurfaceInputs& surface);

@@ -107,10 +107,7 @@ AoPass::AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSetting
     } else if (tlas_) {
       b.provide("tlas", tlas_);
     }
-    // Without hits the Hit* bindings are never read; any buffer of the right type will do.
-    b.provide("HitIds", in.hitIds ? *in.hitIds : placeholder_);
-    b.provide("HitRays", *(in.hitRays ? in.hitRays : in.frameConstants));
-    b.provide("HitTriangles", in.hitTriangles ? *in.hitTriangles : placeholder_);
+    provideSurfaceHits(b, in, placeholder_);
     b.provide("AoDirections", directions_);
     b.provide("LdmMaps", ldm_ ? ldm_->mapsBuffer() : placeholder_);
     b.provide("AoOut", out);

@@ -308,10 +308,7 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   binder.provide("Materials", textures_->materials());
   binder.provide("Draws", draws_);
   binder.provide("TriangleDraws", triangleDraw_);
-  // Without hits the Hit* bindings are never read; any buffer of the right type will do.
-  binder.provide("HitIds", in_.hitIds ? *in_.hitIds : placeholder_);
-  binder.provide("HitRays", *(in_.hitRays ? in_.hitRays : in_.frameConstants));
-  binder.provide("HitTriangles", in_.hitTriangles ? *in_.hitTriangles : placeholder_);
+  provideSurfaceHits(binder, in_, placeholder_);
   binder.provide("Directions", directions_);
   binder.provide("LdmMaps", ldm_ ? ldm_->mapsBuffer() : placeholder_);
   binder.provide("Photons", withPhotons ? t.photons : placeholder_);
@@ -389,7 +386,9 @@ void IndirectPass::recordDispatch(VkCommandBuffer cmd, const Program& p, const T
 }
 
 void IndirectPass::recordTraceInto(VkCommandBuffer cmd, Sync& sync, IndirectMethod method, const Target& t) const {
-  sync.use(cmd, {{t.photons, access::kRayWrite}});
+  // The trace programs share indirect_common.glsl.inc's bindings with the gather, so the
+  // irradiance image is statically used by them: declared written, the splat after it waits.
+  sync.use(cmd, {{t.photons, access::kRayWrite}, {t.irradiance, access::kRayWrite}});
   recordDispatch(cmd, *programs_.at({method, 1u}), t, primaries_, false);
   // Bounces 2..K: a thread per slot, 64 a group (a 64-lane launch row in the pipeline); each
   // retraces its chain, so the dispatches do not depend on each other.
