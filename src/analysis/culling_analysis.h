@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/image_io.h"
+#include "config/config.h"
 #include "reference/cull_ref.h"
 #include "scene/scene.h"
 
@@ -31,11 +32,12 @@ struct CullingInputs {
   const std::vector<Light>* lights = nullptr;
   glm::mat4 view{1.0f}, proj{1.0f};
   uint32_t width = 0, height = 0;
-  uint32_t tileSize = 16;
-  bool aabb = false;
-  bool lightCulling = true;
+  // A parameter the config has takes its one default from it (config.h paramDefaults).
+  uint32_t tileSize = paramDefaults().tileSize;
+  bool aabb = paramDefaults().aabb;
+  bool lightCulling = paramDefaults().lightCulling;
   uint32_t capacity = kDefaultTileCapacity;
-  uint32_t depthSlices = 0;  // 0 off, 2..32: the 2.5D slab test (cull_ref.h TileVolume)
+  uint32_t depthSlices = paramDefaults().depthSlices;  // 0 off, 2..32: the 2.5D slab test (cull_ref.h TileVolume)
 };
 
 // Per tile (row-major, tileCount(width) × tileCount(height)), ascending light indices.

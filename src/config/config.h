@@ -321,6 +321,14 @@ std::vector<std::string> setKeys();
 // refused with a did-you-mean over setKeys() (an effect or camera is the caller's to apply first).
 void applySetOverride(VariantParams& params, const std::string& keyEqualsValue);
 
+// The one default of every parameter: a VariantParams as declared above. RenderSettings and the
+// passes' settings take theirs from here (docs/contributing.md "Adding a parameter").
+const VariantParams& paramDefaults();
+// Checks one parameter's value by its schema row (the check a config file and --set get), for
+// settings built without a config (the frame's own consumers, tests): InputError "tile_size: 12 is
+// not one of 8, 16, 32".
+void checkParam(std::string_view key, const nlohmann::ordered_json& value);
+
 // Checks that params fit the config's scene (light_count/triangle_scale only for the atrium with
 // its procedural lights). parseConfig runs it on every variant; run it again after --set.
 void checkParamsFitScene(const Config& config, const VariantParams& params, const std::string& where);

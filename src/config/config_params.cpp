@@ -472,6 +472,17 @@ std::vector<std::string> setKeys() {
   return keys;
 }
 
+const VariantParams& paramDefaults() {
+  static const VariantParams defaults{};
+  return defaults;
+}
+
+void checkParam(std::string_view key, const Json& value) {
+  VariantParams scratch;
+  const Where where{std::string(key), ""};
+  config_reader::applyParam(scratch, key, value, where, where);
+}
+
 void applySetOverride(VariantParams& params, const std::string& keyEqualsValue) {
   Where where{"--set " + keyEqualsValue, ""};
   const std::vector<std::string> keys = setKeys();

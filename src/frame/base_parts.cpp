@@ -157,13 +157,12 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
 LightListsPart::LightListsPart(FrameBuilder& f) {
   const RenderSettings& s = f.settings;
   const uint32_t lightCount = uint32_t(f.scene.lights.size());
-  CullingSettings cs;
-  cs.tileSize = s.tileSize;
-  cs.lightCulling = s.lightCulling;
-  cs.aabb = s.aabb;
-  cs.depthSlices = s.depthSlices;
-  cs.lists = s.lightLists;
-  cs.lightCount = lightCount;
+  CullingSettings cs{.tileSize = s.tileSize,
+                     .lightCulling = s.lightCulling,
+                     .aabb = s.aabb,
+                     .depthSlices = s.depthSlices,
+                     .lists = s.lightLists,
+                     .lightCount = lightCount};
   if (s.lightLists == LightLists::Zbin) {
     // The bins span the near plane to the farthest corner of the scene's bounds in view depth.
     glm::vec3 lo, hi;

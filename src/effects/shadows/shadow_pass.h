@@ -18,16 +18,17 @@ struct ShadowSettings {
   // The frame's ray tracer (frame/ray_backend.h RayTracer), never Auto; compute: our BVH
   // (trace_bvh.h) traversed in a compute shader (compute_occluded.glsl.inc).
   RtBackend backend = RtBackend::RayQuery;
-  uint32_t tileSize = 16;
-  NormalCulling normals = NormalCulling::Off;       // geometric needs hit ids
-  WorldPosMethod worldPos = WorldPosMethod::Alg41;  // hit needs hit ids
-  bool rangeTest = false;
+  // A parameter the config has takes its one default from it (config.h paramDefaults).
+  uint32_t tileSize = paramDefaults().tileSize;
+  NormalCulling normals = paramDefaults().normalCulling;  // geometric needs hit ids
+  WorldPosMethod worldPos = paramDefaults().worldPos;     // hit needs hit ids
+  bool rangeTest = paramDefaults().rangeTest;
   uint32_t listMode = 0;            // gpu::kList*
   uint32_t visibilityWords = 1;     // per pixel: 1 for tile lists, ceil(lights/32) for the masks
   uint32_t bvhStack = 32;           // backend compute: the traversal stack's entries (the tree's depth − 1)
   bool bvhStackShared = true;       // backend compute: the stacks in shared memory (trace_bvh.h traceStackShared)
   bool raybenchStackShared = true;  // the same for raybench's 64-thread workgroups
-  uint32_t bvhWidth = 2;            // backend compute: our BVH's children a node
+  uint32_t bvhWidth = paramDefaults().bvhWidth;  // backend compute: our BVH's children a node
 };
 
 // Inputs shared with the other passes.

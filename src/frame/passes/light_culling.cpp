@@ -53,8 +53,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
       viewPipeline_(ctx),
       sortPipeline_(ctx),
       binPipeline_(ctx) {
-  if (settings.tileSize != 8 && settings.tileSize != 16 && settings.tileSize != 32)
-    throw InputError("tile_size " + std::to_string(settings.tileSize) + " is not one of 8, 16, 32");
+  checkParam("tile_size", settings.tileSize);  // the config's own check (settings built without one)
   HB_ASSERT(settings.capacity == gpu::kMaxLightsPerTile);
   if (settings.lightCount > gpu::kMaxLights)
     throw InputError(std::to_string(settings.lightCount) + " lights: light culling handles at most " +

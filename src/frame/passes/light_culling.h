@@ -25,13 +25,16 @@
 
 namespace hb {
 
+// A view of the frame's settings (RenderSettings): a parameter the config has takes its one
+// default from it (config.h paramDefaults); capacity and below are culling's own.
 struct CullingSettings {
-  uint32_t tileSize = 16;    // 8, 16 or 32
-  bool lightCulling = true;  // off: every tile gets every light
-  bool aabb = false;         // Turanzkij's AABB test on top of the plane test
-  uint32_t capacity = 32;    // lights stored per tile (one 32-bit visibility mask)
-  uint32_t depthSlices = 0;  // 0 off, 2..32: Harada's 2.5D slab test after the plane/AABB tests
-  LightLists lists = LightLists::Tile;
+  uint32_t tileSize = paramDefaults().tileSize;
+  bool lightCulling = paramDefaults().lightCulling;  // off: every tile gets every light
+  bool aabb = paramDefaults().aabb;                  // Turanzkij's AABB test on top of the plane test
+  uint32_t capacity = 32;                            // lights stored per tile (one 32-bit visibility mask)
+  uint32_t depthSlices =
+      paramDefaults().depthSlices;  // 0 off, 2..32: Harada's 2.5D slab test after the plane/AABB tests
+  LightLists lists = paramDefaults().lightLists;
   uint32_t lightCount = 0;                  // sizes the masks (at most gpu::kMaxLights)
   float zbinNear = 0.1f, zbinFar = 100.0f;  // zbin: view distances the bins span (log-spaced)
 };
