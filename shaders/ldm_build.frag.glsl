@@ -10,11 +10,7 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
 
-layout(constant_id = 0) const uint RESOLUTION = 128;
-layout(constant_id = 1) const uint NODE_CAPACITY = 1;
-layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
-layout(constant_id = 3) const uint LIST = kLdmListMax64;
-layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
+#include "ldm_build_constants.glsl.inc"
 layout(push_constant) uniform Push { DrawConstants draw; };
 
 uniform LinksAddress { uvec2 linksAddress; };  // gpu_types.h layouts

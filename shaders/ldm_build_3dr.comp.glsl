@@ -28,11 +28,7 @@
 #extension GL_EXT_buffer_reference : require
 #include "shared/gpu_types.h"
 
-layout(constant_id = 0) const uint RESOLUTION = 128;
-layout(constant_id = 1) const uint NODE_CAPACITY = 1;
-layout(constant_id = 2) const uint PIXELS = 1;  // maps × RESOLUTION²
-layout(constant_id = 3) const uint LIST = kLdmListMax64;
-layout(constant_id = 4) const uint PHASE = kLdmPhaseInsert;
+#include "ldm_build_constants.glsl.inc"
 layout(constant_id = 5) const uint MODE = 0u;  // 0: a thread a pair, 1: a workgroup a listed chunk
 layout(constant_id = 6) const uint SMALL_BOX = kLdmSmallBox;
 layout(constant_id = 7) const uint CHUNK_CAPACITY = 1;

@@ -94,12 +94,7 @@ Scene sceneWithCamera(glm::vec3 eye, glm::vec3 target, float znear = 0.1f) {
   return s;
 }
 
-Light rangedPointLight(glm::vec3 p, float range) {
-  Light l;
-  l.position = p;
-  l.range = range;
-  return l;
-}
+Light rangedPointLight(glm::vec3 p, float range) { return Light{.position = p, .range = range}; }
 
 Light spotLight(glm::vec3 p, glm::vec3 dir, float range, float outer) {
   Light l = rangedPointLight(p, range);

@@ -22,6 +22,7 @@
 #include "gpu_fixture.h"
 #include "reference/bvh.h"
 #include "scene/atrium.h"
+#include "shadow_frame.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -30,13 +31,7 @@ namespace {
 // Small images keep lavapipe's rays (up to 256 a pixel) within seconds.
 constexpr uint32_t kWidth = 96, kHeight = 54;
 
-struct ManyLightsFrame {
-  RenderSettings settings;
-  std::vector<float> depth;
-  CullingReadback culling;
-  ShadowReadback shadows;
-  glm::mat4 view, proj;
-};
+using ManyLightsFrame = hb::testing::ShadowedFrame;
 
 ManyLightsFrame render(const VulkanContext& ctx, const Scene& scene, LightLists lists,
                        NormalCulling normals = NormalCulling::Improved, const std::string& primary = "hardware") {

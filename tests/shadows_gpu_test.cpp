@@ -17,6 +17,7 @@
 #include "gpu/trace_bvh.h"
 #include "gpu_fixture.h"
 #include "scene/hard_cases.h"
+#include "shadow_frame.h"
 #include "shared/gpu_types.h"
 
 namespace hb {
@@ -25,12 +26,7 @@ namespace {
 constexpr uint32_t kWidth = 320, kHeight = 180;
 constexpr NormalCulling kNormalModes[] = {NormalCulling::Off, NormalCulling::Naive, NormalCulling::Improved};
 
-struct ShadowFrame {
-  RenderSettings settings;
-  std::vector<float> depth;
-  CullingReadback culling;
-  ShadowReadback shadows;
-  glm::mat4 view, proj;
+struct ShadowFrame : hb::testing::ShadowedFrame {
   ReconstructionCamera<double> cam;
   size_t pixels() const { return depth.size(); }
 };
@@ -47,7 +43,7 @@ ShadowFrame render(const VulkanContext& ctx, const Scene& scene, NormalCulling n
   Renderer r(ctx, scene, s);
   EXPECT_EQ(toString(shadowsOf(r)->shadowPass().settings().backend), backend);
   r.renderFrame(true);
-  ShadowFrame f{s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj(), {}};
+  ShadowFrame f{{s, r.readDepth(), r.readCulling(), shadowsOf(r)->readShadows(), r.view(), r.proj()}, {}};
   f.cam = reconstructionCamera<double>(glm::dmat4(f.view), glm::dmat4(f.proj), s.width, s.height);
   return f;
 }

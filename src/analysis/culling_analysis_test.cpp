@@ -51,12 +51,7 @@ struct SyntheticView {
   }
 };
 
-Light pointAt(glm::vec3 p, float range) {
-  Light l;
-  l.position = p;
-  l.range = range;
-  return l;
-}
+Light pointAt(glm::vec3 p, float range) { return Light{.position = p, .range = range}; }
 
 void addRandomLights(SyntheticView& s, uint32_t count, uint32_t seed) {
   std::mt19937 rng(seed);

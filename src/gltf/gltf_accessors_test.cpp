@@ -59,40 +59,39 @@ TEST(GltfLoad, SkipsNonTriangleModesAndCountsThem) {
 
 TEST(GltfLoadErrors, AccessorPastItsBufferViewNamesTheAttribute) {
   TestDir dir;
-  GltfBuilder b;
-  b.quad();
-  b.doc["accessors"][0]["count"] = 5;  // POSITION: 5 * 12 bytes > the 48-byte bufferView
-  b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "short.gltf"),
+  expectBrokenQuad(dir, "short.gltf",
+                   [](json& doc) {
+                     doc["accessors"][0]["count"] = 5;  // POSITION: 5 * 12 bytes > the 48-byte bufferView
+                   },
                    {"meshes[0].primitives[0].attributes.POSITION", "accessors[0]", "60"});
 }
 
 TEST(GltfLoadErrors, AccessorByteOffsetPastItsBufferViewNamesTheIndices) {
   TestDir dir;
-  GltfBuilder b;
-  b.quad();
-  b.doc["accessors"][3]["byteOffset"] = 2;  // indices: 2 + 6 * 2 = 14 > 12 bytes
-  b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "offset.gltf"), {"meshes[0].primitives[0].indices"});
+  expectBrokenQuad(dir, "offset.gltf",
+                   [](json& doc) {
+                     doc["accessors"][3]["byteOffset"] = 2;  // indices: 2 + 6 * 2 = 14 > 12 bytes
+                   },
+                   {"meshes[0].primitives[0].indices"});
 }
 
 TEST(GltfLoadErrors, StridedAccessorPastItsBufferViewIsCaught) {
   TestDir dir;
-  GltfBuilder b;
-  b.quad();
-  b.doc["bufferViews"][0]["byteStride"] = 16;  // 16 * 3 + 12 = 60 > 48
-  b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "stride.gltf"), {"attributes.POSITION", "stride 16"});
+  expectBrokenQuad(dir, "stride.gltf",
+                   [](json& doc) {
+                     doc["bufferViews"][0]["byteStride"] = 16;  // 16 * 3 + 12 = 60 > 48
+                   },
+                   {"attributes.POSITION", "stride 16"});
 }
 
 TEST(GltfLoadErrors, BufferViewPastItsBufferIsCaught) {
   TestDir dir;
-  GltfBuilder b;
-  b.quad();
-  b.doc["bufferViews"][0]["byteLength"] = 4096;  // the whole buffer is far shorter
-  b.doc["accessors"][0]["count"] = 300;
-  b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "view.gltf"), {"bufferViews[0]"});
+  expectBrokenQuad(dir, "view.gltf",
+                   [](json& doc) {
+                     doc["bufferViews"][0]["byteLength"] = 4096;  // the whole buffer is far shorter
+                     doc["accessors"][0]["count"] = 300;
+                   },
+                   {"bufferViews[0]"});
 }
 
 TEST(GltfLoadErrors, IndexPastTheVertexCountNamesTheIndices) {
@@ -119,18 +118,18 @@ TEST(GltfLoadErrors, NonFinitePositionsNameThePositionAttribute) {
 
 TEST(GltfLoadErrors, UnsupportedComponentTypeNamesTheAccessor) {
   TestDir dir;
-  GltfBuilder b;
-  b.quad();
-  b.doc["accessors"][3]["componentType"] = kFloat;  // float indices
-  b.doc["accessors"][3]["count"] = 3;
-  b.scene({b.node({{"mesh", 0}})});
-  expectInputError(b.writeGltf(dir / "floatidx.gltf"), {"meshes[0].primitives[0].indices", "componentType 5126"});
+  expectBrokenQuad(dir, "floatidx.gltf",
+                   [](json& doc) {
+                     doc["accessors"][3]["componentType"] = kFloat;  // float indices
+                     doc["accessors"][3]["count"] = 3;
+                   },
+                   {"meshes[0].primitives[0].indices", "componentType 5126"});
 
-  GltfBuilder c;
-  c.quad();
-  c.doc["accessors"][0]["componentType"] = kU32;  // 32-bit integers are not positions even quantized
-  c.scene({c.node({{"mesh", 0}})});
-  expectInputError(c.writeGltf(dir / "u32pos.gltf"), {"attributes.POSITION", "componentType 5125", "FLOAT"});
+  expectBrokenQuad(dir, "u32pos.gltf",
+                   [](json& doc) {
+                     doc["accessors"][0]["componentType"] = kU32;  // 32-bit integers are not positions even quantized
+                   },
+                   {"attributes.POSITION", "componentType 5125", "FLOAT"});
 }
 
 // KHR_mesh_quantization as gltfpack writes it: unnormalized integer positions scaled back by the

@@ -155,4 +155,15 @@ inline void expectInputError(const fs::path& path, std::vector<std::string> part
   }
 }
 
+// A one-quad scene (GltfBuilder::quad, one node) broken by `edit` before it is written to `file`
+// in `dir`: loading it must fail as expectInputError says.
+template <class Dir, class Edit>
+void expectBrokenQuad(const Dir& dir, const char* file, Edit edit, std::vector<std::string> parts) {
+  GltfBuilder b;
+  b.quad();
+  edit(b.doc);
+  b.scene({b.node({{"mesh", 0}})});
+  expectInputError(b.writeGltf(dir / file), std::move(parts));
+}
+
 }  // namespace hb::gltf_test

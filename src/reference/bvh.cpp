@@ -144,37 +144,41 @@ static bool rayHitsBox(const glm::dvec3& lo, const glm::dvec3& hi, const glm::dv
   return true;
 }
 
-template <bool AnyHit>
-bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax, double& t,
-                   uint32_t& triangle) const {
-  if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tMax)) return false;
+template <class OnTriangle>
+void Bvh::walk(const glm::dvec3& org, const glm::dvec3& dir, double tMin, const double& tFar,
+               OnTriangle onTriangle) const {
+  if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tFar)) return;
   const glm::dvec3 invDir = 1.0 / dir;
-  bool hit = false;
-  double closest = tMax;
   uint32_t stack[128];  // depth of a median-split tree ≤ log2(n) + 1
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (!rayHitsBox(n.lo, n.hi, org, invDir, dir, tMin, closest)) continue;
+    if (!rayHitsBox(n.lo, n.hi, org, invDir, dir, tMin, tFar)) continue;
     if (n.count > 0) {
-      for (uint32_t i = n.firstOrRight; i < n.firstOrRight + n.count; ++i) {
-        double ti;
-        if (!intersectTriangleWatertight(triangles_[i], org, dir, tMin, closest, ti)) continue;
-        hit = true;
-        closest = ti;
-        triangle = ids_[i];
-        if (AnyHit) {
-          t = ti;
-          return true;
-        }
-      }
+      for (uint32_t i = n.firstOrRight; i < n.firstOrRight + n.count; ++i)
+        if (!onTriangle(i)) return;
     } else {
       HB_ASSERT(top + 2 <= 128);
       stack[top++] = n.firstOrRight;
       stack[top++] = uint32_t(&n - nodes_.data()) + 1;
     }
   }
+}
+
+template <bool AnyHit>
+bool Bvh::traverse(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax, double& t,
+                   uint32_t& triangle) const {
+  bool hit = false;
+  double closest = tMax;  // shortened by each hit, so the walk prunes boxes beyond it
+  walk(org, dir, tMin, closest, [&](uint32_t i) {
+    double ti;
+    if (!intersectTriangleWatertight(triangles_[i], org, dir, tMin, closest, ti)) return true;
+    hit = true;
+    closest = ti;
+    triangle = ids_[i];
+    return !AnyHit;
+  });
   if (hit) t = closest;
   return hit;
 }
@@ -198,25 +202,11 @@ bool Bvh::closestHit(const glm::dvec3& origin, const glm::dvec3& dir, double tMi
 void Bvh::allHits(const glm::dvec3& org, const glm::dvec3& dir, double tMin, double tMax,
                   std::vector<BvhHit>& hits) const {
   hits.clear();
-  if (nodes_.empty() || !(glm::dot(dir, dir) > 0.0) || !(tMin <= tMax)) return;
-  const glm::dvec3 invDir = 1.0 / dir;
-  uint32_t stack[128];  // as traverse()
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    if (!rayHitsBox(n.lo, n.hi, org, invDir, dir, tMin, tMax)) continue;
-    if (n.count > 0) {
-      for (uint32_t i = n.firstOrRight; i < n.firstOrRight + n.count; ++i) {
-        double t;
-        if (intersectTriangleWatertight(triangles_[i], org, dir, tMin, tMax, t)) hits.push_back({t, ids_[i]});
-      }
-    } else {
-      HB_ASSERT(top + 2 <= 128);
-      stack[top++] = n.firstOrRight;
-      stack[top++] = uint32_t(&n - nodes_.data()) + 1;
-    }
-  }
+  walk(org, dir, tMin, tMax, [&](uint32_t i) {
+    double t;
+    if (intersectTriangleWatertight(triangles_[i], org, dir, tMin, tMax, t)) hits.push_back({t, ids_[i]});
+    return true;
+  });
   std::sort(hits.begin(), hits.end(),
             [](const BvhHit& a, const BvhHit& b) { return a.t < b.t || (a.t == b.t && a.triangle < b.triangle); });
 }

@@ -71,6 +71,11 @@ class Bvh {
   template <bool AnyHit>
   bool traverse(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, double tMax, double& t,
                 uint32_t& triangle) const;
+  // Visits every kept triangle i whose leaf box the ray meets within [tMin, tFar] (tFar read again
+  // at each box, so a caller that shortens it prunes the rest); `onTriangle(i)` returns false to stop.
+  template <class OnTriangle>
+  void walk(const glm::dvec3& origin, const glm::dvec3& dir, double tMin, const double& tFar,
+            OnTriangle onTriangle) const;
 
   std::vector<BvhTriangle> inputs_;     // as passed
   std::vector<BvhTriangle> triangles_;  // kept, in tree order

@@ -11,6 +11,20 @@
 namespace hb {
 namespace {
 
+// n random small triangles: centres uniform in [-spread, spread]^3, corners within `size` of them
+// (the draws in the order the tests were written with, so each test sees its own scene).
+template <class Rng>
+std::vector<BvhTriangle> randomTriangles(Rng& rng, int n, double spread, double size) {
+  std::uniform_real_distribution<double> u(-spread, spread), s(-size, size);
+  std::vector<BvhTriangle> tris;
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec3 c(u(rng), u(rng), u(rng));
+    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
+                    c + glm::dvec3(s(rng), s(rng), s(rng))});
+  }
+  return tris;
+}
+
 // Closed cube [-1, 1]³; each face is a fan of 4 triangles around its centre, so that the mesh has
 // interior shared edges (the spokes) and an interior shared vertex (the centre) in a flat face,
 // besides the convex cube edges and corners.
@@ -155,13 +169,8 @@ TEST(Bvh, BuildsFromSceneInstancesAndPrimitives) {
 
 TEST(Bvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-5.0, 5.0), s(-0.5, 0.5);
-  std::vector<BvhTriangle> tris;
-  for (int i = 0; i < 300; ++i) {
-    const glm::dvec3 c(u(rng), u(rng), u(rng));
-    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
-                    c + glm::dvec3(s(rng), s(rng), s(rng))});
-  }
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  const std::vector<BvhTriangle> tris = randomTriangles(rng, 300, 5.0, 0.5);
   const Bvh bvh(tris);  // closestHit names the triangle by its index in `tris`
   int hits = 0;
   for (int r = 0; r < 500; ++r) {
@@ -192,13 +201,8 @@ TEST(Bvh, NamesTheSameNearestTriangleAsABruteForceSearch) {
 
 TEST(Bvh, AllHitsListsEveryTriangleABruteForceSearchHitsInOrder) {
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-4.0, 4.0), s(-0.8, 0.8);
-  std::vector<BvhTriangle> tris;
-  for (int i = 0; i < 400; ++i) {
-    const glm::dvec3 c(u(rng), u(rng), u(rng));
-    tris.push_back({c + glm::dvec3(s(rng), s(rng), s(rng)), c + glm::dvec3(s(rng), s(rng), s(rng)),
-                    c + glm::dvec3(s(rng), s(rng), s(rng))});
-  }
+  std::uniform_real_distribution<double> u(-4.0, 4.0);
+  const std::vector<BvhTriangle> tris = randomTriangles(rng, 400, 4.0, 0.8);
   const Bvh bvh(tris);
   size_t total = 0;
   std::vector<BvhHit> hits;

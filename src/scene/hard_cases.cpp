@@ -52,6 +52,15 @@ void addCamera(Scene& s, glm::dvec3 eye, glm::dvec3 target, double znear = 0.1, 
   s.cameras.push_back(c);
 }
 
+// How most cases end: the mesh added, one point light, the camera looking at `target`.
+Scene finish(Scene s, MeshBuilder& mb, glm::dvec3 light, double intensity, double range, glm::dvec3 eye,
+             glm::dvec3 target) {
+  mb.appendTo(s);
+  addLight(s, light, intensity, range);
+  addCamera(s, eye, target);
+  return s;
+}
+
 // Quad in the plane z = zPlane facing +z.
 void addQuadZ(MeshBuilder& mb, uint32_t material, double x0, double x1, double y0, double y1, double zPlane) {
   addQuad(mb, material, {x0, y0, zPlane}, {x1, y0, zPlane}, {x1, y1, zPlane}, {x0, y1, zPlane}, {0, 0, 1});
@@ -69,10 +78,7 @@ Scene makePlane() {
   Scene s = baseScene("plane");
   MeshBuilder mb("plane");
   addQuadZ(mb, kGrey, -5, 5, -5, 5, 0);
-  mb.appendTo(s);
-  addLight(s, {1, 1, 3}, 20, 10);
-  addCamera(s, {0, 0, 5}, {0, 0, 0});
-  return s;
+  return finish(std::move(s), mb, {1, 1, 3}, 20, 10, {0, 0, 5}, {0, 0, 0});
 }
 
 Scene makeDepthStep() {
@@ -80,10 +86,7 @@ Scene makeDepthStep() {
   MeshBuilder mb("depth-step");
   addQuadZ(mb, kGrey, -5, 0, -5, 5, 0);
   addQuadZ(mb, kGrey, 0, 5, -5, 5, -1);
-  mb.appendTo(s);
-  addLight(s, {0, 1, 3}, 20, 10);
-  addCamera(s, {0, 0, 5}, {0, 0, 0});
-  return s;
+  return finish(std::move(s), mb, {0, 1, 3}, 20, 10, {0, 0, 5}, {0, 0, 0});
 }
 
 Scene makeCube(glm::dvec3 offset) {
@@ -91,10 +94,8 @@ Scene makeCube(glm::dvec3 offset) {
   MeshBuilder mb("cube");
   addBox(mb, kGrey, offset + glm::dvec3(-0.5, 0.5, -0.5), offset + glm::dvec3(0.5, 1.5, 0.5));
   addGround(mb, kGrey, 4, 0, offset);
-  mb.appendTo(s);
-  addLight(s, offset + glm::dvec3(2, 4, 1.5), 30, 15);
-  addCamera(s, offset + glm::dvec3(3, 3, 4), offset + glm::dvec3(0, 0.75, 0));
-  return s;
+  return finish(std::move(s), mb, offset + glm::dvec3(2, 4, 1.5), 30, 15, offset + glm::dvec3(3, 3, 4),
+                offset + glm::dvec3(0, 0.75, 0));
 }
 
 Scene makeTinyTriangles() {
@@ -114,10 +115,7 @@ Scene makeTinyTriangles() {
     const double x = 3.0 + 0.5 * k;
     addQuadZ(mb, kGrey, x, x + pixel, -2, 2, z);
   }
-  mb.appendTo(s);
-  addLight(s, {0, 2, -5}, 10, 20);
-  addCamera(s, {0, 0, 0}, {0, 0, -1});
-  return s;
+  return finish(std::move(s), mb, {0, 2, -5}, 10, 20, {0, 0, 0}, {0, 0, -1});
 }
 
 Scene makeGrazing() {
@@ -187,10 +185,7 @@ Scene makeDegenerate() {
       }
     }
   HB_ASSERT(degenerate == kDegenerateCount);
-  mb.appendTo(s);
-  addLight(s, {0.5, 2, 0.5}, 20, 10);
-  addCamera(s, {0, 3, 3}, {0, 0, 0});
-  return s;
+  return finish(std::move(s), mb, {0.5, 2, 0.5}, 20, 10, {0, 3, 3}, {0, 0, 0});
 }
 
 Scene makeOpenOccluder() {
@@ -202,10 +197,7 @@ Scene makeOpenOccluder() {
   MeshBuilder mb("open-occluder");
   addGround(mb, kGrey, 4, 0);
   addQuadZ(mb, 1, -1, 1, 0.5, 1.5, 0);
-  mb.appendTo(s);
-  addLight(s, {0, 6, 3}, 40, 15);
-  addCamera(s, {0, 2.5, -4}, {0, 0.5, 0});
-  return s;
+  return finish(std::move(s), mb, {0, 6, 3}, 40, 15, {0, 2.5, -4}, {0, 0.5, 0});
 }
 
 Scene makeFarOrigin() {
@@ -253,10 +245,7 @@ Scene makeMicrobench(uint32_t triangles) {
     }
     mb.triangle(kGrey, v[0], v[1], v[2]);
   }
-  mb.appendTo(s);
-  addLight(s, {0, 3, -2}, 200, 30);
-  addCamera(s, {0, 0, 0}, {0, 0, -1});
-  return s;
+  return finish(std::move(s), mb, {0, 3, -2}, 200, 30, {0, 0, 0}, {0, 0, -1});
 }
 
 std::vector<std::string> builtinSceneNames() {

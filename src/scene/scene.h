@@ -25,16 +25,22 @@ struct Primitive {
   uint32_t vertexOffset = 0;
   uint32_t vertexCount = 0;
   uint32_t material = 0;
+
+  bool operator==(const Primitive&) const = default;
 };
 
 struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
+
+  bool operator==(const Mesh&) const = default;
 };
 
 struct Instance {
   uint32_t mesh = 0;
   glm::mat4 transform{1.0f};  // object → world
+
+  bool operator==(const Instance&) const = default;
 };
 
 struct Material {
@@ -45,6 +51,8 @@ struct Material {
   int baseColorTexture = -1;  // index into Scene::textures, -1 = none
   int metallicRoughnessTexture = -1;
   bool doubleSided = false;
+
+  bool operator==(const Material&) const = default;
 };
 
 // Decoded 8-bit RGBA, row-major, top row first.
@@ -54,6 +62,8 @@ struct Texture {
   uint32_t height = 0;
   bool srgb = false;  // base colour textures are sRGB, metallic-roughness linear
   std::vector<uint8_t> rgba;
+
+  bool operator==(const Texture&) const = default;
 };
 
 enum class LightType : uint32_t { Point = 0, Spot = 1, Directional = 2 };
@@ -71,6 +81,8 @@ struct Light {
   float innerConeAngle = 0.0f;                // radians, spot only
   float outerConeAngle = 0.785398163397448f;  // radians, spot only (glTF default pi/4)
   bool castShadows = true;
+
+  bool operator==(const Light&) const = default;
 };
 
 // Light from everywhere (the sky's, say) at radiance color·intensity, which reaches a point as its
@@ -114,6 +126,8 @@ struct Camera {
   float xmag = 1.0f, ymag = 1.0f;  // orthographic: half the view's width and height (glTF)
   float znear = 0.1f;
   float zfar = 1000.0f;  // reverse-Z: near → depth 1, far → depth 0
+
+  bool operator==(const Camera&) const = default;
 };
 
 // The camera's position in world space (the inverse view's translation), in double.
