@@ -10,14 +10,16 @@ layout(location = 0) rayPayloadEXT uint missed;  // the miss shader (shadows.rmi
 void main() {
   const uvec2 id = gl_LaunchIDEXT.xy, size = gl_LaunchSizeEXT.xy;
   const uint index = id.y * size.x + id.x;
+  if (fileMode() && index >= p.file.x) return;  // past the file's last ray
   vec3 origin, dir;
-  if (!peaksRay(id, size, origin, dir)) {
+  float tMin, tMax;
+  if (!peaksRay(id, size, origin, dir, tMin, tMax)) {
     missedOut[index] = 1u;
     return;
   }
   missed = 0u;
   const uint flags = gl_RayFlagsOpaqueEXT | gl_RayFlagsSkipClosestHitShaderEXT |
-                     (MODE >= 2u ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
-  traceRayEXT(tlas, flags, 0xFF, 0, 0, 0, origin, 0.0, dir, p.forward.w, 0);
+                     (anyHitMode() ? gl_RayFlagsTerminateOnFirstHitEXT : 0u);
+  traceRayEXT(tlas, flags, 0xFF, 0, 0, 0, origin, tMin, dir, tMax, 0);
   missedOut[index] = missed;
 }

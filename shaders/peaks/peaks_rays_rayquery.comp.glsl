@@ -7,11 +7,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #include "peaks_rays.glsl.inc"
 
 uniform accelerationStructureEXT tlas;
-bool peaksHit(vec3 origin, vec3 dir, uint index) {
+bool peaksHit(vec3 origin, vec3 dir, float tMin, float tMax, uint index) {
   rayQueryEXT rq;
-  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT | (MODE >= 2u ? gl_RayFlagsTerminateOnFirstHitEXT : 0u), 0xFF,
-                        origin, 0.0, dir, p.forward.w);
+  rayQueryInitializeEXT(rq, tlas, gl_RayFlagsOpaqueEXT | (anyHitMode() ? gl_RayFlagsTerminateOnFirstHitEXT : 0u), 0xFF,
+                        origin, tMin, dir, tMax);
   while (rayQueryProceedEXT(rq)) {
   }
-  return rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
+  const bool hit = rayQueryGetIntersectionTypeEXT(rq, true) != gl_RayQueryCommittedIntersectionNoneEXT;
+  if (MODE == 4u) cameraHitT[index] = hit ? rayQueryGetIntersectionTEXT(rq, true) : -1.0;
+  return hit;
 }

@@ -1,6 +1,7 @@
 // The subcommands of the CLI (main.cpp parses flags and calls these). Each returns the process
 // exit code; user errors throw InputError (exit 2), device failures DeviceError (exit 3).
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,30 @@ struct RenderOptions {
   bool force = false;             // out holds a render.json: move the folder's files aside first
 };
 int cmdRender(const RenderOptions& options);
+
+// `rays export`: the ray sets of reference/ray_sets.h from a scene's first camera at `size`, one
+// ray file each (NAME.bin and NAME.json in out).
+struct RaysExportOptions {
+  std::string scene = "atrium";                 // built-in name or glTF path
+  std::string size;                             // "WxH" (empty: 1920x1080)
+  std::string kind = "all";                     // camera | ao | shadow | all
+  std::string out;                              // folder (created)
+  double offset = 1e-3;                         // ao, shadow: off the surface along the geometric normal
+  double aoTMax = 1.0;                          // ao: the rays' length
+  uint64_t seed = 1;                            // ao: the directions' seed
+  std::vector<double> light = {0.0, 6.0, 0.0};  // shadow: the point light
+};
+int cmdRaysExport(const RaysExportOptions& options);
+// `raybench FILE.bin`: the file through every backend, timed (median and spread), each backend's
+// hits against the CPU's double-precision ones; refused in one line when the file is of another
+// scene than `scene` (default: the scene the file names, a built-in).
+struct RaybenchOptions {
+  std::string file;
+  std::string scene;
+  std::string device;
+  std::string json;  // write the figures here too
+};
+int cmdRaybench(const RaybenchOptions& options);
 
 // Several files: their runs one after another under the first file's context (a study whose runs
 // did not fit one sweep); refused unless every file was measured on a device of the same name.

@@ -153,6 +153,32 @@ int main(int argc, char** argv) {
   reportCmd->add_option("--min-ms", report.compareOptions.minMs, "as compare's (default 0.02)");
   reportCmd->add_flag("--force", report.compareOptions.force, "compare even when scenes or configs differ");
 
+  RaysExportOptions raysExport;
+  auto* raysCmd = app.add_subcommand("rays", "write ray files another tracer can trace (rays export)");
+  raysCmd->require_subcommand(1);
+  auto* raysExportCmd = raysCmd->add_subcommand(
+      "export", "write the camera, AO and shadow rays of a scene's first camera as ray files (NAME.bin + NAME.json)");
+  raysExportCmd->add_option("--scene", raysExport.scene, "built-in scene name or .gltf/.glb path (default atrium)");
+  raysExportCmd->add_option("--size", raysExport.size, "image size WxH of the camera rays (default 1920x1080)");
+  raysExportCmd->add_option("--kind", raysExport.kind, "camera, ao, shadow or all (default)")
+      ->check(CLI::IsMember({"camera", "ao", "shadow", "all"}));
+  raysExportCmd->add_option("--out", raysExport.out, "output folder")->required();
+  raysExportCmd->add_option("--offset", raysExport.offset, "ao, shadow: start this far off the surface (default 0.001)")
+      ->check(CLI::PositiveNumber);
+  raysExportCmd->add_option("--ao-t-max", raysExport.aoTMax, "ao: the rays' length (default 1)")
+      ->check(CLI::PositiveNumber);
+  raysExportCmd->add_option("--seed", raysExport.seed, "ao: the directions' seed (default 1)");
+  raysExportCmd->add_option("--light", raysExport.light, "shadow: the point light x y z (default 0 6 0)")->expected(3);
+  RaybenchOptions raybench;
+  auto* raybenchCmd =
+      app.add_subcommand("raybench", "trace a ray file with every backend: rays/s and hits against the CPU's");
+  raybenchCmd->add_option("file", raybench.file, "the ray file's .bin (its .json beside it)")->required();
+  raybenchCmd->add_option(
+      "--scene", raybench.scene,
+      "the scene the rays are of: a built-in name or .gltf/.glb path (default: the file's, built-in)");
+  raybenchCmd->add_option("--device", raybench.device, "device index or name substring");
+  raybenchCmd->add_option("--json", raybench.json, "write the figures to this file too");
+
   auto* sceneCmd = app.add_subcommand("scene", "export, inspect or list scenes");
   sceneCmd->require_subcommand(1);
   std::string exportName, exportOut, infoPath;
@@ -226,6 +252,8 @@ int main(int argc, char** argv) {
                                                             : CompareGate::Frame;
       return cmdReport(report);
     }
+    if (*raysExportCmd) return cmdRaysExport(raysExport);
+    if (*raybenchCmd) return cmdRaybench(raybench);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
     if (*listCmd) return cmdSceneList(listDir, listJson);

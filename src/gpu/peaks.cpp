@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -246,11 +248,36 @@ void measureRaster(const VulkanContext& ctx, const Sizes& sizes, std::vector<Pea
 
 }  // namespace
 
-void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend) {
-  if (!ctx.canTrace() || scene.cameras.empty()) return;
+namespace {
+
+// The uniform block of peaks_rays.glsl.inc.
+struct RayParams {
+  glm::vec4 eye, forward, right, up, lo, hi;
+  glm::uvec4 file;
+};
+
+// One ray set: a MODE of peaks_rays.glsl.inc, its figure's key and unit, and what it is in words.
+struct RaySet {
+  uint32_t mode;
+  std::string key, unit, what;
+};
+
+// Each set through each backend the device has (everyBackend false: the driver's only), the sets of
+// a backend in order, one Peak each ("<key>_<backend>", the pipeline's without a suffix), the first
+// once more at the end to catch a device whose speed changed. `rays` of the width x height launch are
+// traced (a ray file's count; the grid's for the built-in sets). With `hits`, each backend's t per ray
+// of the last set (Hits: -1 missed; none from the pipeline, which runs no hit shader) and its missed
+// flags.
+struct BackendHits {
+  std::vector<float> t;
+  std::vector<uint32_t> missed;
+};
+std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, const RayParams& params, uint32_t width,
+                                 uint32_t height, uint64_t rays, const Buffer* fileRays,
+                                 const std::vector<RaySet>& sets, const std::string& where, bool everyBackend,
+                                 std::vector<std::string>& warnings, std::map<std::string, BackendHits>* hits) {
   const Sizes sizes = sizesFor(ctx.info());
   const bool cpu = ctx.info().type == "cpu";
-  const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
   GpuScene gpuScene(ctx, scene);
   AccelerationStructures accel(ctx, gpuScene);
   // Ours at every width (bvh_width 2, 4, 8), and at widths 4 and 8 with persistent threads.
@@ -262,28 +289,15 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   if (everyBackend)
     for (uint32_t w : {2u, 4u, 8u}) bvhs.push_back(buildTraceBvh(ctx, scene, w));
   auto bvhOf = [&](uint32_t w) -> const TraceBvh& { return bvhs[w == 2 ? 0 : w == 4 ? 1 : 2]; };
-  struct Params {
-    glm::vec4 eye, forward, right, up, lo, hi;
-  } params;
-  const Camera& camera = scene.cameras.front();
-  const glm::mat4 toWorld = glm::inverse(camera.view);
-  glm::vec3 lo, hi;
-  scene.bounds(lo, hi);
-  const float tanY = std::tan(0.5f * camera.yfov), aspect = float(width) / float(height);
-  params.eye = toWorld[3];
-  params.forward = glm::vec4(-glm::vec3(toWorld[2]), glm::length(hi - lo));  // w: tMax, the bounds' diagonal
-  params.right = glm::vec4(glm::vec3(toWorld[0]) * tanY * aspect, 0);
-  params.up = glm::vec4(glm::vec3(toWorld[1]) * tanY, 0);
-  params.lo = glm::vec4(lo, 0);
-  params.hi = glm::vec4(hi, 0);
   const Buffer uniforms =
       uploadBuffer(ctx, &params, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other);
-  const size_t rays = size_t(width) * height;
+  const size_t launched = size_t(width) * height;
   Buffer missed(
-      ctx, rays * 4,
+      ctx, launched * 4,
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
-  Buffer hits(ctx, rays * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);
+  Buffer hitT(ctx, launched * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
   Buffer nextRay(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
+  Buffer noFile(ctx, 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);  // the built-in sets read no file
   // A backend: the driver's pipeline or ray query, or ours (`ours` set) in compute.
   struct Backend {
     std::string name;  // results' "backend": pipeline, rayquery, compute, compute-w4, compute-w8, compute-w4-persistent
@@ -295,7 +309,8 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   auto makeBinder = [&](const Backend& b) {
     auto binder = std::make_unique<DescriptorBinder>("peaks.rays_" + b.name);
     binder->provide("Dst", missed);
-    binder->provide("Hits", hits);
+    binder->provide("Hits", hitT);
+    binder->provide("RayFile", fileRays ? *fileRays : noFile);
     binder->provide("p", uniforms);  // peaks_rays.glsl.inc's uniform block, named p
     if (b.ours) {
       const TraceBvh& bvh = bvhOf(b.ours->width);
@@ -307,15 +322,6 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
     }
     return binder;
   };
-  const char* keys[4] = {"rays_camera", "rays_random_closest", "rays_random_occlusion", "rays_ao"};
-  const char* units[4] = {"rays_coherent", "rays_random", "rays_occlusion", "rays_ao"};
-  const std::string where = " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) +
-                            " rays, no hit shader)";
-  const char* what[4] = {"camera rays through every pixel, closest hit",
-                         "rays from random points of the scene's bounds in random directions, closest hit",
-                         "the same random rays as occlusion rays (first hit ends them)",
-                         "AO rays: from where each camera ray meets a surface, a random direction of the hemisphere "
-                         "facing the camera, occlusion rays as long as the bounds' diagonal"};
   // Ours first: its camera rays write the surfaces the AO rays of every backend start from.
   std::vector<Backend> backends;
   if (everyBackend) {
@@ -337,71 +343,77 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   // Persistent threads: enough groups of 64 to fill a large GPU (H200: 132 SMs, at most 32 groups of
   // 64 threads each), fewer where the rays are fewer.
   const uint32_t tiles = ((width + 7) / 8) * ((height + 7) / 8), persistentGroups = std::min(tiles, 4096u);
-  auto measure = [&](const Backend& b, const DescriptorBinder& binder, uint32_t mode) {
+  auto measure = [&](const Backend& b, const DescriptorBinder& binder, const RaySet& set) {
     std::string suffix = "_" + b.name;
     std::replace(suffix.begin(), suffix.end(), '-', '_');
-    {
-      std::unique_ptr<RaygenMissPipeline> rt;
-      Pipeline compute(ctx);
-      if (b.pipeline) {
-        rt = std::make_unique<RaygenMissPipeline>(ctx, binder, "peaks_rays.rgen", "shadows.rmiss",
-                                                  SpecConstants{{mode}});
-      } else {
-        if (b.ours) {  // 8x8 threads a group
-          const TraceBvh& bvh = bvhOf(b.ours->width);
-          compute.createCompute(
-              binder, "peaks_rays_compute.comp", 2 * sizeof(uint32_t),
-              {{mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width, b.ours->persistent ? 1u : 0u}});
-        } else
-          compute.createCompute(binder, "peaks_rays_rayquery.comp", 2 * sizeof(uint32_t), {{mode}});
-      }
-      // Every ray writes 0 or 1: a ray left at 0xFFFFFFFF was not traced.
-      ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, missed.handle(), 0, VK_WHOLE_SIZE, ~0u); },
-                        "clearing the ray peaks' results");
-      const bool persistent = b.ours && b.ours->persistent;
-      VkDescriptorSet set = (rt ? rt->pipeline() : compute).set();
-      const uint32_t size[2] = {width, height};
-      Peak peak =
-          makePeak(b.pipeline ? keys[mode] : std::string(keys[mode]) + suffix, units[mode], double(rays),
-                   timeRepetitions(ctx, sizes,
-                                   [&](VkCommandBuffer cmd) {
-                                     if (persistent) {  // the counter back to the first ray, inside the timing
-                                       Sync sync;
-                                       sync.use(cmd, {{nextRay, access::kFill}});
-                                       vkCmdFillBuffer(cmd, nextRay.handle(), 0, 4, 0);
-                                       sync.use(cmd, {{nextRay, access::kComputeWrite}});
-                                     }
-                                     const Pipeline& p = rt ? rt->pipeline() : compute;
-                                     vkCmdBindPipeline(cmd, p.bindPoint(), p.handle());
-                                     vkCmdBindDescriptorSets(cmd, p.bindPoint(), p.layout(), 0, 1, &set, 0, nullptr);
-                                     if (rt) {
-                                       rt->traceRays(cmd, width, height);
-                                     } else {
-                                       vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
-                                       if (persistent)
-                                         vkCmdDispatch(cmd, persistentGroups, 1, 1);
-                                       else
-                                         vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
-                                     }
-                                   }),
-                   std::string(what[mode]) + where + ", through " + b.through);
-      peak.backend = b.name;
-      const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
-      const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
-      peak.missed = 0;
-      for (size_t i = 0; i < rays; ++i) {
-        if (m[i] > 1)
-          throw DeviceError("the ray peak " + peak.key + " left ray " + std::to_string(i) +
-                            " untraced: a bug in its shader or the driver");
-        peak.missed += m[i];
-      }
-      return peak;
+    std::unique_ptr<RaygenMissPipeline> rt;
+    Pipeline compute(ctx);
+    if (b.pipeline) {
+      rt = std::make_unique<RaygenMissPipeline>(ctx, binder, "peaks_rays.rgen", "shadows.rmiss",
+                                                SpecConstants{{set.mode}});
+    } else {
+      if (b.ours) {  // 8x8 threads a group
+        const TraceBvh& bvh = bvhOf(b.ours->width);
+        compute.createCompute(binder, "peaks_rays_compute.comp", 2 * sizeof(uint32_t),
+                              {{set.mode, bvh.stack, traceStackShared(bvh, 64, true) ? 1u : 0u, bvh.width,
+                                b.ours->persistent ? 1u : 0u}});
+      } else
+        compute.createCompute(binder, "peaks_rays_rayquery.comp", 2 * sizeof(uint32_t), {{set.mode}});
     }
+    // Every ray writes 0 or 1: a ray left at 0xFFFFFFFF was not traced.
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, missed.handle(), 0, VK_WHOLE_SIZE, ~0u); },
+                      "clearing the ray peaks' results");
+    const bool persistent = b.ours && b.ours->persistent;
+    VkDescriptorSet descriptors = (rt ? rt->pipeline() : compute).set();
+    const uint32_t size[2] = {width, height};
+    Peak peak = makePeak(
+        b.pipeline ? set.key : set.key + suffix, set.unit, double(rays),
+        timeRepetitions(ctx, sizes,
+                        [&](VkCommandBuffer cmd) {
+                          if (persistent) {  // the counter back to the first ray, inside the timing
+                            Sync sync;
+                            sync.use(cmd, {{nextRay, access::kFill}});
+                            vkCmdFillBuffer(cmd, nextRay.handle(), 0, 4, 0);
+                            sync.use(cmd, {{nextRay, access::kComputeWrite}});
+                          }
+                          const Pipeline& pl = rt ? rt->pipeline() : compute;
+                          vkCmdBindPipeline(cmd, pl.bindPoint(), pl.handle());
+                          vkCmdBindDescriptorSets(cmd, pl.bindPoint(), pl.layout(), 0, 1, &descriptors, 0, nullptr);
+                          if (rt) {
+                            rt->traceRays(cmd, width, height);
+                          } else {
+                            vkCmdPushConstants(cmd, pl.layout(), VK_SHADER_STAGE_ALL, 0, sizeof size, size);
+                            if (persistent)
+                              vkCmdDispatch(cmd, persistentGroups, 1, 1);
+                            else
+                              vkCmdDispatch(cmd, (width + 7) / 8, (height + 7) / 8, 1);
+                          }
+                        }),
+        set.what + where + ", through " + b.through);
+    peak.backend = b.name;
+    const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
+    const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
+    peak.missed = 0;
+    for (size_t i = 0; i < rays; ++i) {
+      if (m[i] > 1)
+        throw DeviceError("the ray peak " + peak.key + " left ray " + std::to_string(i) +
+                          " untraced: a bug in its shader or the driver");
+      peak.missed += m[i];
+    }
+    if (hits && &set == &sets.back()) {
+      BackendHits& h = (*hits)[b.name];
+      h.missed.assign(m, m + rays);
+      if (!b.pipeline) {
+        const std::vector<uint8_t> tBytes = readbackBuffer(ctx, hitT);
+        h.t.assign(reinterpret_cast<const float*>(tBytes.data()), reinterpret_cast<const float*>(tBytes.data()) + rays);
+      }
+    }
+    return peak;
   };
+  std::vector<Peak> out;
   for (const Backend& b : backends) {
     const std::unique_ptr<DescriptorBinder> binder = makeBinder(b);
-    // The AO rays start where our BVH's camera rays met the scene: only where it ran.
-    for (uint32_t mode = 0; mode < (everyBackend ? 4u : 3u); ++mode) peaks.figures.push_back(measure(b, *binder, mode));
+    for (const RaySet& set : sets) out.push_back(measure(b, *binder, set));
     binder->checkEveryNameRead();
   }
   // The first figure once more, last: a device whose clocks or load changed while the figures ran
@@ -409,16 +421,76 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   // run's, while its figures before that point agreed) makes the figures disagree with each other.
   // Beyond 5 % (run-to-run noise on the H200 is under 1 %), a warning says so.
   if (!cpu && !backends.empty()) {
-    const Peak again = measure(backends.front(), *makeBinder(backends.front()), 0);
-    const Peak& first = peaks.figures[peaks.figures.size() - backends.size() * (everyBackend ? 4 : 3)];
+    const Peak again = measure(backends.front(), *makeBinder(backends.front()), sets.front());
+    const Peak& first = out.front();
     const double ratio = again.perSecond / first.perSecond;
     if (std::abs(ratio - 1.0) > 0.05)
-      peaks.warnings.push_back("ray peaks: " + first.key + " measured " + format("%.3g", first.perSecond) +
-                               " rays/s first and " + format("%.3g", again.perSecond) + " last (" +
-                               format("%+.0f", 100.0 * (ratio - 1.0)) +
-                               " %): the device's speed changed while they ran (clocks, power or another "
-                               "process); measure again (hybridbench peaks)");
+      warnings.push_back("ray peaks: " + first.key + " measured " + format("%.3g", first.perSecond) +
+                         " rays/s first and " + format("%.3g", again.perSecond) + " last (" +
+                         format("%+.0f", 100.0 * (ratio - 1.0)) +
+                         " %): the device's speed changed while they ran (clocks, power or another "
+                         "process); measure again (hybridbench peaks)");
   }
+  return out;
+}
+
+}  // namespace
+
+void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend) {
+  if (!ctx.canTrace() || scene.cameras.empty()) return;
+  const bool cpu = ctx.info().type == "cpu";
+  const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;
+  RayParams params{};
+  const Camera& camera = scene.cameras.front();
+  const glm::mat4 toWorld = glm::inverse(camera.view);
+  glm::vec3 lo, hi;
+  scene.bounds(lo, hi);
+  const float tanY = std::tan(0.5f * camera.yfov), aspect = float(width) / float(height);
+  params.eye = toWorld[3];
+  params.forward = glm::vec4(-glm::vec3(toWorld[2]), glm::length(hi - lo));  // w: tMax, the bounds' diagonal
+  params.right = glm::vec4(glm::vec3(toWorld[0]) * tanY * aspect, 0);
+  params.up = glm::vec4(glm::vec3(toWorld[1]) * tanY, 0);
+  params.lo = glm::vec4(lo, 0);
+  params.hi = glm::vec4(hi, 0);
+  std::vector<RaySet> sets = {
+      {0, "rays_camera", "rays_coherent", "camera rays through every pixel, closest hit"},
+      {1, "rays_random_closest", "rays_random",
+       "rays from random points of the scene's bounds in random directions, closest hit"},
+      {2, "rays_random_occlusion", "rays_occlusion", "the same random rays as occlusion rays (first hit ends them)"},
+      {3, "rays_ao", "rays_ao",
+       "AO rays: from where each camera ray meets a surface, a random direction of the hemisphere facing the camera, "
+       "occlusion rays as long as the bounds' diagonal"}};
+  // The AO rays start where our BVH's camera rays met the scene: only where it ran.
+  if (!everyBackend) sets.pop_back();
+  const std::string where = " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) +
+                            " rays, no hit shader)";
+  std::vector<Peak> figures = measureRaySets(ctx, scene, params, width, height, uint64_t(width) * height, nullptr, sets,
+                                             where, everyBackend, peaks.warnings, nullptr);
+  peaks.figures.insert(peaks.figures.end(), figures.begin(), figures.end());
+}
+
+RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const RayFile& file) {
+  HB_ASSERT(ctx.canTrace() && !file.rays.empty());
+  RayParams params{};
+  params.file = glm::uvec4(uint32_t(file.rays.size()), 0, 0, 0);
+  const uint32_t width = file.info.grid[0], height = file.info.grid[1];
+  HB_ASSERT(uint64_t(width) * height >= file.rays.size());
+  std::vector<float> words(size_t(width) * height * 8, 0.0f);  // the launch's rays, the file's first
+  std::memcpy(words.data(), file.rays.data(), file.rays.size() * sizeof(RayRecord));
+  const Buffer rays = uploadBuffer(ctx, words.data(), words.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                   MemClass::Other);
+  const bool any = file.info.query == "any";
+  const std::vector<RaySet> sets = {{any ? 5u : 4u, "rays_file", "rays_file",
+                                     std::to_string(file.rays.size()) + " rays of a ray file (" + file.info.kind +
+                                         "), " + (any ? "any hit" : "closest hit")}};
+  const std::string where = " on " + scene.name + "'s scene (a " + std::to_string(width) + "x" +
+                            std::to_string(height) + " launch, no hit shader)";
+  RayFileTrace out;
+  std::map<std::string, BackendHits> hits;
+  out.figures = measureRaySets(ctx, scene, params, width, height, file.rays.size(), &rays, sets, where, true,
+                               out.warnings, &hits);
+  for (auto& [backend, h] : hits) out.hits[backend] = {std::move(h.t), std::move(h.missed)};
+  return out;
 }
 
 double Peaks::rateFor(const std::string& unit, const std::string& backend) const {

@@ -6,12 +6,14 @@
 // timestamps do not bracket compute work) the host's clock around the submission, which includes
 // the submission itself: the figures are small but real.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "gpu/vk_context.h"
+#include "reference/ray_file.h"
 #include "scene/scene.h"
 
 namespace hb {
@@ -52,6 +54,23 @@ Peaks measurePeaks(const VulkanContext& ctx);
 // everyBackend false: the driver's backends only (a CPU device's render and sweep, where the
 // timings mean nothing and each figure costs a second; `peaks` measures them all).
 void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend = true);
+
+// A ray file (reference/ray_file.h) traced by every backend the device has: our BVH at each width
+// (and persistent), the driver's ray-tracing pipeline and ray query. Per backend one figure (key
+// "rays_file_<backend>", unit "rays_file": the rays of the file a second) and what each ray found:
+// missed (1) or not (0), and for a closest-hit file the hit's t (-1: missed; the pipeline runs no hit
+// shader and gives none). The launch is the file's grid, 8x8 rays a group. Precondition: the device
+// can trace, the file is of this scene (the caller checks its sha256).
+struct RayFileHits {
+  std::vector<float> t;
+  std::vector<uint32_t> missed;
+};
+struct RayFileTrace {
+  std::vector<Peak> figures;
+  std::map<std::string, RayFileHits> hits;  // by backend name
+  std::vector<std::string> warnings;
+};
+RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const RayFile& file);
 
 // {"version", "timing", "figures": {key: {unit, per_s, work, ms: {median, min, max, samples}, description}}}
 nlohmann::json toJson(const Peaks& peaks, const DeviceInfo& device);

@@ -1,0 +1,157 @@
+// `hybridbench rays export` (reference/ray_sets.h: the camera, AO and shadow ray sets of a scene and
+// view, as ray files) and `hybridbench raybench FILE.bin` (gpu/peaks.h traceRayFile: a ray file
+// through every backend, against the CPU's double-precision hits).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "app/commands.h"
+#include "base/errors.h"
+#include "base/text_format.h"
+#include "base/version.h"
+#include "gltf/gltf_io.h"
+#include "gpu/peaks.h"
+#include "reference/ray_sets.h"
+
+namespace hb {
+
+namespace {
+
+RayFileInfo infoFor(const Scene& scene, const std::string& sha, const RayView& view, const std::string& kind,
+                    size_t count, uint32_t gridWidth) {
+  RayFileInfo i;
+  i.count = count;
+  i.kind = kind;
+  i.sceneName = scene.name;
+  i.sceneSha256 = sha;
+  i.camera = toJson(view, scene.cameras.front());
+  i.grid = {gridWidth, uint32_t((count + gridWidth - 1) / gridWidth)};
+  i.madeBy = "hybridbench " + toolVersion() + " at " + gitRevision();
+  return i;
+}
+
+}  // namespace
+
+int cmdRaysExport(const RaysExportOptions& o) {
+  const std::vector<std::string> kinds =
+      o.kind == "all" ? std::vector<std::string>{"camera", "ao", "shadow"} : std::vector<std::string>{o.kind};
+  uint32_t width = 1920, height = 1080;
+  if (!o.size.empty()) parseSize(o.size, width, height, "--size");
+  const Scene scene = loadSceneArg(o.scene);
+  if (scene.cameras.empty())
+    throw InputError("rays export: scene " + o.scene + " has no camera; give a scene with one (hybridbench scene info)");
+  std::error_code ec;
+  std::filesystem::create_directories(o.out, ec);
+  if (ec) throw InputError("rays export: cannot create --out " + o.out + " (" + ec.message() + ")");
+  const std::string sha = sceneSha256(scene);
+  const RayView view = rayViewOf(scene.cameras.front(), width, height);
+  const std::vector<RayRecord> camera = cameraRays(view);
+  auto write = [&](const std::string& kind, const std::vector<RayRecord>& rays, uint32_t gridWidth,
+                   const nlohmann::json& params, uint64_t seed) {
+    RayFileInfo info = infoFor(scene, sha, view, kind, rays.size(), gridWidth);
+    info.params = params;
+    info.seed = seed;
+    const std::string path = (std::filesystem::path(o.out) / (kind + ".bin")).string();
+    writeRayFile(path, info, rays);
+    std::printf("wrote %s (%zu rays, %s) and its .json\n", path.c_str(), rays.size(), info.query.c_str());
+  };
+  if (std::find(kinds.begin(), kinds.end(), "camera") != kinds.end())
+    write("camera", camera, width, {{"t_max", 1e30}}, 0);
+  if (kinds == std::vector<std::string>{"camera"}) return kExitOk;
+  std::fprintf(stderr, "rays export: finding where %zu camera rays meet %s (double precision, every core) ...\n",
+               camera.size(), scene.name.c_str());
+  const Bvh bvh = buildBvh(scene);
+  const RayHits hits = traceOnCpu(bvh, camera);
+  SecondaryParams p;
+  p.offset = o.offset;
+  p.tMax = o.aoTMax;
+  p.seed = o.seed;
+  p.light = glm::dvec3(o.light[0], o.light[1], o.light[2]);
+  // The secondary sets hold one ray per camera hit: laid out in rows as wide as the image.
+  for (const std::string& kind : kinds) {
+    if (kind == "ao")
+      write("ao", aoRays(bvh, camera, hits, p), width,
+            {{"from", "each camera hit, offset along the geometric normal turned towards the eye"},
+             {"offset", p.offset},
+             {"directions", "cosine-distributed about that normal"},
+             {"t_max", p.tMax}},
+            p.seed);
+    else if (kind == "shadow")
+      write("shadow", shadowRays(bvh, camera, hits, p), width,
+            {{"from", "each camera hit, offset along the geometric normal turned towards the eye"},
+             {"offset", p.offset},
+             {"to", {p.light.x, p.light.y, p.light.z}},
+             {"t_max", "the distance to the light"}},
+            0);
+  }
+  return kExitOk;
+}
+
+int cmdRaybench(const RaybenchOptions& o) {
+  const RayFile file = readRayFile(o.file);  // a bad file is one line before anything runs
+  const std::string sceneArg = o.scene.empty() ? file.info.sceneName : o.scene;
+  const Scene scene = loadSceneArg(sceneArg);
+  const std::string sha = sceneSha256(scene);
+  if (sha != file.info.sceneSha256)
+    throw InputError(o.file + ": its rays are of a scene with sha256 " + file.info.sceneSha256.substr(0, 12) +
+                     "..., not of " + sceneArg + " (" + sha.substr(0, 12) +
+                     "...); give that scene with --scene, or export rays of this one (hybridbench rays export)");
+  const std::vector<DeviceInfo> devices = enumerateDevices();
+  VulkanContext ctx(resolveDevice(devices, o.device.empty() ? "0" : o.device));
+  if (!ctx.canTrace())
+    throw InputError("raybench: " + ctx.info().name + " cannot trace rays (no acceleration structures); use a device "
+                                                      "that can (hybridbench devices)");
+  std::fprintf(stderr, "raybench: %zu %s rays (%s hit) on %s, every backend, then the CPU's double hits ...\n",
+               file.rays.size(), file.info.kind.c_str(), file.info.query.c_str(), ctx.info().name.c_str());
+  const RayFileTrace trace = traceRayFile(ctx, scene, file);
+  const bool any = file.info.query == "any";
+  const RayHits cpu = traceOnCpu(buildBvh(scene), file.rays, any);
+  nlohmann::json j = {{"file", toJson(file.info)},
+                      {"device", ctx.info().name},
+                      {"driver", ctx.info().driverName + " " + ctx.info().driverVersion},
+                      {"revision", gitRevision()},
+                      {"cpu_reference", {{"hits", cpu.hits()}, {"misses", file.rays.size() - cpu.hits()}}},
+                      {"backends", nlohmann::json::array()}};
+  std::printf("%s, %s: %zu rays of %s (%s hit); the CPU's double-precision BVH hits %zu\n", ctx.info().name.c_str(),
+              ctx.info().driverVersion.c_str(), file.rays.size(), o.file.c_str(), file.info.query.c_str(), cpu.hits());
+  std::printf("| backend | rays/s | median ms | min ms | max ms | missed | hit or miss unlike the CPU's | t: largest relative difference |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const Peak& p : trace.figures) {
+    const RayFileHits& h = trace.hits.at(p.backend);
+    size_t unlike = 0;
+    double worst = 0;
+    for (size_t i = 0; i < file.rays.size(); ++i) {
+      const bool gpuHit = h.missed[i] == 0, cpuHit = cpu.t[i] >= 0.0;
+      unlike += gpuHit != cpuHit;
+      if (!any && gpuHit && cpuHit && !h.t.empty() && cpu.t[i] > 0.0)
+        worst = std::max(worst, std::abs(double(h.t[i]) - cpu.t[i]) / cpu.t[i]);
+    }
+    const auto [lo, hi] = std::minmax_element(p.ms.begin(), p.ms.end());
+    const double median = p.perSecond > 0 ? double(file.rays.size()) / p.perSecond * 1e3 : 0;
+    const std::string tDiff = any || h.t.empty() ? "—" : format("%.2g", worst);
+    std::printf("| %s | %s | %.4g | %.4g | %.4g | %.0f | %zu | %s |\n", p.backend.c_str(),
+                formatRate(p.perSecond, "rays").c_str(), median, *lo, *hi, p.missed, unlike, tDiff.c_str());
+    j["backends"].push_back({{"backend", p.backend},
+                             {"rays_per_s", p.perSecond},
+                             {"ms", p.ms},
+                             {"missed", p.missed},
+                             {"unlike_cpu", unlike},
+                             {"t_max_relative_difference", any || h.t.empty() ? nlohmann::json() : nlohmann::json(worst)},
+                             {"through", p.description}});
+  }
+  for (const std::string& w : trace.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (!o.json.empty()) {
+    std::ofstream out(o.json);
+    out << j.dump(1) << "\n";
+    if (!out) throw InputError("raybench: cannot write --json " + o.json);
+  }
+  if (ctx.validationMessages()) {
+    std::fprintf(stderr, "hybridbench: %u validation message(s)\n", ctx.validationMessages());
+    return kExitDeviceFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace hb
