@@ -78,7 +78,8 @@ class RaysCli : public hb::testing::ToolTest {};
 
 TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused) {
   using namespace hb::testing;
-  const RunResult exported = run({"rays", "export", "--scene", "atrium", "--size", "32x18", "--out", (dir / "r").string()});
+  const RunResult exported =
+      run({"rays", "export", "--scene", "atrium", "--size", "32x18", "--out", (dir / "r").string()});
   ASSERT_EQ(exported.exitCode, 0) << exported.err;
   for (const char* kind : {"camera", "ao", "shadow"}) {
     EXPECT_TRUE(fs::is_regular_file(dir / "r" / (std::string(kind) + ".bin"))) << kind;

@@ -39,21 +39,22 @@ void writeRayFile(const std::string& binPath, const RayFileInfo& info, const std
   }
   std::ofstream json(rayFileJsonPath(binPath));
   json << toJson(info).dump(2) << "\n";
-  if (!json)
-    throw InputError(rayFileJsonPath(binPath) + ": cannot write the ray file's description; check the folder");
+  if (!json) throw InputError(rayFileJsonPath(binPath) + ": cannot write the ray file's description; check the folder");
 }
 
 RayFile readRayFile(const std::string& binPath) {
   const std::string jsonPath = rayFileJsonPath(binPath);
   std::ifstream jf(jsonPath);
   if (!jf)
-    throw InputError(jsonPath + ": no such file; a ray file is NAME.bin with NAME.json beside it (hybridbench rays export "
-                                "writes both)");
+    throw InputError(jsonPath +
+                     ": no such file; a ray file is NAME.bin with NAME.json beside it (hybridbench rays export "
+                     "writes both)");
   nlohmann::json j = nlohmann::json::parse(jf, nullptr, false);
   if (j.is_discarded() || !j.is_object())
     throw InputError(jsonPath + ": not a JSON object; write it again with hybridbench rays export");
   const auto need = [&](const char* key) -> const nlohmann::json& {
-    if (!j.contains(key)) throw InputError(jsonPath + ": no \"" + key + "\"; write it again with hybridbench rays export");
+    if (!j.contains(key))
+      throw InputError(jsonPath + ": no \"" + key + "\"; write it again with hybridbench rays export");
     return j[key];
   };
   RayFile f;

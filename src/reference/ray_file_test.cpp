@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 
 #include "base/errors.h"
 
@@ -85,11 +85,20 @@ TEST_F(RayFileDir, EveryBadFileIsOneLineNamingIt) {
   };
   editJson([](nlohmann::json& j) { j["version"] = 2; });
   expectError("ray file version 2, this build reads version 1");
-  editJson([](nlohmann::json& j) { j["version"] = 1; j["query"] = "first"; });
+  editJson([](nlohmann::json& j) {
+    j["version"] = 1;
+    j["query"] = "first";
+  });
   expectError("query \"first\" is not closest or any");
-  editJson([](nlohmann::json& j) { j["query"] = "any"; j["grid"] = {1, 3}; });
+  editJson([](nlohmann::json& j) {
+    j["query"] = "any";
+    j["grid"] = {1, 3};
+  });
   expectError("holds fewer than its 4 rays");
-  editJson([](nlohmann::json& j) { j["grid"] = {2, 3}; j["count"] = 5; });
+  editJson([](nlohmann::json& j) {
+    j["grid"] = {2, 3};
+    j["count"] = 5;
+  });
   expectError("128 bytes, but");
   editJson([](nlohmann::json& j) { j["count"] = 4; });
   EXPECT_EQ(errorOfRead(), "");  // back to a good file: the checks above each found their fault

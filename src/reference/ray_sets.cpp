@@ -30,8 +30,7 @@ double unitOf(uint64_t x) { return double(x >> 11) * 0x1p-53; }
 
 // The point a camera ray hit, moved `offset` off its triangle along the geometric normal turned
 // towards the ray's origin; that normal in `n`.
-glm::dvec3 offsetHit(const Bvh& bvh, const RayRecord& ray, double t, uint32_t triangle, double offset,
-                     glm::dvec3& n) {
+glm::dvec3 offsetHit(const Bvh& bvh, const RayRecord& ray, double t, uint32_t triangle, double offset, glm::dvec3& n) {
   const BvhTriangle& tri = bvh.input(triangle);
   n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
   const glm::dvec3 d = dirOf(ray);
@@ -54,8 +53,12 @@ std::vector<RayRecord> fromHits(const std::vector<RayRecord>& camera, const RayH
 RayView rayViewOf(const Camera& camera, uint32_t width, uint32_t height) {
   const glm::dmat4 toWorld = glm::inverse(glm::dmat4(camera.view));
   const double tanY = std::tan(0.5 * double(camera.yfov)), aspect = double(width) / double(height);
-  return {glm::dvec3(toWorld[3]), -glm::dvec3(toWorld[2]), glm::dvec3(toWorld[0]) * tanY * aspect,
-          glm::dvec3(toWorld[1]) * tanY, width, height};
+  return {glm::dvec3(toWorld[3]),
+          -glm::dvec3(toWorld[2]),
+          glm::dvec3(toWorld[0]) * tanY * aspect,
+          glm::dvec3(toWorld[1]) * tanY,
+          width,
+          height};
 }
 
 nlohmann::json toJson(const RayView& v, const Camera& camera) {
@@ -67,7 +70,8 @@ nlohmann::json toJson(const RayView& v, const Camera& camera) {
           {"yfov_deg", double(camera.yfov) * 180.0 / 3.14159265358979323846},
           {"width", v.width},
           {"height", v.height},
-          {"pixel", "centres: direction normalize(forward + ndc.x * right - ndc.y * up), ndc = (pixel + 0.5) / size * 2 - 1"}};
+          {"pixel",
+           "centres: direction normalize(forward + ndc.x * right - ndc.y * up), ndc = (pixel + 0.5) / size * 2 - 1"}};
 }
 
 std::vector<RayRecord> cameraRays(const RayView& v) {
@@ -80,7 +84,9 @@ std::vector<RayRecord> cameraRays(const RayView& v) {
   return rays;
 }
 
-size_t RayHits::hits() const { return size_t(std::count_if(t.begin(), t.end(), [](double x) { return x >= 0.0; })); }
+size_t RayHits::hits() const {
+  return size_t(std::count_if(t.begin(), t.end(), [](double x) { return x >= 0.0; }));
+}
 
 RayHits traceOnCpu(const Bvh& bvh, const std::vector<RayRecord>& rays, bool anyHit) {
   RayHits h;

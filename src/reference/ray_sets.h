@@ -41,9 +41,9 @@ struct RayHits {
 RayHits traceOnCpu(const Bvh& bvh, const std::vector<RayRecord>& rays, bool anyHit = false);
 
 struct SecondaryParams {
-  double offset = 1e-3;  // along the geometric normal (scene units)
-  double tMax = 1.0;     // ao: the rays' length
-  uint64_t seed = 1;     // ao: the directions' seed (a hash of seed and the ray's index: any thread order)
+  double offset = 1e-3;             // along the geometric normal (scene units)
+  double tMax = 1.0;                // ao: the rays' length
+  uint64_t seed = 1;                // ao: the directions' seed (a hash of seed and the ray's index: any thread order)
   glm::dvec3 light{0.0, 6.0, 0.0};  // shadow: the point light
 };
 std::vector<RayRecord> aoRays(const Bvh& bvh, const std::vector<RayRecord>& camera, const RayHits& hits,
