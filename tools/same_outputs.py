@@ -18,7 +18,7 @@ import sys
 import zlib
 
 # Keys that are times, or where the config file lay (origin), not what was computed.
-TIMING = {"origin", "frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms",
+TIMING = {"origin", "frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms", "bvh_build_ms",
           "warmup_frames"}
 
 
