@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/parallel.h"
+#include "reference/ldm_ref.h"
 
 namespace hb {
 
@@ -112,11 +113,11 @@ std::vector<RayRecord> aoRays(const Bvh& bvh, const std::vector<RayRecord>& came
   return fromHits(camera, hits, [&](size_t k, size_t i) {
     glm::dvec3 n;
     const glm::dvec3 o = offsetHit(bvh, camera[i], hits.t[i], hits.triangle[i], p.offset, n);
-    // Cosine-distributed about n (Malley's method) in Duff et al.'s basis around n.
+    // Cosine-distributed about n (Malley's method) in the references' basis around n.
     const uint64_t h = mix(p.seed ^ mix(k));
     const double u1 = unitOf(h), u2 = unitOf(mix(h)), r = std::sqrt(u1), phi = 2.0 * 3.14159265358979323846 * u2;
-    const double sg = n.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sg + n.z), b = n.x * n.y * a;
-    const glm::dvec3 t1(1.0 + sg * n.x * n.x * a, sg * b, -sg * n.x), t2(b, sg + n.y * n.y * a, -n.y);
+    glm::dvec3 t1, t2;
+    orthonormalBasis(n, t1, t2);
     const glm::dvec3 d = r * std::cos(phi) * t1 + r * std::sin(phi) * t2 + std::sqrt(std::max(0.0, 1.0 - u1)) * n;
     return record(o, 0.0, glm::normalize(d), p.tMax);
   });
