@@ -43,7 +43,7 @@ fi
 if [ -z "$config" ] && [ -z "${RESULTS:-}" ]; then
   # The baseline's own config: results.json keeps the full effective config under context.config.
   config="$out/baseline-config.json"
-  python3 -c 'import json,sys; json.dump(json.load(open(sys.argv[1]))["context"]["config"], open(sys.argv[2], "w"), indent=2)' \
+  python3 -c 'import gzip,json,sys; d=open(sys.argv[1],"rb").read(); d=gzip.decompress(d) if d[:2]==b"\x1f\x8b" else d; json.dump(json.loads(d)["context"]["config"], open(sys.argv[2], "w"), indent=2)' \
     "$baseline" "$config" || { echo "ci-compare: '$baseline' holds no context.config; pass CONFIG" >&2; exit 2; }
 fi
 

@@ -23,6 +23,7 @@ PACKAGES=(cmake g++ make pkg-config glslang-tools libvulkan-dev libglm-dev libti
   libwebp-dev libavif-dev        # glTF textures: EXT_texture_webp, EXT_texture_avif
   libcmark-gfm-dev libcmark-gfm-extensions-dev  # report.html: the tables' Markdown to HTML
   libspirv-cross-c-shared-dev    # descriptor bindings read back from the shaders' SPIR-V
+  zlib1g-dev                     # committed results files kept gzipped (results.json.gz)
   python3-yaml shellcheck        # docs/fleet/'s scheduler examples (tests/fleet_examples_test.py)
   slurm-wlm munge                # the Slurm example run for real (tests/fleet_slurm_test.sh starts its own daemons)
   chromium)                      # the HTML report's browser test (headless, driven by playwright-core)

@@ -28,7 +28,7 @@ namespace {
 
 using namespace hb::testing;
 
-const fs::path kMeasuredRun = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100/thesis-2b33675/results.json";
+const fs::path kMeasuredRun = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100/thesis-2b33675/results.json.gz";
 
 class CiCompareDefaults : public ToolTest {
  protected:

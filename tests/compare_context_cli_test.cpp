@@ -19,15 +19,15 @@ using namespace hb::testing;
 
 const fs::path kResults = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results";
 // The thesis sweep on an H100 at 02f03e1, and the same config at 2b33675.
-const std::string kThesis = (kResults / "h100/thesis/results.json").string();
-const std::string kThesis2b33675 = (kResults / "h100/thesis-2b33675/results.json").string();
+const std::string kThesis = (kResults / "h100/thesis/results.json.gz").string();
+const std::string kThesis2b33675 = (kResults / "h100/thesis-2b33675/results.json.gz").string();
 // The thesis config on lavapipe (a CPU device: its resolution lowered to 480x270).
-const std::string kThesisLavapipe = (kResults / "lavapipe/thesis/results.json").string();
+const std::string kThesisLavapipe = (kResults / "lavapipe/thesis/results.json.gz").string();
 // configs/scaling.json on the same H100: the same scene and resolution, other variants.
-const std::string kScaling = (kResults / "h100/scaling/results.json").string();
+const std::string kScaling = (kResults / "h100/scaling/results.json.gz").string();
 // The CI config at 02f03e1 on the H100 and on lavapipe (5 measured frames each).
-const std::string kCiH100 = (kResults / "h100/ci/results.json").string();
-const std::string kCiLavapipe = (kResults / "lavapipe/ci/results.json").string();
+const std::string kCiH100 = (kResults / "h100/ci/results.json.gz").string();
+const std::string kCiLavapipe = (kResults / "lavapipe/ci/results.json.gz").string();
 
 size_t occurrencesOf(const std::string& text, const std::string& needle) {
   size_t n = 0;

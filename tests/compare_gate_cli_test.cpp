@@ -18,9 +18,9 @@ namespace {
 using namespace hb::testing;
 
 const fs::path kResults = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100";
-const std::string k02f03e1 = (kResults / "thesis/results.json").string();
-const std::string k2b33675 = (kResults / "thesis-2b33675/results.json").string();
-const std::string k2b33675Repeat = (kResults / "thesis-2b33675/results-repeat.json").string();
+const std::string k02f03e1 = (kResults / "thesis/results.json.gz").string();
+const std::string k2b33675 = (kResults / "thesis-2b33675/results.json.gz").string();
+const std::string k2b33675Repeat = (kResults / "thesis-2b33675/results-repeat.json.gz").string();
 
 class CompareGate : public ToolTest {};
 

@@ -21,7 +21,7 @@ namespace {
 
 using namespace hb::testing;
 
-const std::string kThesis = std::string(HYBRIDBENCH_SOURCE_DIR) + "/results/h100/thesis/results.json";
+const std::string kThesis = std::string(HYBRIDBENCH_SOURCE_DIR) + "/results/h100/thesis/results.json.gz";
 const std::string kResults = std::string(HYBRIDBENCH_SOURCE_DIR) + "/results/";
 
 // The text between the first `open` at or after `from` and the next `close` after it; "" if absent.
@@ -91,15 +91,15 @@ TEST_F(ReportCli, ResultsCopiedWithoutTheirImagesSaySoInsteadOfBrokenImages) {
 // of the prepass alone (every thesis sweep) has no such table; a sweep of the continuum has it.
 TEST_F(ReportCli, PrimaryVisibilityTableOnlyWhereAComputePrimaryRan) {
   const std::string heading = "## Primary visibility";
-  const RunResult thesis = run({"tables", kResults + "h200/fleet-35/thesis-whole/results.json"});
+  const RunResult thesis = run({"tables", kResults + "h200/fleet-35/thesis-whole/results.json.gz"});
   ASSERT_EQ(thesis.exitCode, 0) << thesis.err;
-  const nlohmann::json thesisResults = hb::testing::readJson(kResults + "h200/fleet-35/thesis-whole/results.json");
+  const nlohmann::json thesisResults = hb::testing::readJson(kResults + "h200/fleet-35/thesis-whole/results.json.gz");
   for (const nlohmann::json& r : thesisResults["runs"])
     ASSERT_EQ(r["primary"]["method"], "hardware") << "the thesis sweep should hold the prepass alone";
   EXPECT_EQ(thesis.out.find(heading), std::string::npos) << thesis.out;
   EXPECT_NE(thesis.out.find("## Table 5.1"), std::string::npos) << thesis.out;
 
-  const std::string continuum = kResults + "h100/3d-rasterization/results.json";
+  const std::string continuum = kResults + "h100/3d-rasterization/results.json.gz";
   const RunResult r = run({"tables", continuum});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find(heading), std::string::npos) << r.out;
@@ -108,7 +108,7 @@ TEST_F(ReportCli, PrimaryVisibilityTableOnlyWhereAComputePrimaryRan) {
 // A results file that no thesis table has rows for says why, in tables.md's words and in the page:
 // here every run has range_test=true (the sweep that brings your own glTF), and two have more lights.
 TEST_F(ReportCli, ThesisTablesNotPrintedSayWhichRunsAreNotTheThesissFrameAndWhy) {
-  const std::string file = kResults + "h200/byo-gltf/sweep/results.json";
+  const std::string file = kResults + "h200/byo-gltf/sweep/results.json.gz";
   const nlohmann::json results = hb::testing::readJson(file);
   size_t rangeTest = 0;
   std::set<std::string> lightCounts;
@@ -151,8 +151,8 @@ TEST_F(ReportCli, TheOneLightCornellBoxGetsNoThesisTableAndTheTablesSayWhy) {
 // nothing) with intervals of decades; the axis spans the timed rows (the frames) and the threshold
 // band, cuts the others, and its tick labels include 1 and do not overlap.
 TEST_F(ReportCli, CompareAxisSpansTheTimedRowsAndItsLabelsDoNotOverlap) {
-  const std::string a = kResults + "lavapipe/thesis-d56b9c2/results.json",
-                    b = kResults + "lavapipe/thesis/results.json";
+  const std::string a = kResults + "lavapipe/thesis-d56b9c2/results.json.gz",
+                    b = kResults + "lavapipe/thesis/results.json.gz";
   const RunResult asJson = run({"compare", a, b, "--format", "json"});
   ASSERT_EQ(asJson.exitCode, 0) << asJson.err;
   const nlohmann::json rows = nlohmann::json::parse(asJson.out)["rows"];
@@ -201,7 +201,7 @@ TEST_F(ReportCli, CompareAxisSpansTheTimedRowsAndItsLabelsDoNotOverlap) {
 // CPU device's ray rate is measured on other rays). Each says the peak is not that pass's, in the
 // roofline table, the accuracy report and the plot, where it is drawn at its peak, not above.
 TEST_F(ReportCli, ARooflineOverItsPeakSaysThePeakIsNotThePasssAndIsPlottedAtThePeak) {
-  const std::string file = kResults + "lavapipe/anti-aliasing-32/results.json";
+  const std::string file = kResults + "lavapipe/anti-aliasing-32/results.json.gz";
   const std::string note = "over 100 %: not this pass's peak";
   size_t over = 0;
   const nlohmann::json results = hb::testing::readJson(file);  // named: the loop must not outlive it
@@ -252,7 +252,7 @@ TEST_F(ReportCli, ARooflineOverItsPeakSaysThePeakIsNotThePasssAndIsPlottedAtTheP
 // time), the most accurate one with what its accuracy costs against the fastest, and the Pareto
 // front, the same as the accuracy report's (its Pareto column), from fast to accurate.
 TEST_F(ReportCli, TheSummarySaysTheFastestTheMostAccurateAndTheFrontOfTheAccuracyReport) {
-  const std::string file = kResults + "h200/fleet-35/thesis-whole/results.json";
+  const std::string file = kResults + "h200/fleet-35/thesis-whole/results.json.gz";
   const nlohmann::json results = hb::testing::readJson(file);
   std::string fastest;
   double fastestMs = std::numeric_limits<double>::infinity();

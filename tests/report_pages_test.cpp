@@ -24,24 +24,24 @@ struct CommittedPage {
 // The H100 thesis sweep (its images were not kept), the sweep at 608c60f against it, and the H200
 // thesis sweep merged from three parts against the same sweep whole.
 constexpr CommittedPage kCommittedPages[] = {
-    {"results/h100/thesis/report.html", "report results/h100/thesis/results.json"},
+    {"results/h100/thesis/report.html", "report results/h100/thesis/results.json.gz"},
     {"results/h100/thesis-608c60f/report.html",
-     "report results/h100/thesis-608c60f/results.json --compare results/h100/thesis/results.json"},
+     "report results/h100/thesis-608c60f/results.json.gz --compare results/h100/thesis/results.json.gz"},
     // The H200 thesis sweep as three parts merged (#35), against the same sweep whole.
     {"results/h200/fleet-35/thesis-merged/report-vs-whole.html",
-     "report results/h200/fleet-35/thesis-merged/results.json --compare "
-     "results/h200/fleet-35/thesis-whole/results.json"},
+     "report results/h200/fleet-35/thesis-merged/results.json.gz --compare "
+     "results/h200/fleet-35/thesis-whole/results.json.gz"},
     // Its folders' own pages (what sweep and merge write; no images were kept).
-    {"results/h200/fleet-35/thesis-whole/report.html", "report results/h200/fleet-35/thesis-whole/results.json"},
-    {"results/h200/fleet-35/thesis-merged/report.html", "report results/h200/fleet-35/thesis-merged/results.json"},
-    {"results/h200/fleet-35/shard-0/report.html", "report results/h200/fleet-35/shard-0/results.json"},
-    {"results/h200/fleet-35/shard-1/report.html", "report results/h200/fleet-35/shard-1/results.json"},
-    {"results/h200/fleet-35/shard-2/report.html", "report results/h200/fleet-35/shard-2/results.json"},
+    {"results/h200/fleet-35/thesis-whole/report.html", "report results/h200/fleet-35/thesis-whole/results.json.gz"},
+    {"results/h200/fleet-35/thesis-merged/report.html", "report results/h200/fleet-35/thesis-merged/results.json.gz"},
+    {"results/h200/fleet-35/shard-0/report.html", "report results/h200/fleet-35/shard-0/results.json.gz"},
+    {"results/h200/fleet-35/shard-1/report.html", "report results/h200/fleet-35/shard-1/results.json.gz"},
+    {"results/h200/fleet-35/shard-2/report.html", "report results/h200/fleet-35/shard-2/results.json.gz"},
     // The same on three GPUs of one host at once, and the CI config's page with its images (#35).
     {"results/h200/fleet-35-x4/thesis-merged/report-vs-whole.html",
-     "report results/h200/fleet-35-x4/thesis-merged/results.json --compare "
-     "results/h200/fleet-35-x4/thesis-whole/results.json"},
-    {"results/h200/fleet-35-x4/ci-images/report.html", "report results/h200/fleet-35-x4/ci-images/results.json"},
+     "report results/h200/fleet-35-x4/thesis-merged/results.json.gz --compare "
+     "results/h200/fleet-35-x4/thesis-whole/results.json.gz"},
+    {"results/h200/fleet-35-x4/ci-images/report.html", "report results/h200/fleet-35-x4/ci-images/results.json.gz"},
 };
 
 TEST(HtmlReport, CommittedPagesAreWhatReportWritesFromTheirResults) {

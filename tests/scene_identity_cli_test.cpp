@@ -138,7 +138,7 @@ TEST_F(SceneIdentity, TheSameSceneAtAnotherPathComparesAndMergesWithOneWarningAn
 // driver offers the ray-tracing pipeline (context.device.rt_backend): the page and the tables say
 // compute.
 TEST_F(SceneIdentity, TheReportAndTablesNameTheRayTracerThatRanNotTheDevices) {
-  const std::string results = (kSource / "results/h200/fleet-35/thesis-whole/results.json").string();
+  const std::string results = (kSource / "results/h200/fleet-35/thesis-whole/results.json.gz").string();
   const json r = hb::testing::readJson(results);
   ASSERT_EQ(r["context"]["device"]["rt_backend"], "pipeline");
   for (const json& run : r["runs"]) {

@@ -25,6 +25,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "base/input_file.h"
+
 #ifndef HYBRIDBENCH_BINARY
 #error "HYBRIDBENCH_BINARY must name the built hybridbench executable"
 #endif
@@ -52,9 +54,16 @@ inline std::string readFile(const fs::path& p) {
   return s.str();
 }
 
-// The file parsed as JSON; a discarded value (is_discarded()) when it is not JSON.
+// The file parsed as JSON (a committed results.json.gz inflated, as the tool reads it); a discarded
+// value (is_discarded()) when it is not JSON or cannot be read.
 inline nlohmann::json readJson(const fs::path& p) {
-  return nlohmann::json::parse(readFile(p), nullptr, /*allow_exceptions=*/false);
+  std::string text;
+  try {
+    text = hb::readInputText(p, "a JSON file");
+  } catch (const std::exception&) {
+    return nlohmann::json(nlohmann::json::value_t::discarded);
+  }
+  return nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
 }
 
 // The sweeps' smallest config (two variants on a small scene).

@@ -15,6 +15,7 @@ Usage:
 Needs python3 alone. Run from anywhere; ROOT (the repository) is found from this file.
 """
 import collections
+import gzip
 import json
 import os
 import re
@@ -81,12 +82,13 @@ def results_files(folder):
     for dirpath, dirnames, filenames in os.walk(folder):
         dirnames.sort()
         for name in sorted(filenames):
-            if not name.endswith(".json"):
+            if not name.endswith((".json", ".json.gz")):
                 continue
             path = os.path.join(dirpath, name)
             try:
-                with open(path, encoding="utf-8") as f:
-                    data = json.load(f)
+                with open(path, "rb") as f:
+                    raw = f.read()
+                data = json.loads(gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw)
             except (OSError, ValueError) as e:
                 sys.exit(f"results_index.py: {rel(path)}: not readable JSON ({e}); fix or remove it")
             if isinstance(data, dict) and data.get("schema_version") == 1 and "runs" in data:

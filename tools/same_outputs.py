@@ -11,6 +11,7 @@ reason that quotes them (the backend it chose and ran is compared).
 A or B may name a results.json file instead of its folder: then no images are compared.
 
 usage: tools/same_outputs.py A B"""
+import gzip
 import json
 import os
 import struct
@@ -71,7 +72,12 @@ def main():
         return 2
     a_dir, b_dir = sys.argv[1:]
     def results_of(path):
-        return json.load(open(path if path.endswith(".json") else os.path.join(path, "results.json")))
+        if os.path.isdir(path):  # a sweep's folder, or a committed one whose results are gzipped
+            gz = os.path.join(path, "results.json.gz")
+            path = gz if os.path.exists(gz) else os.path.join(path, "results.json")
+        with open(path, "rb") as f:
+            data = f.read()
+        return json.loads(gzip.decompress(data) if data[:2] == b"\x1f\x8b" else data)
     a, b = results_of(a_dir), results_of(b_dir)
     with_images = os.path.isdir(a_dir) and os.path.isdir(b_dir)
     problems, added = [], set()

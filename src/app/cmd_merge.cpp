@@ -62,8 +62,12 @@ int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool 
   for (const std::string& d : dirs) {
     fs::path dir = d;
     std::error_code ec;
-    if (fs::is_regular_file(dir, ec) && dir.filename() == "results.json") dir = dir.parent_path();
-    const fs::path path = dir / "results.json";
+    if (fs::is_regular_file(dir, ec) && (dir.filename() == "results.json" || dir.filename() == "results.json.gz"))
+      dir = dir.parent_path();
+    // A committed part keeps its results gzipped (docs/results-format.md "Committed results").
+    const fs::path path = !fs::exists(dir / "results.json", ec) && fs::exists(dir / "results.json.gz", ec)
+                              ? dir / "results.json.gz"
+                              : dir / "results.json";
     const std::string text = readInputText(path, hint);
     nlohmann::json r = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
     if (r.is_discarded()) throw InputError(path.string() + ": not valid JSON; " + hint);

@@ -6,6 +6,8 @@
 #include <iterator>
 #include <system_error>
 
+#include <zlib.h>
+
 #include "base/errors.h"
 
 namespace hb {
@@ -24,7 +26,9 @@ void requireReadableFile(const fs::path& path, const std::string& hint) {
   if (!in) throw InputError(path.string() + ": cannot be read (" + std::strerror(errno) + "); " + hint);
 }
 
-std::string readInputText(const fs::path& path, const std::string& hint) {
+namespace {
+
+std::string readRaw(const fs::path& path, const std::string& hint) {
   requireReadableFile(path, hint);
   std::ifstream in(path, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -32,9 +36,45 @@ std::string readInputText(const fs::path& path, const std::string& hint) {
   return text;
 }
 
+bool isGzip(const std::string& bytes) {
+  return bytes.size() >= 2 && static_cast<unsigned char>(bytes[0]) == 0x1f &&
+         static_cast<unsigned char>(bytes[1]) == 0x8b;
+}
+
+// The whole of a gzip stream (RFC 1952) inflated; a truncated or corrupt one is an InputError.
+std::string gunzip(const std::string& bytes, const fs::path& path, const std::string& hint) {
+  z_stream z{};
+  if (inflateInit2(&z, 15 + 16) != Z_OK)  // 15: the largest window; +16: a gzip header, not zlib's
+    throw InputError(path.string() + ": cannot start zlib to read this gzip file; " + hint);
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = static_cast<uInt>(bytes.size());
+  std::string out;
+  char chunk[1 << 16];
+  int rc = Z_OK;
+  while (rc == Z_OK) {
+    z.next_out = reinterpret_cast<Bytef*>(chunk);
+    z.avail_out = sizeof(chunk);
+    rc = inflate(&z, Z_NO_FLUSH);
+    out.append(chunk, sizeof(chunk) - z.avail_out);
+    if (rc == Z_BUF_ERROR && z.avail_in == 0) break;  // the input ended before the stream did
+  }
+  inflateEnd(&z);
+  if (rc != Z_STREAM_END)
+    throw InputError(path.string() + ": a gzip file that is " + (rc == Z_BUF_ERROR ? "truncated" : "corrupt") +
+                     " (zlib: " + (z.msg ? z.msg : std::to_string(rc)) + "); " + hint);
+  return out;
+}
+
+}  // namespace
+
+std::string readInputText(const fs::path& path, const std::string& hint) {
+  std::string text = readRaw(path, hint);
+  return isGzip(text) ? gunzip(text, path, hint) : text;
+}
+
 std::vector<uint8_t> readInputBytes(const fs::path& path, const std::string& hint) {
-  const std::string text = readInputText(path, hint);
-  return std::vector<uint8_t>(text.begin(), text.end());
+  const std::string bytes = readRaw(path, hint);
+  return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 
 void requireOutputFolder(const fs::path& path, const std::string& flag) {

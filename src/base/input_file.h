@@ -12,7 +12,10 @@ namespace hb {
 
 // Throws InputError unless `path` names a readable regular file (or a FIFO, e.g. <(...)).
 void requireReadableFile(const std::filesystem::path& path, const std::string& hint);
+// The file's text. A gzip file (by its magic bytes, whatever its name: results.json.gz, say) is
+// inflated first, so a committed study can keep its results compressed (docs/results-format.md).
 std::string readInputText(const std::filesystem::path& path, const std::string& hint);
+// The file's bytes as they are (images, glTF binaries): nothing is inflated.
 std::vector<uint8_t> readInputBytes(const std::filesystem::path& path, const std::string& hint);
 
 // An output folder the user named: refused (InputError) when it exists as something other than a

@@ -28,11 +28,11 @@ t thesis-aa timeout -s KILL 180 $B sweep --device 0,0 --out "$O/thesis-aa" --no-
   > "$O/thesis-aa.log" 2>&1
 $B compare "$O"/thesis-aa/0-*/results.json "$O"/thesis-aa/1-*/results.json > "$O/thesis-aa-compare.md" 2>&1
 echo "exit $?" >> "$O/thesis-aa-compare.md"
-$B compare results/h200/many-lights/thesis/results.json "$O/thesis-single/results.json" > "$O/thesis-vs-stored.md" 2>&1
+$B compare results/h200/many-lights/thesis/results.json.gz "$O/thesis-single/results.json" > "$O/thesis-vs-stored.md" 2>&1
 echo "exit $?" >> "$O/thesis-vs-stored.md"
 # 3. The CI recipe on a real GPU: sweep, compare with the stored H200 baseline.
 t ci-compare env HYBRIDBENCH=bundle/hybridbench timeout -s KILL 120 bash scripts/ci-compare.sh \
-  results/h200/many-lights/thesis/results.json configs/thesis.json "$O/ci" > "$O/ci-compare.log" 2>&1
+  results/h200/many-lights/thesis/results.json.gz configs/thesis.json "$O/ci" > "$O/ci-compare.log" 2>&1
 echo "exit $?" >> "$O/ci-compare.log"
 # Bring back one archive without images and one with the images worth looking at.
 cd "$O"
