@@ -13,6 +13,8 @@
 #include "base/version.h"
 #include "gltf/gltf_io.h"
 #include "gpu/peaks.h"
+#include "gpu/trace_bvh.h"
+#include "gpu/trace_work.h"
 #include "reference/ray_sets.h"
 
 namespace hb {
@@ -155,6 +157,34 @@ int cmdRaybench(const RaybenchOptions& o) {
          {"t_other_surface", noT ? nlohmann::json() : nlohmann::json(otherSurface)},
          {"t_max_relative_difference", any || h.t.empty() ? nlohmann::json() : nlohmann::json(worst)},
          {"through", p.description}});
+  }
+  // The traversal's work per ray, replayed on the CPU over each width's uploaded layout
+  // (gpu/trace_work.h): what each rate above moves and tests.
+  std::printf("\nThe compute traversal's work per ray (replayed on the CPU over the uploaded layout; bytes: nodes "
+              "and triangles read)\n");
+  std::printf("| layout | nodes | boxes | triangles | stack pushes | deepest stack | bytes | at its rate |\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
+  j["traversal_work"] = nlohmann::json::array();
+  const std::vector<glm::vec3> triangles = scene.worldTriangles();
+  for (uint32_t width : {2u, 4u, 8u}) {
+    const TraceWork w = traceWork(layoutTraceBvh(triangles, width), file.rays, any);
+    const std::string backend = width == 2 ? "compute" : "compute-w" + std::to_string(width);
+    double rate = 0;
+    for (const Peak& p : trace.figures)
+      if (p.backend == backend) rate = p.perSecond;
+    const double bytesPerRay = w.perRay(w.bytes());
+    std::printf("| %s | %.2f | %.1f | %.2f | %.2f | %llu | %.0f | %s |\n", backend.c_str(), w.perRay(w.nodes),
+                w.perRay(w.boxes), w.perRay(w.triangles), w.perRay(w.pushes), (unsigned long long)w.maxStack,
+                bytesPerRay, rate > 0 ? formatRate(rate * bytesPerRay, "bytes").c_str() : "—");
+    j["traversal_work"].push_back({{"backend", backend},
+                                   {"nodes_per_ray", w.perRay(w.nodes)},
+                                   {"boxes_per_ray", w.perRay(w.boxes)},
+                                   {"triangles_per_ray", w.perRay(w.triangles)},
+                                   {"pushes_per_ray", w.perRay(w.pushes)},
+                                   {"deepest_stack", w.maxStack},
+                                   {"node_bytes_per_ray", w.perRay(w.nodeBytes)},
+                                   {"triangle_bytes_per_ray", w.perRay(w.triangleBytes)},
+                                   {"bytes_per_s_at_rate", rate * bytesPerRay}});
   }
   for (const std::string& w : trace.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (!o.json.empty()) {

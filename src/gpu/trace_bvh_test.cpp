@@ -54,37 +54,17 @@ uint32_t checkSubtree(const TraceBvhLayout& l, uint32_t node, uint32_t& leafSlot
   return 1 + std::max(leftDepth, checkSubtree(l, right, leafSlots));
 }
 
-// Child k of a wide node: group k / 4, component k % 4 (trace_bvh.h).
-size_t groupOf(const TraceBvhLayout& l, uint32_t node, int k) {
-  return size_t(node) * wideNodeVec4s(l.width) + size_t(k / 4) * kWideGroupVec4s;
-}
-uint32_t codeOf(const TraceBvhLayout& l, uint32_t node, int k) {
-  uint32_t c;
-  std::memcpy(&c, &l.wide[groupOf(l, node, k) + 6][k % 4], sizeof c);
-  return c;
-}
-glm::vec3 wideLo(const TraceBvhLayout& l, uint32_t node, int k) {
-  const size_t b = groupOf(l, node, k);
-  return {l.wide[b][k % 4], l.wide[b + 1][k % 4], l.wide[b + 2][k % 4]};
-}
-glm::vec3 wideHi(const TraceBvhLayout& l, uint32_t node, int k) {
-  const size_t b = groupOf(l, node, k);
-  return {l.wide[b + 3][k % 4], l.wide[b + 4][k % 4], l.wide[b + 5][k % 4]};
-}
-
-// The wide tree below `node`: every child's box holds its subtree's triangles, leaves hold at most
-// 8 triangles; marks each slot a leaf covers in `covered`; returns the subtree's depth in nodes.
-uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& covered) {
+// The wide tree below `node`: every child's box, as the shader decodes it (trace_bvh.h wideChild),
+// holds every triangle of its subtree; leaves hold at most 8 triangles; marks each slot a leaf covers
+// in `covered`; returns the subtree's depth in nodes, and widens `lo`, `hi` to its triangles.
+uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& covered, glm::vec3& lo, glm::vec3& hi) {
   uint32_t deepest = 0;
-  for (int k = 0; k < int(l.width); ++k) {
-    const uint32_t code = codeOf(l, node, k);
-    if (code == kWideEmpty) continue;
-    const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
-    auto holds = [&](const glm::vec3& p) {
-      return glm::all(glm::greaterThanEqual(p, lo)) && glm::all(glm::lessThanEqual(p, hi));
-    };
-    if (code & kWideLeaf) {
-      const uint32_t first = code & 0x0FFFFFFFu, count = ((code >> 28) & 7u) + 1;
+  for (uint32_t k = 0; k < l.width; ++k) {
+    const WideChild c = wideChild(l.wide, l.width, node, k);
+    if (c.code == kWideEmpty) continue;
+    glm::vec3 subLo(std::numeric_limits<float>::max()), subHi(-std::numeric_limits<float>::max());
+    if (c.code & kWideLeaf) {
+      const uint32_t first = c.code & 0x0FFFFFFFu, count = ((c.code >> 28) & 7u) + 1;
       for (uint32_t s = first; s < first + count; ++s) {
         ++covered.at(s);
         bool finite = true;
@@ -93,17 +73,20 @@ uint32_t checkWide(const TraceBvhLayout& l, uint32_t node, std::vector<int>& cov
           finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
         }
         for (int j = 0; j < 3 && finite; ++j) {
-          EXPECT_TRUE(holds(glm::vec3(l.triangles[3 * size_t(s) + j]))) << "wide node " << node << " slot " << s;
+          subLo = glm::min(subLo, glm::vec3(l.triangles[3 * size_t(s) + j]));
+          subHi = glm::max(subHi, glm::vec3(l.triangles[3 * size_t(s) + j]));
         }
       }
     } else {
-      EXPECT_GT(code, node) << "children after their parent";
-      for (int j = 0; j < int(l.width); ++j)
-        if (codeOf(l, code, j) != kWideEmpty) {
-          EXPECT_TRUE(holds(wideLo(l, code, j)) && holds(wideHi(l, code, j))) << "wide node " << code;
-        }
-      deepest = std::max(deepest, checkWide(l, code, covered));
+      EXPECT_GT(c.code, node) << "children after their parent";
+      deepest = std::max(deepest, checkWide(l, c.code, covered, subLo, subHi));
     }
+    if (subLo.x <= subHi.x) {
+      EXPECT_TRUE(glm::all(glm::lessThanEqual(c.lo, subLo)) && glm::all(glm::greaterThanEqual(c.hi, subHi)))
+          << "wide node " << node << " child " << k << ": its box does not hold its triangles";
+    }
+    lo = glm::min(lo, subLo);
+    hi = glm::max(hi, subHi);
   }
   return 1 + deepest;
 }
@@ -116,7 +99,8 @@ void checkWideLayout(const std::vector<glm::vec3>& v, uint32_t width) {
   ASSERT_GE(l.wide.size(), wideNodeVec4s(width));
   EXPECT_EQ(l.nodeBytes(), l.wide.size() * sizeof(glm::vec4));
   std::vector<int> covered(v.size() / 3, 0);
-  const uint32_t depth = checkWide(l, 0, covered);
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  const uint32_t depth = checkWide(l, 0, covered, lo, hi);
   for (size_t s = 0; s < covered.size(); ++s) EXPECT_EQ(covered[s], 1) << "slot " << s;
   EXPECT_EQ(depth, l.depth);
   EXPECT_EQ(l.stack, (width - 1) * depth);  // up to width − 1 children pushed a level
@@ -208,9 +192,10 @@ void leafSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o,
 void wideSlotsAlong(const TraceBvhLayout& l, uint32_t node, const glm::dvec3& o, const glm::dvec3& d,
                     std::vector<uint32_t>& out) {
   for (int k = 0; k < int(l.width); ++k) {
-    const uint32_t code = codeOf(l, node, k);
+    const WideChild c = wideChild(l.wide, l.width, node, uint32_t(k));
+    const uint32_t code = c.code;
     if (code == kWideEmpty) continue;
-    const glm::vec3 lo = wideLo(l, node, k), hi = wideHi(l, node, k);
+    const glm::vec3 lo = c.lo, hi = c.hi;
     double t0 = 0, t1 = std::numeric_limits<double>::infinity();
     for (int a = 0; a < 3; ++a) {
       const double inv = 1.0 / d[a];

@@ -1,0 +1,214 @@
+#include "gpu/trace_work.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <utility>
+
+#include "base/parallel.h"
+
+namespace hb {
+
+namespace {
+
+constexpr float kFarWiden = 1.0000004f;  // + 3 ulps (Ize 2013), as the shader
+constexpr uint64_t kTriangleBytes = 48;  // 3 vec4
+
+struct Ray {
+  glm::vec3 o, d, inv;
+  float tMin, tMax;
+};
+
+// shaders/compute_occluded.glsl.inc watertight() and inRange(), in float.
+bool hitTriangle(const TraceBvhLayout& l, const Ray& r, uint32_t tri, float tMin, float tMax, float& t) {
+  const glm::vec3 ad = glm::abs(r.d);
+  int kz = ad.x > ad.y ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+  if (r.d[kz] < 0.0f) std::swap(kx, ky);
+  const float sx = r.d[kx] / r.d[kz], sy = r.d[ky] / r.d[kz], sz = 1.0f / r.d[kz];
+  const glm::vec3 a = glm::vec3(l.triangles[3 * tri]) - r.o, b = glm::vec3(l.triangles[3 * tri + 1]) - r.o,
+                  c = glm::vec3(l.triangles[3 * tri + 2]) - r.o;
+  const float ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
+  const float bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
+  const float cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+  float u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
+  if (u == 0.0f || v == 0.0f || w == 0.0f) {
+    u = float(double(cx) * by - double(cy) * bx);
+    v = float(double(ax) * cy - double(ay) * cx);
+    w = float(double(bx) * ay - double(by) * ax);
+  }
+  if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+  const float det = u + v + w;
+  if (det == 0.0f) return false;
+  const float T = u * (sz * a[kz]) + v * (sz * b[kz]) + w * (sz * c[kz]);
+  const bool in = det > 0.0f ? (T >= tMin * det && T <= tMax * det) : (T <= tMin * det && T >= tMax * det);
+  t = T / det;
+  return in;
+}
+
+bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, float tMax, float& entry) {
+  const glm::vec3 t0 = (lo - r.o) * r.inv, t1 = (hi - r.o) * r.inv;
+  const glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
+  entry = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
+  const float far = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax)) * kFarWiden;
+  return !(entry > far);
+}
+
+struct Counter {
+  TraceWork w;
+  std::vector<std::pair<uint32_t, float>> stack;
+  void push(uint32_t code, float entry) {
+    stack.emplace_back(code, entry);
+    ++w.pushes;
+    w.maxStack = std::max<uint64_t>(w.maxStack, stack.size());
+  }
+};
+
+// One ray through the wide tree (width 4 or 8), as the shader's occluded() / closestHitBvh().
+void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
+  float best = r.tMax;
+  bool found = false;
+  uint32_t code = 0;
+  c.stack.clear();
+  for (;;) {
+    bool descended = false;
+    if ((code & kWideLeaf) == 0) {
+      ++c.w.nodes;
+      c.w.nodeBytes += 16 * wideNodeVec4s(l.width);
+      uint32_t next = kWideEmpty;
+      float nextEntry = 0.0f;
+      for (uint32_t k = 0; k < l.width; ++k) {
+        const WideChild child = wideChild(l.wide, l.width, code, k);
+        if (child.code == kWideEmpty) continue;
+        ++c.w.boxes;
+        float entry;
+        if (!hitBox(child.lo, child.hi, r, r.tMin, best, entry)) continue;
+        if (next == kWideEmpty) {
+          next = child.code;
+          nextEntry = entry;
+        } else if (entry < nextEntry) {
+          c.push(next, nextEntry);
+          next = child.code;
+          nextEntry = entry;
+        } else {
+          c.push(child.code, entry);
+        }
+      }
+      if (next != kWideEmpty) {
+        code = next;
+        descended = true;
+      }
+    } else {
+      const uint32_t first = code & 0x0FFFFFFFu, count = ((code >> 28) & 7u) + 1u;
+      for (uint32_t i = first; i < first + count; ++i) {
+        ++c.w.triangles;
+        c.w.triangleBytes += kTriangleBytes;
+        float t;
+        if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
+        found = true;
+        if (anyHit) return;
+        best = std::max(r.tMin, std::min(best, t));
+      }
+    }
+    if (descended) continue;
+    for (;;) {
+      if (c.stack.empty()) return;
+      const auto [popped, entry] = c.stack.back();
+      c.stack.pop_back();
+      if (!anyHit && found && entry > best * kFarWiden) continue;
+      code = popped;
+      break;
+    }
+  }
+}
+
+// One ray through the binary tree (width 2).
+void binaryRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
+  float best = r.tMax, entry;
+  bool found = false;
+  c.stack.clear();
+  const auto& n = l.nodes;
+  if (n.empty() || !hitBox(glm::vec3(n[0].lo), glm::vec3(n[0].hi), r, r.tMin, best, entry)) return;
+  uint32_t node = 0;
+  c.w.nodeBytes += sizeof(gpu::PrimaryBvhNode);
+  for (;;) {
+    bool descended = false;
+    if (n[node].info.x != 0) {
+      const uint32_t lc = node + 1, rc = n[node].info.x;
+      ++c.w.nodes;
+      c.w.boxes += 2;
+      c.w.nodeBytes += 2 * sizeof(gpu::PrimaryBvhNode);
+      float el, er;
+      const bool hl = hitBox(glm::vec3(n[lc].lo), glm::vec3(n[lc].hi), r, r.tMin, best, el);
+      const bool hr = hitBox(glm::vec3(n[rc].lo), glm::vec3(n[rc].hi), r, r.tMin, best, er);
+      if (hl && hr) {
+        const bool leftFirst = !(er < el);
+        c.push(leftFirst ? rc : lc, leftFirst ? er : el);
+        node = leftFirst ? lc : rc;
+        descended = true;
+      } else if (hl || hr) {
+        node = hl ? lc : rc;
+        descended = true;
+      }
+    } else {
+      for (uint32_t i = n[node].info.y; i < n[node].info.y + n[node].info.z; ++i) {
+        ++c.w.triangles;
+        c.w.triangleBytes += kTriangleBytes;
+        float t;
+        if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
+        found = true;
+        if (anyHit) return;
+        best = std::max(r.tMin, std::min(best, t));
+      }
+    }
+    if (descended) continue;
+    for (;;) {
+      if (c.stack.empty()) return;
+      const auto [popped, e] = c.stack.back();
+      c.stack.pop_back();
+      if (!anyHit && found && e > best * kFarWiden) continue;
+      node = popped;
+      c.w.nodeBytes += 16;  // the popped node's links again (the shader reloads info)
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& rays, bool anyHit) {
+  constexpr size_t kChunk = 4096;
+  const size_t chunks = (rays.size() + kChunk - 1) / kChunk;
+  TraceWork total;
+  std::mutex m;
+  parallelFor(chunks, [&](size_t k) {
+    Counter c;
+    for (size_t i = k * kChunk; i < std::min(rays.size(), (k + 1) * kChunk); ++i) {
+      const RayRecord& rr = rays[i];
+      Ray r;
+      r.o = glm::vec3(rr.origin[0], rr.origin[1], rr.origin[2]);
+      r.d = glm::vec3(rr.dir[0], rr.dir[1], rr.dir[2]);
+      for (int a = 0; a < 3; ++a) r.inv[a] = 1.0f / (r.d[a] == 0.0f ? 1e-30f : r.d[a]);  // safeInverse
+      r.tMin = rr.tMin;
+      r.tMax = rr.tMax;
+      ++c.w.rays;
+      if (layout.width == 2)
+        binaryRay(layout, r, anyHit, c);
+      else
+        wideRay(layout, r, anyHit, c);
+    }
+    std::lock_guard<std::mutex> lock(m);
+    total.rays += c.w.rays;
+    total.nodes += c.w.nodes;
+    total.boxes += c.w.boxes;
+    total.triangles += c.w.triangles;
+    total.pushes += c.w.pushes;
+    total.maxStack = std::max(total.maxStack, c.w.maxStack);
+    total.nodeBytes += c.w.nodeBytes;
+    total.triangleBytes += c.w.triangleBytes;
+  });
+  return total;
+}
+
+}  // namespace hb
