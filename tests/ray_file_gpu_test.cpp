@@ -90,6 +90,23 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   const json figures = readJson(dir / "b.json");
   ASSERT_FALSE(figures["backends"].empty());
   for (const json& b : figures["backends"]) EXPECT_EQ(b["unlike_cpu"], 0) << b["backend"];
+  // The traversal's work a ray, for each width: every shadow ray starts inside the scene's box, so
+  // each fetches the root at least; a wide tree is shallower, so it fetches fewer nodes.
+  ASSERT_EQ(figures["traversal_work"].size(), 3u) << figures.dump();
+  for (const json& w : figures["traversal_work"]) EXPECT_GE(w["nodes_per_ray"].get<double>(), 1.0) << w.dump();
+  EXPECT_LT(figures["traversal_work"][2]["nodes_per_ray"].get<double>(),
+            figures["traversal_work"][0]["nodes_per_ray"].get<double>());
+  EXPECT_NE(bench.out.find("| compute-w8 |"), std::string::npos) << bench.out;
+  // rays table: a row for the file, its figure as the JSON has it; a file that is not one, one line.
+  const RunResult table = run({"rays", "table", (dir / "b.json").string()});
+  ASSERT_EQ(table.exitCode, 0) << table.err;
+  EXPECT_NE(table.out.find("| b.json | shadow | closest | " + std::to_string(figures["file"]["count"].get<uint64_t>())),
+            std::string::npos)
+      << table.out;
+  const RunResult notOne = run({"rays", "table", (dir / "r" / "shadow.bin").string()});
+  EXPECT_EQ(notOne.exitCode, 2);
+  EXPECT_NE(notOne.err.find("not a raybench --json file"), std::string::npos) << notOne.err;
+  EXPECT_EQ(std::count(notOne.err.begin(), notOne.err.end(), '\n'), 1) << notOne.err;
   // The same file against another scene: one line, exit 2.
   const RunResult other = run({"raybench", (dir / "r" / "shadow.bin").string(), "--scene", "plane"});
   EXPECT_EQ(other.exitCode, 2);

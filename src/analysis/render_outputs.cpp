@@ -296,9 +296,7 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
     j["compute_bvh"] = {
         {"layout", b->width != 2
                        ? std::to_string(b->width) + "-wide, collapsed from the binary SAH tree (trace_bvh.h), " +
-                             std::to_string(16 * wideNodeVec4s(b->width)) + " B nodes" +
-                             (b->width == 8 ? " (boxes quantized to 8 bits a plane)" : "") +
-                             ", triangles 3 x vec4 in leaf order"
+                             std::to_string(16 * wideNodeVec4s(b->width)) + " B nodes, triangles 3 x vec4 in leaf order"
                        : "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
         {"width", b->width},
         {"nodes", b->nodeCount},

@@ -9,6 +9,7 @@
 
 #include "app/commands.h"
 #include "base/errors.h"
+#include "base/input_file.h"
 #include "base/text_format.h"
 #include "base/version.h"
 #include "gltf/gltf_io.h"
@@ -92,6 +93,49 @@ int cmdRaysExport(const RaysExportOptions& o) {
   return kExitOk;
 }
 
+int cmdRaysTable(const std::vector<std::string>& files) {
+  const char* hint = "pass files written by 'hybridbench raybench FILE.bin --json OUT.json'";
+  std::vector<nlohmann::json> runs;
+  std::vector<std::string> backends, sources;
+  for (const std::string& f : files) {
+    nlohmann::json j = nlohmann::json::parse(readInputText(f, hint), nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("backends") || !j["backends"].is_array() ||
+        !j.contains("file") || !j["file"].is_object())
+      throw InputError(f + ": not a raybench --json file (no \"file\" and \"backends\"); " + hint);
+    for (const nlohmann::json& b : j["backends"]) {
+      const std::string name = b.value("backend", "");
+      if (std::find(backends.begin(), backends.end(), name) == backends.end()) backends.push_back(name);
+    }
+    const std::string source = j.value("device", "?") + ", " + j.value("driver", "?");
+    if (std::find(sources.begin(), sources.end(), source) == sources.end()) sources.push_back(source);
+    runs.push_back(std::move(j));
+  }
+  std::string on;
+  for (const std::string& s : sources) on += (on.empty() ? "" : "; ") + s;
+  std::printf("G rays/s of each backend on each ray file (%s; `hybridbench raybench --json`):\n\n", on.c_str());
+  std::printf("| file | rays | query | count | revision |");
+  for (const std::string& b : backends) std::printf(" %s |", b.c_str());
+  std::printf("\n|---|---|---|---:|---|");
+  for (size_t i = 0; i < backends.size(); ++i) std::printf("---:|");
+  std::printf("\n");
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const nlohmann::json& j = runs[r];
+    const nlohmann::json& file = j["file"];
+    std::printf("| %s | %s | %s | %llu | %s |", fs::path(files[r]).filename().string().c_str(),
+                file.value("kind", "?").c_str(), file.value("query", "?").c_str(),
+                (unsigned long long)file.value("count", uint64_t(0)), j.value("revision", "?").c_str());
+    for (const std::string& name : backends) {
+      std::string cell = "—";
+      for (const nlohmann::json& b : j["backends"])
+        if (b.value("backend", "") == name && b.value("rays_per_s", 0.0) > 0)
+          cell = format("%.3g", b.value("rays_per_s", 0.0) / 1e9);
+      std::printf(" %s |", cell.c_str());
+    }
+    std::printf("\n");
+  }
+  return kExitOk;
+}
+
 int cmdRaybench(const RaybenchOptions& o) {
   const RayFile file = readRayFile(o.file);  // a bad file is one line before anything runs
   const std::string sceneArg = o.scene.empty() ? file.info.sceneName : o.scene;
@@ -160,8 +204,9 @@ int cmdRaybench(const RaybenchOptions& o) {
   }
   // The traversal's work per ray, replayed on the CPU over each width's uploaded layout
   // (gpu/trace_work.h): what each rate above moves and tests.
-  std::printf("\nThe compute traversal's work per ray (replayed on the CPU over the uploaded layout; bytes: nodes "
-              "and triangles read)\n");
+  std::printf(
+      "\nThe compute traversal's work per ray (replayed on the CPU over the uploaded layout; bytes: nodes "
+      "and triangles read)\n");
   std::printf("| layout | nodes | boxes | triangles | stack pushes | deepest stack | bytes | at its rate |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   j["traversal_work"] = nlohmann::json::array();

@@ -41,6 +41,9 @@ struct RaysExportOptions {
   std::vector<double> light = {0.0, 6.0, 0.0};  // shadow: the point light
 };
 int cmdRaysExport(const RaysExportOptions& options);
+// `rays table FILE.json...`: raybench --json files side by side, one row a file (its rays' kind and
+// the revision that traced them), one column a backend, in G rays/s (the docs' generated tables).
+int cmdRaysTable(const std::vector<std::string>& files);
 // `raybench FILE.bin`: the file through every backend, timed (median and spread), each backend's
 // hits against the CPU's double-precision ones; refused in one line when the file is of another
 // scene than `scene` (default: the scene the file names, a built-in).

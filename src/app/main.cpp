@@ -169,6 +169,10 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   raysExportCmd->add_option("--seed", raysExport.seed, "ao: the directions' seed (default 1)");
   raysExportCmd->add_option("--light", raysExport.light, "shadow: the point light x y z (default 0 6 0)")->expected(3);
+  std::vector<std::string> raysTableFiles;
+  auto* raysTableCmd = raysCmd->add_subcommand(
+      "table", "raybench --json files side by side: a row a file, a column a backend, in G rays/s");
+  raysTableCmd->add_option("files", raysTableFiles, "files written by raybench --json")->required();
   RaybenchOptions raybench;
   auto* raybenchCmd =
       app.add_subcommand("raybench", "trace a ray file with every backend: rays/s and hits against the CPU's");
@@ -253,6 +257,7 @@ int main(int argc, char** argv) {
       return cmdReport(report);
     }
     if (*raysExportCmd) return cmdRaysExport(raysExport);
+    if (*raysTableCmd) return cmdRaysTable(raysTableFiles);
     if (*raybenchCmd) return cmdRaybench(raybench);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);

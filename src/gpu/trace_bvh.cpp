@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstring>
-#include <limits>
 #include <vector>
 
 #include "base/errors.h"
@@ -14,10 +12,6 @@
 namespace hb {
 
 namespace {
-
-// The smallest exponent of a grid step: 2^-100 keeps q · 2^e a normal float (q < 2^8) for a flat
-// box (extent 0), whose steps are all 0.
-constexpr int kQuantMinExp = -100;
 
 float halfAreaOf(const gpu::PrimaryBvhNode& n) {
   const glm::vec3 d = glm::max(glm::vec3(n.hi) - glm::vec3(n.lo), glm::vec3(0.0f));
@@ -58,6 +52,11 @@ struct WideCollapse {
     std::vector<uint32_t> codes(width, kWideEmpty);
     for (size_t i = 0; i < kids.size(); ++i) {
       const gpu::PrimaryBvhNode& k = binary[kids[i]];
+      const size_t group = index * stride + (i / 4) * kWideGroupVec4s;  // child i: group i / 4, slot i % 4
+      for (int a = 0; a < 3; ++a) {
+        out[group + a][int(i % 4)] = k.lo[a];
+        out[group + 3 + a][int(i % 4)] = k.hi[a];
+      }
       if (k.info.x == 0) {
         HB_ASSERT(k.info.z >= 1 && k.info.z <= 8 && k.info.y < (1u << 28));
         codes[i] = kWideLeaf | (k.info.z - 1) << 28 | k.info.y;
@@ -65,54 +64,9 @@ struct WideCollapse {
         codes[i] = build(kids[i], level + 1);
       }
     }
-    if (width == 8)
-      writeQuantized(index * stride, kids, codes);
-    else
-      for (size_t i = 0; i < width; ++i) {
-        const size_t group = index * stride + (i / 4) * kWideGroupVec4s;  // child i: group i / 4, slot i % 4
-        if (i < kids.size())
-          for (int a = 0; a < 3; ++a) {
-            out[group + a][int(i % 4)] = binary[kids[i]].lo[a];
-            out[group + 3 + a][int(i % 4)] = binary[kids[i]].hi[a];
-          }
-        std::memcpy(&out[group + 6][int(i % 4)], &codes[i], sizeof(uint32_t));
-      }
+    for (size_t i = 0; i < width; ++i)
+      std::memcpy(&out[index * stride + (i / 4) * kWideGroupVec4s + 6][int(i % 4)], &codes[i], sizeof(uint32_t));
     return index;
-  }
-
-  // Width 8's compressed node at out[at] (trace_bvh.h): the grid from the children's union box.
-  void writeQuantized(size_t at, const std::vector<uint32_t>& kids, const std::vector<uint32_t>& codes) {
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (uint32_t k : kids) {
-      lo = glm::min(lo, glm::vec3(binary[k].lo));
-      hi = glm::max(hi, glm::vec3(binary[k].hi));
-    }
-    int e[3];
-    uint32_t ebits = 0;
-    for (int a = 0; a < 3; ++a) {
-      // The smallest power of two whose 255 steps span the extent (computed in double: exact).
-      const double extent = double(hi[a]) - double(lo[a]);
-      e[a] = kQuantMinExp;
-      while (e[a] < 127 && std::ldexp(255.0, e[a]) < extent) ++e[a];
-      ebits |= uint32_t(e[a] + 127) << (8 * a);
-    }
-    out[at] = glm::vec4(lo, 0.0f);
-    std::memcpy(&out[at][3], &ebits, sizeof ebits);
-    uint32_t words[12] = {};
-    for (size_t i = 0; i < kids.size(); ++i) {
-      const gpu::PrimaryBvhNode& k = binary[kids[i]];
-      for (int a = 0; a < 3; ++a) {
-        const double step = std::ldexp(1.0, e[a]);
-        const double qlo = std::floor((double(k.lo[a]) - double(lo[a])) / step);
-        const double qhi = std::ceil((double(k.hi[a]) - double(lo[a])) / step);
-        HB_ASSERT(qlo >= 0.0 && qhi <= 255.0 && qlo <= qhi);
-        const size_t g = i / 4, shift = 8 * (i % 4);
-        words[6 * g + size_t(a)] |= uint32_t(qlo) << shift;
-        words[6 * g + 3 + size_t(a)] |= uint32_t(qhi) << shift;
-      }
-    }
-    for (size_t i = 0; i < 8; ++i) std::memcpy(&out[at + 1 + i / 4][int(i % 4)], &codes[i], sizeof(uint32_t));
-    for (size_t w = 0; w < 12; ++w) std::memcpy(&out[at + 3 + w / 4][int(w % 4)], &words[w], sizeof(uint32_t));
   }
 };
 
@@ -139,8 +93,8 @@ TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t w
     if (tree.nodes.empty() || tree.order.empty()) {
       out.wide.assign(wideNodeVec4s(width), glm::vec4(0.0f));  // a root without children
       const uint32_t empty = kWideEmpty;
-      for (uint32_t i = 0; i < width; ++i)
-        std::memcpy(width == 8 ? &out.wide[1 + i / 4][int(i % 4)] : &out.wide[6][int(i)], &empty, sizeof empty);
+      for (uint32_t g = 0; g < width / 4; ++g)
+        for (int i = 0; i < 4; ++i) std::memcpy(&out.wide[g * kWideGroupVec4s + 6][i], &empty, sizeof empty);
       out.depth = 1;
     } else {
       WideCollapse c{out.nodes, out.wide, width};
@@ -155,27 +109,12 @@ TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t w
 
 WideChild wideChild(const std::vector<glm::vec4>& wide, uint32_t width, uint32_t node, uint32_t k) {
   HB_ASSERT((width == 4 || width == 8) && k < width);
+  const size_t b = size_t(node) * wideNodeVec4s(width) + (k / 4) * kWideGroupVec4s;
+  const int s = int(k % 4);
   WideChild c;
-  const size_t at = size_t(node) * wideNodeVec4s(width);
-  if (width == 4) {
-    std::memcpy(&c.code, &wide[at + 6][int(k)], sizeof c.code);
-    c.lo = {wide[at][int(k)], wide[at + 1][int(k)], wide[at + 2][int(k)]};
-    c.hi = {wide[at + 3][int(k)], wide[at + 4][int(k)], wide[at + 5][int(k)]};
-    return c;
-  }
-  std::memcpy(&c.code, &wide[at + 1 + k / 4][int(k % 4)], sizeof c.code);
-  uint32_t ebits, words[12];
-  std::memcpy(&ebits, &wide[at][3], sizeof ebits);
-  for (size_t w = 0; w < 12; ++w) std::memcpy(&words[w], &wide[at + 3 + w / 4][int(w % 4)], sizeof(uint32_t));
-  const size_t g = k / 4, shift = 8 * (k % 4);
-  for (int a = 0; a < 3; ++a) {
-    // As the shader: q · 2^e exact in float, one rounding in the sum.
-    const float step = std::ldexp(1.0f, int((ebits >> (8 * a)) & 0xFFu) - 127);
-    const float qlo = float((words[6 * g + size_t(a)] >> shift) & 0xFFu);
-    const float qhi = float((words[6 * g + 3 + size_t(a)] >> shift) & 0xFFu);
-    c.lo[a] = wide[at][a] + qlo * step;
-    c.hi[a] = wide[at][a] + qhi * step;
-  }
+  std::memcpy(&c.code, &wide[b + 6][s], sizeof c.code);
+  c.lo = {wide[b][s], wide[b + 1][s], wide[b + 2][s]};
+  c.hi = {wide[b + 3][s], wide[b + 4][s], wide[b + 5][s]};
   return c;
 }
 

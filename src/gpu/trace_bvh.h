@@ -17,23 +17,15 @@ namespace hb {
 
 // bvh_width=4 or 8: the binary tree collapsed into nodes of up to W children (a node's children are
 // its binary node's two; then, while fewer than W, the interior child with the largest box is
-// replaced by its two). A code is a wide node's index, or a leaf: kWideLeaf | (count − 1) << 28 |
-// first (entries of the triangle order), or kWideEmpty for no child.
-//  - Width 4: one group of 4 children in 8 vec4 = 128 B: the children's lo.x, lo.y, lo.z, hi.x,
-//    hi.y, hi.z (one vec4 each, child k in component k), their codes (vec4 of uint bits), and one
-//    unused.
-//  - Width 8: compressed, 6 vec4 = 96 B a node (after Ylitie, Karras and Laine 2017, "Efficient
-//    Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"): vec4 0 holds the grid's origin
-//    p (the node's box lo) and, in w's bits, the biased exponents e.x, e.y, e.z (a byte each,
-//    + 127); vec4 1 and 2 the 8 children's codes; vec4 3 to 5 twelve words of 4 bytes, each child's
-//    box as quantized steps of 2^e from p: for group g (children 4g .. 4g + 3, byte k of a word
-//    child 4g + k) the words 6g .. 6g + 5 are lo.x, lo.y, lo.z, hi.x, hi.y, hi.z. A step count is
-//    rounded outwards (lo down, hi up), and p + q · 2^e rounds once (q · 2^e is exact) to the
-//    nearest float, which cannot cross the float it bounds: the decoded box holds the child's.
+// replaced by its two), in groups of 4 children of 8 vec4 = 128 B: the children's lo.x, lo.y, lo.z,
+// hi.x, hi.y, hi.z (one vec4 each, child k of the group in component k), their codes (vec4 of uint
+// bits), and one unused; a node is W / 4 groups (width 4: 128 B, width 8: 256 B). A code is a wide
+// node's index, or a leaf: kWideLeaf | (count − 1) << 28 | first (entries of the triangle order), or
+// kWideEmpty for no child.
 inline constexpr uint32_t kWideLeaf = 0x80000000u;
 inline constexpr uint32_t kWideEmpty = 0xFFFFFFFFu;
-inline constexpr uint32_t kWideGroupVec4s = 8;  // width 4's group of 4 children
-inline constexpr uint32_t wideNodeVec4s(uint32_t width) { return width == 8 ? 6 : 2 * width; }
+inline constexpr uint32_t kWideGroupVec4s = 8;  // a group of 4 children
+inline constexpr uint32_t wideNodeVec4s(uint32_t width) { return 2 * width; }
 
 // What is uploaded, built on the CPU (tested without a device: trace_bvh_test.cpp).
 struct TraceBvhLayout {
@@ -50,7 +42,7 @@ struct TraceBvhLayout {
     return width != 2 ? wide.size() * sizeof(glm::vec4) : nodes.size() * sizeof(gpu::PrimaryBvhNode);
   }
 };
-// Child k of wide node `node`: its code and its box as the shader decodes it.
+// Child k of wide node `node` (width 4 or 8): its code and its box.
 struct WideChild {
   uint32_t code = kWideEmpty;
   glm::vec3 lo{0.0f}, hi{0.0f};

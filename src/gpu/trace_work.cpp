@@ -78,6 +78,7 @@ void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
       c.w.nodeBytes += 16 * wideNodeVec4s(l.width);
       uint32_t next = kWideEmpty;
       float nextEntry = 0.0f;
+      const size_t base = c.stack.size();  // this node's pushes
       for (uint32_t k = 0; k < l.width; ++k) {
         const WideChild child = wideChild(l.wide, l.width, code, k);
         if (child.code == kWideEmpty) continue;
@@ -95,6 +96,15 @@ void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
           c.push(child.code, entry);
         }
       }
+      // Closest hits: the pushed children sorted far to near by insertion, as the shader (an entry
+      // moves below a nearer one only; equal entries keep their order).
+      if (!anyHit)
+        for (size_t i = base + 1; i < c.stack.size(); ++i) {
+          const auto item = c.stack[i];
+          size_t j = i;
+          for (; j > base && c.stack[j - 1].second < item.second; --j) c.stack[j] = c.stack[j - 1];
+          c.stack[j] = item;
+        }
       if (next != kWideEmpty) {
         code = next;
         descended = true;

@@ -16,7 +16,7 @@ namespace hb {
 
 struct TraceWork {
   uint64_t rays = 0;
-  uint64_t nodes = 0;      // nodes fetched (a wide node whole: width 4 128 B, width 8 96 B)
+  uint64_t nodes = 0;      // nodes fetched (a wide node whole: width / 4 groups of 128 B)
   uint64_t boxes = 0;      // child boxes tested (a wide node's slots, a binary node's two children)
   uint64_t triangles = 0;  // triangles tested
   uint64_t pushes = 0;     // stack entries written
