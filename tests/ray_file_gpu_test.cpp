@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/text_format.h"
 #include "gltf/gltf_io.h"
 #include "gpu/peaks.h"
 #include "gpu_fixture.h"
@@ -103,6 +104,12 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   EXPECT_NE(table.out.find("| b.json | shadow | closest | " + std::to_string(figures["file"]["count"].get<uint64_t>())),
             std::string::npos)
       << table.out;
+  const RunResult work = run({"rays", "table", (dir / "b.json").string(), "--work"});
+  ASSERT_EQ(work.exitCode, 0) << work.err;
+  EXPECT_NE(work.out.find(
+                format("| b.json | compute-w8 | %.2f |", figures["traversal_work"][2]["nodes_per_ray"].get<double>())),
+            std::string::npos)
+      << work.out;
   const RunResult notOne = run({"rays", "table", (dir / "r" / "shadow.bin").string()});
   EXPECT_EQ(notOne.exitCode, 2);
   EXPECT_NE(notOne.err.find("not a raybench --json file"), std::string::npos) << notOne.err;

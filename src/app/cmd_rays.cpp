@@ -93,7 +93,7 @@ int cmdRaysExport(const RaysExportOptions& o) {
   return kExitOk;
 }
 
-int cmdRaysTable(const std::vector<std::string>& files) {
+int cmdRaysTable(const std::vector<std::string>& files, bool work) {
   const char* hint = "pass files written by 'hybridbench raybench FILE.bin --json OUT.json'";
   std::vector<nlohmann::json> runs;
   std::vector<std::string> backends, sources;
@@ -133,6 +133,20 @@ int cmdRaysTable(const std::vector<std::string>& files) {
     }
     std::printf("\n");
   }
+  if (!work) return kExitOk;
+  std::printf(
+      "\nThe compute traversal's work a ray (raybench's traversal_work: replayed on the CPU over the uploaded "
+      "layout):\n\n| file | layout | nodes | boxes | triangles | stack pushes | bytes | at its rate |\n"
+      "|---|---|---:|---:|---:|---:|---:|---:|\n");
+  for (size_t r = 0; r < runs.size(); ++r)
+    for (const nlohmann::json& w : runs[r].value("traversal_work", nlohmann::json::array()))
+      std::printf(
+          "| %s | %s | %.2f | %.1f | %.2f | %.2f | %.0f | %s |\n", fs::path(files[r]).filename().string().c_str(),
+          w.value("backend", "?").c_str(), w.value("nodes_per_ray", 0.0), w.value("boxes_per_ray", 0.0),
+          w.value("triangles_per_ray", 0.0), w.value("pushes_per_ray", 0.0),
+          w.value("node_bytes_per_ray", 0.0) + w.value("triangle_bytes_per_ray", 0.0),
+          w.value("bytes_per_s_at_rate", 0.0) > 0 ? formatRate(w.value("bytes_per_s_at_rate", 0.0), "bytes").c_str()
+                                                  : "—");
   return kExitOk;
 }
 

@@ -42,8 +42,9 @@ struct RaysExportOptions {
 };
 int cmdRaysExport(const RaysExportOptions& options);
 // `rays table FILE.json...`: raybench --json files side by side, one row a file (its rays' kind and
-// the revision that traced them), one column a backend, in G rays/s (the docs' generated tables).
-int cmdRaysTable(const std::vector<std::string>& files);
+// the revision that traced them), one column a backend, in G rays/s (the docs' generated tables);
+// `work`: then the traversal's work a ray that each file carries.
+int cmdRaysTable(const std::vector<std::string>& files, bool work);
 // `raybench FILE.bin`: the file through every backend, timed (median and spread), each backend's
 // hits against the CPU's double-precision ones; refused in one line when the file is of another
 // scene than `scene` (default: the scene the file names, a built-in).

@@ -173,6 +173,8 @@ int main(int argc, char** argv) {
   auto* raysTableCmd = raysCmd->add_subcommand(
       "table", "raybench --json files side by side: a row a file, a column a backend, in G rays/s");
   raysTableCmd->add_option("files", raysTableFiles, "files written by raybench --json")->required();
+  bool raysTableWork = false;
+  raysTableCmd->add_flag("--work", raysTableWork, "then the traversal's work a ray each file carries");
   RaybenchOptions raybench;
   auto* raybenchCmd =
       app.add_subcommand("raybench", "trace a ray file with every backend: rays/s and hits against the CPU's");
@@ -257,7 +259,7 @@ int main(int argc, char** argv) {
       return cmdReport(report);
     }
     if (*raysExportCmd) return cmdRaysExport(raysExport);
-    if (*raysTableCmd) return cmdRaysTable(raysTableFiles);
+    if (*raysTableCmd) return cmdRaysTable(raysTableFiles, raysTableWork);
     if (*raybenchCmd) return cmdRaybench(raybench);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);
