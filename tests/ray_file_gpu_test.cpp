@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "base/text_format.h"
 #include "gltf/gltf_io.h"
@@ -114,6 +115,47 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   EXPECT_EQ(notOne.exitCode, 2);
   EXPECT_NE(notOne.err.find("not a raybench --json file"), std::string::npos) << notOne.err;
   EXPECT_EQ(std::count(notOne.err.begin(), notOne.err.end(), '\n'), 1) << notOne.err;
+  // --hits-out: a record a ray for every backend and the CPU; our BVH names the CPU's triangle on
+  // every hit (or ties it at a shared edge), at barycentrics inside it.
+  const RunResult withHits = run({"raybench", (dir / "r" / "camera.bin").string(), "--json", (dir / "c.json").string(),
+                                  "--hits-out", (dir / "hits").string()});
+  ASSERT_EQ(withHits.exitCode, 0) << withHits.err;
+  const json camera = readJson(dir / "c.json");
+  const uint64_t count = camera["file"]["count"].get<uint64_t>();
+  const uint64_t cpuHits = camera["cpu_reference"]["hits"].get<uint64_t>();
+  ASSERT_GT(cpuHits, 0u);
+  ASSERT_FALSE(camera["triangles_against_cpu"].empty());
+  for (const json& t : camera["triangles_against_cpu"]) {
+    EXPECT_EQ(t["same"].get<uint64_t>() + t["tie"].get<uint64_t>(), cpuHits) << t.dump();
+    EXPECT_EQ(t["other"], 0) << t.dump();
+  }
+  const json described = readJson(dir / "hits" / "hits.json");
+  for (const auto& [backend, name] : described["files"].items()) {
+    const fs::path path = dir / "hits" / name.get<std::string>().substr(0, name.get<std::string>().find(' '));
+    EXPECT_EQ(fs::file_size(path), 16 * count) << backend;
+  }
+  const std::string ours = readFile(dir / "hits" / "compute-w8.hits.bin"),
+                    cpuFile = readFile(dir / "hits" / "cpu.hits.bin");
+  ASSERT_EQ(ours.size(), 16 * count);
+  size_t inside = 0;
+  for (size_t i = 0; i < count; ++i) {
+    uint32_t id, cpuId;
+    float u, v;
+    std::memcpy(&id, ours.data() + 16 * i + 4, 4);
+    std::memcpy(&cpuId, cpuFile.data() + 16 * i + 4, 4);
+    std::memcpy(&u, ours.data() + 16 * i + 8, 4);
+    std::memcpy(&v, ours.data() + 16 * i + 12, 4);
+    if (id == ~0u) continue;
+    // Inside the triangle, to the rounding of the double barycentrics (a few 1e-16; 1e-6 is far).
+    inside += u >= -1e-6f && v >= -1e-6f && u + v <= 1.0f + 1e-6f;
+    EXPECT_TRUE(id == cpuId || cpuId == ~0u) << "ray " << i;
+  }
+  EXPECT_EQ(inside, cpuHits);
+  const RunResult intoFile =
+      run({"raybench", (dir / "r" / "camera.bin").string(), "--hits-out", (dir / "r" / "camera.json").string()});
+  EXPECT_EQ(intoFile.exitCode, 2);
+  EXPECT_NE(intoFile.err.find("--hits-out"), std::string::npos) << intoFile.err;
+  EXPECT_EQ(std::count(intoFile.err.begin(), intoFile.err.end(), '\n'), 1) << intoFile.err;
   // The same file against another scene: one line, exit 2.
   const RunResult other = run({"raybench", (dir / "r" / "shadow.bin").string(), "--scene", "plane"});
   EXPECT_EQ(other.exitCode, 2);

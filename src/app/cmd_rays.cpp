@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
+#include <utility>
 
 #include "app/commands.h"
 #include "base/errors.h"
@@ -93,6 +95,36 @@ int cmdRaysExport(const RaysExportOptions& o) {
   return kExitOk;
 }
 
+namespace {
+
+// A hit as --hits-out writes it: 16 bytes, little-endian.
+struct HitRecord {
+  float t;      // -1: missed (or the backend gives no t: NaN)
+  uint32_t id;  // the triangle's draw-order id (Scene::worldTriangles() / 3); ~0u: missed or not given
+  float u, v;   // barycentrics of the triangle's 2nd and 3rd vertices; NaN where no triangle is given
+};
+static_assert(sizeof(HitRecord) == 16, "a hit record is 4 x 4 bytes");
+
+// Where the ray meets triangle `id`'s plane, as barycentrics (u, v) of its 2nd and 3rd vertices, in
+// double (Moller-Trumbore without its range tests): the hit's place on the triangle the tracer named.
+std::pair<float, float> barycentricsOf(const std::vector<glm::vec3>& tris, uint32_t id, const RayRecord& r) {
+  const glm::dvec3 a(tris[3 * size_t(id)]), b(tris[3 * size_t(id) + 1]), c(tris[3 * size_t(id) + 2]);
+  const glm::dvec3 o(r.origin[0], r.origin[1], r.origin[2]), d(r.dir[0], r.dir[1], r.dir[2]);
+  const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(d, e2);
+  const double det = glm::dot(e1, p);
+  if (det == 0.0) return {std::nanf(""), std::nanf("")};
+  const glm::dvec3 s = o - a, q = glm::cross(s, e1);
+  return {float(glm::dot(s, p) / det), float(glm::dot(d, q) / det)};
+}
+
+void writeHits(const std::string& path, const std::vector<HitRecord>& hits) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(hits.data()), std::streamsize(hits.size() * sizeof(HitRecord)));
+  if (!out) throw InputError("raybench: cannot write " + path + "; give --hits-out a folder that can be written");
+}
+
+}  // namespace
+
 int cmdRaysTable(const std::vector<std::string>& files, bool work) {
   const char* hint = "pass files written by 'hybridbench raybench FILE.bin --json OUT.json'";
   std::vector<nlohmann::json> runs;
@@ -159,6 +191,12 @@ int cmdRaybench(const RaybenchOptions& o) {
     throw InputError(o.file + ": its rays are of a scene with sha256 " + file.info.sceneSha256.substr(0, 12) +
                      "..., not of " + sceneArg + " (" + sha.substr(0, 12) +
                      "...); give that scene with --scene, or export rays of this one (hybridbench rays export)");
+  if (!o.hitsOut.empty()) {  // refused before anything runs
+    requireOutputFolder(o.hitsOut, "--hits-out");
+    std::error_code ec;
+    fs::create_directories(o.hitsOut, ec);
+    if (ec) throw InputError("--hits-out " + o.hitsOut + ": cannot create it (" + ec.message() + ")");
+  }
   const std::vector<DeviceInfo> devices = enumerateDevices();
   VulkanContext ctx(resolveDevice(devices, o.device.empty() ? "0" : o.device));
   if (!ctx.canTrace())
@@ -216,6 +254,70 @@ int cmdRaybench(const RaybenchOptions& o) {
          {"t_max_relative_difference", any || h.t.empty() ? nlohmann::json() : nlohmann::json(worst)},
          {"through", p.description}});
   }
+  // The triangles our BVH met against the CPU's: the same one, a tie (another triangle at the same
+  // t within kTieRelative: a shared edge or vertex, where either answer is right), or another.
+  constexpr double kTieRelative = 1e-6;  // as kTRelative above: a few float ulps of t
+  const std::vector<glm::vec3> worldTris = scene.worldTriangles();
+  if (!any) {
+    std::printf(
+        "\nThe triangle each hit meets against the CPU's (closest hits through our BVH; a tie: another "
+        "triangle at the same t within %g of it, on a shared edge or vertex)\n",
+        kTieRelative);
+    std::printf("| backend | same triangle | tie | another triangle |\n|---|---:|---:|---:|\n");
+    j["triangles_against_cpu"] = nlohmann::json::array();
+    for (const Peak& p : trace.figures) {
+      const RayFileHits& h = trace.hits.at(p.backend);
+      if (h.ids.empty()) continue;
+      size_t same = 0, tie = 0, other = 0;
+      for (size_t i = 0; i < file.rays.size(); ++i) {
+        if (h.ids[i] == ~0u || cpu.t[i] < 0.0) continue;
+        if (h.ids[i] == cpu.triangle[i])
+          ++same;
+        else if (std::abs(double(h.t[i]) - cpu.t[i]) <= kTieRelative * std::max(cpu.t[i], 1e-30))
+          ++tie;
+        else
+          ++other;
+      }
+      std::printf("| %s | %zu | %zu | %zu |\n", p.backend.c_str(), same, tie, other);
+      j["triangles_against_cpu"].push_back({{"backend", p.backend}, {"same", same}, {"tie", tie}, {"other", other}});
+    }
+  }
+  if (!o.hitsOut.empty()) {
+    nlohmann::json desc = {
+        {"records",
+         "16 bytes a ray, in the ray file's order: float32 t (-1: missed; NaN: the backend gives none), "
+         "uint32 triangle id (the scene's draw order; 0xFFFFFFFF: missed or not given), float32 u, v "
+         "(barycentrics of the triangle's 2nd and 3rd vertices, in double where the ray meets its plane; "
+         "NaN where no triangle is given)"},
+        {"rays", toJson(file.info)},
+        {"revision", gitRevision()},
+        {"device", ctx.info().name},
+        {"files", nlohmann::json::object()}};
+    auto record = [&](size_t i, double t, uint32_t id) {
+      HitRecord r{float(t), id, std::nanf(""), std::nanf("")};
+      if (id != ~0u && id < worldTris.size() / 3) std::tie(r.u, r.v) = barycentricsOf(worldTris, id, file.rays[i]);
+      return r;
+    };
+    std::vector<HitRecord> recs(file.rays.size());
+    for (size_t i = 0; i < recs.size(); ++i) recs[i] = record(i, cpu.t[i] >= 0 ? cpu.t[i] : -1.0, cpu.triangle[i]);
+    writeHits((fs::path(o.hitsOut) / "cpu.hits.bin").string(), recs);
+    desc["files"]["cpu"] = "cpu.hits.bin (the CPU's double-precision BVH)";
+    for (const Peak& p : trace.figures) {
+      const RayFileHits& h = trace.hits.at(p.backend);
+      for (size_t i = 0; i < recs.size(); ++i) {
+        const bool missed = h.missed[i] != 0;
+        const double t = missed ? -1.0 : h.t.empty() ? double(std::nanf("")) : double(h.t[i]);
+        recs[i] = record(i, t, missed || h.ids.empty() ? ~0u : h.ids[i]);
+      }
+      writeHits((fs::path(o.hitsOut) / (p.backend + ".hits.bin")).string(), recs);
+      desc["files"][p.backend] = p.backend + ".hits.bin";
+    }
+    std::ofstream d((fs::path(o.hitsOut) / "hits.json").string());
+    d << desc.dump(1) << "\n";
+    if (!d) throw InputError("raybench: cannot write " + (fs::path(o.hitsOut) / "hits.json").string());
+    std::fprintf(stderr, "raybench: wrote the hits of %zu backends and the CPU's to %s (hits.json says how)\n",
+                 trace.figures.size(), o.hitsOut.c_str());
+  }
   // The traversal's work per ray, replayed on the CPU over each width's uploaded layout
   // (gpu/trace_work.h): what each rate above moves and tests.
   std::printf(
@@ -224,9 +326,8 @@ int cmdRaybench(const RaybenchOptions& o) {
   std::printf("| layout | nodes | boxes | triangles | stack pushes | deepest stack | bytes | at its rate |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
   j["traversal_work"] = nlohmann::json::array();
-  const std::vector<glm::vec3> triangles = scene.worldTriangles();
   for (uint32_t width : {2u, 4u, 8u}) {
-    const TraceWork w = traceWork(layoutTraceBvh(triangles, width), file.rays, any);
+    const TraceWork w = traceWork(layoutTraceBvh(worldTris, width), file.rays, any);
     const std::string backend = width == 2 ? "compute" : "compute-w" + std::to_string(width);
     double rate = 0;
     for (const Peak& p : trace.figures)

@@ -52,7 +52,8 @@ struct RaybenchOptions {
   std::string file;
   std::string scene;
   std::string device;
-  std::string json;  // write the figures here too
+  std::string json;     // write the figures here too
+  std::string hitsOut;  // folder: each backend's hits a ray (t, triangle, barycentrics), and the CPU's
 };
 int cmdRaybench(const RaybenchOptions& options);
 

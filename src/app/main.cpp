@@ -184,6 +184,9 @@ int main(int argc, char** argv) {
       "the scene the rays are of: a built-in name or .gltf/.glb path (default: the file's, built-in)");
   raybenchCmd->add_option("--device", raybench.device, "device index or name substring");
   raybenchCmd->add_option("--json", raybench.json, "write the figures to this file too");
+  raybenchCmd->add_option("--hits-out", raybench.hitsOut,
+                          "folder: each backend's hit a ray (t, triangle id, barycentrics) and the CPU's, "
+                          "BACKEND.hits.bin + hits.json");
 
   auto* sceneCmd = app.add_subcommand("scene", "export, inspect or list scenes");
   sceneCmd->require_subcommand(1);

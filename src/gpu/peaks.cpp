@@ -271,6 +271,7 @@ struct RaySet {
 struct BackendHits {
   std::vector<float> t;
   std::vector<uint32_t> missed;
+  std::vector<uint32_t> ids;  // ours: the triangle's draw-order id, ~0u missed
 };
 std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, const RayParams& params, uint32_t width,
                                  uint32_t height, uint64_t rays, const Buffer* fileRays,
@@ -296,6 +297,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
       ctx, launched * 4,
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   Buffer hitT(ctx, launched * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
+  Buffer hitIds(ctx, launched * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
   Buffer nextRay(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   Buffer noFile(ctx, 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);  // the built-in sets read no file
   // A backend: the driver's pipeline or ray query, or ours (`ours` set) in compute.
@@ -317,6 +319,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
       binder->provide("BvhNodes", bvh.nodes);
       binder->provide("BvhTriangles", bvh.triangles);
       binder->provide("NextRay", nextRay);
+      binder->provide("HitIds", hitIds);
     } else {
       binder->provide("tlas", accel.tlas());
     }
@@ -407,6 +410,11 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
         const std::vector<uint8_t> tBytes = readbackBuffer(ctx, hitT);
         h.t.assign(reinterpret_cast<const float*>(tBytes.data()), reinterpret_cast<const float*>(tBytes.data()) + rays);
       }
+      if (b.ours && set.mode == 4u) {
+        const std::vector<uint8_t> idBytes = readbackBuffer(ctx, hitIds);
+        const uint32_t* ids = reinterpret_cast<const uint32_t*>(idBytes.data());
+        h.ids.assign(ids, ids + rays);
+      }
     }
     return peak;
   };
@@ -489,7 +497,7 @@ RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const Ra
   std::map<std::string, BackendHits> hits;
   out.figures = measureRaySets(ctx, scene, params, width, height, file.rays.size(), &rays, sets, where, true,
                                out.warnings, &hits);
-  for (auto& [backend, h] : hits) out.hits[backend] = {std::move(h.t), std::move(h.missed)};
+  for (auto& [backend, h] : hits) out.hits[backend] = {std::move(h.t), std::move(h.missed), std::move(h.ids)};
   return out;
 }
 

@@ -62,8 +62,9 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
 // shader and gives none). The launch is the file's grid, 8x8 rays a group. Precondition: the device
 // can trace, the file is of this scene (the caller checks its sha256).
 struct RayFileHits {
-  std::vector<float> t;
-  std::vector<uint32_t> missed;
+  std::vector<float> t;          // -1: missed; empty where the backend gives none (the pipeline)
+  std::vector<uint32_t> missed;  // 1: missed
+  std::vector<uint32_t> ids;     // closest hits through our BVH: the triangle's draw-order id (~0u: missed)
 };
 struct RayFileTrace {
   std::vector<Peak> figures;
