@@ -118,6 +118,22 @@ void expectPeaksShape(const json& p, RayFigures which) {
       EXPECT_EQ(p["figures"][std::string(mode) + backend].value("missed", -2.0), missed) << backend;
   }
   EXPECT_EQ(p["figures"]["rays_random_closest"]["missed"], p["figures"]["rays_random_occlusion"]["missed"]);
+  // The public tracers' three sets (addPublicRayPeaks): every backend misses the same rays; the
+  // camera set is the built-in camera rays made on the CPU, so it misses as many; the AO and shadow
+  // sets hold a ray per camera hit.
+  for (const char* set : {"rays_public_camera", "rays_public_ao", "rays_public_shadow"}) {
+    SCOPED_TRACE(set);
+    ASSERT_TRUE(p["figures"].contains(set));
+    const double missed = p["figures"][set].value("missed", -1.0);
+    for (const char* backend :
+         {"_rayquery", "_compute", "_compute_w4", "_compute_w8", "_compute_w4_persistent", "_compute_w8_persistent"})
+      EXPECT_EQ(p["figures"][std::string(set) + backend].value("missed", -2.0), missed) << backend;
+  }
+  EXPECT_EQ(p["figures"]["rays_public_camera"]["missed"], p["figures"]["rays_camera"]["missed"]);
+  const double cameraHits =
+      p["figures"]["rays_public_camera"].value("work", 0.0) - p["figures"]["rays_public_camera"].value("missed", 0.0);
+  EXPECT_EQ(p["figures"]["rays_public_ao"].value("work", 0.0), cameraHits);
+  EXPECT_EQ(p["figures"]["rays_public_shadow"].value("work", 0.0), cameraHits);
 }
 
 TEST_F(Peaks, JsonHasEveryFigurePositiveAndTheTableTheSame) {
@@ -135,6 +151,14 @@ TEST_F(Peaks, JsonHasEveryFigurePositiveAndTheTableTheSame) {
   expectPeaksShape(cache, RayFigures::None);
   json deviceOnly = p;
   for (const std::string& k : kRayFigures) deviceOnly["figures"].erase(k);
+  std::vector<std::string> publicSets;  // the public tracers' sets are the scene's too
+  for (const auto& [key, f] : deviceOnly["figures"].items())
+    if (key.rfind("rays_public_", 0) == 0) publicSets.push_back(key);
+  size_t backends = 0;  // the backends the built-in camera rays went through
+  for (const auto& [key, f] : p["figures"].items())
+    backends += key == "rays_camera" || key.rfind("rays_camera_", 0) == 0;
+  EXPECT_EQ(publicSets.size(), 3 * backends);
+  for (const std::string& k : publicSets) deviceOnly["figures"].erase(k);
   EXPECT_EQ(cache, deviceOnly);
 
   const RunResult table = run({"peaks"});

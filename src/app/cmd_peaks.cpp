@@ -20,7 +20,8 @@ int cmdPeaks(const std::string& device, const std::string& scene, bool json) {
   if (!json) std::fprintf(stderr, "peaks: measuring on %s ...\n", ctx.info().name.c_str());
   Peaks peaks = measurePeaks(ctx);
   const nlohmann::json deviceOnly = toJson(peaks, ctx.info());
-  addRayPeaks(ctx, rayScene, peaks);  // scene-dependent: printed, not cached
+  addRayPeaks(ctx, rayScene, peaks);        // scene-dependent: printed, not cached
+  addPublicRayPeaks(ctx, rayScene, peaks);  // the public tracers' three sets, beside them
   for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const nlohmann::json j = toJson(peaks, ctx.info());
   // The cache (gpu/peaks.h cachedPeaks) takes the fresh figures, so later sweeps use them.

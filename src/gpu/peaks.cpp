@@ -26,6 +26,7 @@
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
+#include "reference/ray_sets.h"
 
 namespace hb {
 
@@ -477,16 +478,55 @@ void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, boo
   peaks.figures.insert(peaks.figures.end(), figures.begin(), figures.end());
 }
 
+namespace {
+
+// Rays laid out over a width x height launch for MODE 4 and 5 (the rays first, the rest unused).
+Buffer uploadFileRays(const VulkanContext& ctx, const std::vector<RayRecord>& rays, uint32_t width, uint32_t height) {
+  HB_ASSERT(uint64_t(width) * height >= rays.size());
+  std::vector<float> words(size_t(width) * height * 8, 0.0f);
+  if (!rays.empty()) std::memcpy(words.data(), rays.data(), rays.size() * sizeof(RayRecord));
+  return uploadBuffer(ctx, words.data(), words.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                      MemClass::Other);
+}
+
+}  // namespace
+
+void addPublicRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks) {
+  if (!ctx.canTrace() || scene.cameras.empty()) return;
+  const bool cpu = ctx.info().type == "cpu";
+  const uint32_t width = cpu ? 160 : 1920, height = cpu ? 90 : 1080;  // addRayPeaks' size
+  const RayView view = rayViewOf(scene.cameras.front(), width, height);
+  const std::vector<RayRecord> camera = cameraRays(view);
+  const Bvh bvh = buildBvh(scene);
+  const RayHits hits = traceOnCpu(bvh, camera);
+  const SecondaryParams secondary;  // rays export's defaults: 1 mm off, AO of 1 m, the light at (0, 6, 0)
+  const std::pair<const char*, std::vector<RayRecord>> sets[] = {{"camera", camera},
+                                                                 {"ao", aoRays(bvh, camera, hits, secondary)},
+                                                                 {"shadow", shadowRays(bvh, camera, hits, secondary)}};
+  for (const auto& [kind, rays] : sets) {
+    if (rays.empty()) continue;
+    RayParams params{};
+    params.file = glm::uvec4(uint32_t(rays.size()), 0, 0, 0);
+    const Buffer buffer = uploadFileRays(ctx, rays, width, height);
+    const std::string key = std::string("rays_public_") + kind;
+    const std::vector<RaySet> one = {
+        {4u, key, key,
+         std::to_string(rays.size()) + " " + kind +
+             " rays of the public tracers' figures (rays export's, from the first camera), closest hit"}};
+    const std::string where =
+        " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) + ", no hit shader)";
+    std::vector<Peak> figures = measureRaySets(ctx, scene, params, width, height, rays.size(), &buffer, one, where,
+                                               true, peaks.warnings, nullptr);
+    peaks.figures.insert(peaks.figures.end(), figures.begin(), figures.end());
+  }
+}
+
 RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const RayFile& file) {
   HB_ASSERT(ctx.canTrace() && !file.rays.empty());
   RayParams params{};
   params.file = glm::uvec4(uint32_t(file.rays.size()), 0, 0, 0);
   const uint32_t width = file.info.grid[0], height = file.info.grid[1];
-  HB_ASSERT(uint64_t(width) * height >= file.rays.size());
-  std::vector<float> words(size_t(width) * height * 8, 0.0f);  // the launch's rays, the file's first
-  std::memcpy(words.data(), file.rays.data(), file.rays.size() * sizeof(RayRecord));
-  const Buffer rays = uploadBuffer(ctx, words.data(), words.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                                   MemClass::Other);
+  const Buffer rays = uploadFileRays(ctx, file.rays, width, height);
   const bool any = file.info.query == "any";
   const std::vector<RaySet> sets = {{any ? 5u : 4u, "rays_file", "rays_file",
                                      std::to_string(file.rays.size()) + " rays of a ray file (" + file.info.kind +

@@ -55,6 +55,13 @@ Peaks measurePeaks(const VulkanContext& ctx);
 // timings mean nothing and each figure costs a second; `peaks` measures them all).
 void addRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks, bool everyBackend = true);
 
+// The three ray sets of the public compute tracers' figures (reference/ray_sets.h, as `rays export`
+// makes them from the scene's first camera at the ray peaks' size: camera rays, AO rays of 1 m and
+// shadow rays to a point light at (0, 6, 0) from each camera hit, all closest hit), made on the CPU
+// and traced by every backend: keys rays_public_camera, rays_public_ao, rays_public_shadow with the
+// backend's suffix, units of the same names. `hybridbench peaks` adds them; a sweep does not.
+void addPublicRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peaks);
+
 // A ray file (reference/ray_file.h) traced by every backend the device has: our BVH at each width
 // (and persistent), the driver's ray-tracing pipeline and ray query. Per backend one figure (key
 // "rays_file_<backend>", unit "rays_file": the rays of the file a second) and what each ray found:
