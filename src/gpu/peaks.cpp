@@ -261,6 +261,11 @@ struct RayParams {
 struct RaySet {
   uint32_t mode;
   std::string key, unit, what;
+  // A set with rays of its own (MODE 4, 5): its file and its uniforms (the file's count), and how
+  // many rays; else the call's.
+  const Buffer* file = nullptr;
+  const Buffer* uniforms = nullptr;
+  uint64_t rays = 0;
 };
 
 // Each set through each backend the device has (everyBackend false: the driver's only), the sets of
@@ -275,7 +280,7 @@ struct BackendHits {
   std::vector<uint32_t> ids;  // ours: the triangle's draw-order id, ~0u missed
 };
 std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, const RayParams& params, uint32_t width,
-                                 uint32_t height, uint64_t rays, const Buffer* fileRays,
+                                 uint32_t height, uint64_t callRays, const Buffer* fileRays,
                                  const std::vector<RaySet>& sets, const std::string& where, bool everyBackend,
                                  std::vector<std::string>& warnings, std::map<std::string, BackendHits>* hits) {
   const Sizes sizes = sizesFor(ctx.info());
@@ -309,12 +314,13 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
     std::optional<Ours> ours;
   };
   // Per backend its resources: the driver's TLAS or our BVH.
-  auto makeBinder = [&](const Backend& b) {
+  auto makeBinder = [&](const Backend& b, const RaySet* set = nullptr) {
     auto binder = std::make_unique<DescriptorBinder>("peaks.rays_" + b.name);
     binder->provide("Dst", missed);
     binder->provide("Hits", hitT);
-    binder->provide("RayFile", fileRays ? *fileRays : noFile);
-    binder->provide("p", uniforms);  // peaks_rays.glsl.inc's uniform block, named p
+    binder->provide("RayFile", set && set->file ? *set->file : fileRays ? *fileRays : noFile);
+    // peaks_rays.glsl.inc's uniform block, named p
+    binder->provide("p", set && set->uniforms ? *set->uniforms : uniforms);
     if (b.ours) {
       const TraceBvh& bvh = bvhOf(b.ours->width);
       binder->provide("BvhNodes", bvh.nodes);
@@ -348,6 +354,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
   // 64 threads each), fewer where the rays are fewer.
   const uint32_t tiles = ((width + 7) / 8) * ((height + 7) / 8), persistentGroups = std::min(tiles, 4096u);
   auto measure = [&](const Backend& b, const DescriptorBinder& binder, const RaySet& set) {
+    const uint64_t rays = set.rays ? set.rays : callRays;
     std::string suffix = "_" + b.name;
     std::replace(suffix.begin(), suffix.end(), '-', '_');
     std::unique_ptr<RaygenMissPipeline> rt;
@@ -422,15 +429,25 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
   std::vector<Peak> out;
   for (const Backend& b : backends) {
     const std::unique_ptr<DescriptorBinder> binder = makeBinder(b);
-    for (const RaySet& set : sets) out.push_back(measure(b, *binder, set));
-    binder->checkEveryNameRead();
+    bool shared = false;
+    for (const RaySet& set : sets) {
+      if (set.file) {  // its own rays: its own bindings
+        const std::unique_ptr<DescriptorBinder> own = makeBinder(b, &set);
+        out.push_back(measure(b, *own, set));
+        own->checkEveryNameRead();
+      } else {
+        out.push_back(measure(b, *binder, set));
+        shared = true;
+      }
+    }
+    if (shared) binder->checkEveryNameRead();
   }
   // The first figure once more, last: a device whose clocks or load changed while the figures ran
   // (the H200's first `peaks` on a cold machine once measured the driver's rays at 40 % of a second
   // run's, while its figures before that point agreed) makes the figures disagree with each other.
   // Beyond 5 % (run-to-run noise on the H200 is under 1 %), a warning says so.
   if (!cpu && !backends.empty()) {
-    const Peak again = measure(backends.front(), *makeBinder(backends.front()), sets.front());
+    const Peak again = measure(backends.front(), *makeBinder(backends.front(), &sets.front()), sets.front());
     const Peak& first = out.front();
     const double ratio = again.perSecond / first.perSecond;
     if (std::abs(ratio - 1.0) > 0.05)
@@ -503,35 +520,34 @@ void addPublicRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peak
   const std::pair<const char*, std::vector<RayRecord>> sets[] = {{"camera", camera},
                                                                  {"ao", aoRays(bvh, camera, hits, secondary)},
                                                                  {"shadow", shadowRays(bvh, camera, hits, secondary)}};
-  // The sets are made on the CPU first, for seconds in which the GPU idles and lowers its clocks: on
-  // the H200 the next figures then ran at a third of their speed, slowly recovering (peaks' own
-  // check warned of it). One untimed pass over the camera set first brings the clocks back up.
-  bool warmed = false;
-  for (const auto& [kind, rays] : sets) {
+  // One call for the three, after one untimed pass: the sets are made on the CPU first, for seconds
+  // in which the GPU idles and lowers its clocks, and a call of its own for each set would idle it
+  // again while its BVHs are built (on the H200 the public figures then ran at a third of raybench's,
+  // recovering only slowly, and peaks' own check warned of it).
+  std::vector<Buffer> files, uniforms;
+  std::vector<RaySet> measured;
+  files.reserve(4);
+  uniforms.reserve(4);
+  for (size_t k = 0; k < 4; ++k) {
+    const auto& [kind, rays] = sets[k == 0 ? 0 : k - 1];  // the camera set twice: the first untimed
     if (rays.empty()) continue;
-    if (!warmed) {
-      RayParams params{};
-      params.file = glm::uvec4(uint32_t(rays.size()), 0, 0, 0);
-      const Buffer buffer = uploadFileRays(ctx, rays, width, height);
-      std::vector<std::string> ignored;
-      measureRaySets(ctx, scene, params, width, height, rays.size(), &buffer,
-                     {{4u, "rays_public_warmup", "rays_public_warmup", "warm-up"}}, "", true, ignored, nullptr);
-      warmed = true;
-    }
     RayParams params{};
     params.file = glm::uvec4(uint32_t(rays.size()), 0, 0, 0);
-    const Buffer buffer = uploadFileRays(ctx, rays, width, height);
-    const std::string key = std::string("rays_public_") + kind;
-    const std::vector<RaySet> one = {
-        {4u, key, key,
-         std::to_string(rays.size()) + " " + kind +
-             " rays of the public tracers' figures (rays export's, from the first camera), closest hit"}};
-    const std::string where =
-        " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) + ", no hit shader)";
-    std::vector<Peak> figures = measureRaySets(ctx, scene, params, width, height, rays.size(), &buffer, one, where,
-                                               true, peaks.warnings, nullptr);
-    peaks.figures.insert(peaks.figures.end(), figures.begin(), figures.end());
+    files.push_back(uploadFileRays(ctx, rays, width, height));
+    uniforms.push_back(uploadBuffer(ctx, &params, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, MemClass::Other));
+    const std::string key = k == 0 ? "rays_public_warmup" : std::string("rays_public_") + kind;
+    measured.push_back({4u, key, key,
+                        std::to_string(rays.size()) + " " + kind +
+                            " rays of the public tracers' figures (rays export's, from the first camera), closest hit",
+                        &files.back(), &uniforms.back(), rays.size()});
   }
+  if (measured.empty()) return;
+  const std::string where =
+      " on " + scene.name + "'s scene (" + std::to_string(width) + "x" + std::to_string(height) + ", no hit shader)";
+  const std::vector<Peak> figures = measureRaySets(ctx, scene, RayParams{}, width, height, 0, nullptr, measured, where,
+                                                   true, peaks.warnings, nullptr);
+  for (const Peak& p : figures)
+    if (p.unit != "rays_public_warmup") peaks.figures.push_back(p);
 }
 
 RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const RayFile& file) {
