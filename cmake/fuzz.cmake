@@ -31,7 +31,7 @@ target_compile_options(hybridfuzzcore PUBLIC $<TARGET_PROPERTY:hybridcore,INTERF
 target_link_options(hybridfuzzcore PUBLIC -fsanitize=address,undefined)
 target_link_libraries(hybridfuzzcore
                       PUBLIC nlohmann_json::nlohmann_json stb OpenSSL::Crypto Threads::Threads draco::draco
-                             meshoptimizer::meshoptimizer PkgConfig::WEBP PkgConfig::AVIF)
+                             meshoptimizer::meshoptimizer PkgConfig::WEBP PkgConfig::AVIF ZLIB::ZLIB)
 
 foreach(name gltf config)
   add_executable(fuzz_${name} ${CMAKE_SOURCE_DIR}/tests/fuzz/fuzz_${name}.cpp)
