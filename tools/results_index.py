@@ -76,23 +76,30 @@ def first_paragraph(readme):
     return " ".join(para)
 
 
+def sorted_files(folder, suffixes):
+    """Paths under folder ending in one of suffixes, folders and names in sorted order."""
+    for dirpath, dirnames, filenames in os.walk(folder):
+        dirnames.sort()
+        yield from (os.path.join(dirpath, n) for n in sorted(filenames) if n.endswith(suffixes))
+
+
+def load_json(path):
+    """A JSON file, gzipped (a committed results.json.gz) or not."""
+    with open(path, "rb") as f:
+        raw = f.read()
+    return json.loads(gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw)
+
+
 def results_files(folder):
     """(path, context) of every schema-1 results file under folder."""
     out = []
-    for dirpath, dirnames, filenames in os.walk(folder):
-        dirnames.sort()
-        for name in sorted(filenames):
-            if not name.endswith((".json", ".json.gz")):
-                continue
-            path = os.path.join(dirpath, name)
-            try:
-                with open(path, "rb") as f:
-                    raw = f.read()
-                data = json.loads(gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw)
-            except (OSError, ValueError) as e:
-                sys.exit(f"results_index.py: {rel(path)}: not readable JSON ({e}); fix or remove it")
-            if isinstance(data, dict) and data.get("schema_version") == 1 and "runs" in data:
-                out.append((path, data.get("context", {})))
+    for path in sorted_files(folder, (".json", ".json.gz")):
+        try:
+            data = load_json(path)
+        except (OSError, ValueError) as e:
+            sys.exit(f"results_index.py: {rel(path)}: not readable JSON ({e}); fix or remove it")
+        if isinstance(data, dict) and data.get("schema_version") == 1 and "runs" in data:
+            out.append((path, data.get("context", {})))
     return out
 
 

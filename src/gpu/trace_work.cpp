@@ -58,19 +58,45 @@ bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, 
 struct Counter {
   TraceWork w;
   std::vector<std::pair<uint32_t, float>> stack;
+  bool found = false;  // the ray has a hit
   void push(uint32_t code, float entry) {
     stack.emplace_back(code, entry);
     ++w.pushes;
     w.maxStack = std::max<uint64_t>(w.maxStack, stack.size());
+  }
+  // A leaf's triangles [first, first + count), the interval shrinking to each hit; true when an
+  // any-hit ray is done.
+  bool leaf(const TraceBvhLayout& l, const Ray& r, uint32_t first, uint32_t count, bool anyHit, float& best) {
+    for (uint32_t i = first; i < first + count; ++i) {
+      ++w.triangles;
+      w.triangleBytes += kTriangleBytes;
+      float t;
+      if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
+      found = true;
+      if (anyHit) return true;
+      best = std::max(r.tMin, std::min(best, t));
+    }
+    return false;
+  }
+  // The next entry to visit, skipping those that start beyond the nearest hit; false when none is left.
+  bool pop(bool anyHit, float best, uint32_t& code) {
+    while (!stack.empty()) {
+      const auto [popped, entry] = stack.back();
+      stack.pop_back();
+      if (!anyHit && found && entry > best * kFarWiden) continue;
+      code = popped;
+      return true;
+    }
+    return false;
   }
 };
 
 // One ray through the wide tree (width 4 or 8), as the shader's occluded() / closestHitBvh().
 void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
   float best = r.tMax;
-  bool found = false;
   uint32_t code = 0;
   c.stack.clear();
+  c.found = false;
   for (;;) {
     bool descended = false;
     if ((code & kWideLeaf) == 0) {
@@ -109,35 +135,18 @@ void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
         code = next;
         descended = true;
       }
-    } else {
-      const uint32_t first = code & 0x0FFFFFFFu, count = ((code >> 28) & 7u) + 1u;
-      for (uint32_t i = first; i < first + count; ++i) {
-        ++c.w.triangles;
-        c.w.triangleBytes += kTriangleBytes;
-        float t;
-        if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
-        found = true;
-        if (anyHit) return;
-        best = std::max(r.tMin, std::min(best, t));
-      }
+    } else if (c.leaf(l, r, code & 0x0FFFFFFFu, ((code >> 28) & 7u) + 1u, anyHit, best)) {
+      return;
     }
-    if (descended) continue;
-    for (;;) {
-      if (c.stack.empty()) return;
-      const auto [popped, entry] = c.stack.back();
-      c.stack.pop_back();
-      if (!anyHit && found && entry > best * kFarWiden) continue;
-      code = popped;
-      break;
-    }
+    if (!descended && !c.pop(anyHit, best, code)) return;
   }
 }
 
 // One ray through the binary tree (width 2).
 void binaryRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
   float best = r.tMax, entry;
-  bool found = false;
   c.stack.clear();
+  c.found = false;
   const auto& n = l.nodes;
   if (n.empty() || !hitBox(glm::vec3(n[0].lo), glm::vec3(n[0].hi), r, r.tMin, best, entry)) return;
   uint32_t node = 0;
@@ -161,27 +170,12 @@ void binaryRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
         node = hl ? lc : rc;
         descended = true;
       }
-    } else {
-      for (uint32_t i = n[node].info.y; i < n[node].info.y + n[node].info.z; ++i) {
-        ++c.w.triangles;
-        c.w.triangleBytes += kTriangleBytes;
-        float t;
-        if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
-        found = true;
-        if (anyHit) return;
-        best = std::max(r.tMin, std::min(best, t));
-      }
+    } else if (c.leaf(l, r, n[node].info.y, n[node].info.z, anyHit, best)) {
+      return;
     }
     if (descended) continue;
-    for (;;) {
-      if (c.stack.empty()) return;
-      const auto [popped, e] = c.stack.back();
-      c.stack.pop_back();
-      if (!anyHit && found && e > best * kFarWiden) continue;
-      node = popped;
-      c.w.nodeBytes += 16;  // the popped node's links again (the shader reloads info)
-      break;
-    }
+    if (!c.pop(anyHit, best, node)) return;
+    c.w.nodeBytes += 16;  // the popped node's links again (the shader reloads info)
   }
 }
 
