@@ -159,7 +159,7 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   // The same file against another scene: one line, exit 2.
   const RunResult other = run({"raybench", (dir / "r" / "shadow.bin").string(), "--scene", "plane"});
   EXPECT_EQ(other.exitCode, 2);
-  EXPECT_NE(other.err.find("its rays are of a scene with sha256"), std::string::npos) << other.err;
+  EXPECT_NE(other.err.find("its rays are of a scene with geometry sha256"), std::string::npos) << other.err;
   EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1) << other.err;
 }
 

@@ -9,18 +9,26 @@
 #include <tuple>
 #include <utility>
 
+#include "analysis/frame_rays.h"
 #include "app/commands.h"
 #include "base/errors.h"
 #include "base/input_file.h"
 #include "base/text_format.h"
 #include "base/version.h"
+#include "effects/ambient_occlusion/ao_part.h"
+#include "effects/ambient_occlusion/ao_pass.h"
+#include "effects/shadows/shadows_part.h"
 #include "gltf/gltf_io.h"
+#include "gpu/gpu_lights.h"
 #include "gpu/peaks.h"
 #include "gpu/trace_bvh.h"
 #include "gpu/trace_work.h"
+#include "reference/eq_partition.h"
 #include "reference/ray_sets.h"
 
 namespace hb {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -31,6 +39,7 @@ RayFileInfo infoFor(const Scene& scene, const std::string& sha, const RayView& v
   i.kind = kind;
   i.sceneName = scene.name;
   i.sceneSha256 = sha;
+  i.sceneGeometrySha256 = sceneGeometrySha256(scene);
   i.camera = toJson(view, scene.cameras.front());
   i.grid = {gridWidth, uint32_t((count + gridWidth - 1) / gridWidth)};
   i.madeBy = "hybridbench " + toolVersion() + " at " + gitRevision();
@@ -93,6 +102,73 @@ int cmdRaysExport(const RaysExportOptions& o) {
             0);
   }
   return kExitOk;
+}
+
+void checkFrameRaysOut(const Renderer& renderer) {
+  if (!shadowsOf(renderer))
+    throw InputError(
+        "--rays-out: this frame traces no shadow rays (the shadows effect is off); the frame's rays are "
+        "rebuilt from the shadow pass's readback, so turn shadows on (--set shadows=true), or make ray sets of "
+        "any scene with hybridbench rays export");
+  if (!renderer.hasCulling())
+    throw InputError(
+        "--rays-out: the frame's shadow rays are rebuilt from its light lists; render with light culling "
+        "(--set light_culling=true)");
+}
+
+std::vector<std::string> writeFrameRayFiles(const Renderer& renderer, const std::string& dir) {
+  const ShadowsPart* shadows = shadowsOf(renderer);
+  HB_ASSERT(shadows && renderer.hasCulling());  // checkFrameRaysOut
+  const Scene& scene = renderer.scene();
+  const RenderSettings& s = renderer.settings();
+  const ShadowReadback sh = shadows->readShadows();
+  const CullingReadback culling = renderer.readCulling();
+  const gpu::FrameConstants fc = renderer.frameConstants();
+  const RayView view = rayViewOf(renderer.camera(), s.width, s.height);
+  const std::string sha = sceneSha256(scene);
+  const nlohmann::json frame = {{"config", "the render's parameters (render.json \"params\")"},
+                                {"backend", toString(s.backend)},
+                                {"normals", toString(s.normals)},
+                                {"world_pos", toString(s.worldPos)},
+                                {"t_min", fc.cameraPos.w > 0.0f ? "scaled" : "fixed"}};
+  std::vector<std::string> written;
+  auto write = [&](const std::string& kind, const FrameRays& rays, nlohmann::json params) {
+    RayFileInfo info = infoFor(scene, sha, view, kind, rays.rays.size(), s.width);
+    info.query = "any";
+    params["frame"] = frame;
+    info.params = std::move(params);
+    const std::string path = (fs::path(dir) / (kind + ".bin")).string();
+    writeRayFile(path, info, rays.rays);
+    written.push_back(path);
+    std::printf("wrote %s (%zu rays, %s: %s)\n", path.c_str(), rays.rays.size(), kind.c_str(), info.query.c_str());
+  };
+  write("frame-shadow",
+        frameShadowRays(sh, culling, packLights(scene.lights), fc.cameraPos, s.width, s.height, s.tileSize),
+        {{"from",
+          "each pixel's stored world position, to each light of its list walk the shadow pass traced "
+          "(after its range, N.L and cast-shadows tests), in walk order"},
+         {"t_min", "shadowTMin (gpu_types.h)"},
+         {"t_max", "the distance to the light (directional: 1000)"}});
+  const AoPass* ao = aoPassOf(renderer);
+  if (ao && ao->settings().ao.method == AoMethod::RayTraced && !ao->settings().environment) {
+    const AoSettings& a = ao->settings().ao;
+    std::vector<glm::vec3> dirs;
+    for (const glm::dvec3& d : ldmDirections(a.directions)) dirs.emplace_back(d);
+    const float dMax = a.dMax ? float(*a.dMax) : 0.0f;
+    write("frame-ao", frameAoRays(sh, dirs, fc.cameraPos, dMax, s.width, s.height),
+          {{"from",
+            "each pixel's stored world position with a normal, along each of the N directions with "
+            "n.v != 0, turned into n's hemisphere"},
+           {"directions", a.directions},
+           {"t_min", "shadowTMin (gpu_types.h)"},
+           {"t_max", dMax > 0.0f ? nlohmann::json(dMax) : nlohmann::json(gpu::kDirectionalTMax)}});
+  } else if (ao) {
+    std::printf(
+        "note: --rays-out writes the ambient occlusion's rays for method=raytraced only (this frame's "
+        "is %s)\n",
+        toString(ao->settings().ao.method));
+  }
+  return written;
 }
 
 namespace {
@@ -186,10 +262,14 @@ int cmdRaybench(const RaybenchOptions& o) {
   const RayFile file = readRayFile(o.file);  // a bad file is one line before anything runs
   const std::string sceneArg = o.scene.empty() ? file.info.sceneName : o.scene;
   const Scene scene = loadSceneArg(sceneArg);
-  const std::string sha = sceneSha256(scene);
-  if (sha != file.info.sceneSha256)
-    throw InputError(o.file + ": its rays are of a scene with sha256 " + file.info.sceneSha256.substr(0, 12) +
-                     "..., not of " + sceneArg + " (" + sha.substr(0, 12) +
+  // The rays meet triangles only: a file that names its geometry takes any scene of that geometry
+  // (a frame's rays of the atrium with its config's lights trace on the built-in atrium).
+  const bool byGeometry = !file.info.sceneGeometrySha256.empty();
+  const std::string sha = byGeometry ? sceneGeometrySha256(scene) : sceneSha256(scene);
+  const std::string& want = byGeometry ? file.info.sceneGeometrySha256 : file.info.sceneSha256;
+  if (sha != want)
+    throw InputError(o.file + ": its rays are of a scene with " + (byGeometry ? "geometry " : "") + "sha256 " +
+                     want.substr(0, 12) + "..., not of " + sceneArg + " (" + sha.substr(0, 12) +
                      "...); give that scene with --scene, or export rays of this one (hybridbench rays export)");
   if (!o.hitsOut.empty()) {  // refused before anything runs
     requireOutputFolder(o.hitsOut, "--hits-out");

@@ -130,10 +130,18 @@ int cmdRender(const RenderOptions& options) {
   for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   settings.rayRates = rayRatesOf(peaks, ctx.info(), settings.bvhWidth);
   Renderer renderer(ctx, scene, settings);
+  if (!options.raysOut.empty()) {  // refused before any frame runs
+    checkFrameRaysOut(renderer);
+    requireOutputFolder(options.raysOut, "--rays-out");
+    std::error_code ec;
+    std::filesystem::create_directories(options.raysOut, ec);
+    if (ec) throw InputError("--rays-out " + options.raysOut + ": cannot create it (" + ec.message() + ")");
+  }
   renderer.renderFrame(false);                       // warm: pipelines and caches
   FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation
   renderer.renderFrame(true);                        // the analysis frame (not timed)
 
+  if (!options.raysOut.empty()) writeFrameRayFiles(renderer, options.raysOut);  // before the readbacks' analyses
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, params, options.out);
   nlohmann::json report = outputs.json;
   report["timing_ms"] = nlohmann::json::object();

@@ -10,6 +10,8 @@
 
 namespace hb {
 
+class Renderer;
+
 int cmdDevices(bool json);
 // The device's own ceilings (gpu/peaks.h): measured afresh, printed (a table, or JSON with json),
 // and written to the peaks cache (without the ray rates, which are measured on `scene`: a built-in
@@ -25,6 +27,7 @@ struct RenderOptions {
   std::vector<std::string> sets;  // key=value overrides
   std::string out;                // output directory (required)
   bool force = false;             // out holds a render.json: move the folder's files aside first
+  std::string raysOut;            // the frame's own rays as ray files here (writeFrameRayFiles)
 };
 int cmdRender(const RenderOptions& options);
 
@@ -41,6 +44,11 @@ struct RaysExportOptions {
   std::vector<double> light = {0.0, 6.0, 0.0};  // shadow: the point light
 };
 int cmdRaysExport(const RaysExportOptions& options);
+// `render --rays-out DIR`: the rays the frame traced, rebuilt from its analysis frame
+// (analysis/frame_rays.h): frame-shadow.bin, and frame-ao.bin where AO is ray traced. The check
+// throws InputError (one line) when the frame has none to give: call it before anything is written.
+void checkFrameRaysOut(const Renderer& renderer);
+std::vector<std::string> writeFrameRayFiles(const Renderer& renderer, const std::string& dir);
 // `rays table FILE.json...`: raybench --json files side by side, one row a file (its rays' kind and
 // the revision that traced them), one column a backend, in G rays/s (the docs' generated tables);
 // `work`: then the traversal's work a ray that each file carries.

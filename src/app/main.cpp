@@ -46,6 +46,9 @@ int main(int argc, char** argv) {
   renderCmd->add_option("--device", render.device, "device index or name substring");
   renderCmd->add_option("--set", render.sets, "parameter override key=value (repeatable)")->allow_extra_args(false);
   renderCmd->add_option("--out", render.out, "output directory")->required();
+  renderCmd->add_option("--rays-out", render.raysOut,
+                        "write the rays the frame traced (its shadow rays after culling, its ray-traced AO's) as ray "
+                        "files here");
   renderCmd->add_flag("--force", render.force,
                       "--out holds a render: move its files to --out/previous-<time>/ and write afresh");
 

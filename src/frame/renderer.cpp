@@ -349,6 +349,12 @@ std::pair<uint32_t, uint32_t> CullingReadback::pixelSlice(uint32_t tile, uint32_
   return {from, to};
 }
 
+gpu::FrameConstants Renderer::frameConstants() const {
+  gpu::FrameConstants fc;
+  std::memcpy(&fc, frameConstants_.mapped(), sizeof fc);
+  return fc;
+}
+
 std::vector<float> Renderer::readColor() const {
   return readbackHalfImage(ctx_, resources_.requireImage(res::kColor), resources_.imageLayout(res::kColor));
 }

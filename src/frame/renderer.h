@@ -38,6 +38,9 @@ struct ShadowReadback {
   std::vector<uint32_t> accounting;  // per pixel 4 words (gpu_types.h kAccount*)
   std::vector<float> normals;        // xyzw per pixel (w unused; zero = none)
   std::vector<float> positions;      // xyzw per pixel (w = 1 where not sky)
+  // As visibility: bit k of word j = the pass traced a ray to the walk's (32j + k)-th light (words
+  // past the walk's last are left as the GPU found them).
+  std::vector<uint32_t> traced;
 };
 
 struct FrameTiming {
@@ -82,6 +85,7 @@ class Renderer {
   const std::vector<std::string>& passesRun() const { return passesRun_; }
   const std::vector<std::pair<std::string, std::string>>& passesSkipped() const { return passesSkipped_; }
   const FrameResources& resources() const { return resources_; }
+  gpu::FrameConstants frameConstants() const;  // as the shaders read them
   // Every pass of the frame as it declared itself, in frame order.
   std::vector<const FramePass*> framePasses() const;
   // The part an effect built (by the effect's name), or a base part ("primary", "light_lists",

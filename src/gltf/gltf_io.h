@@ -86,5 +86,8 @@ nlohmann::json sceneInfoJson(const Scene& scene);
 // materials, textures (size, sRGB flag, pixels), lights and cameras, in a fixed little-endian
 // layout. Names are not hashed: renaming changes nothing that renders. Deterministic across runs.
 std::string sceneSha256(const Scene& scene);
+// SHA-256 (hex) of what a ray meets: the world-space triangles (Scene::worldTriangles), in draw
+// order. Two scenes that differ only in lights, materials, textures or cameras share it.
+std::string sceneGeometrySha256(const Scene& scene);
 
 }  // namespace hb

@@ -154,6 +154,15 @@ std::string sceneInfoText(const Scene& scene) {
   return out.str();
 }
 
+std::string sceneGeometrySha256(const Scene& scene) {
+  HashWriter h;
+  h.tag("hybridbench-geometry-v1");
+  const std::vector<glm::vec3> tris = scene.worldTriangles();
+  h.u64(tris.size() / 3);
+  for (const glm::vec3& v : tris) h.vec(&v.x, 3);
+  return h.hexDigest();
+}
+
 std::string sceneSha256(const Scene& scene) {
   HashWriter h;
   h.tag("hybridbench-scene-v1");

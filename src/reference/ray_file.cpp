@@ -14,13 +14,15 @@ std::string rayFileJsonPath(const std::string& binPath) {
 }
 
 nlohmann::json toJson(const RayFileInfo& i) {
+  nlohmann::json scene = {{"name", i.sceneName}, {"sha256", i.sceneSha256}};
+  if (!i.sceneGeometrySha256.empty()) scene["geometry_sha256"] = i.sceneGeometrySha256;
   return {{"format", "hybridbench rays"},
           {"version", i.version},
           {"count", i.count},
           {"record", "8 float32 little-endian: origin x y z, tmin, direction x y z, tmax (32 bytes)"},
           {"query", i.query},
           {"kind", i.kind},
-          {"scene", {{"name", i.sceneName}, {"sha256", i.sceneSha256}}},
+          {"scene", scene},
           {"camera", i.camera},
           {"seed", i.seed},
           {"grid", {i.grid[0], i.grid[1]}},
@@ -74,6 +76,12 @@ RayFile readRayFile(const std::string& binPath) {
     throw InputError(jsonPath + ": \"scene\" must name the scene's sha256 (hybridbench scene info prints it)");
   i.sceneName = scene.value("name", "");
   i.sceneSha256 = scene["sha256"].get<std::string>();
+  if (scene.contains("geometry_sha256")) {
+    if (!scene["geometry_sha256"].is_string())
+      throw InputError(jsonPath +
+                       ": \"scene\".\"geometry_sha256\" must be a string (hybridbench rays export writes it)");
+    i.sceneGeometrySha256 = scene["geometry_sha256"].get<std::string>();
+  }
   i.camera = j.value("camera", nlohmann::json());
   i.seed = j.value("seed", uint64_t(0));
   const nlohmann::json& grid = need("grid");

@@ -31,6 +31,9 @@ struct RayFileInfo {
   std::string query = "closest";  // closest: the nearest hit; any: whether anything is hit
   std::string kind;               // camera | ao | shadow | ... (rays export --kind)
   std::string sceneName, sceneSha256;
+  // What the rays meet (gltf_io.h sceneGeometrySha256); empty in files written before it. raybench
+  // takes a scene whose geometry matches: lights and materials change no hit.
+  std::string sceneGeometrySha256;
   nlohmann::json camera;               // {eye, forward, up, yfov_deg, width, height}: the view the rays came from
   uint64_t seed = 0;                   // the random rays' seed (0: none drawn)
   std::array<uint32_t, 2> grid{0, 0};  // rays are row-major over width x height (a launch's shape)

@@ -97,6 +97,9 @@ ShadowReadback ShadowsPart::readShadows() const {
   if (shadows_->settings().listMode == gpu::kListZbin)
     r.ranges.assign(r.visibility.begin() + r.words * pixels, r.visibility.begin() + (r.words + 1) * pixels);
   r.visibility.resize(r.words * pixels);
+  r.traced = bytesAs<uint32_t>(readbackBuffer(ctx_, shadows_->traced()));
+  HB_ASSERT(r.traced.size() >= r.words * pixels);
+  r.traced.resize(r.words * pixels);
   r.accounting = bytesAs<uint32_t>(readbackImage(ctx_, shadows_->accounting(), VK_IMAGE_LAYOUT_GENERAL, 16));
   r.normals = bytesAs<float>(readbackImage(ctx_, shadows_->normals(), VK_IMAGE_LAYOUT_GENERAL, 16));
   r.positions = bytesAs<float>(readbackImage(ctx_, shadows_->positions(), VK_IMAGE_LAYOUT_GENERAL, 16));
