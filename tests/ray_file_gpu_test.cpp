@@ -92,6 +92,19 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   const json figures = readJson(dir / "b.json");
   ASSERT_FALSE(figures["backends"].empty());
   for (const json& b : figures["backends"]) EXPECT_EQ(b["unlike_cpu"], 0) << b["backend"];
+  // What the driver compiled each kernel into: a table where the device offers the statistics (and
+  // the compute backends carry them), one line saying so where it does not (lavapipe).
+  const RunResult devices = run({"devices", "--json"});
+  ASSERT_EQ(devices.exitCode, 0) << devices.err;
+  const bool statistics = json::parse(devices.out)["devices"][0]["pipeline_statistics"].get<bool>();
+  EXPECT_NE(bench.out.find(statistics ? "| backend | executable | statistics |" : "gives no pipeline statistics"),
+            std::string::npos)
+      << bench.out;
+  for (const json& b : figures["backends"]) {
+    if (b["backend"].get<std::string>().rfind("compute", 0) == 0) {
+      EXPECT_EQ(b["compiled"].is_array(), statistics) << b.dump();
+    }
+  }
   // The traversal's work a ray, for each width: every shadow ray starts inside the scene's box, so
   // each fetches the root at least; a wide tree is shallower, so it fetches fewer nodes.
   ASSERT_EQ(figures["traversal_work"].size(), 3u) << figures.dump();

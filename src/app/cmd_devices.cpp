@@ -23,6 +23,7 @@ nlohmann::json deviceJson(const DeviceInfo& d) {
           {"uuid", d.uuid},
           {"acceleration_structure", d.accelerationStructure},
           {"ray_query", d.rayQuery},
+          {"pipeline_statistics", d.pipelineStatistics},
           {"ray_tracing_pipeline", d.rayTracingPipeline},
           {"rt_backends", d.rtBackends()},
           {"timestamps", d.timestamps},

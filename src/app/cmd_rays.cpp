@@ -332,7 +332,24 @@ int cmdRaybench(const RaybenchOptions& o) {
          {"unlike_cpu", unlike},
          {"t_other_surface", noT ? nlohmann::json() : nlohmann::json(otherSurface)},
          {"t_max_relative_difference", any || h.t.empty() ? nlohmann::json() : nlohmann::json(worst)},
-         {"through", p.description}});
+         {"through", p.description},
+         {"compiled", p.compiled}});
+  }
+  // What the driver compiled each compute kernel into (registers, spills, ...), where it says.
+  if (!ctx.info().pipelineStatistics) {
+    std::printf("\nThe driver gives no pipeline statistics (VK_KHR_pipeline_executable_properties not offered)\n");
+  } else {
+    std::printf(
+        "\nWhat the driver compiled each compute kernel into (VK_KHR_pipeline_executable_properties, its "
+        "names)\n| backend | executable | statistics |\n|---|---|---|\n");
+    for (const Peak& p : trace.figures)
+      if (p.compiled.is_array())
+        for (const nlohmann::json& e : p.compiled) {
+          std::string stats;
+          for (const auto& [name, value] : e["statistics"].items())
+            stats += (stats.empty() ? "" : ", ") + name + " " + value.dump();
+          std::printf("| %s | %s | %s |\n", p.backend.c_str(), e["name"].get<std::string>().c_str(), stats.c_str());
+        }
   }
   // The triangles our BVH met against the CPU's: the same one, a tie (another triangle at the same
   // t within kTieRelative: a shared edge or vertex, where either answer is right), or another.

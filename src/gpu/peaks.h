@@ -27,6 +27,7 @@ struct Peak {
   std::string description;  // what one repetition does, in words
   std::string backend;  // ray figures: the tracer, pipeline | rayquery | compute[-w4|-w8][-persistent] ("" otherwise)
   double missed = -1;   // ray figures: the rays that met nothing (-1 otherwise), equal across backends
+  nlohmann::json compiled;  // ray files, compute backends: vk_pipeline.h pipelineStatistics (null: not offered)
 };
 
 struct Peaks {

@@ -182,6 +182,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
                         }),
         set.what + where + ", through " + b.through);
     peak.backend = b.name;
+    if (!b.pipeline) peak.compiled = pipelineStatistics(ctx, compute.handle());
     const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
     const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
     peak.missed = 0;

@@ -138,6 +138,7 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
                             hasExtension(exts, VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME);
   d.rayQuery = d.accelerationStructure && hasExtension(exts, VK_KHR_RAY_QUERY_EXTENSION_NAME);
   d.rayTracingPipeline = d.accelerationStructure && hasExtension(exts, VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME);
+  d.pipelineStatistics = hasExtension(exts, VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
   uint32_t bits = 0;
   pickQueueFamily(pd, &bits);
   d.timestampValidBits = bits;
@@ -279,6 +280,8 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   VkPhysicalDeviceRayQueryFeaturesKHR rqF{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR asF{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR pepF{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
   VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
@@ -299,7 +302,12 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
     *tail = &rtpF;
     tail = &rtpF.pNext;
   }
+  if (info_.pipelineStatistics) {
+    *tail = &pepF;
+    tail = &pepF.pNext;
+  }
   vkGetPhysicalDeviceFeatures2(physical_, &f2);
+  if (info_.pipelineStatistics && !pepF.pipelineExecutableInfo) info_.pipelineStatistics = false;
   if (props_.apiVersion < VK_API_VERSION_1_3 || !f13.dynamicRendering || !f13.synchronization2)
     throw DeviceError("device \"" + info_.name +
                       "\" lacks Vulkan 1.3 dynamic rendering/synchronization2; hybridbench needs a Vulkan 1.3 device");
@@ -365,6 +373,14 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
     *enTail = &enRtp;
     enTail = &enRtp.pNext;
   }
+  VkPhysicalDevicePipelineExecutablePropertiesFeaturesKHR enPep{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PIPELINE_EXECUTABLE_PROPERTIES_FEATURES_KHR};
+  if (info_.pipelineStatistics) {
+    exts.push_back(VK_KHR_PIPELINE_EXECUTABLE_PROPERTIES_EXTENSION_NAME);
+    enPep.pipelineExecutableInfo = VK_TRUE;
+    *enTail = &enPep;
+    enTail = &enPep.pNext;
+  }
   float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   qci.queueFamilyIndex = queueFamily_;
@@ -378,6 +394,13 @@ VulkanContext::VulkanContext(uint32_t deviceIndex) {
   dci.ppEnabledExtensionNames = exts.data();
   VK_CHECK(vkCreateDevice(physical_, &dci, nullptr, &device_));
   vkGetDeviceQueue(device_, queueFamily_, 0, &queue_);
+  if (info_.pipelineStatistics) {
+    getExecutableProperties = reinterpret_cast<PFN_vkGetPipelineExecutablePropertiesKHR>(
+        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutablePropertiesKHR"));
+    getExecutableStatistics = reinterpret_cast<PFN_vkGetPipelineExecutableStatisticsKHR>(
+        vkGetDeviceProcAddr(device_, "vkGetPipelineExecutableStatisticsKHR"));
+    if (!getExecutableProperties || !getExecutableStatistics) info_.pipelineStatistics = false;
+  }
 
   if (info_.accelerationStructure) {
 #define HB_LOAD(member, name) rt_.member = reinterpret_cast<PFN_##name>(vkGetDeviceProcAddr(device_, #name))

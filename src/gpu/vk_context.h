@@ -38,6 +38,9 @@ struct DeviceInfo {
   bool shaderFloat64 = false;
   bool fragmentSubgroupBallot = false;  // ballot and arithmetic subgroup operations in fragment shaders
   bool computeSubgroupBallot = false;   // ballot subgroup operations in compute shaders
+  // VK_KHR_pipeline_executable_properties: what the driver compiled a pipeline into (registers,
+  // spills, ...; gpu/vk_pipeline.h pipelineStatistics). Set by VulkanContext (the device opened).
+  bool pipelineStatistics = false;
   uint32_t timestampValidBits = 0;
   double timestampPeriodNs = 0;
   std::string rtBackends() const;  // "rayquery+pipeline", "pipeline", "none"
@@ -77,6 +80,9 @@ class VulkanContext {
   uint32_t queueFamily() const { return queueFamily_; }
   const DeviceInfo& info() const { return info_; }
   const RtFunctions& rt() const { return rt_; }
+  // VK_KHR_pipeline_executable_properties' queries; null unless info().pipelineStatistics.
+  PFN_vkGetPipelineExecutablePropertiesKHR getExecutableProperties = nullptr;
+  PFN_vkGetPipelineExecutableStatisticsKHR getExecutableStatistics = nullptr;
   const VkPhysicalDeviceProperties& properties() const { return props_; }
   const VkPhysicalDeviceRayTracingPipelinePropertiesKHR& rtPipelineProps() const { return rtProps_; }
   bool canTrace() const { return info_.rayQuery || info_.rayTracingPipeline; }

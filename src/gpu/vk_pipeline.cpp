@@ -192,8 +192,43 @@ void Pipeline::createCompute(VkShaderModule module, const SpecConstants& spec) {
   ci.stage.pName = "main";
   ci.stage.pSpecializationInfo = spec.values.empty() ? nullptr : &si;
   ci.layout = layout_;
+  if (ctx_.info().pipelineStatistics) ci.flags |= VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR;
   bindPoint_ = VK_PIPELINE_BIND_POINT_COMPUTE;
   VK_CHECK(vkCreateComputePipelines(ctx_.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_));
+}
+
+nlohmann::json pipelineStatistics(const VulkanContext& ctx, VkPipeline pipeline) {
+  if (!ctx.info().pipelineStatistics) return nullptr;
+  VkPipelineInfoKHR pi{VK_STRUCTURE_TYPE_PIPELINE_INFO_KHR};
+  pi.pipeline = pipeline;
+  uint32_t n = 0;
+  VK_CHECK(ctx.getExecutableProperties(ctx.device(), &pi, &n, nullptr));
+  std::vector<VkPipelineExecutablePropertiesKHR> props(n, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_PROPERTIES_KHR});
+  VK_CHECK(ctx.getExecutableProperties(ctx.device(), &pi, &n, props.data()));
+  nlohmann::json out = nlohmann::json::array();
+  for (uint32_t e = 0; e < n; ++e) {
+    VkPipelineExecutableInfoKHR ei{VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_INFO_KHR};
+    ei.pipeline = pipeline;
+    ei.executableIndex = e;
+    uint32_t m = 0;
+    VK_CHECK(ctx.getExecutableStatistics(ctx.device(), &ei, &m, nullptr));
+    std::vector<VkPipelineExecutableStatisticKHR> stats(m, {VK_STRUCTURE_TYPE_PIPELINE_EXECUTABLE_STATISTIC_KHR});
+    VK_CHECK(ctx.getExecutableStatistics(ctx.device(), &ei, &m, stats.data()));
+    nlohmann::json values = nlohmann::json::object();
+    for (const VkPipelineExecutableStatisticKHR& st : stats) {
+      nlohmann::json v;
+      switch (st.format) {
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_BOOL32_KHR: v = st.value.b32 == VK_TRUE; break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_INT64_KHR: v = st.value.i64; break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_UINT64_KHR: v = st.value.u64; break;
+        case VK_PIPELINE_EXECUTABLE_STATISTIC_FORMAT_FLOAT64_KHR: v = st.value.f64; break;
+        default: continue;
+      }
+      values[st.name] = v;
+    }
+    out.push_back({{"name", props[e].name}, {"description", props[e].description}, {"statistics", values}});
+  }
+  return out;
 }
 
 }  // namespace hb

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "gpu/shader_reflection.h"
 #include "gpu/vk_context.h"
 
@@ -104,5 +106,12 @@ class Pipeline {
 
 // Fills a VkSpecializationInfo for SpecConstants (entries must outlive the call using it).
 VkSpecializationInfo specializationInfo(const SpecConstants& spec, std::vector<VkSpecializationMapEntry>& entries);
+
+// What the driver compiled a compute pipeline into (VK_KHR_pipeline_executable_properties): per
+// executable {"name", "description", "statistics": {name: value}} with the driver's own names and
+// values (NVIDIA: registers, shared memory, spills, ...). Null where the device does not offer the
+// extension (DeviceInfo::pipelineStatistics); compute pipelines are created with
+// VK_PIPELINE_CREATE_CAPTURE_STATISTICS_BIT_KHR where it does.
+nlohmann::json pipelineStatistics(const VulkanContext& ctx, VkPipeline pipeline);
 
 }  // namespace hb
