@@ -124,6 +124,12 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
                 format("| b.json | compute-w8 | %.2f |", figures["traversal_work"][2]["nodes_per_ray"].get<double>())),
             std::string::npos)
       << work.out;
+  // --compiled: the driver's statistics as columns where the files carry them, one line where none does.
+  const RunResult compiled = run({"rays", "table", (dir / "b.json").string(), "--compiled"});
+  ASSERT_EQ(compiled.exitCode, 0) << compiled.err;
+  EXPECT_NE(compiled.out.find(statistics ? "| file | backend |" : "No file carries the driver's pipeline statistics"),
+            std::string::npos)
+      << compiled.out;
   const RunResult notOne = run({"rays", "table", (dir / "r" / "shadow.bin").string()});
   EXPECT_EQ(notOne.exitCode, 2);
   EXPECT_NE(notOne.err.find("not a raybench --json file"), std::string::npos) << notOne.err;

@@ -201,7 +201,7 @@ void writeHits(const std::string& path, const std::vector<HitRecord>& hits) {
 
 }  // namespace
 
-int cmdRaysTable(const std::vector<std::string>& files, bool work) {
+int cmdRaysTable(const std::vector<std::string>& files, bool work, bool compiled) {
   const char* hint = "pass files written by 'hybridbench raybench FILE.bin --json OUT.json'";
   std::vector<nlohmann::json> runs;
   std::vector<std::string> backends, sources;
@@ -240,6 +240,39 @@ int cmdRaysTable(const std::vector<std::string>& files, bool work) {
       std::printf(" %s |", cell.c_str());
     }
     std::printf("\n");
+  }
+  if (compiled) {
+    // What the driver compiled each compute kernel into, where the file carries it (raybench's
+    // "compiled"): the statistics' names as the driver gives them, one column each.
+    std::vector<std::string> names;
+    for (const nlohmann::json& j : runs)
+      for (const nlohmann::json& b : j["backends"])
+        if (b.contains("compiled") && b["compiled"].is_array())
+          for (const nlohmann::json& e : b["compiled"]) {
+            const nlohmann::json st = e.value("statistics", nlohmann::json::object());
+            for (const auto& [name, value] : st.items())
+              if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+          }
+    if (names.empty()) {
+      std::printf("\nNo file carries the driver's pipeline statistics (VK_KHR_pipeline_executable_properties).\n");
+    } else {
+      std::printf("\nWhat the driver compiled each compute kernel into (raybench's compiled: "
+                  "VK_KHR_pipeline_executable_properties, its names):\n\n| file | backend |");
+      for (const std::string& n : names) std::printf(" %s |", n.c_str());
+      std::printf("\n|---|---|");
+      for (size_t i = 0; i < names.size(); ++i) std::printf("---:|");
+      std::printf("\n");
+      for (size_t r = 0; r < runs.size(); ++r)
+        for (const nlohmann::json& b : runs[r]["backends"]) {
+          if (!b.contains("compiled") || !b["compiled"].is_array()) continue;
+          for (const nlohmann::json& e : b["compiled"]) {
+            std::printf("| %s | %s |", fs::path(files[r]).filename().string().c_str(), b.value("backend", "?").c_str());
+            const nlohmann::json st = e.value("statistics", nlohmann::json::object());
+            for (const std::string& n : names) std::printf(" %s |", st.contains(n) ? st[n].dump().c_str() : "—");
+            std::printf("\n");
+          }
+        }
+    }
   }
   if (!work) return kExitOk;
   std::printf(

@@ -51,8 +51,9 @@ void checkFrameRaysOut(const Renderer& renderer);
 std::vector<std::string> writeFrameRayFiles(const Renderer& renderer, const std::string& dir);
 // `rays table FILE.json...`: raybench --json files side by side, one row a file (its rays' kind and
 // the revision that traced them), one column a backend, in G rays/s (the docs' generated tables);
-// `work`: then the traversal's work a ray that each file carries.
-int cmdRaysTable(const std::vector<std::string>& files, bool work);
+// `work`: then the traversal's work a ray that each file carries; `compiled`: first what the driver
+// compiled each compute kernel into, where the files carry it.
+int cmdRaysTable(const std::vector<std::string>& files, bool work, bool compiled = false);
 // `raybench FILE.bin`: the file through every backend, timed (median and spread), each backend's
 // hits against the CPU's double-precision ones; refused in one line when the file is of another
 // scene than `scene` (default: the scene the file names, a built-in).

@@ -178,6 +178,9 @@ int main(int argc, char** argv) {
   raysTableCmd->add_option("files", raysTableFiles, "files written by raybench --json")->required();
   bool raysTableWork = false;
   raysTableCmd->add_flag("--work", raysTableWork, "then the traversal's work a ray each file carries");
+  bool raysTableCompiled = false;
+  raysTableCmd->add_flag("--compiled", raysTableCompiled,
+                         "then what the driver compiled each kernel into (registers, local memory, ...)");
   RaybenchOptions raybench;
   auto* raybenchCmd =
       app.add_subcommand("raybench", "trace a ray file with every backend: rays/s and hits against the CPU's");
@@ -265,7 +268,7 @@ int main(int argc, char** argv) {
       return cmdReport(report);
     }
     if (*raysExportCmd) return cmdRaysExport(raysExport);
-    if (*raysTableCmd) return cmdRaysTable(raysTableFiles, raysTableWork);
+    if (*raysTableCmd) return cmdRaysTable(raysTableFiles, raysTableWork, raysTableCompiled);
     if (*raybenchCmd) return cmdRaybench(raybench);
     if (*exportCmd) return cmdSceneExport(exportName, exportOut, exportNoCamera, exportNoLights);
     if (*infoCmd) return cmdSceneInfo(infoPath, infoJson);

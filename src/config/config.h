@@ -220,7 +220,7 @@ struct VariantParams {
   uint32_t r3dFrustum = 256;   // BVH methods: the top frusta's side (px)
   uint32_t r3dMinFrustum = 8;  // 3dr-frustum-split, 3dr-full: split down to this side (px)
   bool r3dEarlyZ = false;      // 3dr-binned: early-z in the tile pass (2dr-binned always has it)
-  uint32_t bvhWidth = 8;       // backend=compute: children a node of our BVH (gpu/trace_bvh.h)
+  uint32_t bvhWidth = 4;       // backend=compute: children a node of our BVH (gpu/trace_bvh.h; docs/rays.md "Which width")
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
   ShadingMethod shading =

@@ -44,7 +44,7 @@ inline constexpr double kAutoComputeMargin = 1.10;
 // The rates auto chooses from, out of the peaks measured on the frame's scene (addRayPeaks): the
 // random occlusion and closest-hit rays through our BVH of `bvhWidth` and through the driver's
 // tracer (ray query where the device has it); empty where either was not measured.
-std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device, uint32_t bvhWidth = 8);
+std::optional<RayRates> rayRatesOf(const Peaks& peaks, const DeviceInfo& device, uint32_t bvhWidth = 4);
 
 BackendChoice chooseBackend(RtBackend requested, const DeviceInfo& device, const std::optional<RayRates>& rates);
 nlohmann::json toJson(const BackendChoice& choice, const std::optional<RayRates>& rates);
