@@ -8,7 +8,11 @@
 //           atomicAdd per triangle): brute force, the 8x8 tiles of its box; binned, the screen's
 //           8x8 tiles the box overlaps. The workgroup's 64 threads write those items together.
 //           When the list is full the thread rasterizes its box itself: slower, never a dropped
-//           pixel (counted), and marks the slots it took empty (kNoItem).
+//           pixel (counted), and marks the slots it took empty (kNoItem). Which triangles find it
+//           full depends on the order of the atomics, so the items every big triangle asks for
+//           are summed too (itemDemand; the next pass keeps the most of any plane), and the host
+//           grows the list to that and renders the frame again (Raster3dPass::growList): the
+//           frames a run keeps find it full nowhere, on every run.
 //   PASS 1: brute force: tileWorkgroups workgroups of 64 threads stride over the work items, one
 //           pixel each, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
@@ -37,10 +41,14 @@ shared uint sBigId[64];
 shared uint sBigFirst[64];
 shared uvec4 sBigSpan[64];  // first tile x, first tile y, tiles a row, items
 shared uint sBigCount;
+shared uint sDemand;  // the items this workgroup's big triangles ask for
 
 void perTriangle() {
   const uint lid = gl_LocalInvocationID.x;
-  if (lid == 0u) sBigCount = 0u;
+  if (lid == 0u) {
+    sBigCount = 0u;
+    sDemand = 0u;
+  }
   barrier();
   const uint id = gl_GlobalInvocationID.x;
   R3dSetup s;
@@ -61,6 +69,7 @@ void perTriangle() {
       const uvec2 t1 = BINNED == 1 ? uvec2(hi) / 8u : uvec2(w - 1u, h - 1u) / 8u;
       const uint tw = t1.x - t0.x + 1u, th = t1.y - t0.y + 1u;
       const uint n = tw * th;
+      atomicAdd(sDemand, n);
       // Once the list is full (a read that may be stale: then the atomicAdd below decides), no slot
       // is taken; this also keeps itemCount far from wrapping around 2^32.
       const uint first = itemCount >= r3.itemCapacity ? r3.itemCapacity : atomicAdd(itemCount, n);
@@ -82,6 +91,7 @@ void perTriangle() {
     }
   }
   barrier();
+  if (lid == 0u && sDemand > 0u) atomicAdd(itemDemand, uint64_t(sDemand));
   const uint bigCount = sBigCount;
   for (uint b = 0u; b < bigCount; ++b) {
     const uvec4 span = sBigSpan[b];
@@ -96,7 +106,13 @@ void perTriangle() {
 }
 
 // Brute force, PASS 1.
+// PASS 1 and PASS 3, the first after PASS 0: the most items a plane of the frame asked for.
+void keepDemand() {
+  if (gl_GlobalInvocationID.x == 0u) atomicMax(itemDemandMax, itemDemand);
+}
+
 void perItem() {
+  keepDemand();
   const uint count = min(itemCount, r3.itemCapacity);
   Tally tally = Tally(0u, 0u, 0u, 0u);
   for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
@@ -114,6 +130,7 @@ void perItem() {
 
 // Binned, PASS 3 (count) and PASS 4 (fill): a thread per work item, striding.
 void binItems(bool fill) {
+  if (!fill) keepDemand();
   const uint count = min(itemCount, r3.itemCapacity), T = tileCount();
   const uint stride = gl_NumWorkGroups.x * 64u;
   Tally tally = Tally(0u, 0u, 0u, 0u);

@@ -62,6 +62,7 @@ TEST_F(Raster3dListTest, SlotsOfAFullListAreNeverReadAsAnEarlierFramesItems) {
     rs.width = rs.height = kListSize;
     rs.primary = testing::primaryNamed(method);
     rs.raster3dListPerTile = 1;
+    rs.raster3dListGrows = false;  // the full list is what is tested
     rs.effects.add(EffectSource::Config, "test", {{"shadows", false}});
     Renderer r(*ctx, scene, rs);
     // What an earlier frame may have left in every slot: the item (triangle 0, first tile of its

@@ -146,6 +146,8 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
                       {"triangle_setups", c.setups},
                       {"big_triangles", c.bigTriangles},
                       {"tile_list_overflows", c.listOverflows},
+                      {"list_capacity", r3->listCapacity()},
+                      {"list_grown_from", r3->listGrownFrom()},
                       {"pixels_tested", c.pixelsTested},
                       {"edge_evaluations", c.edgeEvaluations},
                       {"edge_evaluations_per_pixel", ratio(double(c.edgeEvaluations), pixels)},

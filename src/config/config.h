@@ -80,9 +80,9 @@
 //   "r3d_thread_box": 1..65536  (3dr: a triangle whose screen box has at most this many pixels
 //                                is rasterized by its own thread; larger boxes go to 8x8 tiles,
 //                                a pixel per thread)            default 64
-//   "r3d_list_per_tile": 1..1024  (3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile; a
-//                                triangle that finds the list full rasterizes its box itself:
-//                                slower, never a dropped pixel, counted as tile_list_overflows)
+//   "r3d_list_per_tile": 1..1024  (3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile the
+//                                list starts with; it grows to what the view asks for, the first
+//                                frame rendered again: no triangle finds it full)
 //                                                               default 64
 //   "r3d_frustum": 8 | 16 | 32 | 64 | 128 | 256  (BVH methods: the screen frusta's side, one
 //                                workgroup each)               default 256 (the paper's)
@@ -220,7 +220,7 @@ struct VariantParams {
   uint32_t r3dFrustum = 256;   // BVH methods: the top frusta's side (px)
   uint32_t r3dMinFrustum = 8;  // 3dr-frustum-split, 3dr-full: split down to this side (px)
   bool r3dEarlyZ = false;      // 3dr-binned: early-z in the tile pass (2dr-binned always has it)
-  uint32_t bvhWidth = 4;       // backend=compute: children a node of our BVH (gpu/trace_bvh.h; docs/rays.md "Which width")
+  uint32_t bvhWidth = 4;  // backend=compute: children a node of our BVH (gpu/trace_bvh.h; docs/rays.md "Which width")
   // The view's projection (perspective | orthographic | paraboloid | latlong); empty: the camera's.
   std::optional<CameraProjection> projection;
   ShadingMethod shading =

@@ -234,8 +234,9 @@ const std::vector<ParamSpec>& paramSpecs() {
        "",
        "entries",
        "",
-       "3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile; a triangle that finds the list full "
-       "rasterizes its box itself (slower, never a dropped pixel; counted as tile_list_overflows)",
+       "3dr, 3dr-binned, 2dr: work-list entries per 8x8 screen tile the list starts with; it grows to what the "
+       "view asks for (the first frame rendered again), so no triangle finds it full (tile_list_overflows 0, "
+       "list_capacity and list_grown_from in the results)",
        [](VariantParams& p, const Json& v, size_t, const Where&) { p.r3dListPerTile = v.get<uint32_t>(); }},
       {"r3d_frustum",
        K::IntChoice,

@@ -126,6 +126,7 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
         Raster3dFrustumOptions{f.settings.raster3dFrustum, f.settings.raster3dMinFrustum, f.settings.raster3dEarlyZ,
                                f.settings.raster3dStackEntries},
         f.settings.aa);
+    if (!f.settings.raster3dListGrows) raster3d_->fixListSize();
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {cast.bvh ? res::kTraceBvh : res::kTlas};
     else
@@ -288,5 +289,7 @@ ShadingPart::ShadingPart(FrameBuilder& f) {
   };
   passes_.push_back(std::move(pass));
 }
+
+bool PrimaryPart::afterFrame() { return raster3d_ && raster3d_->growList(); }
 
 }  // namespace hb

@@ -28,6 +28,7 @@ class PrimaryPart : public FramePart {
  public:
   explicit PrimaryPart(FrameBuilder& frame);
   const Raster3dPass* raster3d() const { return raster3d_.get(); }  // primary = 3dr, 3dr-binned, 2dr, raycast
+  bool afterFrame() override;  // the 3DR work list grows to what the frame asked for
 
  private:
   std::unique_ptr<DepthPrepass> prepass_;

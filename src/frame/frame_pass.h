@@ -206,6 +206,10 @@ class FramePart {
   // Work recorded once, before the first frame's timed passes (the tile frustums, say), declaring
   // its accesses through `sync` (the frame's).
   virtual void recordOnce(VkCommandBuffer /*cmd*/, Sync& /*sync*/) const {}
+  // After each frame (its submission waited on): what the part adapts to what the frame found (a
+  // work list that was too small grows); true when the frame must be rendered again for its work
+  // and counts to be what they will be on every later frame.
+  virtual bool afterFrame() { return false; }
 
  protected:
   std::vector<FramePass> passes_;

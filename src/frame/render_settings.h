@@ -45,9 +45,12 @@ struct RenderSettings {
   PrimaryMethod primary = paramDefaults().primary;
   bool fp64Fallback = true;  // raster3d: false only to measure what the fallback prevents
   uint32_t raster3dListPerTile = paramDefaults().r3dListPerTile;  // raster3d: work-list entries per 8x8 screen tile
-  uint32_t raster3dFrustum = paramDefaults().r3dFrustum;          // BVH methods: the top frusta's side (px)
-  uint32_t raster3dMinFrustum = paramDefaults().r3dMinFrustum;    // split methods: the smallest frustum's side (px)
-  bool raster3dEarlyZ = paramDefaults().r3dEarlyZ;                // 3dr-binned: early-z in the tile pass
+  // raster3d: the work list grows to what the view asks for (Raster3dPass::growList); false keeps
+  // r3d_list_per_tile's size, so that a triangle can find it full (tests of that path).
+  bool raster3dListGrows = true;
+  uint32_t raster3dFrustum = paramDefaults().r3dFrustum;        // BVH methods: the top frusta's side (px)
+  uint32_t raster3dMinFrustum = paramDefaults().r3dMinFrustum;  // split methods: the smallest frustum's side (px)
+  bool raster3dEarlyZ = paramDefaults().r3dEarlyZ;              // 3dr-binned: early-z in the tile pass
   uint32_t raster3dStackEntries = 768;                        // BVH methods' stack (tests only: to reach its fallback)
   uint32_t raster3dThreadBox = paramDefaults().r3dThreadBox;  // raster3d: the largest box one thread rasterizes
   ShadingMethod shading = paramDefaults().shading;            // visbuffer: in compute from the visibility buffer

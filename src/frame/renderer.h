@@ -140,6 +140,7 @@ class Renderer {
   // (a later part may replace an image under the same name).
   std::map<const FramePass*, std::vector<Use>> uses_;
   std::unique_ptr<GpuTimer> timer_;  // sized from the passes' declarations
+  FrameTiming renderFrameOnce(bool analysis);
   bool onceDone_ = false;
   std::vector<std::string> passesRun_;
   std::vector<std::pair<std::string, std::string>> passesSkipped_;

@@ -51,8 +51,9 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   c.smallArea = smallArea;
   // Work items of big boxes: listPerTile (default 64) per 8x8 tile of the screen (boxes overlap:
   // the atrium at 1080p needs about 40 with 8,118,546 covered pairs in 44.6 M box pixels, H100 run
-  // at 9c6b312). A full list is handled, not dropped (raster3d.comp.glsl), and counted
-  // (tile_list_overflows).
+  // at 9c6b312): the size the list starts with. It grows to what a view asks for (growList); a list
+  // that is full (before it grows, or never with raster3dListGrows false) is handled, not dropped
+  // (raster3d.comp.glsl), and counted (tile_list_overflows).
   c.itemCapacity = listPerTile * ((width + 7) / 8) * ((height + 7) / 8);
   c.tileWorkgroups = 4096;
   c.projection = uint32_t(camera.projection);
@@ -98,6 +99,12 @@ std::vector<glm::vec4> packTriangles(const Scene& scene) {
   return out;
 }
 const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
+
+// Plane p's constants at p·256 B (minUniformBufferOffsetAlignment is at most 256).
+constexpr size_t kConstantsStride = (sizeof(gpu::Raster3dConstants) + 255) / 256 * 256;
+// The work list's header (raster3d_common.glsl.inc Items): count, demand, most demand, then items.
+constexpr size_t kItemsHeader = 32;
+constexpr size_t kDemandMaxOffset = 16;
 }  // namespace
 
 Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const Camera& camera, uint32_t width,
@@ -126,8 +133,6 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       throw InputError(std::string("aa=") + toString(aa) + " needs a planar view (perspective or orthographic), not " +
                        toString(camera.projection) + ": set aa=none");
   }
-  // Plane p's constants at p·256 B (minUniformBufferOffsetAlignment is at most 256).
-  constexpr size_t kConstantsStride = (sizeof c + 255) / 256 * 256;
   constants_ = Buffer(ctx, kConstantsStride * planes_, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
   std::memcpy(constants_.mapped(), &c, sizeof c);
   const std::span<const glm::vec2> samples = aaStoredPositions(aa);
@@ -192,7 +197,6 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   tileWorkgroups_ = c.tileWorkgroups;
   screenTiles_ = ((width + 7) / 8) * ((height + 7) / 8);
   const bool bvh = primaryUsesBvh(mode);
-  big_ = Buffer(ctx, 16 + (bvh ? 1 : size_t(c.itemCapacity)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
   const bool binned = mode == PrimaryMethod::Raster3dBinned || mode == PrimaryMethod::Raster2dBinned;
   auto log2Of8 = [](uint32_t side) {  // side = 8 << result
     uint32_t l = 0;
@@ -220,7 +224,6 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
     bvhOrder_ = Buffer(ctx, sizeof(uint32_t), rw, false, MemClass::Other);
   }
   bins_ = Buffer(ctx, (binned ? 3 * size_t(screenTiles_) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
-  binList_ = Buffer(ctx, (binned ? size_t(c.itemCapacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   // The dispatches in order: (shader, its PASS). Specialization constants (raster3d_common.glsl.inc):
   // 0 pass, 1 analysis, 2 fp64 fallback, 3 binned, 4 2D homogeneous, 5 projection; the tile pass's
   // 6 early-z; the BVH traversal's (raster3d_bvh.comp.glsl) 6 split, 7 occlusion, 8 binning,
@@ -240,31 +243,9 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   std::vector<std::string> shaders;
   for (const auto& [shader, pass] : stages)
     if (std::find(shaders.begin(), shaders.end(), shader) == shaders.end()) shaders.emplace_back(shader);
-  const ShaderProgram program(shaders);
-  // Set p rasterizes plane p: its constants, its visibility, coverage and test counts; the sample
-  // planes count their work apart from plane 0's (readSampleCounters).
-  for (uint32_t p = 0; p < planes_; ++p) {
-    DescriptorBinder plane("raster3d");
-    DescriptorBinder& b = p == 0 ? binder : plane;
-    if (p > 0) {
-      b.provide("Constants", constants_, p * kConstantsStride, sizeof c);
-      b.provide("Visibility", vis_, size_t(p) * planeStride_ * 8, pixels * 8);
-      b.provide("Counters", sampleCounters_);
-      b.provide("Coverage", coverage_, size_t(p) * planeStride_ * 4, pixels * 4);
-    }
-    b.provide("Tested", tested_, size_t(p) * planeStride_ * 4, pixels * 4);
-    b.provide("Triangles", triangles_);
-    if (bvh) {  // the traversal reads the tree; the brute-force and binned dispatches their work lists
-      b.provide("BvhNodes", bvhNodes_);
-      b.provide("BvhOrder", bvhOrder_);
-    } else {
-      b.provide("Items", big_);
-      b.provide("Bins", bins_);
-      b.provide("BinList", binList_);
-    }
-    rasterSets_.push_back(b.write(ctx, program));
-    b.checkEveryNameRead();
-  }
+  rasterProgram_ = std::make_unique<ShaderProgram>(shaders);
+  demandOut_ = Buffer(ctx, sizeof(uint64_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Other);
+  makeLists(c.itemCapacity);
   for (const auto& [shader, pass] : stages)
     for (uint32_t analysis = 0; analysis < 2; ++analysis) {
       auto p = std::make_unique<Pipeline>(ctx);
@@ -276,9 +257,67 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
                                  log2Of8(frusta.frustum), log2Of8(frusta.minFrustum), frusta.stackEntries});
       else
         spec.push_back(mode == PrimaryMethod::Raster2dBinned || frusta.earlyZ ? 1u : 0u);
-      p->createCompute(program, shader, {spec});
+      p->createCompute(*rasterProgram_, shader, {spec});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
+}
+
+void Raster3dPass::makeLists(uint64_t capacity) {
+  const bool bvh = primaryUsesBvh(mode_);
+  const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;
+  // Item slots are addressed by 32-bit indices (raster3d.comp.glsl): a list past them cannot be had.
+  HB_ASSERT(capacity <= 0xFFFFFFFFull);
+  itemCapacity_ = capacity;
+  const VkBufferUsageFlags rw =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  big_ = Buffer(ctx_, kItemsHeader + (bvh ? 1 : size_t(capacity)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  binList_ = Buffer(ctx_, (binned ? size_t(capacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
+  for (uint32_t p = 0; p < planes_; ++p) {
+    gpu::Raster3dConstants c;
+    char* at = static_cast<char*>(constants_.mapped()) + p * kConstantsStride;
+    std::memcpy(&c, at, sizeof c);
+    c.itemCapacity = uint32_t(capacity);
+    std::memcpy(at, &c, sizeof c);
+  }
+  // Set p rasterizes plane p: its constants, its visibility, coverage and test counts; the sample
+  // planes count their work apart from plane 0's (readSampleCounters).
+  const size_t pixels = size_t(width_) * height_;
+  rasterSets_.clear();
+  for (uint32_t p = 0; p < planes_; ++p) {
+    DescriptorBinder b("raster3d");
+    b.provide("Constants", constants_, p * kConstantsStride, sizeof(gpu::Raster3dConstants));
+    b.provide("Visibility", vis_, size_t(p) * planeStride_ * 8, pixels * 8);
+    b.provide("Counters", p == 0 ? counters_ : sampleCounters_);
+    b.provide("Coverage", coverage_, size_t(p) * planeStride_ * 4, pixels * 4);
+    b.provide("Tested", tested_, size_t(p) * planeStride_ * 4, pixels * 4);
+    b.provide("Triangles", triangles_);
+    if (bvh) {  // the traversal reads the tree; the brute-force and binned dispatches their work lists
+      b.provide("BvhNodes", bvhNodes_);
+      b.provide("BvhOrder", bvhOrder_);
+    } else {
+      b.provide("Items", big_);
+      b.provide("Bins", bins_);
+      b.provide("BinList", binList_);
+    }
+    rasterSets_.push_back(b.write(ctx_, *rasterProgram_));
+    b.checkEveryNameRead();
+  }
+}
+
+bool Raster3dPass::growList() {
+  if (!demandCopied_ || listFits_) return false;
+  demandCopied_ = false;
+  uint64_t demand = 0;
+  std::memcpy(&demand, demandOut_.mapped(), sizeof demand);
+  if (demand <= itemCapacity_) {
+    listFits_ = true;  // this view's frames fit: no more copies
+    return false;
+  }
+  if (grownFrom_ == 0) grownFrom_ = itemCapacity_;
+  const uint64_t grown = std::min<uint64_t>((demand + 63) / 64 * 64, 0xFFFFFFC0ull);
+  vkDeviceWaitIdle(ctx_.device());  // the old lists' last frame is done (the caller waited on it)
+  makeLists(grown);
+  return true;
 }
 
 Raster3dPass::~Raster3dPass() = default;
@@ -384,7 +423,7 @@ void Raster3dPass::record(VkCommandBuffer cmd, Sync& sync, const Image& depth, b
     for (const Buffer* b : {&counters_, &sampleCounters_, &coverage_, &tested_}) cleared.push_back({*b, access::kFill});
   sync.use(cmd, cleared);
   if (!cast) vkCmdFillBuffer(cmd, vis_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);  // "nothing": the largest key
-  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, 16, 0);                       // the item count
+  if (!cast) vkCmdFillBuffer(cmd, big_.handle(), 0, kItemsHeader, 0);             // the item count and demands
   if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
     vkCmdFillBuffer(cmd, bins_.handle(), 0, VK_WHOLE_SIZE, 0);
   if (analysis) {
@@ -397,6 +436,13 @@ void Raster3dPass::record(VkCommandBuffer cmd, Sync& sync, const Image& depth, b
     recordRayCast(cmd, sync, analysis);
   else
     recordRaster(cmd, sync, analysis, timer);
+  // Until a frame's list fits: the most items a plane asked for, to the host (growList).
+  if (!cast && !primaryUsesBvh(mode_) && !listFits_) {
+    sync.use(cmd, {{big_, access::kCopyRead}, {demandOut_, access::kCopyWrite}});
+    const VkBufferCopy region{kDemandMaxOffset, 0, sizeof(uint64_t)};
+    vkCmdCopyBuffer(cmd, big_.handle(), demandOut_.handle(), 1, &region);
+    demandCopied_ = true;
+  }
   // The resolve reads the visibility buffer into the depth buffer.
   std::vector<Use> resolve = working(access::kComputeRead, analysis);
   resolve.push_back({depthStaging_, access::kComputeWrite});

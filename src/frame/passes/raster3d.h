@@ -116,9 +116,18 @@ class Raster3dPass {
   std::vector<uint64_t> readVisibility(uint32_t plane = 0) const;
   std::vector<uint32_t> readCoverage(uint32_t plane = 0) const;  // (triangle, pixel) pairs covered, per pixel
   std::vector<uint32_t> readPixelTests(
-      uint32_t plane = 0) const;                // triangles tested at each pixel (3 edge evaluations each)
-  Raster3dCounters readCounters() const;        // plane 0
-  Raster3dCounters readSampleCounters() const;  // the sample planes together
+      uint32_t plane = 0) const;  // triangles tested at each pixel (3 edge evaluations each)
+  // The work list (3dr, 3dr-binned, 2dr, 2dr-binned): the items it holds, and after a frame
+  // whether a plane asked for more. growList() makes it hold the most any plane of the last frame
+  // asked for (rounded up to 64), so that the frame rendered again finds it full nowhere: the same
+  // work (and no overflow) on every run; false when it already did (or the method has no list).
+  // Each frame reads the demand back until one fits (a copy of 8 bytes after the dispatches).
+  uint64_t listCapacity() const { return itemCapacity_; }
+  bool growList();
+  void fixListSize() { listFits_ = true; }               // never grow (tests that need a full list)
+  uint64_t listGrownFrom() const { return grownFrom_; }  // the capacity before the first growth (0: never grew)
+  Raster3dCounters readCounters() const;                 // plane 0
+  Raster3dCounters readSampleCounters() const;           // the sample planes together
   // BVH methods: the hierarchy's size and build time; zeros otherwise.
   const Raster3dBvhStats& bvhStats() const { return bvhStats_; }
   uint32_t frusta() const { return frusta_; }  // BVH methods: workgroups of the traversal
@@ -129,6 +138,9 @@ class Raster3dPass {
   void recordRayCast(VkCommandBuffer cmd, Sync& sync, bool analysis) const;
   // The buffers the dispatches read and update (with the analysis frame's counters), each as `a`.
   std::vector<Use> working(Access a, bool analysis) const;
+  // The work list and the binned list for `capacity` items, the constants' itemCapacity, and each
+  // plane's descriptor set (rasterSets_).
+  void makeLists(uint64_t capacity);
 
   const VulkanContext& ctx_;
   PrimaryMethod mode_;
@@ -138,6 +150,11 @@ class Raster3dPass {
       binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
   std::vector<std::unique_ptr<DescriptorSets>> rasterSets_;  // per plane, the dispatches' one set
+  std::unique_ptr<ShaderProgram> rasterProgram_;             // the dispatches' shaders, for rasterSets_
+  uint64_t itemCapacity_ = 0, grownFrom_ = 0;
+  Buffer demandOut_;                   // host-visible: the frame's most items a plane asked for
+  mutable bool demandCopied_ = false;  // the last frame copied it (until a frame's list fit)
+  bool listFits_ = false;              // a frame found the list big enough: no more copies
   // Per dispatch (brute force: triangles, tiles; binned: triangles, count, scan, fill, tiles) a timed
   // and an analysis pipeline.
   std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
