@@ -186,6 +186,18 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
   const json results = json::parse(readFile(out / "results.json"));
   const json& peaks = results["context"]["device"]["peaks"];
   expectPeaksShape(peaks, RayFigures::Driver);  // lavapipe: a CPU device's sweep measures the driver's only
+  // The warm-up before the first variant (gpu/warm_up.h): a GPU's rounds and whether it settled, a
+  // CPU device's reason to skip it; the peaks carry the one they were measured after.
+  const json& warm = results["context"]["device"]["warm_up"];
+  ASSERT_TRUE(warm.is_object()) << results["context"]["device"].dump();
+  if (results["context"]["device"].value("type", "") == "cpu") {
+    EXPECT_EQ(warm["ran"], false);
+    EXPECT_NE(warm.value("skipped", ""), "");
+  } else {
+    EXPECT_GE(warm["rounds"].get<int>(), 10);
+    EXPECT_TRUE(warm["settled"].is_boolean());
+  }
+  EXPECT_TRUE(peaks.contains("warm_up")) << peaks.dump().substr(0, 300);
   std::set<std::string> entriesSeen;
   for (const json& run : results["runs"]) {
     SCOPED_TRACE(run.value("name", ""));

@@ -32,6 +32,7 @@
 #include "frame/renderer.h"
 #include "gltf/gltf_io.h"
 #include "gpu/vk_resources.h"
+#include "gpu/warm_up.h"
 #include "report/all_tables.h"
 #include "report/roofline.h"
 #include "report/stats.h"
@@ -363,6 +364,14 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
   for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
+  // A steady device before the first variant (gpu/warm_up.h): cached peaks measured nothing here,
+  // and a device that idled while the CPU loaded the scene runs its first frames at other clocks.
+  const WarmUp warm = warmDevice(ctx);
+  context["device"]["warm_up"] = toJson(warm);
+  if (const std::string w = warmUpWarning(warm); !w.empty()) {
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
+    context["device"]["warm_up"]["warning"] = w;
+  }
   parent.send("context", context.dump());
   ReferenceCache references;  // across the variants of this worker
   for (const size_t k : parsePositions(options.workerVariants, variants.size())) {

@@ -27,6 +27,7 @@
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
+#include "gpu/warm_up.h"
 
 namespace hb {
 
@@ -267,6 +268,9 @@ Peaks measurePeaks(const VulkanContext& ctx) {
   peaks.timing = ctx.info().type == "cpu" ? "host clock around each submission (CPU device)"
                  : !probe.available()     ? "host clock around each submission (the device has no timestamps)"
                                           : "GPU timestamps around each repetition";
+  const WarmUp warm = warmDevice(ctx);
+  peaks.warmUp = toJson(warm);
+  if (const std::string w = warmUpWarning(warm); !w.empty()) peaks.warnings.push_back(w);
   measureCompute(ctx, sizes, peaks.figures);
   measureRaster(ctx, sizes, peaks.figures);
   return peaks;
@@ -290,6 +294,7 @@ json toJson(const Peaks& peaks, const DeviceInfo& device) {
             {"uuid", device.uuid},      {"driver", device.driverName + " " + device.driverVersion},
             {"timing", peaks.timing},   {"figures", figures}};
   if (!peaks.warnings.empty()) j["warnings"] = peaks.warnings;
+  if (!peaks.warmUp.is_null()) j["warm_up"] = peaks.warmUp;
   return j;
 }
 
@@ -297,6 +302,7 @@ Peaks peaksFromJson(const json& j) {
   Peaks peaks;
   peaks.timing = j.value("timing", "");
   peaks.warnings = j.value("warnings", std::vector<std::string>{});
+  if (j.contains("warm_up")) peaks.warmUp = j["warm_up"];
   // A named copy: items() refers to its json, and a temporary's would end before the loop body
   // (C++20 extends the life of the range's outermost temporary only).
   const json figures = j.value("figures", json::object());

@@ -35,6 +35,7 @@ struct Peaks {
   std::string timing;  // "gpu timestamps" or "host clock (CPU device)"
   // What makes the figures doubtful (addRayPeaks: the device's speed changed while they ran).
   std::vector<std::string> warnings;
+  nlohmann::json warmUp;  // how the device was warmed before the figures (gpu/warm_up.h toJson); null: not
   // The rate for a unit a pass counts (report/roofline.cpp): bytes -> the highest of read, write
   // and copy; atomics -> distinct 32-bit adds; atomics64 -> atomicMin on 64 bits; fma; triangles;
   // fragments; rays_coherent, rays_random, rays_occlusion, rays_ao (addRayPeaks), through
@@ -42,7 +43,8 @@ struct Peaks {
   double rateFor(const std::string& unit, const std::string& backend = "") const;
 };
 
-// Measures every figure on ctx's device (a few seconds on a GPU, about a second on lavapipe).
+// Measures every figure on ctx's device (a few seconds on a GPU, about a second on lavapipe), after
+// warming it until steady (gpu/warm_up.h; a device that never settled adds a warning).
 // Figures the device cannot run (64-bit atomics) are left out.
 Peaks measurePeaks(const VulkanContext& ctx);
 

@@ -244,6 +244,8 @@ std::vector<std::string> warningsOf(const json& results) {
     if (n.is_string()) out.push_back("config: " + n.get<std::string>());
   for (const json& w : results::at(results::at(results::at(context, "device"), "peaks"), "warnings"))
     if (w.is_string()) out.push_back("device peaks: " + w.get<std::string>());
+  if (const json& w = results::at(results::at(results::at(context, "device"), "warm_up"), "warning"); w.is_string())
+    out.push_back("device: " + w.get<std::string>());
   for (const json& run : results["runs"])
     if (results::at(run, "analysis_not_run").is_string())
       out.push_back(reportText(run, "name") + ": analysis not run: " + run["analysis_not_run"].get<std::string>());
