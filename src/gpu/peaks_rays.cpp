@@ -23,6 +23,7 @@
 #include "gpu/trace_bvh.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
+#include "gpu/warm_up.h"
 #include "reference/ray_sets.h"
 
 namespace hb {
@@ -133,6 +134,9 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
   // Persistent threads: enough groups of 64 to fill a large GPU (H200: 132 SMs, at most 32 groups of
   // 64 threads each), fewer where the rays are fewer.
   const uint32_t tiles = ((width + 7) / 8) * ((height + 7) / 8), persistentGroups = std::min(tiles, 4096u);
+  // The device warmed again right before each timing: it idles while the CPU builds BVHs and makes
+  // ray sets, and drops its clocks within a second (gpu/warm_up.h).
+  DeviceWarmer warmer(ctx);
   auto measure = [&](const Backend& b, const DescriptorBinder& binder, const RaySet& set) {
     const uint64_t rays = set.rays ? set.rays : callRays;
     std::string suffix = "_" + b.name;
@@ -157,6 +161,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
     const bool persistent = b.ours && b.ours->persistent;
     VkDescriptorSet descriptors = (rt ? rt->pipeline() : compute).set();
     const uint32_t size[2] = {width, height};
+    warmer.warm(kRewarmPolicy);
     Peak peak = makePeak(
         b.pipeline ? set.key : set.key + suffix, set.unit, double(rays),
         timeRepetitions(ctx, sizes,

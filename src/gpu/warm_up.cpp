@@ -37,40 +37,44 @@ WarmUp warmUntilSteady(const std::function<double()>& roundMs, const WarmUpPolic
   }
 }
 
-WarmUp warmDevice(const VulkanContext& ctx, const WarmUpPolicy& policy) {
-  if (ctx.info().type == "cpu") {
-    WarmUp w;
-    w.policy = policy;
-    w.skipped = "a CPU device: no clocks to warm";
-    return w;
-  }
-  using namespace peaks_detail;
-  const Sizes sizes = sizesFor(ctx.info());
-  const VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  Buffer src(ctx, sizes.bufferBytes, usage, false), dst(ctx, sizes.bufferBytes, usage, false);
-  DescriptorBinder binder("warm_up");
-  binder.provide("Src", src);
-  binder.provide("Dst", dst);
-  binder.provide("DstWords", dst);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    vkCmdFillBuffer(cmd, src.handle(), 0, VK_WHOLE_SIZE, 0x01010101u);
-    vkCmdFillBuffer(cmd, dst.handle(), 0, VK_WHOLE_SIZE, 0u);
-  });
+struct DeviceWarmer::Impl {
   // peaks.comp's modes (gpu/peaks.cpp): 0 reads the buffer, 5 runs fp32 FMA chains.
   struct PushConstants {
     uint32_t elements, iterations, sentinel, pad;
   };
-  Pipeline read(ctx), fma(ctx);
-  read.createCompute(binder, "peaks.comp", sizeof(PushConstants), {{0u}});
-  fma.createCompute(binder, "peaks.comp", sizeof(PushConstants), {{5u}});
-  binder.checkEveryNameRead();
-  const uint32_t maxGroups = ctx.properties().limits.maxComputeWorkGroupCount[0];
-  auto groupsFor = [&](uint32_t threads) { return std::min({(threads + 255u) / 256u, maxGroups, 65535u}); };
-  const uint32_t vec4s = sizes.bufferBytes / 16u;
-  GpuTimer timer(ctx, 1);
-  // A round: 40 times an FMA dispatch and a read of the buffer (about 0.1 s on an H200), one
-  // submission, timed by its timestamps (the host clock where the device has none).
-  auto round = [&]() {
+  const VulkanContext& ctx;
+  peaks_detail::Sizes sizes;
+  Buffer src, dst;
+  DescriptorBinder binder{"warm_up"};
+  Pipeline read, fma;
+  GpuTimer timer;
+  Impl(const VulkanContext& c)
+      : ctx(c),
+        sizes(peaks_detail::sizesFor(c.info())),
+        src(c, sizes.bufferBytes, kUsage, false),
+        dst(c, sizes.bufferBytes, kUsage, false),
+        read(c),
+        fma(c),
+        timer(c, 1) {
+    binder.provide("Src", src);
+    binder.provide("Dst", dst);
+    binder.provide("DstWords", dst);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, src.handle(), 0, VK_WHOLE_SIZE, 0x01010101u);
+      vkCmdFillBuffer(cmd, dst.handle(), 0, VK_WHOLE_SIZE, 0u);
+    });
+    read.createCompute(binder, "peaks.comp", sizeof(PushConstants), {{0u}});
+    fma.createCompute(binder, "peaks.comp", sizeof(PushConstants), {{5u}});
+    binder.checkEveryNameRead();
+  }
+  static constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+  // A round: 40 times an FMA dispatch and a read of the buffer, one submission, timed by its
+  // timestamps (the host clock where the device has none).
+  double round() {
+    const uint32_t maxGroups = ctx.properties().limits.maxComputeWorkGroupCount[0];
+    auto groupsFor = [&](uint32_t threads) { return std::min({(threads + 255u) / 256u, maxGroups, 65535u}); };
+    const uint32_t vec4s = sizes.bufferBytes / 16u;
     const auto t0 = std::chrono::steady_clock::now();
     ctx.submitAndWait(
         [&](VkCommandBuffer cmd) {
@@ -104,11 +108,28 @@ WarmUp warmDevice(const VulkanContext& ctx, const WarmUpPolicy& policy) {
       if (!passes.empty()) ms = passes.front().second;
     }
     return ms;
-  };
+  }
+};
+
+DeviceWarmer::DeviceWarmer(const VulkanContext& ctx) {
+  if (ctx.info().type != "cpu") impl_ = std::make_unique<Impl>(ctx);
+}
+DeviceWarmer::~DeviceWarmer() = default;
+
+WarmUp DeviceWarmer::warm(const WarmUpPolicy& policy) {
+  if (!impl_) {
+    WarmUp w;
+    w.policy = policy;
+    w.skipped = "a CPU device: no clocks to warm";
+    return w;
+  }
   const auto start = std::chrono::steady_clock::now();
   return warmUntilSteady(
-      round, policy, [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); });
+      [&] { return impl_->round(); }, policy,
+      [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); });
 }
+
+WarmUp warmDevice(const VulkanContext& ctx, const WarmUpPolicy& policy) { return DeviceWarmer(ctx).warm(policy); }
 
 nlohmann::json toJson(const WarmUp& w) {
   if (!w.ran) return {{"ran", false}, {"skipped", w.skipped}};

@@ -4,6 +4,8 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -36,8 +38,24 @@ struct WarmUp {
 WarmUp warmUntilSteady(const std::function<double()>& roundMs, const WarmUpPolicy& policy,
                        const std::function<double()>& nowSeconds);
 
-// Warms ctx's device with rounds of fp32 FMA and a buffer read (about 0.1 s a round on an H200),
-// timed by GPU timestamps. A CPU device is skipped.
+// Rounds of fp32 FMA and a buffer read (about 0.05 s a round on an H200), timed by GPU timestamps,
+// until steady. Its buffers and pipelines are made once, so that a measurement can warm the device
+// again right before it is timed: a GPU that idled while the CPU worked (a BVH build, ray sets made
+// on the CPU) drops its clocks within a second. A CPU device is skipped.
+class DeviceWarmer {
+ public:
+  explicit DeviceWarmer(const VulkanContext& ctx);
+  ~DeviceWarmer();
+  WarmUp warm(const WarmUpPolicy& policy = {});
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+// Before a timed measurement: the last 3 rounds within 2 %, at least 3 rounds, at most 5 s.
+inline constexpr WarmUpPolicy kRewarmPolicy{0.02, 3, 3, 5.0};
+
+// The whole warm-up, once (DeviceWarmer(ctx).warm(policy)).
 WarmUp warmDevice(const VulkanContext& ctx, const WarmUpPolicy& policy = {});
 
 // {"ran", "settled", "rounds", "seconds", "spread", "tolerance", "window", "max_seconds", "ms"}, or
