@@ -256,8 +256,9 @@ int cmdRaysTable(const std::vector<std::string>& files, bool work, bool compiled
     if (names.empty()) {
       std::printf("\nNo file carries the driver's pipeline statistics (VK_KHR_pipeline_executable_properties).\n");
     } else {
-      std::printf("\nWhat the driver compiled each compute kernel into (raybench's compiled: "
-                  "VK_KHR_pipeline_executable_properties, its names):\n\n| file | backend |");
+      std::printf(
+          "\nWhat the driver compiled each compute kernel into (raybench's compiled: "
+          "VK_KHR_pipeline_executable_properties, its names):\n\n| file | backend |");
       for (const std::string& n : names) std::printf(" %s |", n.c_str());
       std::printf("\n|---|---|");
       for (size_t i = 0; i < names.size(); ++i) std::printf("---:|");
