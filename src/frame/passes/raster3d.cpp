@@ -313,8 +313,16 @@ bool Raster3dPass::growList() {
     listFits_ = true;  // this view's frames fit: no more copies
     return false;
   }
+  // As large as a storage buffer binding may be (and 32-bit item indices): past that a full list
+  // is handled as before (counted as tile_list_overflows), and the list stops growing.
+  const uint64_t bindable = (uint64_t(ctx_.properties().limits.maxStorageBufferRange) - kItemsHeader) / 8;
+  const uint64_t most = std::min<uint64_t>(bindable, 0xFFFFFFFFull) / 64 * 64;
+  const uint64_t grown = std::min<uint64_t>((demand + 63) / 64 * 64, most);
+  if (grown <= itemCapacity_) {
+    listFits_ = true;
+    return false;
+  }
   if (grownFrom_ == 0) grownFrom_ = itemCapacity_;
-  const uint64_t grown = std::min<uint64_t>((demand + 63) / 64 * 64, 0xFFFFFFC0ull);
   vkDeviceWaitIdle(ctx_.device());  // the old lists' last frame is done (the caller waited on it)
   makeLists(grown);
   return true;

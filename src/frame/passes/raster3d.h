@@ -120,7 +120,9 @@ class Raster3dPass {
   // The work list (3dr, 3dr-binned, 2dr, 2dr-binned): the items it holds, and after a frame
   // whether a plane asked for more. growList() makes it hold the most any plane of the last frame
   // asked for (rounded up to 64), so that the frame rendered again finds it full nowhere: the same
-  // work (and no overflow) on every run; false when it already did (or the method has no list).
+  // work (and no overflow) on every run; false when it already did, when it cannot grow past what a
+  // storage buffer binding may hold (a full list is then handled and counted), or the method has
+  // no list.
   // Each frame reads the demand back until one fits (a copy of 8 bytes after the dispatches).
   uint64_t listCapacity() const { return itemCapacity_; }
   bool growList();
