@@ -73,6 +73,24 @@ const std::vector<std::string> kRayFigures = {"rays_camera",
 enum class RayFigures { None, Driver, Every };
 const std::vector<std::string> kDriverRayFigures = {"rays_camera", "rays_random_closest", "rays_random_occlusion"};
 
+// A measurement's telemetry (gpu/telemetry.h toJson): both readings, the verdict and its reasons;
+// or, where NVML cannot be used, available false and the reason alone.
+void expectTelemetryShape(const json& t) {
+  ASSERT_TRUE(t.is_object()) << t.dump();
+  ASSERT_TRUE(t["available"].is_boolean()) << t.dump();
+  if (t["available"] == false) {
+    EXPECT_NE(t.value("reason", ""), "") << t.dump();
+    EXPECT_FALSE(t.contains("before")) << t.dump();
+    return;
+  }
+  for (const char* side : {"before", "after"})
+    for (const char* key : {"sm_clock_mhz", "memory_clock_mhz", "power_w", "temperature_c", "clock_reasons"})
+      EXPECT_TRUE(t[side].contains(key)) << side << "." << key;
+  EXPECT_TRUE(t["throttled"].is_boolean() || t["throttled"].is_null()) << t.dump();
+  EXPECT_TRUE(t["throttle_reasons"].is_array()) << t.dump();
+  EXPECT_EQ(t.contains("warning"), t["throttled"] == true) << t.dump();
+}
+
 void expectPeaksShape(const json& p, RayFigures which) {
   const bool rays = which == RayFigures::Every;
   EXPECT_EQ(p.value("version", 0), 2);
@@ -143,13 +161,15 @@ TEST_F(Peaks, JsonHasEveryFigurePositiveAndTheTableTheSame) {
   const json p = json::parse(r.out, nullptr, false);
   ASSERT_FALSE(p.is_discarded()) << r.out;
   expectPeaksShape(p, RayFigures::Every);
-  // The cache holds what was printed but the scene's ray rates.
+  expectTelemetryShape(p["telemetry"]);
+  // The cache holds what was printed but the scene's ray rates and the telemetry of this run.
   std::vector<fs::path> cached;
   for (const auto& e : fs::directory_iterator(dir / "cache")) cached.push_back(e.path());
   ASSERT_EQ(cached.size(), 1u);
   const json cache = json::parse(readFile(cached[0]));
   expectPeaksShape(cache, RayFigures::None);
   json deviceOnly = p;
+  deviceOnly.erase("telemetry");
   for (const std::string& k : kRayFigures) deviceOnly["figures"].erase(k);
   std::vector<std::string> publicSets;  // the public tracers' sets are the scene's too
   for (const auto& [key, f] : deviceOnly["figures"].items())
@@ -198,6 +218,19 @@ TEST_F(Peaks, EveryTimedPassOfEveryKindHasARoofline) {
     EXPECT_TRUE(warm["settled"].is_boolean());
   }
   EXPECT_TRUE(peaks.contains("warm_up")) << peaks.dump().substr(0, 300);
+  // NVML's telemetry (gpu/telemetry.h): the device's once, and each variant's before and after its
+  // measured frames; on a device without it (lavapipe here) one field says why, and nothing fails.
+  const json& telemetry = results["context"]["device"]["telemetry"];
+  ASSERT_TRUE(telemetry.is_object()) << results["context"]["device"].dump().substr(0, 300);
+  if (telemetry["available"] == true)
+    EXPECT_TRUE(telemetry.contains("max_sm_clock_mhz")) << telemetry.dump();
+  else
+    EXPECT_NE(telemetry.value("reason", ""), "") << telemetry.dump();
+  for (const json& run : results["runs"]) {
+    SCOPED_TRACE(run.value("name", ""));
+    expectTelemetryShape(run["telemetry"]);
+    EXPECT_EQ(run["telemetry"]["available"], telemetry["available"]);
+  }
   std::set<std::string> entriesSeen;
   for (const json& run : results["runs"]) {
     SCOPED_TRACE(run.value("name", ""));

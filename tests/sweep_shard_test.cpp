@@ -24,9 +24,10 @@ const fs::path kShardFixture = fs::path(HYBRIDBENCH_SOURCE_DIR) / "tests/fixture
 
 // What a run's record holds that is a time, or computed from one: left out of the comparison.
 // roofline's achieved rates and fractions divide by times; its work (counted or derived) is kept.
-const std::set<std::string> kShardTimedKeys = {"frame_ms", "passes",        "frame_minus_passes_ms",
-                                               "warmup_s", "raybench",      "analysis_s",
-                                               "build_ms", "warmup_frames", "roofline"};
+// telemetry: the clocks, power and temperature read around the frames (gpu/telemetry.h), measured too.
+const std::set<std::string> kShardTimedKeys = {
+    "frame_ms",   "passes",   "frame_minus_passes_ms", "warmup_s", "raybench",
+    "analysis_s", "build_ms", "warmup_frames",         "roofline", "telemetry"};
 
 // Every field of a and b but the timed ones, as "path: a -> b" lines.
 void shardDiffUntimed(const json& a, const json& b, const std::string& path, std::vector<std::string>& out) {

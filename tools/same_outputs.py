@@ -18,9 +18,10 @@ import struct
 import sys
 import zlib
 
-# Keys that are times, or where the config file lay (origin), not what was computed.
+# Keys that are times, or where the config file lay (origin), not what was computed; telemetry is the
+# device's clocks, power and temperature read around the frames, measured as the times are.
 TIMING = {"origin", "frame_ms", "passes", "frame_minus_passes_ms", "warmup_s", "raybench", "analysis_s", "build_ms", "bvh_build_ms",
-          "warmup_frames"}
+          "warmup_frames", "telemetry"}
 
 
 def untimed(run):

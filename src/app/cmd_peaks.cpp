@@ -9,6 +9,7 @@
 #include "base/errors.h"
 #include "base/text_format.h"
 #include "gpu/peaks.h"
+#include "gpu/telemetry.h"
 
 namespace hb {
 
@@ -18,12 +19,21 @@ int cmdPeaks(const std::string& device, const std::string& scene, bool json) {
   const uint32_t index = resolveDevice(devices, device.empty() ? "0" : device);
   VulkanContext ctx(index);
   if (!json) std::fprintf(stderr, "peaks: measuring on %s ...\n", ctx.info().name.c_str());
+  // The clocks before the warm-up and after the last figure (gpu/telemetry.h): whether the figures
+  // were measured at a throttled speed. Printed with the figures, not cached.
+  const Telemetry telemetry = Telemetry::open(ctx.info());
+  const std::optional<TelemetrySample> before = telemetry.sample();
   Peaks peaks = measurePeaks(ctx);
   const nlohmann::json deviceOnly = toJson(peaks, ctx.info());
   addRayPeaks(ctx, rayScene, peaks);        // scene-dependent: printed, not cached
   addPublicRayPeaks(ctx, rayScene, peaks);  // the public tracers' three sets, beside them
+  const std::optional<TelemetrySample> after = telemetry.sample();
   for (const std::string& w : peaks.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-  const nlohmann::json j = toJson(peaks, ctx.info());
+  nlohmann::json j = toJson(peaks, ctx.info());
+  j["telemetry"] = telemetry.measurementJson(before, after);
+  if (telemetry.available()) j["telemetry"]["device"] = telemetry.deviceJson();  // its highest clocks
+  if (const auto w = j["telemetry"].find("warning"); w != j["telemetry"].end() && w->is_string())
+    std::fprintf(stderr, "warning: the peaks: %s\n", w->get<std::string>().c_str());
   // The cache (gpu/peaks.h cachedPeaks) takes the fresh figures, so later sweeps use them.
   const std::string path = peaksCachePath(ctx.info());
   bool cached = false;

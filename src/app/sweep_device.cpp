@@ -31,6 +31,7 @@
 #include "frame/ray_backend.h"
 #include "frame/renderer.h"
 #include "gltf/gltf_io.h"
+#include "gpu/telemetry.h"
 #include "gpu/vk_resources.h"
 #include "gpu/warm_up.h"
 #include "report/all_tables.h"
@@ -48,6 +49,14 @@ namespace {
 
 volatile std::sig_atomic_t gInterrupted = 0;
 void onSignal(int) { gInterrupted = 1; }
+
+// A run's telemetry warning (the clocks throttled while its frames were measured), or null.
+const json* throttleWarningOf(const json& run) {
+  const auto t = run.find("telemetry");
+  if (t == run.end() || !t->is_object()) return nullptr;
+  const auto w = t->find("warning");
+  return w != t->end() && w->is_string() ? &*w : nullptr;
+}
 
 std::string joinNames(const std::vector<std::string>& names) {
   std::string s;
@@ -92,10 +101,12 @@ class ReferenceCache {
   std::map<std::string, ReferenceFrame> frames_;
 };
 
-// Runs one variant; returns its run record (status ok) or throws.
+// Runs one variant; returns its run record (status ok) or throws. `telemetry` reads the device's
+// clocks before and after the measured frames (run["telemetry"]).
 json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v, SceneCache& scenes,
                 ReferenceCache& references, const std::string& imageDir, bool images, uint32_t warmup,
-                uint32_t measured, const Peaks& peaks, const std::function<void(const char*)>& step) {
+                uint32_t measured, const Peaks& peaks, const Telemetry& telemetry,
+                const std::function<void(const char*)>& step) {
   step("scene");
   const Scene& scene = scenes.get(config, v.params);
   step("reference frame");
@@ -133,6 +144,9 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   std::map<std::string, std::vector<double>> passMs;
   std::vector<std::string> passOrder;
   step("measured frames");
+  // The clocks, power, temperature and clocks event reasons right before and after the measured
+  // frames (gpu/telemetry.h; outside them: each reading is a few NVML calls on the CPU).
+  const std::optional<TelemetrySample> before = telemetry.sample();
   for (uint32_t i = 0; i < measured && !gInterrupted; ++i) {
     FrameTiming t = renderer.renderFrame(false);
     frameMs.push_back(t.frameMs);
@@ -141,6 +155,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
       passMs[pass].push_back(ms);
     }
   }
+  const std::optional<TelemetrySample> after = telemetry.sample();
   if (gInterrupted) throw std::runtime_error("interrupted");
   step("analysis frame");
   renderer.renderFrame(true);  // analysis frame: counters, readbacks, images
@@ -187,6 +202,7 @@ json runVariant(const VulkanContext& ctx, const Config& config, const Variant& v
   run["frames"] = measured;
   run["warmup_frames"] = warmed;  // rendered: at least the configured count (see above)
   run["warmup_s"] = warmupSeconds;
+  run["telemetry"] = telemetry.measurementJson(before, after);  // with "warning" when it throttled
   Summary fs_ = summarize(frameMs);
   run["frame_ms"] = toJson(fs_, frameMs);
   run["passes"] = json::object();
@@ -372,6 +388,10 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
     std::fprintf(stderr, "warning: %s\n", w.c_str());
     context["device"]["warm_up"]["warning"] = w;
   }
+  // NVML, open for all of this worker's variants (gpu/telemetry.h): unavailable, with its reason,
+  // on a device that is not NVIDIA or without the NVIDIA driver.
+  const Telemetry telemetry = Telemetry::open(ctx.info());
+  context["device"]["telemetry"] = telemetry.deviceJson();
   parent.send("context", context.dump());
   ReferenceCache references;  // across the variants of this worker
   for (const size_t k : parsePositions(options.workerVariants, variants.size())) {
@@ -381,7 +401,7 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
     json run;
     try {
       run = runVariant(ctx, config, v, scenes, references, (fs::path(outDir) / slug(v.name)).string(), options.images,
-                       config.warmupFrames, config.measuredFrames, peaks,
+                       config.warmupFrames, config.measuredFrames, peaks, telemetry,
                        [&](const char* what) { parent.send("step", what); });
     } catch (const std::exception& e) {
       if (gInterrupted) break;  // the unfinished variant is not recorded; --resume runs it
@@ -548,6 +568,11 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
           console.print(format("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
                                variants[size_t(current)].name.c_str(), run.value("error", "").c_str()));
         }
+        if (const json* w = throttleWarningOf(run))
+          std::fprintf(stderr, "%swarning: %svariant \"%s\": %s\n",
+                       isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
+                       console.shared() ? (device.name + ": ").c_str() : "", variants[size_t(current)].name.c_str(),
+                       w->get<std::string>().c_str());
         slots[size_t(current)] = run;
         ++finished;
         current = -1;

@@ -249,7 +249,22 @@ std::vector<std::string> warningsOf(const json& results) {
   for (const json& run : results["runs"])
     if (results::at(run, "analysis_not_run").is_string())
       out.push_back(reportText(run, "name") + ": analysis not run: " + run["analysis_not_run"].get<std::string>());
+  // A variant whose clocks throttled while its frames were measured (gpu/telemetry.h).
+  for (const json& run : results["runs"])
+    if (const json& w = results::at(results::at(run, "telemetry"), "warning"); w.is_string())
+      out.push_back(reportText(run, "name") + ": telemetry: " + w.get<std::string>());
   return out;
+}
+
+// Where the clocks around each variant's frames were read (gpu/telemetry.h), or why none were.
+std::string telemetryText(const json& telemetry) {
+  if (results::at(telemetry, "available") != true) return "none: " + reportText(telemetry, "reason");
+  std::string s = "NVML";
+  if (const std::string sm = reportText(telemetry, "max_sm_clock_mhz"); !sm.empty())
+    s += ", max SM clock " + sm + " MHz";
+  if (const std::string memory = reportText(telemetry, "max_memory_clock_mhz"); !memory.empty())
+    s += ", max memory clock " + memory + " MHz";
+  return s;
 }
 
 std::string contextSection(const json& results, const std::string& source) {
@@ -291,6 +306,7 @@ std::string contextSection(const json& results, const std::string& source) {
   if (frames.is_object())
     row("frames", joined({reportText(frames, "warmup") + " warm-up", reportText(frames, "measured") + " measured"}));
   row("timing", reportText(c, "timing_source"));
+  if (const json& t = results::at(device, "telemetry"); t.is_object()) row("telemetry", telemetryText(t));
   std::string out = "<section id=\"context\"><h2>Context</h2>\n<table class=\"kv\">\n" + rows + "</table>\n";
   if (!config.is_null())
     out += "<details><summary>the full config</summary><pre>" + htmlText(config.dump(2)) + "</pre></details>\n";

@@ -109,6 +109,33 @@ TEST(HtmlReport, FailedRunsAreListedAtTheTopAndHaveNoPoint) {
   EXPECT_EQ(reportPage(reportFixture()).find("<section id=\"failed\""), std::string::npos);
 }
 
+TEST(HtmlReport, AVariantThatThrottledIsAWarningAndTheContextSaysWhereItsClocksWereRead) {
+  json r = reportFixture();
+  const std::string name = r["runs"][1]["name"];
+  r["runs"][1]["telemetry"] = {{"available", true},
+                               {"throttled", true},
+                               {"throttle_reasons", {"sw_power_cap"}},
+                               {"warning", "the GPU's clocks were held down while it was measured"}};
+  r["runs"][2]["telemetry"] = {{"available", true}, {"throttled", false}, {"throttle_reasons", json::array()}};
+  r["context"]["device"]["telemetry"] = {
+      {"available", true}, {"max_sm_clock_mhz", 1980}, {"max_memory_clock_mhz", 3201}};
+  const std::string html = reportPage(r);
+  const std::string warnings = textBetween(html, "<section id=\"warnings\"", "</section>");
+  EXPECT_NE(
+      warnings.find("<li>" + name + ": telemetry: the GPU&apos;s clocks were held down while it was measured</li>"),
+      std::string::npos)
+      << warnings;
+  EXPECT_EQ(htmlOccurrences(warnings, ": telemetry: "), 1u);  // the run that did not throttle has none
+  EXPECT_NE(html.find("<th>telemetry</th><td>NVML, max SM clock 1980 MHz, max memory clock 3201 MHz</td>"),
+            std::string::npos);
+  r["context"]["device"]["telemetry"] = {{"available", false}, {"reason", "no libnvidia-ml.so.1"}};
+  EXPECT_NE(reportPage(r).find("<th>telemetry</th><td>none: no libnvidia-ml.so.1</td>"), std::string::npos);
+  // Results written before telemetry: no row, no warning.
+  const std::string before = reportPage(reportFixture());
+  EXPECT_EQ(before.find("<th>telemetry</th>"), std::string::npos);
+  EXPECT_EQ(before.find(": telemetry: "), std::string::npos);
+}
+
 TEST(HtmlReport, ReferencesNothingOutsideTheReportsFolderAndNoScript) {
   const json r = reportFixture();
   std::map<std::string, std::vector<ReportImage>> images;
