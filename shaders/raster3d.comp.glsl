@@ -2,22 +2,27 @@
 // Primary visibility by 3D rasterization (raster3d.glsl.inc) or by the paper's 2D homogeneous
 // baseline (METHOD2D), brute force over each triangle's screen box ("3dr", "2dr") or binned into
 // the screen's 8x8 tiles ("3dr-binned"). The per-triangle and per-work-item passes (this shader;
-// only PASS 0 uses shared memory, 1.5 KB, so none loses occupancy to it):
+// only PASS 0 uses shared memory, 0.5 KB, so none loses occupancy to it):
 //   PASS 0: one thread per triangle: setup and screen box; a box of at most smallArea pixels is
-//           rasterized by the thread itself; a larger one is appended as work items (one
-//           atomicAdd per triangle): brute force, the 8x8 tiles of its box; binned, the screen's
-//           8x8 tiles the box overlaps. The workgroup's 64 threads write those items together.
+//           rasterized by the thread itself; a larger one takes work items in the list (brute
+//           force: the 8x8 tiles of its box; binned: the screen's 8x8 tiles the box overlaps) and
+//           writes one span (its id and first item). The workgroup takes its items and spans with
+//           one atomic. The passes after it expand the items from the spans, a thread (binned) or
+//           a workgroup (brute force) per item: a triangle's items were written by its own
+//           workgroup before, and the two workgroups of a view's floor triangles near the eye
+//           wrote 191k and 153k items (the atrium at 1080p) while the pass waited for them.
 //           When the list is full the thread rasterizes its box itself: slower, never a dropped
-//           pixel (counted), and marks the slots it took empty (kNoItem). Which triangles find it
-//           full depends on the order of the atomics, so the items every big triangle asks for
-//           are summed too (itemDemand; the next pass keeps the most of any plane), and the host
-//           grows the list to that and renders the frame again (Raster3dPass::growList): the
-//           frames a run keeps find it full nowhere, on every run.
+//           pixel (counted), and its span marks the slots it took empty (kNoItem). Which
+//           triangles find it full depends on the order of the atomics, so the items every big
+//           triangle asks for are summed too (itemDemand; the next pass keeps the most of any
+//           plane), and the host grows the list to that and renders the frame again
+//           (Raster3dPass::growList): the frames a run keeps find it full nowhere, on every run.
 //   PASS 1: brute force: tileWorkgroups workgroups of 64 threads stride over the work items, one
 //           pixel each, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
-//   PASS 3: count: keeps an item if the triangle can touch its tile (tileMayBeCovered: its edge
-//           functions at the tile's corners) and counts +1 on the tile.
+//   PASS 3: count: finds each item's triangle and tile (its span), keeps the item if the
+//           triangle can touch the tile (tileMayBeCovered: its edge functions at the tile's
+//           corners), counts +1 on the tile and writes the item for the fill.
 //   (raster3d_scan.comp.glsl: each tile's first list entry.)
 //   PASS 4: fill: each kept item's triangle id at its tile's offset + atomicAdd(cursor).
 //   (raster3d_tiles.comp.glsl: one workgroup per screen tile rasterizes its list.)
@@ -33,29 +38,21 @@
 #include "raster3d_common.glsl.inc"
 layout(local_size_x = 64) in;
 
-// PASS 0's big triangles of this workgroup, whose items all 64 threads write together: one thread
-// writing a big box's items alone took up to the whole pass (a triangle across half the screen
-// has about 16,000), 0.28 ms in brute force and 0.61 ms binned on the atrium at 1080p on an H200
-// whatever the thread box (results/h200/continuum-32/pass0).
-shared uint sBigId[64];
-shared uint sBigFirst[64];
-shared uvec4 sBigSpan[64];  // first tile x, first tile y, tiles a row, items
-shared uint sBigCount;
-shared uint sDemand;  // the items this workgroup's big triangles ask for
+// PASS 0: what each thread's triangle asks of the list, and the workgroup's prefix sums over them
+// (inclusive, in thread order, so that a workgroup's spans are in the order of its items).
+shared uint sItems[64];
+shared uint sSpans[64];
+shared uvec2 sBase;  // where the workgroup's items and spans start
 
 void perTriangle() {
   const uint lid = gl_LocalInvocationID.x;
-  if (lid == 0u) {
-    sBigCount = 0u;
-    sDemand = 0u;
-  }
-  barrier();
   const uint id = gl_GlobalInvocationID.x;
   R3dSetup s;
   ivec2 lo, hi;
-  // Every thread reaches both barriers: no early return.
+  // Every thread reaches the barriers: no early return.
   bool own = id < r3.triangleCount && setupTriangle(id, s, lo, hi);  // rasterized by this thread
   Tally tally = Tally(0u, 0u, 0u, 0u);
+  uint n = 0u;  // the items a big triangle asks for
   if (own) {
     const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
     const bool big = w * h > r3.smallArea;
@@ -63,42 +60,50 @@ void perTriangle() {
       atomicAdd(counters[kR3dCounterSetups], 1ul);
       if (big) atomicAdd(counters[kR3dCounterBig], 1ul);
     }
-    if (big) {
-      // Brute force: the 8x8 tiles of the box; binned: the screen tiles the box overlaps.
-      const uvec2 t0 = BINNED == 1 ? uvec2(lo) / 8u : uvec2(0u);
-      const uvec2 t1 = BINNED == 1 ? uvec2(hi) / 8u : uvec2(w - 1u, h - 1u) / 8u;
-      const uint tw = t1.x - t0.x + 1u, th = t1.y - t0.y + 1u;
-      const uint n = tw * th;
-      atomicAdd(sDemand, n);
-      // Once the list is full (a read that may be stale: then the atomicAdd below decides), no slot
-      // is taken; this also keeps itemCount far from wrapping around 2^32.
-      const uint first = itemCount >= r3.itemCapacity ? r3.itemCapacity : atomicAdd(itemCount, n);
-      if (first + n <= r3.itemCapacity) {
-        const uint k = atomicAdd(sBigCount, 1u);
-        sBigId[k] = id;
-        sBigFirst[k] = first;
-        sBigSpan[k] = uvec4(t0, tw, n);
-        own = false;
-      } else {
-        // The slots of the list this thread took but cannot fill are marked empty: the passes
-        // after it read the list up to min(itemCount, itemCapacity), and a slot left unwritten
-        // would hold a previous frame's item (a pair tested twice: coverage counted twice, or in
-        // binned mode a kept item filled into a tile whose count did not include it, overwriting
-        // another tile's entries). Then this thread rasterizes its box.
-        for (uint i = first; i < min(first + n, r3.itemCapacity); ++i) items[i] = uvec2(kNoItem, 0u);
-        if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
+    // Brute force: the 8x8 tiles of the box; binned: the screen tiles the box overlaps.
+    if (big) n = BINNED == 1 ? (uint(hi.x) / 8u - uint(lo.x) / 8u + 1u) * (uint(hi.y) / 8u - uint(lo.y) / 8u + 1u)
+                             : ((w + 7u) / 8u) * ((h + 7u) / 8u);
+  }
+  sItems[lid] = n;
+  sSpans[lid] = n > 0u ? 1u : 0u;
+  barrier();
+  for (uint d = 1u; d < 64u; d <<= 1u) {
+    const uvec2 add = lid >= d ? uvec2(sItems[lid - d], sSpans[lid - d]) : uvec2(0u);
+    barrier();
+    sItems[lid] += add.x;
+    sSpans[lid] += add.y;
+    barrier();
+  }
+  // One 64-bit atomic a workgroup takes its items and its spans together (tens of thousands of
+  // atomics on one address serialize in the L2). Once the list is full (a read that may be stale:
+  // then the atomicAdd decides) nothing is taken; this also keeps the item count far from wrapping
+  // around 2^32.
+  const uint items = sItems[63], spanTotal = sSpans[63];
+  if (lid == 0u) {
+    sBase = uvec2(r3.itemCapacity, kNoItem);  // nothing taken
+    if (items > 0u) {
+      atomicAdd(itemDemand, uint64_t(items));
+      if (itemCount() < r3.itemCapacity) {
+        const uint64_t was = atomicAdd(itemsAndSpans, (uint64_t(spanTotal) << 32) | uint64_t(items));
+        sBase = uvec2(uint(was & 0xFFFFFFFFul), uint(was >> 32));
       }
     }
   }
   barrier();
-  if (lid == 0u && sDemand > 0u) atomicAdd(itemDemand, uint64_t(sDemand));
-  const uint bigCount = sBigCount;
-  for (uint b = 0u; b < bigCount; ++b) {
-    const uvec4 span = sBigSpan[b];
-    const uint bid = sBigId[b], first = sBigFirst[b];
-    for (uint i = lid; i < span.w; i += 64u) {
-      const uint ty = i / span.z, tx = i - ty * span.z;
-      items[first + i] = BINNED == 1 ? uvec2(bid, (span.y + ty) * tilesX() + span.x + tx) : uvec2(bid, tx | (ty << 16));
+  const uvec2 base = sBase;
+  if (n > 0u) {
+    // A span for every big triangle once the workgroup took its slots (a slot the passes after it
+    // read must belong to a written span: one of an earlier frame would be another triangle's).
+    const uint first = base.x + sItems[lid] - n;
+    const bool fits = base.x < r3.itemCapacity && first + n <= r3.itemCapacity;
+    if (base.y != kNoItem) spans[base.y + sSpans[lid] - 1u] = uvec2(fits ? id : kNoItem, first);
+    if (fits) {
+      own = false;
+    } else {
+      // The list is full: this thread rasterizes its box (slower, never a dropped pixel; counted).
+      // Its span (id kNoItem) covers the slots it took, up to the end of the list: no pass reads
+      // them as items. Spans after it, of this workgroup or a later one, start at or past the end.
+      if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
     }
   }
   if (own) rasterizeBox(id, s, uvec2(lo), hi, tally);
@@ -113,44 +118,82 @@ void keepDemand() {
 
 void perItem() {
   keepDemand();
-  const uint count = min(itemCount, r3.itemCapacity);
+  // Each workgroup walks a run of consecutive items, a pixel a thread: a triangle's items are
+  // consecutive, so the workgroup finds its span and sets it up once for all of them.
+  const uint count = min(itemCount(), r3.itemCapacity);
+  const uint per = (count + gl_NumWorkGroups.x - 1u) / gl_NumWorkGroups.x;
+  const uint begin = gl_WorkGroupID.x * per, end = min(begin + per, count);
   Tally tally = Tally(0u, 0u, 0u, 0u);
-  for (uint item = gl_WorkGroupID.x; item < count; item += gl_NumWorkGroups.x) {
-    const uvec2 it = items[item];
-    if (it.x == kNoItem) continue;  // a slot of a triangle that found the list full
-    R3dSetup s;
-    ivec2 lo, hi;
-    if (!setupTriangle(it.x, s, lo, hi)) continue;  // never: PASS 0 set it up the same way
-    const uint x0 = uint(lo.x) + (it.y & 0xFFFFu) * 8u, y0 = uint(lo.y) + (it.y >> 16) * 8u;
-    const uint x = x0 + gl_LocalInvocationID.x % 8u, y = y0 + gl_LocalInvocationID.x / 8u;
-    if (x <= uint(hi.x) && y <= uint(hi.y)) testPixel(it.x, s, x, y, tally);
+  uint spanEnd = begin, id = kNoItem, first = 0u, tilesWide = 1u;
+  R3dSetup s;
+  ivec2 lo = ivec2(0), hi = ivec2(-1);
+  for (uint item = begin; item < end; ++item) {
+    if (item >= spanEnd) {  // the next span (uniform across the workgroup)
+      const uint k = findSpan(item);
+      spanEnd = k + 1u < spanCount() ? spans[k + 1u].y : count;
+      id = spans[k].x;
+      first = spans[k].y;
+      // (setupTriangle never fails here: PASS 0 set the triangle up the same way.)
+      if (id == kNoItem || !setupTriangle(id, s, lo, hi)) {
+        item = spanEnd - 1u;  // a triangle that found the list full: its slots hold nothing
+        continue;
+      }
+      tilesWide = uint(hi.x - lo.x) / 8u + 1u;
+    }
+    const uint index = item - first, ty = index / tilesWide, tx = index - ty * tilesWide;
+    const uint x = uint(lo.x) + tx * 8u + gl_LocalInvocationID.x % 8u;
+    const uint y = uint(lo.y) + ty * 8u + gl_LocalInvocationID.x / 8u;
+    if (x <= uint(hi.x) && y <= uint(hi.y)) testPixel(id, s, x, y, tally);
   }
   flush(tally);
 }
 
-// Binned, PASS 3 (count) and PASS 4 (fill): a thread per work item, striding.
-void binItems(bool fill) {
-  if (!fill) keepDemand();
-  const uint count = min(itemCount, r3.itemCapacity), T = tileCount();
+// Binned, PASS 3 (count): a thread per work item, 64 consecutive items a workgroup at a time, each
+// found in its span (the workgroup's first and last item bound the search) and written for the
+// fill: (id, screen tile | kKept) when the triangle can touch the tile.
+shared uint sSpanLo, sSpanHi;  // two words: two threads write them (a vector's component write may be a whole-vector store)
+
+void countItems() {
+  keepDemand();
+  const uint count = min(itemCount(), r3.itemCapacity), lid = gl_LocalInvocationID.x;
+  const uint stride = gl_NumWorkGroups.x * 64u;
+  for (uint chunk = gl_WorkGroupID.x * 64u; chunk < count; chunk += stride) {
+    if (lid == 0u) sSpanLo = findSpan(chunk);
+    if (lid == 63u) sSpanHi = findSpan(min(chunk + 63u, count - 1u)) + 1u;
+    barrier();
+    const uint item = chunk + lid;
+    if (item < count) {
+      const uvec2 span = spans[findSpanIn(item, sSpanLo, sSpanHi)];
+      R3dSetup s;
+      ivec2 lo, hi;
+      // (setupTriangle never fails here: PASS 0 set the triangle up the same way.)
+      if (span.x == kNoItem || !setupTriangle(span.x, s, lo, hi)) {
+        items[item] = uvec2(kNoItem, 0u);
+      } else {
+        const uint index = item - span.y, tilesWide = uint(hi.x) / 8u - uint(lo.x) / 8u + 1u;
+        const uint ty = index / tilesWide, tx = index - ty * tilesWide;
+        const uint tile = (uint(lo.y) / 8u + ty) * tilesX() + uint(lo.x) / 8u + tx;
+        uvec2 a;
+        ivec2 b;
+        tileInBox(tile % tilesX(), tile / tilesX(), lo, hi, a, b);
+        const bool kept = tileMayBeCovered(s, a.x, a.y, b);
+        if (kept) atomicAdd(bins[tile], 1u);
+        items[item] = uvec2(span.x, kept ? tile | kKept : tile);
+      }
+    }
+    barrier();  // sSpanLo and sSpanHi are the next chunk's
+  }
+}
+
+// Binned, PASS 4 (fill): a thread per kept item, striding: its triangle id at its tile's offset.
+void fillItems() {
+  const uint count = min(itemCount(), r3.itemCapacity), T = tileCount();
   const uint stride = gl_NumWorkGroups.x * 64u;
   Tally tally = Tally(0u, 0u, 0u, 0u);
   for (uint item = gl_GlobalInvocationID.x; item < count; item += stride) {
     const uvec2 it = items[item];
-    if (it.x == kNoItem) continue;  // a slot of a triangle that found the list full
+    if (it.x == kNoItem || (it.y & kKept) == 0u) continue;
     const uint tile = it.y & ~kKept;
-    if (!fill) {
-      R3dSetup s;
-      ivec2 lo, hi;
-      if (!setupTriangle(it.x, s, lo, hi)) continue;  // never: PASS 0 set it up the same way
-      uvec2 a;
-      ivec2 b;
-      tileInBox(tile % tilesX(), tile / tilesX(), lo, hi, a, b);
-      if (!tileMayBeCovered(s, a.x, a.y, b)) continue;
-      atomicAdd(bins[tile], 1u);
-      items[item].y = it.y | kKept;
-      continue;
-    }
-    if ((it.y & kKept) == 0u) continue;
     const uint entry = bins[T + tile] + atomicAdd(bins[2u * T + tile], 1u);
     if (entry < r3.itemCapacity) {
       binList[entry] = it.x;
@@ -174,6 +217,8 @@ void main() {
     perTriangle();
   else if (PASS == 1)
     perItem();
+  else if (PASS == 3)
+    countItems();
   else
-    binItems(PASS == 4);
+    fillItems();
 }

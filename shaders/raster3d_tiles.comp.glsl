@@ -18,12 +18,46 @@
 layout(local_size_x = 64) in;
 layout(constant_id = 6) const uint EARLYZ = 0;
 
-shared R3dSetup sSetup[64];
+// The batch's setups, as 16-byte vectors (one shared load each). The fast path below reads the
+// rows, the bound and the box; the rest rebuilds an R3dSetup where the test needs one.
+shared vec4 sRowA[64];   // rowA, the plane's offset
+shared vec4 sRowB[64];   // rowB
+shared uint sId[64];     // the triangle id
+shared vec4 sRowC[64];   // rowC, the volume
+shared vec4 sBound[64];  // the largest rounding bound of r3dCovers over the tile (with a margin), EARLYZ: zmin
+shared vec4 sPlane[64];  // the plane's normal, the orientation
+shared vec4 sErrA[64], sErrB[64], sErrC[64], sP0[64], sP1[64], sP2[64];
 shared ivec4 sBox[64];  // lo, hi; empty (hi < lo) for a slot past the batch
-shared uint sId[64];
-shared uint sHit[64];  // ANALYSIS: did entry j cover a pixel of the tile (bins refined without a hit)
-shared float sZmin[64];  // EARLYZ: the triangle's nearest vertex depth, less its rounding margin
-shared uint sTileMax;    // EARLYZ: max over the tile's pixels of their key's t bits
+shared uint sHit[64];   // ANALYSIS: did entry j cover a pixel of the tile (bins refined without a hit)
+shared uint sTileMax;   // EARLYZ: max over the tile's pixels of their key's t bits
+
+// The fast path: timed frames (no counts), 3D rasterization of a perspective view. V_i is evaluated
+// exactly as r3dCovers does (precise: the same operations), and its rounding bound there grows with
+// x and y (every term >= 0, each operation monotone), so at this tile's pixels it is at most the
+// bound at the tile's last pixel; that, times 1.001 for a compiler that contracts the two
+// evaluations differently (a few units in the last place), is sBound. An edge with V_i < −sBound
+// is outside without the fp64 fallback, so the pixel is not covered; V_i > sBound on all three
+// edges is inside with no fallback and no tie. Anything else (a pixel within rounding of an edge)
+// takes r3dCovers itself. The key is the same bit for bit.
+const bool kFastPath = ANALYSIS == 0u && !R3D_2D && R3D_PROJECTION == kProjectionPerspective;
+
+R3dSetup sharedSetup(uint j) {
+  R3dSetup s;
+  s.rowA = sRowA[j].xyz;
+  s.rowB = sRowB[j].xyz;
+  s.rowC = sRowC[j].xyz;
+  s.errA = sErrA[j].xyz;
+  s.errB = sErrB[j].xyz;
+  s.errC = sErrC[j].xyz;
+  s.p0 = sP0[j].xyz;
+  s.p1 = sP1[j].xyz;
+  s.p2 = sP2[j].xyz;
+  s.volume = sRowC[j].w;
+  s.orientation = sPlane[j].w;
+  s.planeNormal = sPlane[j].xyz;
+  s.planeOffset = sRowA[j].w;
+  return s;
+}
 
 void main() {
   const uint tile = gl_WorkGroupID.x, T = tileCount();
@@ -32,13 +66,14 @@ void main() {
   const uint end = min(first + bins[tile], r3.itemCapacity);
   const uint x = (tile % tilesX()) * 8u + gl_LocalInvocationID.x % 8u;
   const uint y = (tile / tilesX()) * 8u + gl_LocalInvocationID.x / 8u;
+  const uint lastX = min((tile % tilesX()) * 8u + 7u, r3.width - 1u), lastY = min((tile / tilesX()) * 8u + 7u, r3.height - 1u);
   Tally tally = Tally(0u, 0u, 0u, 0u);
   const bool onScreen = x < r3.width && y < r3.height;
   uint64_t best = EARLYZ == 1u && onScreen ? vis[y * r3.width + x] : ~0ul;
   const uint64_t before = best;
   uint earlyZ = 0u;
   for (uint base = first; base < end; base += 64u) {
-    const uint k = base + gl_LocalInvocationID.x;
+    const uint k = base + gl_LocalInvocationID.x, lid = gl_LocalInvocationID.x;
     ivec4 box = ivec4(0, 0, -1, -1);
     if (k < end) {
       const uint id = binList[k];
@@ -52,13 +87,23 @@ void main() {
         zmin = min(z.x, min(z.y, z.z));
         zmin -= 16.0 * 5.9604644775390625e-8 * (abs(zmin) + dot(abs(f), max(abs(s.p0), max(abs(s.p1), abs(s.p2)))));
       }
-      sSetup[gl_LocalInvocationID.x] = s;
-      sId[gl_LocalInvocationID.x] = id;
-      sZmin[gl_LocalInvocationID.x] = zmin;
+      const vec3 bound = kR3dBound * (s.errA + float(lastX) * s.errB + float(lastY) * s.errC) * 1.001;
+      sRowA[lid] = vec4(s.rowA, s.planeOffset);
+      sRowB[lid] = vec4(s.rowB, 0.0);
+      sId[lid] = id;
+      sRowC[lid] = vec4(s.rowC, s.volume);
+      sBound[lid] = vec4(bound, zmin);
+      sPlane[lid] = vec4(s.planeNormal, s.orientation);
+      sErrA[lid] = vec4(s.errA, 0.0);
+      sErrB[lid] = vec4(s.errB, 0.0);
+      sErrC[lid] = vec4(s.errC, 0.0);
+      sP0[lid] = vec4(s.p0, 0.0);
+      sP1[lid] = vec4(s.p1, 0.0);
+      sP2[lid] = vec4(s.p2, 0.0);
     }
-    sBox[gl_LocalInvocationID.x] = box;
-    if (ANALYSIS == 1) sHit[gl_LocalInvocationID.x] = 0u;
-    if (EARLYZ == 1u && gl_LocalInvocationID.x == 0u) sTileMax = 0u;
+    sBox[lid] = box;
+    if (ANALYSIS == 1) sHit[lid] = 0u;
+    if (EARLYZ == 1u && lid == 0u) sTileMax = 0u;
     barrier();
     if (EARLYZ == 1u) {
       if (onScreen) atomicMax(sTileMax, uint(best >> 32));
@@ -69,20 +114,32 @@ void main() {
     const uint n = min(64u, end - base);
     for (uint j = 0u; j < n; ++j) {
       const ivec4 b = sBox[j];
-      if (EARLYZ == 1u && tileMax != 0xFFFFFFFFu && sZmin[j] > uintBitsToFloat(tileMax)) {
-        if (gl_LocalInvocationID.x == 0u) ++earlyZ;  // uniform: every thread skips it
+      if (EARLYZ == 1u && tileMax != 0xFFFFFFFFu && sBound[j].w > uintBitsToFloat(tileMax)) {
+        if (lid == 0u) ++earlyZ;  // uniform: every thread skips it
         continue;
       }
       if (int(x) < b.x || int(y) < b.y || int(x) > b.z || int(y) > b.w) continue;
+      const uint id = sId[j];
+      if (kFastPath) {
+        const float fx = float(x), fy = float(y);
+        precise vec3 v = sRowA[j].xyz + fx * sRowB[j].xyz + fy * sRowC[j].xyz;  // as r3dCovers
+        const vec3 bound = sBound[j].xyz;
+        if (any(lessThan(v, -bound))) continue;  // outside (NaN goes on to r3dCovers)
+        if (all(greaterThan(v, bound))) {
+          const float t = r3dPerspectiveDepth(sRowA[j].w, sPlane[j].xyz, fx, fy, r3);
+          if (t >= r3.depth.x && t <= r3.depth.y) best = min(best, (uint64_t(floatBitsToUint(t)) << 32) | uint64_t(id));
+          continue;
+        }
+      }
       uint64_t key;
       const uint coveredBefore = tally.covered;
-      if (pixelKey(sId[j], sSetup[j], x, y, tally, key)) best = min(best, key);
+      if (pixelKey(id, sharedSetup(j), x, y, tally, key)) best = min(best, key);
       if (ANALYSIS == 1 && tally.covered != coveredBefore) atomicOr(sHit[j], 1u);
     }
     barrier();
-    if (ANALYSIS == 1 && gl_LocalInvocationID.x < n) {  // each thread reads only its own slot
+    if (ANALYSIS == 1 && lid < n) {  // each thread reads only its own slot
       atomicAdd(counters[kR3dCounterBinsRefined], 1ul);
-      if (sHit[gl_LocalInvocationID.x] == 0u) atomicAdd(counters[kR3dCounterBinsEmpty], 1ul);
+      if (sHit[lid] == 0u) atomicAdd(counters[kR3dCounterBinsEmpty], 1ul);
     }
   }
   if (ANALYSIS == 1 && EARLYZ == 1u && earlyZ > 0u) atomicAdd(counters[kR3dCounterCulledEarlyZ], uint64_t(earlyZ));

@@ -67,8 +67,10 @@ TEST_F(Raster3dListTest, SlotsOfAFullListAreNeverReadAsAnEarlierFramesItems) {
     Renderer r(*ctx, scene, rs);
     // What an earlier frame may have left in every slot: the item (triangle 0, first tile of its
     // box; binned: screen tile 0, where triangle 0 lies), both covering triangle 0's pixels.
-    ctx->submitAndWait(
-        [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, r.raster3d()->workList().handle(), 0, VK_WHOLE_SIZE, 0); });
+    ctx->submitAndWait([&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, r.raster3d()->workList().handle(), 0, VK_WHOLE_SIZE, 0);
+      vkCmdFillBuffer(cmd, r.raster3d()->spans().handle(), 0, VK_WHOLE_SIZE, 0);
+    });
     r.renderFrame(true);
     const Raster3dCounters counters = r.raster3d()->readCounters();
     const CoverageComparison c =

@@ -158,7 +158,8 @@ static nlohmann::json primaryJson(const Renderer& renderer, const Scene& scene) 
                       {"atomics_per_pixel", ratio(double(c.atomics), pixels)},
                       {"paper_scalar_ops_estimate", setupCost * double(c.setups) + pixelCost * double(c.pixelsTested)},
                       {"blocks_culled_early_z", c.culledEarlyZ},
-                      {"against_ray_cast", toJson(exact)}};
+                      {"against_ray_cast", toJson(exact)},
+                      {"compiled", r3->compiled()}};
   if (primaryUsesBvh(method)) {
     const Raster3dBvhStats& b = r3->bvhStats();
     j["bvh_nodes"] = b.nodes;

@@ -102,7 +102,7 @@ const char* subPassName(PrimaryMethod mode) { return primaryPassOf(mode); }
 
 // Plane p's constants at p·256 B (minUniformBufferOffsetAlignment is at most 256).
 constexpr size_t kConstantsStride = (sizeof(gpu::Raster3dConstants) + 255) / 256 * 256;
-// The work list's header (raster3d_common.glsl.inc Items): count, demand, most demand, then items.
+// The work list's header (raster3d_common.glsl.inc Items): items and spans taken, demand, most demand, then items.
 constexpr size_t kItemsHeader = 32;
 constexpr size_t kDemandMaxOffset = 16;
 }  // namespace
@@ -271,6 +271,9 @@ void Raster3dPass::makeLists(uint64_t capacity) {
   const VkBufferUsageFlags rw =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
   big_ = Buffer(ctx_, kItemsHeader + (bvh ? 1 : size_t(capacity)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  // A span (id, first item) per big triangle, at most one a triangle (raster3d_common.glsl.inc Spans).
+  spans_ =
+      Buffer(ctx_, (bvh ? 1 : std::max<size_t>(triangleCount_, 1)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
   binList_ = Buffer(ctx_, (binned ? size_t(capacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   for (uint32_t p = 0; p < planes_; ++p) {
     gpu::Raster3dConstants c;
@@ -296,6 +299,7 @@ void Raster3dPass::makeLists(uint64_t capacity) {
       b.provide("BvhOrder", bvhOrder_);
     } else {
       b.provide("Items", big_);
+      b.provide("Spans", spans_);
       b.provide("Bins", bins_);
       b.provide("BinList", binList_);
     }
@@ -345,12 +349,28 @@ std::vector<std::string> Raster3dPass::subPasses() const {
   return names;
 }
 
+nlohmann::json Raster3dPass::compiled() const {
+  if (!ctx_.info().pipelineStatistics) return nullptr;
+  std::vector<std::string> names;
+  if (primaryUsesBvh(mode_))
+    names = {"traverse"};
+  else if (mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned)
+    names = {"triangles", "count", "scan", "fill", "tiles"};
+  else if (mode_ != PrimaryMethod::RayCast)
+    names = {"triangles", "tiles"};
+  nlohmann::json out = nlohmann::json::object();
+  for (size_t k = 0; k < names.size() && k < timed_.size(); ++k)
+    out[names[k]] = pipelineStatistics(ctx_, timed_[k]->handle());
+  out["resolve"] = pipelineStatistics(ctx_, resolve_.handle());
+  return out;
+}
+
 std::vector<Use> Raster3dPass::working(Access a, bool analysis) const {
   std::vector<Use> uses;
   // The counters and coverage too in a timed frame: some dispatches update them whatever the frame
   // (the anti-aliasing sample counters), and they share the steps' one barrier call anyway.
   (void)analysis;
-  for (const Buffer* b : {&vis_, &triangles_, &depthStaging_, &big_, &bins_, &binList_, &idBase_, &bvhNodes_,
+  for (const Buffer* b : {&vis_, &triangles_, &depthStaging_, &big_, &spans_, &bins_, &binList_, &idBase_, &bvhNodes_,
                           &bvhOrder_, &counters_, &sampleCounters_, &coverage_, &tested_})
     uses.push_back({*b, a});
   return uses;

@@ -98,6 +98,9 @@ class Raster3dPass {
   PrimaryMethod mode() const { return mode_; }
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
   std::vector<std::string> subPasses() const;
+  // What the driver compiled each timed dispatch into (registers, local and shared memory: vk_pipeline.h
+  // pipelineStatistics), by sub-pass ("triangles", ..., "resolve"); null where the device does not say.
+  nlohmann::json compiled() const;
 
   // uint64 per pixel, ~0 = nothing: plane 0 the pixel centres (what aa none writes, and what the
   // depth image, shadows and positions use), then with anti-aliasing one plane per stored sample
@@ -107,6 +110,7 @@ class Raster3dPass {
   uint32_t planeStride() const { return planeStride_; }
   // The work list (a count, then uvec2 items): tests seed it with a previous frame's items.
   const Buffer& workList() const { return big_; }
+  const Buffer& spans() const { return spans_; }          // a span (id, first item) per big triangle
   const Buffer& constants() const { return constants_; }  // gpu::Raster3dConstants (UBO)
   const Buffer& triangles() const { return triangles_; }  // 3 vec4 per triangle, world space
   uint32_t triangleCount() const { return triangleCount_; }
@@ -148,8 +152,8 @@ class Raster3dPass {
   PrimaryMethod mode_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
   uint32_t planes_ = 1, planeStride_ = 0;
-  Buffer constants_, triangles_, vis_, big_, counters_, sampleCounters_, coverage_, tested_, depthStaging_, bins_,
-      binList_, idBase_, bvhNodes_, bvhOrder_;
+  Buffer constants_, triangles_, vis_, big_, spans_, counters_, sampleCounters_, coverage_, tested_, depthStaging_,
+      bins_, binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
   std::vector<std::unique_ptr<DescriptorSets>> rasterSets_;  // per plane, the dispatches' one set
   std::unique_ptr<ShaderProgram> rasterProgram_;             // the dispatches' shaders, for rasterSets_
