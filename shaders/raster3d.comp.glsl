@@ -149,21 +149,47 @@ void perItem() {
 }
 
 // Binned, PASS 3 (count): a thread per work item, 64 consecutive items a workgroup at a time, each
-// found in its span (the workgroup's first and last item bound the search) and written for the
-// fill: (id, screen tile | kKept) when the triangle can touch the tile.
-shared uint sSpanLo, sSpanHi;  // two words: two threads write them (a vector's component write may be a whole-vector store)
+// found in its span and written for the fill: (id, screen tile | kKept) when the triangle can touch
+// the tile. The workgroup finds the span of its first item by a 64-way search (each of its 64
+// threads probes one point a step: 3 steps for 262k spans, where a binary search waits on 18
+// dependent loads), then the first items of the 64 spans from there (64 consecutive items lie in
+// at most 64 spans) go to shared memory, where each thread finds its own.
+shared uint sSpanLo, sSpanHi, sProbes;
+shared uint sFirst[64];
 
 void countItems() {
   keepDemand();
-  const uint count = min(itemCount(), r3.itemCapacity), lid = gl_LocalInvocationID.x;
+  const uint count = min(itemCount(), r3.itemCapacity), spanTotal = spanCount(), lid = gl_LocalInvocationID.x;
   const uint stride = gl_NumWorkGroups.x * 64u;
   for (uint chunk = gl_WorkGroupID.x * 64u; chunk < count; chunk += stride) {
-    if (lid == 0u) sSpanLo = findSpan(chunk);
-    if (lid == 63u) sSpanHi = findSpan(min(chunk + 63u, count - 1u)) + 1u;
+    if (lid == 0u) {
+      sSpanLo = 0u;
+      sSpanHi = spanTotal;
+    }
+    barrier();
+    // Invariant: span sSpanLo starts at or before `chunk`, span sSpanHi (if any) after it.
+    while (sSpanHi - sSpanLo > 1u) {  // uniform: every thread reads the same words
+      const uint lo = sSpanLo, hi = sSpanHi, step = (hi - lo + 63u) / 64u;
+      const uint probe = lo + lid * step;
+      if (lid == 0u) sProbes = 0u;
+      barrier();
+      if (probe < hi && spans[probe].y <= chunk) atomicAdd(sProbes, 1u);  // the true probes are a prefix
+      barrier();
+      if (lid == 0u) {
+        sSpanLo = lo + (sProbes - 1u) * step;
+        sSpanHi = min(sSpanLo + step, hi);
+      }
+      barrier();
+    }
+    const uint base = sSpanLo;
+    sFirst[lid] = base + lid < spanTotal ? spans[base + lid].y : 0xFFFFFFFFu;
     barrier();
     const uint item = chunk + lid;
     if (item < count) {
-      const uvec2 span = spans[findSpanIn(item, sSpanLo, sSpanHi)];
+      uint k = 0u;  // the last of sFirst at or before item (sFirst[0] is)
+      for (uint w = 32u; w > 0u; w >>= 1u)
+        if (sFirst[k + w] <= item) k += w;
+      const uvec2 span = spans[base + k];
       R3dSetup s;
       ivec2 lo, hi;
       // (setupTriangle never fails here: PASS 0 set the triangle up the same way.)
@@ -181,7 +207,7 @@ void countItems() {
         items[item] = uvec2(span.x, kept ? tile | kKept : tile);
       }
     }
-    barrier();  // sSpanLo and sSpanHi are the next chunk's
+    barrier();  // the shared words are the next chunk's
   }
 }
 
