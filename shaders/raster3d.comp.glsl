@@ -8,17 +8,17 @@
 //           force: the 8x8 tiles of its box; binned: the screen's 8x8 tiles the box overlaps) and
 //           writes one span (its id and first item). The workgroup takes its items and spans with
 //           one atomic. The passes after it expand the items from the spans, a thread (binned) or
-//           a workgroup (brute force) per item: a triangle's items were written by its own
-//           workgroup before, and the two workgroups of a view's floor triangles near the eye
-//           wrote 191k and 153k items (the atrium at 1080p) while the pass waited for them.
+//           a run of items a workgroup (brute force), spread over the GPU: a workgroup writing its
+//           own big triangles' items made the pass wait on the few whose triangles cover much of
+//           the screen (docs/methods/3d-rasterization.md).
 //           When the list is full the thread rasterizes its box itself: slower, never a dropped
 //           pixel (counted), and its span marks the slots it took empty (kNoItem). Which
 //           triangles find it full depends on the order of the atomics, so the items every big
 //           triangle asks for are summed too (itemDemand; the next pass keeps the most of any
 //           plane), and the host grows the list to that and renders the frame again
 //           (Raster3dPass::growList): the frames a run keeps find it full nowhere, on every run.
-//   PASS 1: brute force: tileWorkgroups workgroups of 64 threads stride over the work items, one
-//           pixel each, one atomicMin per covered pixel.
+//   PASS 1: brute force: tileWorkgroups workgroups of 64 threads, each over a run of consecutive
+//           work items, one pixel a thread, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
 //   PASS 3: count: finds each item's triangle and tile (its span), keeps the item if the
 //           triangle can touch the tile (tileMayBeCovered: its edge functions at the tile's
