@@ -251,6 +251,14 @@ TEST_F(NewUser, RenderJsonCarriesItsContext) {
   EXPECT_EQ(c["scene"]["sha256"].get<std::string>().size(), 64u);
   EXPECT_EQ(c["resolution"], json::array({64, 36}));
   EXPECT_TRUE(c.contains("timing_caveat"));  // lavapipe, a CPU device
+  // The clocks around the timed frame (gpu/telemetry.h): on a device without NVML, one field says why.
+  ASSERT_TRUE(c["device"]["telemetry"].is_object());
+  ASSERT_TRUE(r["telemetry"].is_object());
+  EXPECT_EQ(r["telemetry"]["available"], c["device"]["telemetry"]["available"]);
+  if (r["telemetry"]["available"] == false)
+    EXPECT_NE(r["telemetry"].value("reason", ""), "") << r["telemetry"].dump();
+  else
+    EXPECT_TRUE(r["telemetry"].contains("before") && r["telemetry"].contains("after")) << r["telemetry"].dump();
   ASSERT_TRUE(r["frame_minus_passes_ms"].is_number());
   // The frame minus its passes, the sub-passes ("raster3d.tiles") inside theirs.
   double passes = 0;

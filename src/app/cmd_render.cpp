@@ -22,6 +22,7 @@
 #include "frame/renderer.h"
 #include "gltf/gltf_io.h"
 #include "gpu/peaks.h"
+#include "gpu/telemetry.h"
 #include "gpu/vk_context.h"
 #include "report/roofline.h"
 #include "scene/atrium.h"
@@ -137,9 +138,13 @@ int cmdRender(const RenderOptions& options) {
     std::filesystem::create_directories(options.raysOut, ec);
     if (ec) throw InputError("--rays-out " + options.raysOut + ": cannot create it (" + ec.message() + ")");
   }
-  renderer.renderFrame(false);                       // warm: pipelines and caches
+  renderer.renderFrame(false);  // warm: pipelines and caches
+  // The device's clocks right before and after the timed frame (gpu/telemetry.h; NVIDIA only).
+  const Telemetry telemetry = Telemetry::open(ctx.info());
+  const std::optional<TelemetrySample> clocksBefore = telemetry.sample();
   FrameTiming timing = renderer.renderFrame(false);  // the timed frame: no instrumentation
-  renderer.renderFrame(true);                        // the analysis frame (not timed)
+  const std::optional<TelemetrySample> clocksAfter = telemetry.sample();
+  renderer.renderFrame(true);  // the analysis frame (not timed)
 
   if (!options.raysOut.empty()) writeFrameRayFiles(renderer, options.raysOut);  // before the readbacks' analyses
   RenderOutputs outputs = writeRenderOutputs(ctx, renderer, scene, params, options.out);
@@ -152,7 +157,11 @@ int cmdRender(const RenderOptions& options) {
   context["resolution"] = {settings.width, settings.height};
   context["device"]["peaks"] = toJson(peaks, ctx.info());
   context["device"]["peaks"]["from_cache"] = peaksCached;
+  context["device"]["telemetry"] = telemetry.deviceJson();
   report["context"] = context;
+  report["telemetry"] = telemetry.measurementJson(clocksBefore, clocksAfter);
+  if (const auto w = report["telemetry"].find("warning"); w != report["telemetry"].end() && w->is_string())
+    std::fprintf(stderr, "warning: %s\n", w->get<std::string>().c_str());
   report["roofline"] =
       rooflineOf(renderer, report, std::map<std::string, double>(timing.passMs.begin(), timing.passMs.end()), peaks);
   report["params"] = toJson(params);
