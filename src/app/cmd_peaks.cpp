@@ -10,6 +10,7 @@
 #include "base/text_format.h"
 #include "gpu/peaks.h"
 #include "gpu/telemetry.h"
+#include "report/results_identity.h"
 
 namespace hb {
 
@@ -32,8 +33,8 @@ int cmdPeaks(const std::string& device, const std::string& scene, bool json) {
   nlohmann::json j = toJson(peaks, ctx.info());
   j["telemetry"] = telemetry.measurementJson(before, after);
   if (telemetry.available()) j["telemetry"]["device"] = telemetry.deviceJson();  // its highest clocks
-  if (const auto w = j["telemetry"].find("warning"); w != j["telemetry"].end() && w->is_string())
-    std::fprintf(stderr, "warning: the peaks: %s\n", w->get<std::string>().c_str());
+  if (const std::string w = results::throttleWarningOf(j); !w.empty())
+    std::fprintf(stderr, "warning: the peaks: %s\n", w.c_str());
   // The cache (gpu/peaks.h cachedPeaks) takes the fresh figures, so later sweeps use them.
   const std::string path = peaksCachePath(ctx.info());
   bool cached = false;

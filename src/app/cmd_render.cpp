@@ -24,6 +24,7 @@
 #include "gpu/peaks.h"
 #include "gpu/telemetry.h"
 #include "gpu/vk_context.h"
+#include "report/results_identity.h"
 #include "report/roofline.h"
 #include "scene/atrium.h"
 
@@ -160,8 +161,8 @@ int cmdRender(const RenderOptions& options) {
   context["device"]["telemetry"] = telemetry.deviceJson();
   report["context"] = context;
   report["telemetry"] = telemetry.measurementJson(clocksBefore, clocksAfter);
-  if (const auto w = report["telemetry"].find("warning"); w != report["telemetry"].end() && w->is_string())
-    std::fprintf(stderr, "warning: %s\n", w->get<std::string>().c_str());
+  if (const std::string w = results::throttleWarningOf(report); !w.empty())
+    std::fprintf(stderr, "warning: %s\n", w.c_str());
   report["roofline"] =
       rooflineOf(renderer, report, std::map<std::string, double>(timing.passMs.begin(), timing.passMs.end()), peaks);
   report["params"] = toJson(params);

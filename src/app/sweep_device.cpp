@@ -35,6 +35,7 @@
 #include "gpu/vk_resources.h"
 #include "gpu/warm_up.h"
 #include "report/all_tables.h"
+#include "report/results_identity.h"
 #include "report/roofline.h"
 #include "report/stats.h"
 #include "report/tables.h"
@@ -49,14 +50,6 @@ namespace {
 
 volatile std::sig_atomic_t gInterrupted = 0;
 void onSignal(int) { gInterrupted = 1; }
-
-// A run's telemetry warning (the clocks throttled while its frames were measured), or null.
-const json* throttleWarningOf(const json& run) {
-  const auto t = run.find("telemetry");
-  if (t == run.end() || !t->is_object()) return nullptr;
-  const auto w = t->find("warning");
-  return w != t->end() && w->is_string() ? &*w : nullptr;
-}
 
 std::string joinNames(const std::vector<std::string>& names) {
   std::string s;
@@ -568,11 +561,10 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
           console.print(format("%svariant \"%s\" failed: %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
                                variants[size_t(current)].name.c_str(), run.value("error", "").c_str()));
         }
-        if (const json* w = throttleWarningOf(run))
-          std::fprintf(stderr, "%swarning: %svariant \"%s\": %s\n",
-                       isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
-                       console.shared() ? (device.name + ": ").c_str() : "", variants[size_t(current)].name.c_str(),
-                       w->get<std::string>().c_str());
+        if (const std::string w = results::throttleWarningOf(run); !w.empty())
+          std::fprintf(
+              stderr, "%swarning: %svariant \"%s\": %s\n", isatty(fileno(stdout)) && !console.shared() ? "\n" : "",
+              console.shared() ? (device.name + ": ").c_str() : "", variants[size_t(current)].name.c_str(), w.c_str());
         slots[size_t(current)] = run;
         ++finished;
         current = -1;

@@ -346,20 +346,10 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     if (!tracerA.empty() && !tracerB.empty() && tracerA != tracerB)
       report.warnings.push_back("variant '" + name + "': traced by " + tracerA + " in A, " + tracerB +
                                 " in B (backend_choice.ran); B/A measures the change of ray tracer too");
-    // A variant whose GPU was held down while measured (gpu/telemetry.h): its times say as much
-    // about the device's power and heat as about the work.
-    for (const auto& [side, run] : {std::pair<const char*, const json*>{"A", &runA}, {"B", runB}}) {
-      const json t = run->value("telemetry", json());
-      if (!t.is_object() || !t.contains("throttled") || !t["throttled"].is_boolean() || !t["throttled"].get<bool>())
-        continue;
-      std::string reasons;
-      for (const json& why : t.value("throttle_reasons", json::array()))
-        if (why.is_string()) reasons += (reasons.empty() ? "" : ", ") + why.get<std::string>();
-      report.warnings.push_back(
-          format("variant '%s': the GPU's clocks were held down while %s was measured (%s): "
-                 "its times there depend on the device's power and heat, not on the work alone",
-                 name.c_str(), side, reasons.empty() ? "telemetry.throttled" : reasons.c_str()));
-    }
+    // A variant whose GPU was throttled while measured (its telemetry's warning, gpu/telemetry.h).
+    for (const auto& [side, run] : {std::pair<const char*, const json*>{"A", &runA}, {"B", runB}})
+      if (const std::string w = results::throttleWarningOf(*run); !w.empty())
+        report.warnings.push_back("variant '" + name + "' in " + side + ": " + w);
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
                                       timingOf(runB->value("frame_ms", json())), options, untimed);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {

@@ -251,8 +251,8 @@ std::vector<std::string> warningsOf(const json& results) {
       out.push_back(reportText(run, "name") + ": analysis not run: " + run["analysis_not_run"].get<std::string>());
   // A variant whose clocks throttled while its frames were measured (gpu/telemetry.h).
   for (const json& run : results["runs"])
-    if (const json& w = results::at(results::at(run, "telemetry"), "warning"); w.is_string())
-      out.push_back(reportText(run, "name") + ": telemetry: " + w.get<std::string>());
+    if (const std::string w = results::throttleWarningOf(run); !w.empty())
+      out.push_back(reportText(run, "name") + ": telemetry: " + w);
   return out;
 }
 

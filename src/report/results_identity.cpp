@@ -91,6 +91,8 @@ std::string contentDifference(const json& contextA, const json& contextB, const 
 
 std::string tracerOfRun(const json& run) { return textOf(at(at(run, "backend_choice"), "ran")); }
 
+std::string throttleWarningOf(const json& measured) { return textOf(at(at(measured, "telemetry"), "warning")); }
+
 std::string tracedBy(const json& results) {
   std::vector<std::pair<std::string, std::vector<std::string>>> byTracer;  // in first-seen order
   for (const json& run : at(results, "runs")) {

@@ -56,4 +56,8 @@ std::string tracedBy(const nlohmann::json& results);
 // The ray tracer of one run (runs[k]: its backend_choice.ran), "" when it records none.
 std::string tracerOfRun(const nlohmann::json& run);
 
+// The warning of a measurement whose GPU was throttled (its telemetry.warning, gpu/telemetry.h):
+// a run of a results file, a render.json or peaks --json; "" when there is none.
+std::string throttleWarningOf(const nlohmann::json& measured);
+
 }  // namespace hb::results
