@@ -41,6 +41,23 @@ shared uint sTileMax;   // EARLYZ: max over the tile's pixels of their key's t b
 // takes r3dCovers itself. The key is the same bit for bit.
 const bool kFastPath = ANALYSIS == 0u && !R3D_2D && R3D_PROJECTION == kProjectionPerspective;
 
+// Slot j of the batch: the setup, the tile's bound (sBound), the early-z depth and the id.
+void storeSetup(uint j, R3dSetup s, vec3 bound, float zmin, uint id) {
+  sRowA[j] = vec4(s.rowA, s.planeOffset);
+  sRowB[j] = vec4(s.rowB, 0.0);
+  sRowC[j] = vec4(s.rowC, s.volume);
+  sBound[j] = vec4(bound, zmin);
+  sPlane[j] = vec4(s.planeNormal, s.orientation);
+  sErrA[j] = vec4(s.errA, 0.0);
+  sErrB[j] = vec4(s.errB, 0.0);
+  sErrC[j] = vec4(s.errC, 0.0);
+  sP0[j] = vec4(s.p0, 0.0);
+  sP1[j] = vec4(s.p1, 0.0);
+  sP2[j] = vec4(s.p2, 0.0);
+  sId[j] = id;
+}
+
+// The setup storeSetup put in slot j.
 R3dSetup sharedSetup(uint j) {
   R3dSetup s;
   s.rowA = sRowA[j].xyz;
@@ -88,18 +105,7 @@ void main() {
         zmin -= 16.0 * 5.9604644775390625e-8 * (abs(zmin) + dot(abs(f), max(abs(s.p0), max(abs(s.p1), abs(s.p2)))));
       }
       const vec3 bound = kR3dBound * (s.errA + float(lastX) * s.errB + float(lastY) * s.errC) * 1.001;
-      sRowA[lid] = vec4(s.rowA, s.planeOffset);
-      sRowB[lid] = vec4(s.rowB, 0.0);
-      sId[lid] = id;
-      sRowC[lid] = vec4(s.rowC, s.volume);
-      sBound[lid] = vec4(bound, zmin);
-      sPlane[lid] = vec4(s.planeNormal, s.orientation);
-      sErrA[lid] = vec4(s.errA, 0.0);
-      sErrB[lid] = vec4(s.errB, 0.0);
-      sErrC[lid] = vec4(s.errC, 0.0);
-      sP0[lid] = vec4(s.p0, 0.0);
-      sP1[lid] = vec4(s.p1, 0.0);
-      sP2[lid] = vec4(s.p2, 0.0);
+      storeSetup(lid, s, bound, zmin, id);
     }
     sBox[lid] = box;
     if (ANALYSIS == 1) sHit[lid] = 0u;
