@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace hb {
 
@@ -36,61 +37,68 @@ struct Builder {
   std::vector<gpu::PrimaryBvhNode> nodes;
   uint32_t depth = 0;
 
-  static constexpr int kBins = 12;
+  BvhBuildOptions opt;
 
   // Where to cut order[first, first + count): the index of the first right triangle, or 0 for a
-  // leaf. Binned SAH (cost 1 a node traversal, 1 a triangle test) on the centroids' widest extent.
+  // leaf. Binned SAH (cost 1 a node traversal, 1 a triangle test), opt.bins bins on the centroids'
+  // widest extent, or on each axis (opt.allAxes).
   uint32_t partition(uint32_t first, uint32_t count, const Box& box) {
     Box cb;
     for (uint32_t i = first; i < first + count; ++i) cb.grow(centroids[order[i]]);
     const glm::vec3 ext = cb.hi - cb.lo;
-    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    uint32_t mid = 0;
-    if (ext[axis] > 0.0f) {
-      std::array<Box, kBins> bin{};
-      std::array<uint32_t, kBins> n{};
-      const float scale = float(kBins) / ext[axis];
-      auto binOf = [&](uint32_t t) {
-        return std::clamp(int((centroids[t][axis] - cb.lo[axis]) * scale), 0, kBins - 1);
-      };
+    const int widest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const int bins = opt.bins;
+    std::vector<Box> bin(static_cast<size_t>(bins));
+    std::vector<uint32_t> n(static_cast<size_t>(bins));
+    std::vector<float> rightCost(static_cast<size_t>(bins));
+    float best = std::numeric_limits<float>::infinity();
+    int bestBin = -1, bestAxis = widest;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!opt.allAxes && axis != widest) continue;
+      if (!(ext[axis] > 0.0f)) continue;
+      std::fill(bin.begin(), bin.end(), Box{});
+      std::fill(n.begin(), n.end(), 0u);
+      const float scale = float(bins) / ext[axis];
       for (uint32_t i = first; i < first + count; ++i) {
-        const int b = binOf(order[i]);
-        bin[b].grow(boxes[order[i]]);
-        ++n[b];
+        const uint32_t t = order[i];
+        const int b = std::clamp(int((centroids[t][axis] - cb.lo[axis]) * scale), 0, bins - 1);
+        bin[size_t(b)].grow(boxes[t]);
+        ++n[size_t(b)];
       }
-      std::array<float, kBins> rightCost{};
       Box acc;
       uint32_t acc_n = 0;
-      for (int b = kBins - 1; b > 0; --b) {
-        acc.grow(bin[b]);
-        acc_n += n[b];
-        rightCost[b] = acc.halfArea() * float(acc_n);
+      for (int b = bins - 1; b > 0; --b) {
+        acc.grow(bin[size_t(b)]);
+        acc_n += n[size_t(b)];
+        rightCost[size_t(b)] = acc.halfArea() * float(acc_n);
       }
-      float best = std::numeric_limits<float>::infinity();
-      int bestBin = -1;
       Box left;
       uint32_t leftN = 0;
-      for (int b = 1; b < kBins; ++b) {
-        left.grow(bin[b - 1]);
-        leftN += n[b - 1];
+      for (int b = 1; b < bins; ++b) {
+        left.grow(bin[size_t(b - 1)]);
+        leftN += n[size_t(b - 1)];
         if (leftN == 0 || leftN == count) continue;
-        const float cost = left.halfArea() * float(leftN) + rightCost[b];
+        const float cost = left.halfArea() * float(leftN) + rightCost[size_t(b)];
         if (cost < best) {
           best = cost;
           bestBin = b;
+          bestAxis = axis;
         }
       }
-      const float leafCost = box.halfArea() * float(count);
-      if (bestBin > 0 && (count > kPrimaryBvhLeaf || best + box.halfArea() < leafCost)) {
-        const auto it = std::partition(order.begin() + first, order.begin() + first + count,
-                                       [&](uint32_t t) { return binOf(t) < bestBin; });
-        mid = uint32_t(it - order.begin());
-      }
+    }
+    uint32_t mid = 0;
+    const float leafCost = box.halfArea() * float(count);
+    if (bestBin > 0 && (count > kPrimaryBvhLeaf || best + box.halfArea() < leafCost)) {
+      const float scale = float(bins) / ext[bestAxis];
+      const auto it = std::partition(order.begin() + first, order.begin() + first + count, [&](uint32_t t) {
+        return std::clamp(int((centroids[t][bestAxis] - cb.lo[bestAxis]) * scale), 0, bins - 1) < bestBin;
+      });
+      mid = uint32_t(it - order.begin());
     }
     if (mid == 0 && count > kPrimaryBvhLeaf) {  // no useful SAH cut (equal centroids): the median
       mid = first + count / 2;
       std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + first + count,
-                       [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+                       [&](uint32_t a, uint32_t b) { return centroids[a][widest] < centroids[b][widest]; });
     }
     return mid;
   }
@@ -118,9 +126,10 @@ struct Builder {
 
 }  // namespace
 
-PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices) {
+PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Builder b;
+  b.opt = options;
   const size_t n = vertices.size() / 3;
   b.boxes.resize(n);
   b.centroids.assign(n, glm::vec3(0.0f));

@@ -1,9 +1,9 @@
 // The bounding-volume hierarchy that primary visibility's frusta traverse (Davidovic et al. 2012,
 // Sect. 4: "3DR frustum cull", "frustum split", "full"), built once per scene on the CPU and
 // uploaded as gpu::PrimaryBvhNode (shaders/raster3d_bvh.comp.glsl).
-//  - Binary, binned SAH over the triangles' centroids (12 bins an axis, the cheaper of the best
-//    split and a leaf), leaves of at most kPrimaryBvhLeaf triangles (a leaf the SAH would keep larger
-//    is cut at the median of its widest axis).
+//  - Binary, binned SAH over the triangles' centroids (BvhBuildOptions: 12 bins on the widest axis
+//    by default, the cheaper of the best split and a leaf), leaves of at most kPrimaryBvhLeaf triangles (a leaf the SAH
+//    would keep larger is cut at the median of its widest axis).
 //  - Depth-first order: an interior node's left child follows it, its right child is `right`.
 //  - Every node holds the range [first, first + count) of `order` that its subtree's triangles
 //    occupy, so a node can be rasterized whole (the traversal's fallback when its stack is full)
@@ -30,7 +30,14 @@ struct PrimaryBvh {
   double buildMs = 0.0;                    // wall time of the build on the CPU
 };
 
+// How the SAH builds: bins an axis, and whether it tries every axis or only the centroids' widest.
+// The default is primary visibility's tree; the ray tracer's is kTraceBvhBuild (trace_bvh.h).
+struct BvhBuildOptions {
+  int bins = 12;
+  bool allAxes = false;
+};
+
 // `vertices`: 3 per triangle, world space (Scene::worldTriangles()).
-PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices);
+PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuildOptions& options = {});
 
 }  // namespace hb

@@ -74,7 +74,7 @@ struct WideCollapse {
 
 TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width) {
   HB_ASSERT(width == 2 || width == 4 || width == 8);
-  const PrimaryBvh tree = buildPrimaryBvh(vertices);
+  const PrimaryBvh tree = buildPrimaryBvh(vertices, kTraceBvhBuild);
   TraceBvhLayout out;
   out.width = width;
   out.triangles.reserve(3 * tree.order.size());

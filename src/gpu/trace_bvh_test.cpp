@@ -233,6 +233,33 @@ TEST(TraceBvh, EdgeCases) {
   checkLayout(v, "a row, a NaN vertex, collapsed triangles");
 }
 
+// The tracer's SAH tries every axis (kTraceBvhBuild), not only the centroids' widest: two rows of
+// small triangles 10 m apart in y, each 100 m long in x. The widest extent is x, and a cut across it
+// leaves both halves 10 m tall; the cheaper cut is between the rows (half areas of about 110 against
+// 560 a child, derived below), which only a build that tries y finds. Primary visibility's tree keeps
+// its default (the widest axis) and cuts across x: the contrast shows the test can fail.
+TEST(TraceBvh, TheTracersSahTriesEveryAxis) {
+  std::vector<glm::vec3> v;
+  for (int row = 0; row < 2; ++row)
+    for (int i = 0; i < 64; ++i) {
+      const glm::vec3 o(100.0f * float(i) / 63.0f, 10.0f * float(row), float(i % 2));
+      v.insert(v.end(), {o, o + glm::vec3(0.1f, 0.0f, 0.0f), o + glm::vec3(0.0f, 0.1f, 0.1f)});
+    }
+  // Child half areas dx·dy + dy·dz + dz·dx: between the rows about 100·0.1 + 0.1·1.1 + 1.1·100 = 120;
+  // across x about 50·10.1 + 10.1·1.1 + 1.1·50 = 571.
+  const auto rootCut = [](const std::vector<gpu::PrimaryBvhNode>& n) {
+    const gpu::PrimaryBvhNode &l = n[1], &r = n[n[0].info.x];
+    return std::pair<bool, bool>(l.hi.y < r.lo.y || r.hi.y < l.lo.y, l.hi.x < r.lo.x || r.hi.x < l.lo.x);
+  };
+  const TraceBvhLayout trace = layoutTraceBvh(v);
+  ASSERT_NE(trace.nodes[0].info.x, 0u);
+  EXPECT_EQ(rootCut(trace.nodes), std::make_pair(true, false)) << "the tracer's root separates the rows (y)";
+  const PrimaryBvh primary = buildPrimaryBvh(v);
+  ASSERT_NE(primary.nodes[0].info.x, 0u);
+  EXPECT_EQ(rootCut(primary.nodes), std::make_pair(false, true)) << "primary visibility's cuts x, its widest";
+  checkLayout(v, "two rows");
+}
+
 // Culling by the layout's boxes (binary and wide) loses no nearest hit: the traversal's premise.
 TEST(TraceBvh, BoxesLoseNoNearestHit) {
   const Scene scene = loadGltf(HYBRIDBENCH_SOURCE_DIR "/scenes/external/mcad-gears.glb");
