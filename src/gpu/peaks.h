@@ -74,7 +74,7 @@ void addPublicRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peak
 struct RayFileHits {
   std::vector<float> t;          // -1: missed; empty where the backend gives none (the pipeline)
   std::vector<uint32_t> missed;  // 1: missed
-  std::vector<uint32_t> ids;     // closest hits through our BVH: the triangle's draw-order id (~0u: missed)
+  std::vector<uint32_t> ids;  // closest hits through our BVH or ray query: the triangle's draw-order id (~0u: missed)
 };
 struct RayFileTrace {
   std::vector<Peak> figures;

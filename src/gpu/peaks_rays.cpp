@@ -58,7 +58,7 @@ struct RaySet {
 struct BackendHits {
   std::vector<float> t;
   std::vector<uint32_t> missed;
-  std::vector<uint32_t> ids;  // ours: the triangle's draw-order id, ~0u missed
+  std::vector<uint32_t> ids;  // ours and ray query: the triangle's draw-order id, ~0u missed
 };
 std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, const RayParams& params, uint32_t width,
                                  uint32_t height, uint64_t callRays, const Buffer* fileRays,
@@ -87,6 +87,10 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
   Buffer hitIds(ctx, launched * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false);
   Buffer nextRay(ctx, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
   Buffer noFile(ctx, 32, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, false);  // the built-in sets read no file
+  // Ray query names its triangle by instance, geometry and primitive: IdBase maps them to draw order.
+  const std::vector<uint32_t> idBaseData = triangleIdBase(scene);
+  const Buffer idBase = uploadBuffer(ctx, idBaseData.data(), idBaseData.size() * sizeof(uint32_t),
+                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Other);
   // A backend: the driver's pipeline or ray query, or ours (`ours` set) in compute.
   struct Backend {
     std::string name;  // results' "backend": pipeline, rayquery, compute, compute-w4, compute-w8, compute-w4-persistent
@@ -110,6 +114,10 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
       binder->provide("HitIds", hitIds);
     } else {
       binder->provide("tlas", accel.tlas());
+      if (!b.pipeline) {  // ray query
+        binder->provide("HitIds", hitIds);
+        binder->provide("IdBase", idBase);
+      }
     }
     return binder;
   };
@@ -204,7 +212,7 @@ std::vector<Peak> measureRaySets(const VulkanContext& ctx, const Scene& scene, c
         const std::vector<uint8_t> tBytes = readbackBuffer(ctx, hitT);
         h.t.assign(reinterpret_cast<const float*>(tBytes.data()), reinterpret_cast<const float*>(tBytes.data()) + rays);
       }
-      if (b.ours && set.mode == 4u) {
+      if (!b.pipeline && set.mode == 4u) {  // ours and ray query name the triangle
         const std::vector<uint8_t> idBytes = readbackBuffer(ctx, hitIds);
         const uint32_t* ids = reinterpret_cast<const uint32_t*>(idBytes.data());
         h.ids.assign(ids, ids + rays);
