@@ -80,8 +80,7 @@ std::string callsFor(const nlohmann::json& effects) {
 }
 
 bool isGltfPath(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = asciiLower(p.extension().string());
   return ext == ".gltf" || ext == ".glb";
 }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/text_format.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
 #include "report/html_report.h"
@@ -36,7 +37,7 @@ std::string slug(const std::string& s) {
   std::string out;
   for (char c : s) {
     if (std::isalnum(static_cast<unsigned char>(c)))
-      out += char(std::tolower(static_cast<unsigned char>(c)));
+      out += asciiLower(std::string(1, c));
     else if (!out.empty() && out.back() != '-')
       out += '-';
   }

@@ -46,4 +46,10 @@ std::string escapeXml(const std::string& s) {
   return out;
 }
 
+std::string asciiLower(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+  return s;
+}
+
 }  // namespace hb

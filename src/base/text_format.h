@@ -18,4 +18,8 @@ std::string formatNear1(double v);
 // other than tab and newline (not allowed in XML 1.0) as spaces.
 std::string escapeXml(const std::string& s);
 
+// ASCII letters A-Z as a-z; every other byte (UTF-8 included) as it is. For extensions, names and
+// UUIDs compared without case.
+std::string asciiLower(std::string s);
+
 }  // namespace hb

@@ -23,5 +23,20 @@ TEST(TextFormat, FormatNear1ShowsThatAValueOtherThanOneIsNotOne) {
   EXPECT_EQ(formatNear1(2.0), "2.000");
 }
 
+// Only A-Z change: UTF-8 bytes (a scene file named "Ünïcode.GLB") pass through, so a multibyte
+// name is never split or turned into other characters.
+TEST(TextFormat, AsciiLowerChangesOnlyAsciiLetters) {
+  EXPECT_EQ(asciiLower("Scene.GLTF"), "scene.gltf");
+  EXPECT_EQ(asciiLower("GPU-5a1B2c3D"), "gpu-5a1b2c3d");
+  EXPECT_EQ(asciiLower("\xC3\x9C"
+                       "n\xC3\xAF"
+                       "code.GLB"),
+            "\xC3\x9C"
+            "n\xC3\xAF"
+            "code.glb");
+  EXPECT_EQ(asciiLower("@[`{"), "@[`{");  // the bytes either side of A-Z and a-z
+  EXPECT_EQ(asciiLower(""), "");
+}
+
 }  // namespace
 }  // namespace hb

@@ -14,6 +14,7 @@
 
 #include "base/errors.h"
 #include "base/input_file.h"
+#include "base/text_format.h"
 #include "config/config_reader.h"
 #include "plan/effects.h"
 #include "scene/ambient_json.h"
@@ -60,8 +61,7 @@ glm::vec3 readVec3(const Json& v, const Where& where, const char* shape) {
 }
 
 bool isGltfPath(const std::string& s) {
-  std::string ext = std::filesystem::path(s).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = asciiLower(std::filesystem::path(s).extension().string());
   return ext == ".gltf" || ext == ".glb";
 }
 

@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "base/errors.h"
+#include "base/text_format.h"
 #include "gltf/gltf_io.h"
 #include "scene/ambient_json.h"
 #include "scene/environment.h"
@@ -280,9 +281,7 @@ class Exporter {
 
 bool endsWithGlb(const std::string& path) {
   if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".glb";
+  return asciiLower(path.substr(path.size() - 4)) == ".glb";
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "gpu/telemetry.h"
+#include "base/text_format.h"
 
 #include <dlfcn.h>
 
@@ -50,11 +51,6 @@ json numberOrNull(double v) {
 std::string hexText(uint64_t v) {
   char s[24];
   std::snprintf(s, sizeof s, "0x%llx", static_cast<unsigned long long>(v));
-  return s;
-}
-
-std::string asciiLower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 

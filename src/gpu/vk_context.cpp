@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/text_format.h"
 
 namespace hb {
 
@@ -214,12 +215,8 @@ uint32_t resolveDevice(const std::vector<DeviceInfo>& devices, const std::string
       throw InputError("--device " + selector + ": no device with that index; devices are " + list);
     return uint32_t(idx);
   }
-  auto lower = [](std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-    return s;
-  };
   for (const auto& d : devices)
-    if (lower(d.name).find(lower(selector)) != std::string::npos) return d.index;
+    if (asciiLower(d.name).find(asciiLower(selector)) != std::string::npos) return d.index;
   throw InputError("--device \"" + selector + "\": no device name contains it; devices are " + list);
 }
 

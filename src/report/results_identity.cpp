@@ -4,6 +4,7 @@
 #include <cctype>
 #include <utility>
 
+#include "base/text_format.h"
 #include "report/results_json.h"
 
 namespace hb::results {
@@ -18,8 +19,7 @@ constexpr const char* kAFile = "(a file)";
 // a .gltf/.glb to an absolute path, and a built-in's name never has an extension.
 bool isScenePath(const json& scene) {
   if (!scene.is_string()) return false;
-  std::string s = scene.get<std::string>();
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string s = asciiLower(scene.get<std::string>());
   auto endsWith = [&](const std::string& tail) {
     return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
   };
