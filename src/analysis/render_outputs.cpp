@@ -297,10 +297,12 @@ RenderOutputs writeRenderOutputs(const VulkanContext& ctx, const Renderer& rende
                                     {"build_ms_source", "wall clock, submit to fence"}};
   if (const TraceBvh* b = renderer.traceBvh())  // backend=compute: ours, beside the driver's
     j["compute_bvh"] = {
-        {"layout", b->width != 2
-                       ? std::to_string(b->width) + "-wide, collapsed from the binary SAH tree (trace_bvh.h), " +
-                             std::to_string(16 * wideNodeVec4s(b->width)) + " B nodes, triangles 3 x vec4 in leaf order"
-                       : "binary SAH (primary_bvh.h), 48 B nodes, triangles 3 x vec4 in leaf order"},
+        {"layout",
+         b->width != 2
+             ? std::to_string(b->width) +
+                   "-wide, collapsed from the binary SAH tree (trace_bvh.h: 64 bins on each axis), " +
+                   std::to_string(16 * wideNodeVec4s(b->width)) + " B nodes, triangles 3 x vec4 in leaf order"
+             : "binary SAH (trace_bvh.h: 64 bins on each axis), 48 B nodes, triangles 3 x vec4 in leaf order"},
         {"width", b->width},
         {"nodes", b->nodeCount},
         {"depth", b->depth},

@@ -391,7 +391,7 @@ int cmdRaybench(const RaybenchOptions& o) {
   const std::vector<glm::vec3> worldTris = scene.worldTriangles();
   if (!any) {
     std::printf(
-        "\nThe triangle each hit meets against the CPU's (closest hits through our BVH; a tie: another "
+        "\nThe triangle each hit meets against the CPU's (closest hits through our BVH and ray query; a tie: another "
         "triangle at the same t within %g of it, on a shared edge or vertex)\n",
         kTieRelative);
     std::printf("| backend | same triangle | tie | another triangle |\n|---|---:|---:|---:|\n");

@@ -7,6 +7,8 @@
 #include <limits>
 #include <vector>
 
+#include "base/errors.h"
+
 namespace hb {
 
 namespace {
@@ -38,44 +40,73 @@ struct Builder {
   uint32_t depth = 0;
 
   BvhBuildOptions opt;
+  // Per axis its bins' boxes and counts, and the costs of the cuts: sized once (setUp), reused by
+  // every partition.
+  std::array<std::vector<Box>, 3> bin;
+  std::array<std::vector<uint32_t>, 3> binCount;
+  std::vector<float> rightCost;
+
+  void setUp(const BvhBuildOptions& o) {
+    HB_ASSERT(o.bins >= 2);
+    opt = o;
+    for (int a = 0; a < 3; ++a) {
+      bin[size_t(a)].resize(size_t(o.bins));
+      binCount[size_t(a)].resize(size_t(o.bins));
+    }
+    rightCost.resize(size_t(o.bins));
+  }
+
+  // The bin of centroid coordinate c on an axis whose centroids start at lo, `scale` bins a unit:
+  // one formula for binning and for the partition that follows it.
+  int binOf(float c, float lo, float scale) const { return std::clamp(int((c - lo) * scale), 0, opt.bins - 1); }
 
   // Where to cut order[first, first + count): the index of the first right triangle, or 0 for a
   // leaf. Binned SAH (cost 1 a node traversal, 1 a triangle test), opt.bins bins on the centroids'
-  // widest extent, or on each axis (opt.allAxes).
+  // widest extent, or on each axis (opt.allAxes), all binned in one pass over the triangles.
   uint32_t partition(uint32_t first, uint32_t count, const Box& box) {
     Box cb;
     for (uint32_t i = first; i < first + count; ++i) cb.grow(centroids[order[i]]);
     const glm::vec3 ext = cb.hi - cb.lo;
     const int widest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     const int bins = opt.bins;
-    std::vector<Box> bin(static_cast<size_t>(bins));
-    std::vector<uint32_t> n(static_cast<size_t>(bins));
-    std::vector<float> rightCost(static_cast<size_t>(bins));
+    // The axes binned, and their scales: an axis without extent (or one so thin that bins / extent
+    // overflows) has no cut.
+    glm::vec3 scale(0.0f);
+    std::array<bool, 3> binned{};
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!opt.allAxes && axis != widest) continue;
+      scale[axis] = float(bins) / ext[axis];
+      binned[size_t(axis)] = ext[axis] > 0.0f && std::isfinite(scale[axis]);
+      if (!binned[size_t(axis)]) continue;
+      std::fill(bin[size_t(axis)].begin(), bin[size_t(axis)].end(), Box{});
+      std::fill(binCount[size_t(axis)].begin(), binCount[size_t(axis)].end(), 0u);
+    }
+    for (uint32_t i = first; i < first + count; ++i) {
+      const uint32_t t = order[i];
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!binned[size_t(axis)]) continue;
+        const size_t b = size_t(binOf(centroids[t][axis], cb.lo[axis], scale[axis]));
+        bin[size_t(axis)][b].grow(boxes[t]);
+        ++binCount[size_t(axis)][b];
+      }
+    }
     float best = std::numeric_limits<float>::infinity();
     int bestBin = -1, bestAxis = widest;
     for (int axis = 0; axis < 3; ++axis) {
-      if (!opt.allAxes && axis != widest) continue;
-      if (!(ext[axis] > 0.0f)) continue;
-      std::fill(bin.begin(), bin.end(), Box{});
-      std::fill(n.begin(), n.end(), 0u);
-      const float scale = float(bins) / ext[axis];
-      for (uint32_t i = first; i < first + count; ++i) {
-        const uint32_t t = order[i];
-        const int b = std::clamp(int((centroids[t][axis] - cb.lo[axis]) * scale), 0, bins - 1);
-        bin[size_t(b)].grow(boxes[t]);
-        ++n[size_t(b)];
-      }
+      if (!binned[size_t(axis)]) continue;
+      const std::vector<Box>& bx = bin[size_t(axis)];
+      const std::vector<uint32_t>& n = binCount[size_t(axis)];
       Box acc;
       uint32_t acc_n = 0;
       for (int b = bins - 1; b > 0; --b) {
-        acc.grow(bin[size_t(b)]);
+        acc.grow(bx[size_t(b)]);
         acc_n += n[size_t(b)];
         rightCost[size_t(b)] = acc.halfArea() * float(acc_n);
       }
       Box left;
       uint32_t leftN = 0;
       for (int b = 1; b < bins; ++b) {
-        left.grow(bin[size_t(b - 1)]);
+        left.grow(bx[size_t(b - 1)]);
         leftN += n[size_t(b - 1)];
         if (leftN == 0 || leftN == count) continue;
         const float cost = left.halfArea() * float(leftN) + rightCost[size_t(b)];
@@ -89,9 +120,8 @@ struct Builder {
     uint32_t mid = 0;
     const float leafCost = box.halfArea() * float(count);
     if (bestBin > 0 && (count > kPrimaryBvhLeaf || best + box.halfArea() < leafCost)) {
-      const float scale = float(bins) / ext[bestAxis];
       const auto it = std::partition(order.begin() + first, order.begin() + first + count, [&](uint32_t t) {
-        return std::clamp(int((centroids[t][bestAxis] - cb.lo[bestAxis]) * scale), 0, bins - 1) < bestBin;
+        return binOf(centroids[t][bestAxis], cb.lo[bestAxis], scale[bestAxis]) < bestBin;
       });
       mid = uint32_t(it - order.begin());
     }
@@ -129,7 +159,7 @@ struct Builder {
 PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   Builder b;
-  b.opt = options;
+  b.setUp(options);
   const size_t n = vertices.size() / 3;
   b.boxes.resize(n);
   b.centroids.assign(n, glm::vec3(0.0f));

@@ -24,10 +24,10 @@ namespace hb {
 // node's index, or a leaf: kWideLeaf | (count − 1) << 28 | first (entries of the triangle order), or
 // kWideEmpty for no child.
 // The tracer's SAH: 64 bins on each of the three axes, where primary visibility's tree bins 12 on
-// the centroids' widest. On the H200 it traced the atrium's camera, AO and shadow rays 1.10-1.17x
-// faster than the default, and the frame's shadow and AO rays 1.02-1.06x (results/h200/tracer-51/tree).
-// The bin count was chosen by those measurements: on the atrium the work a ray does is not monotone
-// in it (32, 128 and 256 bins, and the full sweep, did more; docs/rays.md).
+// the centroids' widest. On the H200 the 4-wide tree traced the atrium's exported camera, AO and
+// shadow rays faster with it, and the frame's own rays a little faster. The count was chosen by
+// those measurements on that one scene; the full sweep was slower on the exported sets and faster on
+// the frame's own rays (results/h200/tracer-51/tree, docs/rays.md).
 inline constexpr BvhBuildOptions kTraceBvhBuild{64, true};
 
 inline constexpr uint32_t kWideLeaf = 0x80000000u;

@@ -235,8 +235,8 @@ TEST(TraceBvh, EdgeCases) {
 
 // The tracer's SAH tries every axis (kTraceBvhBuild), not only the centroids' widest: two rows of
 // small triangles 10 m apart in y, each 100 m long in x. The widest extent is x, and a cut across it
-// leaves both halves 10 m tall; the cheaper cut is between the rows (half areas of about 110 against
-// 560 a child, derived below), which only a build that tries y finds. Primary visibility's tree keeps
+// leaves both halves 10 m tall; the cheaper cut is between the rows (half areas of about 120 against
+// 571 a child, derived below), which only a build that tries y finds. Primary visibility's tree keeps
 // its default (the widest axis) and cuts across x: the contrast shows the test can fail.
 TEST(TraceBvh, TheTracersSahTriesEveryAxis) {
   std::vector<glm::vec3> v;
