@@ -37,7 +37,7 @@ std::string slug(const std::string& s) {
   std::string out;
   for (char c : s) {
     if (std::isalnum(static_cast<unsigned char>(c)))
-      out += asciiLower(std::string(1, c));
+      out += asciiLower(c);
     else if (!out.empty() && out.back() != '-')
       out += '-';
   }

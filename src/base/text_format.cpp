@@ -47,8 +47,7 @@ std::string escapeXml(const std::string& s) {
 }
 
 std::string asciiLower(std::string s) {
-  for (char& c : s)
-    if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+  for (char& c : s) c = asciiLower(c);
   return s;
 }
 

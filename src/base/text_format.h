@@ -21,5 +21,6 @@ std::string escapeXml(const std::string& s);
 // ASCII letters A-Z as a-z; every other byte (UTF-8 included) as it is. For extensions, names and
 // UUIDs compared without case.
 std::string asciiLower(std::string s);
+inline char asciiLower(char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; }
 
 }  // namespace hb

@@ -36,6 +36,8 @@ TEST(TextFormat, AsciiLowerChangesOnlyAsciiLetters) {
             "code.glb");
   EXPECT_EQ(asciiLower("@[`{"), "@[`{");  // the bytes either side of A-Z and a-z
   EXPECT_EQ(asciiLower(""), "");
+  EXPECT_EQ(asciiLower('Q'), 'q');
+  EXPECT_EQ(asciiLower('['), '[');
 }
 
 }  // namespace
