@@ -5,6 +5,8 @@
 #include <functional>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "base/errors.h"
@@ -344,12 +346,16 @@ TEST(ConfigErrors, StructuralMistakesNameTheField) {
             R"(x.json: name: "my sweep" may use only letters, digits, '.', '_' and '-' (it names output files))");
 }
 
+// A file named by the process and the test: ctest -j runs each test in its own process, started
+// together, so a name from anything shared between them (gtest's random seed is the clock's
+// millisecond) lets two tests write and remove one file.
 class TempFile {
  public:
   explicit TempFile(const std::string& text)
       : path_(std::filesystem::temp_directory_path() /
-              ("hb_config_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-               std::to_string(counter_++) + ".json")) {
+              ("hb_config_test_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" + std::to_string(counter_++) +
+               ".json")) {
     std::ofstream(path_, std::ios::binary) << text;
   }
   ~TempFile() { std::filesystem::remove(path_); }
@@ -533,7 +539,8 @@ TEST(ConfigCamera, AutoIsAcceptedAndWrittenBackAndAnythingElseIsNamed) {
 // A sweep's --set of some of an effect's settings is laid over the config's effects and over each
 // variant's own value: the keys it leaves out keep theirs (docs/usage.md "Precedence").
 TEST(SetOverride, AnEffectSetKeepsTheSettingsOfTheConfigAndOfEachVariantThatItLeavesOut) {
-  const std::filesystem::path path = std::filesystem::temp_directory_path() / "hb-effect-set-config.json";
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("hb-effect-set-config-" + std::to_string(::getpid()) + ".json");
   {
     std::ofstream f(path);
     f << R"({"name": "x", "scene": "atrium", "resolution": [64, 36],
