@@ -15,7 +15,8 @@
 # sides), 2 bad input (missing baseline, config or device).
 # HYBRIDBENCH (default: hybridbench on PATH, else build/hybridbench), SWEEP_ARGS (e.g. "--frames
 # 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3", or "--gate frame" to gate on frames
-# only) may be set. RESULTS=FILE compares that results.json instead of sweeping (e.g. what
+# only) and NOISE (a noise file for compare --noise, from hybridbench noise) may be set.
+# RESULTS=FILE compares that results.json instead of sweeping (e.g. what
 # `hybridbench merge` wrote from a fleet's parts, docs/fleet.md); CONFIG is then not used.
 set -uo pipefail
 
@@ -47,6 +48,16 @@ if [ -z "$config" ] && [ -z "${RESULTS:-}" ]; then
     "$baseline" "$config" || { echo "ci-compare: '$baseline' holds no context.config; pass CONFIG" >&2; exit 2; }
 fi
 
+# NOISE=FILE: a noise file (hybridbench noise): gate only beyond the between-run spread too.
+noise=()
+if [ -n "${NOISE:-}" ]; then
+  if [ ! -f "$NOISE" ]; then
+    echo "ci-compare: NOISE='$NOISE' does not exist; write one with 'hybridbench noise A.json B.json ... --out FILE'" >&2
+    exit 2
+  fi
+  noise=(--noise "$NOISE")
+fi
+
 # Every pass gates unless COMPARE_ARGS names its own gate.
 case " ${COMPARE_ARGS:-} " in
   *" --gate "*) gate=() ;;
@@ -65,12 +76,12 @@ else
 fi
 
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-"$hb" compare "$baseline" "$candidate" --format junit "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
-"$hb" compare "$baseline" "$candidate" --format md "${gate[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
+"$hb" compare "$baseline" "$candidate" --format junit "${gate[@]}" "${noise[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
+"$hb" compare "$baseline" "$candidate" --format md "${gate[@]}" "${noise[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
 status=$?
 # The page of the new sweep with the comparison (hybridbench report): the job's artifact to open.
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" "${gate[@]}" \
+if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" "${gate[@]}" "${noise[@]}" \
   ${COMPARE_ARGS:-}; then
   echo "ci-compare: report.html not written (see the line above); compare.md stands" >&2
 fi

@@ -83,4 +83,38 @@ TEST_F(CompareGate, ABadGateOrFloorIsOneLine) {
   EXPECT_EQ(std::count(m.err.begin(), m.err.end(), '\n'), 1) << m.err;
 }
 
+// The between-run noise (docs/usage.md "Between-run noise"): the two H200s swept at once with the
+// driver's pipeline gate rows on within-run noise alone, and none with the committed noise file,
+// whose use the output names; `noise` writes a file compare reads; bad input is one line, exit 2.
+TEST_F(CompareGate, TheNoiseFileHoldsTheH200PipelinesAaPairAndBadInputIsOneLine) {
+  const fs::path h200 = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h200/concurrent/thesis-aa";
+  const std::string a = (h200 / "0-nvidia-h200/results.json.gz").string();
+  const std::string b = (h200 / "1-nvidia-h200/results.json.gz").string();
+  const std::string noise = (fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/noise/noise.json").string();
+  EXPECT_EQ(run({"compare", a, b, "--gate", "all"}).exitCode, 1);
+  const RunResult held = run({"compare", a, b, "--gate", "all", "--noise", noise, "--json"});
+  EXPECT_EQ(held.exitCode, 0) << held.err;
+  const json report = json::parse(held.out, nullptr, false);
+  ASSERT_TRUE(report.is_object()) << held.out;
+  EXPECT_EQ(report["noise"].get<std::string>().rfind("between-run (" + noise + ": 9 A/A pairs)", 0), 0u)
+      << report["noise"];
+  size_t within = 0;
+  for (const json& row : report["rows"])
+    within += row["held"].get<std::string>().rfind("within the between-run", 0) == 0;
+  EXPECT_GT(within, 0u);
+
+  const RunResult written = run({"noise", a, b, "--no-check", "--out", (dir / "n.json").string()});
+  EXPECT_EQ(written.exitCode, 0) << written.err;
+  EXPECT_EQ(run({"compare", a, b, "--gate", "all", "--noise", (dir / "n.json").string()}).exitCode, 0);
+
+  for (const std::vector<std::string>& bad : {std::vector<std::string>{"noise", a, b, k02f03e1},
+                                              {"noise", k02f03e1, b},
+                                              {"compare", a, b, "--noise", k02f03e1},
+                                              {"compare", a, b, "--noise", (dir / "none.json").string()}}) {
+    const RunResult r = run(bad);
+    EXPECT_EQ(r.exitCode, 2) << bad[0] << " " << bad.back() << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+}
+
 }  // namespace

@@ -9,6 +9,7 @@
 #include "base/errors.h"
 #include "base/input_file.h"
 #include "report/html_report.h"
+#include "report/noise_model.h"
 
 namespace hb {
 
@@ -49,6 +50,12 @@ int cmdReport(const ReportOptions& options) {
     page.base = &base;
     page.baseSource = options.compare;
     page.compareOptions = options.compareOptions;
+  }
+  NoiseModel noise;
+  if (!options.noise.empty()) {
+    if (options.compare.empty()) throw InputError("report: --noise needs --compare BASE.json; the noise is compare's");
+    noise = readNoiseFile(options.noise);
+    page.compareOptions.noise = &noise;
   }
   // The images of a sweep lie beside its results.json, one folder per variant.
   const fs::path resultsDir =

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -6,11 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/sweep_results.h"
 #include "base/errors.h"
 #include "base/input_file.h"
+#include "base/text_format.h"
 #include "report/accuracy_report.h"
 #include "report/all_tables.h"
 #include "report/compare.h"
+#include "report/noise_model.h"
 #include "report/results_json.h"
 #include "report/roofline.h"
 #include "report/tables.h"
@@ -95,7 +99,23 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
   return kExitOk;
 }
 
-int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format) {
+NoiseModel readNoiseFile(const std::string& path) {
+  const std::string hint = "pass a noise file written by 'hybridbench noise A.json B.json ... --out FILE'";
+  const std::string text = readInputText(path, hint);
+  try {
+    return noiseModelFromJson(nlohmann::json::parse(text), path);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); " + hint);
+  }
+}
+
+int cmdCompare(const std::string& a, const std::string& b, CompareOptions options, const std::string& format,
+               const std::string& noise) {
+  NoiseModel model;
+  if (!noise.empty()) {
+    model = readNoiseFile(noise);
+    options.noise = &model;
+  }
   const nlohmann::json ja = readResults(a), jb = readResults(b);
   results::requireResultsFile(ja, a);
   results::requireResultsFile(jb, b);
@@ -111,6 +131,44 @@ int cmdCompare(const std::string& a, const std::string& b, const CompareOptions&
   else
     std::cout << formatCompare(report);
   return report.regression ? kExitRegression : kExitOk;
+}
+
+int cmdNoise(const NoiseOptions& options) {
+  if (options.pairs.size() % 2 != 0)
+    throw InputError(format("noise: %zu results files is not a list of pairs; give A/A pairs A1 B1 [A2 B2 ...]",
+                            options.pairs.size()));
+  if (options.trials == 0) throw InputError("noise: --trials 0 leaves nothing to measure; give e.g. 100");
+  if (!(options.plantedPct > 0)) throw InputError("noise: --planted must be a slowdown in % > 0, e.g. 5");
+  if (!(options.thresholdPct >= 0)) throw InputError("noise: --threshold must be a percentage >= 0, e.g. 5");
+  if (!options.out.empty()) {
+    const std::filesystem::path out(options.out);
+    std::error_code ec;
+    if (std::filesystem::is_directory(out, ec))
+      throw InputError("noise: --out " + options.out + " is a folder; name the file to write, e.g. --out " +
+                       (out / "noise.json").string());
+    const std::filesystem::path dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(dir, ec))
+      throw InputError("noise: --out " + options.out + ": the folder " + dir.string() +
+                       " does not exist; create it or write the file elsewhere");
+  }
+  std::vector<AaPair> pairs;
+  for (size_t i = 0; i < options.pairs.size(); i += 2) {
+    AaPair p{readResults(options.pairs[i]), readResults(options.pairs[i + 1]), options.pairs[i], options.pairs[i + 1]};
+    results::requireResultsFile(p.a, p.nameA);
+    results::requireResultsFile(p.b, p.nameB);
+    pairs.push_back(std::move(p));
+  }
+  const NoiseModel model = buildNoiseModel(pairs);
+  if (!options.out.empty()) writeFileAtomic(options.out, toJson(model).dump(2) + "\n");
+  if (options.noCheck) {
+    std::cout << formatNoise(model, NoiseCheck{options.plantedPct, options.thresholdPct});
+    return kExitOk;
+  }
+  std::fprintf(stderr, "noise: %zu pairs; false alarms, then %zu detection trials a row ...\n", pairs.size(),
+               options.trials);
+  std::cout << formatNoise(model,
+                           checkNoiseModel(pairs, model, options.plantedPct, options.thresholdPct, options.trials));
+  return kExitOk;
 }
 
 }  // namespace hb

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "report/compare.h"
+#include "report/noise_model.h"
 #include "scene/scene.h"
 
 namespace hb {
@@ -76,7 +77,22 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
 // records its own), a variant is in no part or in two, or out holds results (force: moved aside).
 int cmdMerge(const std::vector<std::string>& dirs, const std::string& out, bool force);
 // format: md (a Markdown table), json or junit (formatCompareJunit).
-int cmdCompare(const std::string& a, const std::string& b, const CompareOptions& options, const std::string& format);
+// noise: the noise file to read into options.noise ("" for none).
+int cmdCompare(const std::string& a, const std::string& b, CompareOptions options, const std::string& format,
+               const std::string& noise);
+
+// `hybridbench noise A1 B1 [A2 B2 ...]`: the between-run noise model of A/A pairs
+// (report/noise_model.h), printed with its false alarms and detection; --out writes the noise file.
+struct NoiseOptions {
+  std::vector<std::string> pairs;
+  std::string out;
+  double thresholdPct = 5, plantedPct = 5;
+  size_t trials = 100;
+  bool noCheck = false;
+};
+int cmdNoise(const NoiseOptions& options);
+// A noise file's model (InputError naming the path when it is not one).
+NoiseModel readNoiseFile(const std::string& path);
 
 // `report`: the page of a results file (report/html_report.h) written to out, with the images of
 // the variants found beside the results file; with compare, the comparison against that base.
@@ -85,6 +101,7 @@ struct ReportOptions {
   std::string compare;  // base results.json (A), or empty
   std::string out;      // the page to write (its folder must exist)
   CompareOptions compareOptions;
+  std::string noise;  // a noise file for the comparison, or empty
 };
 int cmdReport(const ReportOptions& options);
 

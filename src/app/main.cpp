@@ -133,7 +133,12 @@ int main(int argc, char** argv) {
       ->add_option("--gate", compareGate, "which slower rows are a regression (exit 1): frame (default), passes or all")
       ->check(CLI::IsMember({"frame", "passes", "all"}));
   compareCmd->add_option("--min-ms", compareOpts.minMs,
-                         "a pass under this median (ms) on both sides is reported but does not gate (default 0.02)");
+                         "a pass under this median (ms) on both sides is reported but does not gate (default 0: each "
+                         "row's floor, from the timestamps' resolution and the noise file's launch jitter)");
+  std::string compareNoise;
+  compareCmd->add_option(
+      "--noise", compareNoise,
+      "a noise file ('hybridbench noise'): gate only beyond the between-run spread of A/A pairs too");
   compareCmd->add_flag("--json", compareJson, "machine-readable report (the same as --format json)");
   compareCmd
       ->add_option("--format", compareFormat,
@@ -141,6 +146,20 @@ int main(int argc, char** argv) {
                    "variant and pass, failed when slower)")
       ->check(CLI::IsMember({"md", "json", "junit"}));
   const CLI::Option* compareFormatOpt = compareCmd->get_option("--format");
+
+  std::vector<std::string> noisePaths;
+  NoiseOptions noiseOpts;
+  auto* noiseCmd = app.add_subcommand(
+      "noise", "the between-run noise of A/A pairs (a noise file for compare --noise), its false alarms and detection");
+  noiseCmd
+      ->add_option("pairs", noisePaths, "A/A pairs of results files: A1 B1 [A2 B2 ...] (the same config swept twice)")
+      ->required();
+  noiseCmd->add_option("--out", noiseOpts.out, "write the noise file here (JSON)");
+  noiseCmd->add_option("--threshold", noiseOpts.thresholdPct, "compare's threshold in the check (default 5)");
+  noiseCmd->add_option("--planted", noiseOpts.plantedPct,
+                       "the slowdown planted in the detection trials, % (default 5)");
+  noiseCmd->add_option("--trials", noiseOpts.trials, "resamples per A/A row in the detection trials (default 100)");
+  noiseCmd->add_flag("--no-check", noiseOpts.noCheck, "write the model only: no false-alarm or detection trials");
 
   ReportOptions report;
   std::string reportGate = "frame";
@@ -153,7 +172,8 @@ int main(int argc, char** argv) {
   reportCmd->add_option("--alpha", report.compareOptions.alpha, "as compare's (default 0.05)");
   reportCmd->add_option("--gate", reportGate, "as compare's: frame (default), passes or all")
       ->check(CLI::IsMember({"frame", "passes", "all"}));
-  reportCmd->add_option("--min-ms", report.compareOptions.minMs, "as compare's (default 0.02)");
+  reportCmd->add_option("--min-ms", report.compareOptions.minMs, "as compare's (default 0)");
+  reportCmd->add_option("--noise", report.noise, "as compare's: a noise file");
   reportCmd->add_flag("--force", report.compareOptions.force, "compare even when scenes or configs differ");
 
   RaysExportOptions raysExport;
@@ -260,7 +280,12 @@ int main(int argc, char** argv) {
                          : compareGate == "passes" ? CompareGate::Passes
                                                    : CompareGate::Frame;
     }
-    if (*compareCmd) return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat);
+    if (*compareCmd)
+      return cmdCompare(compareA, compareB, compareOpts, compareJson ? "json" : compareFormat, compareNoise);
+    if (*noiseCmd) {
+      noiseOpts.pairs = noisePaths;
+      return cmdNoise(noiseOpts);
+    }
     if (*reportCmd) {
       report.compareOptions.gate = reportGate == "all"      ? CompareGate::All
                                    : reportGate == "passes" ? CompareGate::Passes

@@ -1,6 +1,7 @@
 #include "report/compare.h"
 #include "base/numbers.h"
 #include "base/text_format.h"
+#include "report/noise_model.h"
 
 #include <algorithm>
 #include <cmath>
@@ -145,10 +146,20 @@ std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   return "same";
 }
 
+// The smallest step between two distinct samples (ms), at least `period`: the resolution the
+// timestamps gave this pass (the NVIDIA driver's 1 ns period steps by 32 ns on the H200).
+double sampleResolution(std::vector<double> samples, double period) {
+  std::sort(samples.begin(), samples.end());
+  double step = kNaN;
+  for (size_t i = 1; i < samples.size(); ++i)
+    if (const double d = samples[i] - samples[i - 1]; d > 0 && !(d >= step)) step = d;
+  return std::isfinite(step) ? std::max(step, period) : period;
+}
+
 // untimed: a side was measured on a CPU device, whose per-pass times mean nothing: those rows get
 // "not timed" (no verdict, never a regression); the frame row keeps its verdict.
 CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta, const Timing& tb,
-                          const CompareOptions& o, bool untimed) {
+                          const CompareOptions& o, bool untimed, const RowContext& context) {
   CompareRow r;
   r.variant = variant;
   r.pass = pass;
@@ -168,9 +179,23 @@ CompareRow compareTimings(const std::string& variant, const std::string& pass, c
     r.ciHigh = ci.high;
   }
   r.verdict = untimed && pass != "frame" ? "not timed" : verdictFor(r, o);
+  r.tracer = context.tracer;
+  const NoisePass* between = o.noise ? o.noise->find(context.device, context.tracer, pass) : nullptr;
+  const NoiseJitter* jitter = o.noise ? o.noise->jitterOf(context.device, context.tracer) : nullptr;
+  const double z = o.noise ? o.noise->z : 0;
+  r.floorMs = 2 * std::max(sampleResolution(ta.samples, context.tickA), sampleResolution(tb.samples, context.tickB)) +
+              (jitter ? z * jitter->rmsMs : 0);
+  if (between) r.bandPct = 100 * (std::exp(z * between->rmsLog) - 1);
   const bool frame = pass == "frame";
   const bool tiny = r.medianA < o.minMs && r.medianB < o.minMs;  // false for NaN
-  r.gates = r.verdict == "slower" && (frame ? o.gate != CompareGate::Passes : o.gate != CompareGate::Frame && !tiny);
+  const bool counted = frame ? o.gate != CompareGate::Passes : o.gate != CompareGate::Frame && !tiny;
+  if (r.verdict == "slower") {
+    if (between && !(r.ratio > 1 + r.bandPct / 100))
+      r.held = format("within the between-run band (+%.3g %%)", r.bandPct);
+    else if (!(r.medianB - r.medianA > r.floorMs))
+      r.held = format("under the floor (%.3g us)", 1000 * r.floorMs);
+  }
+  r.gates = r.verdict == "slower" && counted && r.held.empty();
   return r;
 }
 
@@ -326,6 +351,16 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
         "per-pass rows measured on a CPU device are \"not timed\": no verdict, never a regression; its frame times "
         "follow the host's load, so an A/A pair on a busy machine can differ beyond the threshold");
 
+  // The timestamp period of each side (ms): the finest step its times can take.
+  auto periodOf = [](const json& r) {
+    const json v = valueAt(r, {"context", "device", "timestamp_period_ns"});
+    return v.is_number() ? v.get<double>() * 1e-6 : 0.0;
+  };
+  const double tickA = periodOf(a), tickB = periodOf(b);
+  if (options.noise)
+    report.noise = "between-run (" +
+                   (options.noise->source.empty() ? std::string("a noise model") : options.noise->source) +
+                   format(": %zu A/A pairs)", options.noise->pairs.size());
   double logRatioSum = 0;
   size_t logRatioCount = 0;
   for (const json& runA : a["runs"]) {
@@ -350,8 +385,10 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     for (const auto& [side, run] : {std::pair<const char*, const json*>{"A", &runA}, {"B", runB}})
       if (const std::string w = results::throttleWarningOf(*run); !w.empty())
         report.warnings.push_back("variant '" + name + "' in " + side + ": " + w);
+    RowContext context{report.b.device, tracerB.empty() ? textAt(b, {"context", "device", "rt_backend"}) : tracerB,
+                       tickA, tickB};
     CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
-                                      timingOf(runB->value("frame_ms", json())), options, untimed);
+                                      timingOf(runB->value("frame_ms", json())), options, untimed, context);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
       ++logRatioCount;
@@ -361,7 +398,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json passesB = runB->value("passes", json::object());
     for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
       report.rows.push_back(
-          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, untimed));
+          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, untimed, context));
   }
   for (const json& runB : b["runs"]) {
     const std::string name = runB.value("name", std::string());
@@ -386,8 +423,10 @@ std::string formatCompare(const CompareReport& r) {
   std::string out =
       "A: " + r.a.device + " (" + describeSide(r.a) + ")\nB: " + r.b.device + " (" + describeSide(r.b) + ")\n";
   if (r.devicesDifferInKind) out += "WARNING: " + r.warnings.front() + "\n";
-  out += format("threshold %.4g %%, alpha %.4g, gate %s (passes under %.4g ms on both sides do not gate)\n\n",
-                r.thresholdPct, r.alpha, toString(r.gate), r.minMs);
+  out += format("threshold %.4g %%, alpha %.4g, gate %s, noise %s", r.thresholdPct, r.alpha, toString(r.gate),
+                r.noise.c_str());
+  if (r.minMs > 0) out += format(" (passes under %.4g ms on both sides do not gate)", r.minMs);
+  out += "\n\n";
   for (const std::string& caveat : r.caveats) out += "caveat: " + caveat + "\n";
   if (!r.caveats.empty()) out += "\n";
   out += format(
@@ -399,7 +438,8 @@ std::string formatCompare(const CompareReport& r) {
     const std::string p = !std::isfinite(row.p) ? "n/a" : row.p < 1e-4 ? "<0.0001" : format("%.4f", row.p);
     out += "| " + row.variant + " | " + row.pass + " | " + num(row.medianA, "%.3f") + " | " + num(row.medianB, "%.3f") +
            " | " + num(row.ratio, "%.3f") + " | [" + num(row.ciLow, "%.3f") + ", " + num(row.ciHigh, "%.3f") + "] | " +
-           p + " | " + row.verdict + (row.gates ? " (gates)" : "") + " |\n";
+           p + " | " + row.verdict + (row.gates ? " (gates)" : "") +
+           (row.held.empty() ? "" : " (held: " + row.held + ")") + " |\n";
   }
   out += "\ngeometric mean of frame-time ratios B/A: " + num(r.geomeanRatio, "%.4f") + "\n";
   const char* gated = r.gate == CompareGate::Frame    ? "a frame time"
@@ -433,6 +473,7 @@ std::string formatCompareJunit(const CompareReport& r) {
   out += format("      <property name=\"alpha\" value=\"%.4g\"/>\n", r.alpha);
   out += format("      <property name=\"gate\" value=\"%s\"/>\n", toString(r.gate));
   out += format("      <property name=\"min_ms\" value=\"%.4g\"/>\n", r.minMs);
+  out += "      <property name=\"noise\" value=\"" + escapeXml(r.noise) + "\"/>\n";
   for (const auto& [side, s] : {std::pair<const char*, const CompareSide*>{"a", &r.a}, {"b", &r.b}})
     for (const auto& [key, value] : {std::pair<const char*, const std::string*>{"device_type", &s->deviceType},
                                      {"driver", &s->driver},
@@ -458,10 +499,11 @@ std::string formatCompareJunit(const CompareReport& r) {
     } else if (row.verdict == "too noisy" || row.verdict == "not timed") {
       out += ">\n      <skipped message=\"" + escapeXml(row.verdict + ": " + what) + "\"/>\n    </testcase>\n";
     } else {
-      const std::string verdict = row.verdict == "slower"
-                                      ? "slower, not gated (gate " + std::string(toString(r.gate)) + ", or under the " +
-                                            format("%.4g", r.minMs) + " ms floor)"
-                                      : row.verdict;
+      const std::string verdict = row.verdict != "slower" ? row.verdict
+                                  : row.held.empty()
+                                      ? "slower, not gated (gate " + std::string(toString(r.gate)) + ", or under " +
+                                            format("%.4g", r.minMs) + " ms on both sides)"
+                                      : "slower, not gated: " + row.held;
       out += ">\n      <system-out>" + escapeXml(verdict + ": " + what) + "</system-out>\n    </testcase>\n";
     }
   }
@@ -493,7 +535,11 @@ json toJson(const CompareReport& r) {
                     {"ci_high", numOrNull(row.ciHigh)},
                     {"p", numOrNull(row.p)},
                     {"verdict", row.verdict},
-                    {"gates", row.gates}});
+                    {"gates", row.gates},
+                    {"ray_tracing", row.tracer},
+                    {"floor_ms", row.floorMs},
+                    {"band_pct", numOrNull(row.bandPct)},
+                    {"held", row.held}});
   auto side = [](const CompareSide& s) {
     return json{{"device", s.device},     {"device_type", s.deviceType}, {"driver", s.driver},
                 {"revision", s.revision}, {"version", s.version},        {"date", s.date},
@@ -513,8 +559,22 @@ json toJson(const CompareReport& r) {
           {"caveats", r.caveats},
           {"gate", toString(r.gate)},
           {"min_ms", r.minMs},
+          {"noise", r.noise},
           {"failures", r.failures},
           {"regression", r.regression}};
+}
+
+CompareRow compareSampleSets(const std::string& variant, const std::string& pass, std::vector<double> a,
+                             std::vector<double> b, const CompareOptions& options, const RowContext& context) {
+  Timing ta, tb;
+  ta.samples = std::move(a);
+  tb.samples = std::move(b);
+  for (Timing* t : {&ta, &tb}) {
+    const Summary s = summarize(t->samples);
+    t->median = s.median;
+    t->cv = s.cv;
+  }
+  return compareTimings(variant, pass, ta, tb, options, false, context);
 }
 
 }  // namespace hb

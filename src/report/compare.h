@@ -9,7 +9,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/numbers.h"
+
 namespace hb {
+
+struct NoiseModel;
 
 // Which "slower" rows make a regression (exit 1): the frames only, the passes only, or both.
 enum class CompareGate { Frame, Passes, All };
@@ -20,10 +24,11 @@ struct CompareOptions {
   double alpha = 0.05;      // significance level of the test; the CI is at 1 - alpha
   bool force = false;       // compare even when the scenes or configs differ (warns instead)
   CompareGate gate = CompareGate::Frame;
-  // A pass whose median is under this on both sides is reported but never gates: 0.02 ms is
-  // 20 timestamp ticks of a 1 ns timer and a few hundred GPU cycles, where a 5 % change is 1 us
-  // and scheduling jitter of that size is common.
-  double minMs = 0.02;
+  // A pass whose median is under this on both sides is reported but never gates. 0 by default: each
+  // row's own floor (CompareRow::floorMs) replaced the fixed 0.02 ms.
+  double minMs = 0;
+  // The between-run noise (noise_model.h), or null: within-run noise only.
+  const NoiseModel* noise = nullptr;
 };
 
 // Below kMinSamplesForVerdict samples on a side, or with a CV above kMaxQuietCv, a result that is
@@ -52,6 +57,17 @@ struct CompareRow {
   // on a CPU device on either side, whose per-pass times mean nothing (results' timing_caveat).
   std::string verdict;
   bool gates = false;  // "slower" and counted by the gate: a regression
+  std::string tracer;  // B's run's ray tracer (backend_choice.ran, else the device's rt_backend)
+  // The absolute floor: a slower row gates only when medianB - medianA exceeds it. Twice the
+  // timestamps' resolution (the smallest step between two samples of the pass on either side, at
+  // least the device's timestampPeriod: each median is a difference of two quantized timestamps),
+  // plus z times the model's launch jitter where a noise model covers the device.
+  double floorMs = 0;
+  // The between-run band (noise_model.h): a slower row gates only when B/A exceeds 1 + bandPct/100;
+  // NaN where no noise model covers the row.
+  double bandPct = kNaN;
+  // Why a "slower" row does not gate, "" otherwise: "within the between-run band", "under the floor".
+  std::string held;
 };
 
 // What made one side's results (its context): the device and the build. A field the file does
@@ -82,7 +98,10 @@ struct CompareReport {
   // What a side's times cannot be used for ("A: <caveat>"), from its context (timingCaveats).
   std::vector<std::string> caveats;
   CompareGate gate = CompareGate::Frame;
-  double minMs = 0.02;
+  double minMs = 0;
+  // Which noise the verdicts used: "within-run" (each run's frames), or the noise file's
+  // "between-run (FILE: N A/A pairs)".
+  std::string noise = "within-run";
   bool regression = false;  // any row gates
   // One line per row that gates: "<variant>: <pass> B/A 1.087 [1.080, 1.094]".
   std::vector<std::string> failures;
@@ -110,5 +129,14 @@ std::string formatCompare(const CompareReport& report);
 std::string formatCompareJunit(const CompareReport& report);
 
 nlohmann::json toJson(const CompareReport& report);
+
+// One row from two sample sets (the detection trials of noise_model.h): as compareResults makes
+// each row, with the device model, ray tracer and timestamp periods (ms) it would read from B.
+struct RowContext {
+  std::string device, tracer;
+  double tickA = 0, tickB = 0;
+};
+CompareRow compareSampleSets(const std::string& variant, const std::string& pass, std::vector<double> a,
+                             std::vector<double> b, const CompareOptions& options, const RowContext& context);
 
 }  // namespace hb
