@@ -32,10 +32,17 @@ struct Box {
   }
 };
 
+// A triangle as the builder moves it: its bounds (empty: a non-finite vertex), centroid (0 for the
+// non-finite ones) and index. The builder partitions these in place rather than indices into
+// per-triangle arrays, so that every pass over a node reads memory in order.
+struct Item {
+  Box box;
+  glm::vec3 centroid{0.0f};
+  uint32_t triangle = 0;
+};
+
 struct Builder {
-  std::vector<Box> boxes;            // per triangle (empty: a non-finite vertex)
-  std::vector<glm::vec3> centroids;  // per triangle (0 for the non-finite ones)
-  std::vector<uint32_t> order;
+  std::vector<Item> items;
   std::vector<gpu::PrimaryBvhNode> nodes;
   uint32_t depth = 0;
 
@@ -43,7 +50,8 @@ struct Builder {
   // Per axis its bins' boxes and counts, and the costs of the cuts: sized once (setUp), reused by
   // every partition.
   std::array<std::vector<Box>, 3> bin;
-  std::array<std::vector<uint32_t>, 3> binCount;
+  std::array<std::vector<uint32_t>, 3> binCount;  // all 0 between partitions
+  std::array<std::vector<int>, 3> used;           // the bins a partition filled
   std::vector<float> rightCost;
 
   void setUp(const BvhBuildOptions& o) {
@@ -51,7 +59,8 @@ struct Builder {
     opt = o;
     for (int a = 0; a < 3; ++a) {
       bin[size_t(a)].resize(size_t(o.bins));
-      binCount[size_t(a)].resize(size_t(o.bins));
+      binCount[size_t(a)].assign(size_t(o.bins), 0u);
+      used[size_t(a)].reserve(size_t(o.bins));
     }
     rightCost.resize(size_t(o.bins));
   }
@@ -63,9 +72,7 @@ struct Builder {
   // Where to cut order[first, first + count): the index of the first right triangle, or 0 for a
   // leaf. Binned SAH (cost 1 a node traversal, 1 a triangle test), opt.bins bins on the centroids'
   // widest extent, or on each axis (opt.allAxes), all binned in one pass over the triangles.
-  uint32_t partition(uint32_t first, uint32_t count, const Box& box) {
-    Box cb;
-    for (uint32_t i = first; i < first + count; ++i) cb.grow(centroids[order[i]]);
+  uint32_t partition(uint32_t first, uint32_t count, const Box& box, const Box& cb) {
     const glm::vec3 ext = cb.hi - cb.lo;
     const int widest = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     const int bins = opt.bins;
@@ -77,58 +84,65 @@ struct Builder {
       if (!opt.allAxes && axis != widest) continue;
       scale[axis] = float(bins) / ext[axis];
       binned[size_t(axis)] = ext[axis] > 0.0f && std::isfinite(scale[axis]);
-      if (!binned[size_t(axis)]) continue;
-      std::fill(bin[size_t(axis)].begin(), bin[size_t(axis)].end(), Box{});
-      std::fill(binCount[size_t(axis)].begin(), binCount[size_t(axis)].end(), 0u);
     }
     for (uint32_t i = first; i < first + count; ++i) {
-      const uint32_t t = order[i];
+      const Item& it = items[i];
       for (int axis = 0; axis < 3; ++axis) {
         if (!binned[size_t(axis)]) continue;
-        const size_t b = size_t(binOf(centroids[t][axis], cb.lo[axis], scale[axis]));
-        bin[size_t(axis)][b].grow(boxes[t]);
-        ++binCount[size_t(axis)][b];
+        const size_t b = size_t(binOf(it.centroid[axis], cb.lo[axis], scale[axis]));
+        if (binCount[size_t(axis)][b]++ == 0) {
+          used[size_t(axis)].push_back(int(b));
+          bin[size_t(axis)][b] = it.box;
+        } else {
+          bin[size_t(axis)][b].grow(it.box);
+        }
       }
     }
+    // The cuts between consecutive non-empty bins: every cut inside a run of empty bins splits the
+    // triangles as the one at its end does, at the same cost, and the first of equal costs wins, so
+    // sweeping the non-empty bins alone chooses the partition the full sweep of opt.bins does.
     float best = std::numeric_limits<float>::infinity();
     int bestBin = -1, bestAxis = widest;
     for (int axis = 0; axis < 3; ++axis) {
       if (!binned[size_t(axis)]) continue;
+      std::vector<int>& u = used[size_t(axis)];
+      std::sort(u.begin(), u.end());
       const std::vector<Box>& bx = bin[size_t(axis)];
-      const std::vector<uint32_t>& n = binCount[size_t(axis)];
+      std::vector<uint32_t>& n = binCount[size_t(axis)];
       Box acc;
       uint32_t acc_n = 0;
-      for (int b = bins - 1; b > 0; --b) {
-        acc.grow(bx[size_t(b)]);
-        acc_n += n[size_t(b)];
-        rightCost[size_t(b)] = acc.halfArea() * float(acc_n);
+      for (size_t k = u.size(); k-- > 1;) {
+        acc.grow(bx[size_t(u[k])]);
+        acc_n += n[size_t(u[k])];
+        rightCost[k] = acc.halfArea() * float(acc_n);
       }
       Box left;
       uint32_t leftN = 0;
-      for (int b = 1; b < bins; ++b) {
-        left.grow(bx[size_t(b - 1)]);
-        leftN += n[size_t(b - 1)];
-        if (leftN == 0 || leftN == count) continue;
-        const float cost = left.halfArea() * float(leftN) + rightCost[size_t(b)];
+      for (size_t k = 1; k < u.size(); ++k) {
+        left.grow(bx[size_t(u[k - 1])]);
+        leftN += n[size_t(u[k - 1])];
+        const float cost = left.halfArea() * float(leftN) + rightCost[k];
         if (cost < best) {
           best = cost;
-          bestBin = b;
+          bestBin = u[k];
           bestAxis = axis;
         }
       }
+      for (int b : u) n[size_t(b)] = 0;  // the next partition finds its bins empty
+      u.clear();
     }
     uint32_t mid = 0;
     const float leafCost = box.halfArea() * float(count);
     if (bestBin > 0 && (count > kPrimaryBvhLeaf || best + box.halfArea() < leafCost)) {
-      const auto it = std::partition(order.begin() + first, order.begin() + first + count, [&](uint32_t t) {
-        return binOf(centroids[t][bestAxis], cb.lo[bestAxis], scale[bestAxis]) < bestBin;
+      const auto it = std::partition(items.begin() + first, items.begin() + first + count, [&](const Item& t) {
+        return binOf(t.centroid[bestAxis], cb.lo[bestAxis], scale[bestAxis]) < bestBin;
       });
-      mid = uint32_t(it - order.begin());
+      mid = uint32_t(it - items.begin());
     }
     if (mid == 0 && count > kPrimaryBvhLeaf) {  // no useful SAH cut (equal centroids): the median
       mid = first + count / 2;
-      std::nth_element(order.begin() + first, order.begin() + mid, order.begin() + first + count,
-                       [&](uint32_t a, uint32_t b) { return centroids[a][widest] < centroids[b][widest]; });
+      std::nth_element(items.begin() + first, items.begin() + mid, items.begin() + first + count,
+                       [&](const Item& a, const Item& b) { return a.centroid[widest] < b.centroid[widest]; });
     }
     return mid;
   }
@@ -137,10 +151,13 @@ struct Builder {
     depth = std::max(depth, level);
     const uint32_t index = uint32_t(nodes.size());
     nodes.emplace_back();
-    Box box;
-    for (uint32_t i = first; i < first + count; ++i) box.grow(boxes[order[i]]);
+    Box box, cb;  // the triangles' bounds, and their centroids'
+    for (uint32_t i = first; i < first + count; ++i) {
+      box.grow(items[i].box);
+      cb.grow(items[i].centroid);
+    }
     if (box.empty()) box.lo = box.hi = glm::vec3(0.0f);  // only non-finite triangles: a point
-    const uint32_t mid = count > 1 ? partition(first, count, box) : 0;
+    const uint32_t mid = count > 1 ? partition(first, count, box, cb) : 0;
     uint32_t right = 0;
     if (mid != 0) {
       build(first, mid - first, level + 1);
@@ -161,19 +178,18 @@ PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuil
   Builder b;
   b.setUp(options);
   const size_t n = vertices.size() / 3;
-  b.boxes.resize(n);
-  b.centroids.assign(n, glm::vec3(0.0f));
-  b.order.resize(n);
+  b.items.resize(n);
   for (size_t t = 0; t < n; ++t) {
-    b.order[t] = uint32_t(t);
+    Item& item = b.items[t];
+    item.triangle = uint32_t(t);
     const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
     auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
     const bool finite = finite3(v0) && finite3(v1) && finite3(v2);
     if (!finite) continue;
-    b.boxes[t].grow(v0);
-    b.boxes[t].grow(v1);
-    b.boxes[t].grow(v2);
-    b.centroids[t] = (b.boxes[t].lo + b.boxes[t].hi) * 0.5f;
+    item.box.grow(v0);
+    item.box.grow(v1);
+    item.box.grow(v2);
+    item.centroid = (item.box.lo + item.box.hi) * 0.5f;
   }
   PrimaryBvh out;
   if (n == 0) {
@@ -184,7 +200,8 @@ PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuil
     b.nodes.reserve(2 * n);
     b.build(0, uint32_t(n), 1);
     out.nodes = std::move(b.nodes);
-    out.order = std::move(b.order);
+    out.order.resize(n);
+    for (size_t i = 0; i < n; ++i) out.order[i] = b.items[i].triangle;
     out.depth = b.depth;
   }
   out.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
