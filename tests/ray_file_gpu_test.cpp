@@ -80,6 +80,29 @@ TEST_F(RayFileGpuTest, EveryBackendHitsWhatTheCpuHitsOnTheCameraAoAndShadowSets)
 
 class RaysCli : public hb::testing::ToolTest {};
 
+// A glTF made outside this repository without a camera (scenes/external, OpenSCAD's MCAD gears): the
+// export frames it as render's camera=auto does, says so, and records that camera; the rays hit the
+// gears and every backend traces them as the CPU's double-precision BVH does.
+TEST_F(RaysCli, ACameraLessGltfIsFramedAutomaticallyAndEveryBackendTracesItsRaysAsTheCpu) {
+  using namespace hb::testing;
+  const std::string gears = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scenes/external/mcad-gears.glb";
+  const RunResult exported =
+      run({"rays", "export", "--scene", gears, "--size", "32x18", "--out", (dir / "r").string()});
+  ASSERT_EQ(exported.exitCode, 0) << exported.err;
+  EXPECT_NE(exported.out.find("has no camera; framed it automatically"), std::string::npos) << exported.out;
+  const json info = readJson(dir / "r" / "camera.json");
+  EXPECT_TRUE(info.contains("camera") && info["camera"].is_object()) << info.dump();
+  const RunResult bench =
+      run({"raybench", (dir / "r" / "camera.bin").string(), "--scene", gears, "--json", (dir / "b.json").string()});
+  ASSERT_EQ(bench.exitCode, 0) << bench.err;
+  const json figures = readJson(dir / "b.json");
+  ASSERT_FALSE(figures["backends"].empty());
+  for (const json& b : figures["backends"]) {
+    EXPECT_EQ(b["unlike_cpu"], 0) << b["backend"];
+    EXPECT_LT(b["missed"].get<double>(), info["count"].get<double>()) << "the camera sees the gears";
+  }
+}
+
 TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused) {
   using namespace hb::testing;
   const RunResult exported =

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "analysis/frame_rays.h"
+#include "app/auto_scene.h"
 #include "app/commands.h"
 #include "base/errors.h"
 #include "base/input_file.h"
@@ -53,14 +54,18 @@ int cmdRaysExport(const RaysExportOptions& o) {
       o.kind == "all" ? std::vector<std::string>{"camera", "ao", "shadow"} : std::vector<std::string>{o.kind};
   uint32_t width = 1920, height = 1080;
   if (!o.size.empty()) parseSize(o.size, width, height, "--size");
-  const Scene scene = loadSceneArg(o.scene);
-  if (scene.cameras.empty())
-    throw InputError("rays export: scene " + o.scene +
-                     " has no camera; give a scene with one (hybridbench scene info)");
+  Scene scene = loadSceneArg(o.scene);
+  const std::string sha = sceneSha256(scene);  // the scene as loaded, before any automatic camera
+  if (scene.cameras.empty()) {
+    // As render's camera=auto (app/auto_scene.h): the rays are then of that camera, which the ray
+    // files record; raybench matches a file by its geometry, which a camera does not change.
+    scene.cameras.push_back(autoCamera(scene));
+    std::printf("rays export: %s has no camera; framed it automatically (camera=auto, docs/usage.md)\n",
+                o.scene.c_str());
+  }
   std::error_code ec;
   std::filesystem::create_directories(o.out, ec);
   if (ec) throw InputError("rays export: cannot create --out " + o.out + " (" + ec.message() + ")");
-  const std::string sha = sceneSha256(scene);
   const RayView view = rayViewOf(scene.cameras.front(), width, height);
   const std::vector<RayRecord> camera = cameraRays(view);
   auto write = [&](const std::string& kind, const std::vector<RayRecord>& rays, uint32_t gridWidth,
