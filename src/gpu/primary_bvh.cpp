@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "base/parallel.h"
 
 namespace hb {
 
@@ -42,7 +43,7 @@ struct Item {
 };
 
 struct Builder {
-  std::vector<Item> items;
+  std::vector<Item>& items;  // shared by the builders of disjoint subtrees
   std::vector<gpu::PrimaryBvhNode> nodes;
   uint32_t depth = 0;
 
@@ -147,17 +148,25 @@ struct Builder {
     return mid;
   }
 
-  uint32_t build(uint32_t first, uint32_t count, uint32_t level) {
-    depth = std::max(depth, level);
-    const uint32_t index = uint32_t(nodes.size());
-    nodes.emplace_back();
-    Box box, cb;  // the triangles' bounds, and their centroids'
+  // The bounds of items[first, first + count) and where to cut them (0: a leaf), the items
+  // partitioned: one step of build().
+  uint32_t split(uint32_t first, uint32_t count, Box& box) {
+    Box cb;  // the centroids' bounds
+    box = Box{};
     for (uint32_t i = first; i < first + count; ++i) {
       box.grow(items[i].box);
       cb.grow(items[i].centroid);
     }
     if (box.empty()) box.lo = box.hi = glm::vec3(0.0f);  // only non-finite triangles: a point
-    const uint32_t mid = count > 1 ? partition(first, count, box, cb) : 0;
+    return count > 1 ? partition(first, count, box, cb) : 0;
+  }
+
+  uint32_t build(uint32_t first, uint32_t count, uint32_t level) {
+    depth = std::max(depth, level);
+    const uint32_t index = uint32_t(nodes.size());
+    nodes.emplace_back();
+    Box box;
+    const uint32_t mid = split(first, count, box);
     uint32_t right = 0;
     if (mid != 0) {
       build(first, mid - first, level + 1);
@@ -171,16 +180,82 @@ struct Builder {
   }
 };
 
+// The top of the tree, split on one thread until it has enough subtrees for every thread; each
+// subtree is then built by a Builder of its own (their items are disjoint ranges of one array), and
+// the nodes are laid out as the recursive build lays them: a node, its left subtree, its right.
+// A split depends only on the items of its range, so the tree is the same bit for bit whatever the
+// thread count (HYBRIDBENCH_THREADS=1 is the serial build).
+struct TopNode {
+  uint32_t first = 0, count = 0, level = 0;
+  Box box;
+  bool split = false;  // false: a task's subtree (or a leaf split here)
+  int left = -1, right = -1;
+  int task = -1;  // index into the subtrees built in parallel
+};
+
+struct ParallelBuild {
+  std::vector<Item>& items;
+  const BvhBuildOptions& opt;
+  std::vector<TopNode> top;
+  std::vector<std::pair<uint32_t, uint32_t>> tasks;  // (first, count) of each subtree; level in top
+  std::vector<uint32_t> taskLevel;
+  uint32_t maxLevel = 1, minCount = 1;
+
+  int expand(Builder& b, uint32_t first, uint32_t count, uint32_t level) {
+    const int index = int(top.size());
+    top.push_back({first, count, level});
+    if (level >= maxLevel || count < minCount) {
+      top[size_t(index)].task = int(tasks.size());
+      tasks.emplace_back(first, count);
+      taskLevel.push_back(level);
+      return index;
+    }
+    Box box;
+    const uint32_t mid = b.split(first, count, box);
+    top[size_t(index)].box = box;
+    if (mid == 0) return index;  // a leaf
+    top[size_t(index)].split = true;
+    const int l = expand(b, first, mid - first, level + 1);
+    const int r = expand(b, mid, first + count - mid, level + 1);
+    top[size_t(index)].left = l;
+    top[size_t(index)].right = r;
+    return index;
+  }
+
+  // Appends top node `i` and what lies under it to `out` in the recursive build's order.
+  uint32_t emit(int i, const std::vector<std::vector<gpu::PrimaryBvhNode>>& subtrees,
+                std::vector<gpu::PrimaryBvhNode>& out) const {
+    const TopNode& t = top[size_t(i)];
+    const uint32_t index = uint32_t(out.size());
+    if (t.task >= 0) {
+      for (gpu::PrimaryBvhNode n : subtrees[size_t(t.task)]) {
+        if (n.info.x != 0) n.info.x += index;  // a right child, numbered within its subtree
+        out.push_back(n);
+      }
+      return index;
+    }
+    out.emplace_back();
+    uint32_t right = 0;
+    if (t.split) {
+      emit(t.left, subtrees, out);
+      right = emit(t.right, subtrees, out);
+    }
+    gpu::PrimaryBvhNode& node = out[index];
+    node.lo = glm::vec4(t.box.lo, 0.0f);
+    node.hi = glm::vec4(t.box.hi, 0.0f);
+    node.info = glm::uvec4(right, t.first, t.count, 0u);
+    return index;
+  }
+};
+
 }  // namespace
 
 PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  Builder b;
-  b.setUp(options);
   const size_t n = vertices.size() / 3;
-  b.items.resize(n);
+  std::vector<Item> items(n);
   for (size_t t = 0; t < n; ++t) {
-    Item& item = b.items[t];
+    Item& item = items[t];
     item.triangle = uint32_t(t);
     const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
     auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
@@ -197,12 +272,33 @@ PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuil
     out.nodes.push_back(empty);  // a leaf with no triangles
     out.depth = 1;
   } else {
-    b.nodes.reserve(2 * n);
-    b.build(0, uint32_t(n), 1);
-    out.nodes = std::move(b.nodes);
+    // Subtrees for every thread, four to a thread to even out their sizes; a range under
+    // kParallelMinTriangles is not worth a task.
+    constexpr uint32_t kParallelMinTriangles = 4096;
+    const unsigned threads = analysisThreads();
+    ParallelBuild pb{items, options};
+    while ((1u << (pb.maxLevel - 1)) < 4 * threads && pb.maxLevel < 16) ++pb.maxLevel;
+    pb.minCount = threads > 1 ? kParallelMinTriangles : std::numeric_limits<uint32_t>::max();
+    Builder top{items};
+    top.setUp(options);
+    const int root = pb.expand(top, 0, uint32_t(n), 1);
+    std::vector<std::vector<gpu::PrimaryBvhNode>> subtrees(pb.tasks.size());
+    std::vector<uint32_t> depths(pb.tasks.size(), 0);
+    parallelFor(pb.tasks.size(), [&](size_t k) {
+      Builder b{items};
+      b.setUp(options);
+      b.nodes.reserve(2 * size_t(pb.tasks[k].second));
+      b.build(pb.tasks[k].first, pb.tasks[k].second, pb.taskLevel[k]);
+      subtrees[k] = std::move(b.nodes);
+      depths[k] = b.depth;
+    });
+    out.nodes.reserve(2 * n);
+    pb.emit(root, subtrees, out.nodes);
+    out.depth = 0;
+    for (const TopNode& t : pb.top) out.depth = std::max(out.depth, t.level);
+    for (uint32_t d : depths) out.depth = std::max(out.depth, d);
     out.order.resize(n);
-    for (size_t i = 0; i < n; ++i) out.order[i] = b.items[i].triangle;
-    out.depth = b.depth;
+    for (size_t i = 0; i < n; ++i) out.order[i] = items[i].triangle;
   }
   out.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;

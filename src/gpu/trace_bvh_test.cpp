@@ -14,7 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "base/parallel_test_util.h"
 #include "gltf/gltf_io.h"
+#include "scene/atrium.h"
 
 namespace hb {
 namespace {
@@ -219,6 +221,29 @@ TEST(TraceBvh, EveryTriangleOnceInBoxesThatHoldThem) {
                            "scenes/tiny-triangles.glb"}) {
     const Scene scene = loadGltf(std::string(HYBRIDBENCH_SOURCE_DIR "/") + name);
     checkLayout(scene.worldTriangles(), name);
+  }
+}
+
+// The build splits the top of the tree on one thread and builds its subtrees on many
+// (primary_bvh.cpp ParallelBuild): the tree is the one the serial build makes, bit for bit. The
+// atrium (262,028 triangles) has subtrees enough for the parallel path; both builds' options.
+TEST(TraceBvh, TheTreeIsTheSameBitForBitOnOneThreadAndOnSeveral) {
+  const std::vector<glm::vec3> v = makeAtrium().worldTriangles();
+  for (const BvhBuildOptions& options : {BvhBuildOptions{}, kTraceBvhBuild}) {
+    PrimaryBvh one, several;
+    {
+      ScopedAnalysisThreads threads(1u);
+      one = buildPrimaryBvh(v, options);
+    }
+    {
+      ScopedAnalysisThreads threads(4u);
+      several = buildPrimaryBvh(v, options);
+    }
+    ASSERT_EQ(one.nodes.size(), several.nodes.size()) << options.bins;
+    EXPECT_EQ(std::memcmp(one.nodes.data(), several.nodes.data(), one.nodes.size() * sizeof(one.nodes[0])), 0)
+        << options.bins;
+    EXPECT_EQ(one.order, several.order) << options.bins;
+    EXPECT_EQ(one.depth, several.depth) << options.bins;
   }
 }
 

@@ -62,7 +62,8 @@ std::vector<double> samplesOf(const json& resultsFile, const std::string& varian
   std::vector<double> out;
   for (const json& run : results::at(resultsFile, "runs")) {
     if (textAt(run, {"name"}) != variant) continue;
-    const json& stats = pass == "frame" ? results::at(run, "frame_ms") : results::at(results::at(run, "passes"), pass.c_str());
+    const json& stats =
+        pass == "frame" ? results::at(run, "frame_ms") : results::at(results::at(run, "passes"), pass.c_str());
     if (stats.is_object() && stats.contains("samples") && stats["samples"].is_array())
       for (const json& v : stats["samples"])
         if (v.is_number()) out.push_back(v.get<double>());
@@ -74,8 +75,7 @@ std::vector<double> samplesOf(const json& resultsFile, const std::string& varian
 // multiply-shift: the same indices on every platform, unlike std::uniform_int_distribution).
 std::vector<double> resample(const std::vector<double>& from, double scale, std::mt19937_64& rng) {
   std::vector<double> out(from.size());
-  for (double& v : out)
-    v = scale * from[size_t((static_cast<unsigned __int128>(rng()) * from.size()) >> 64)];
+  for (double& v : out) v = scale * from[size_t((static_cast<unsigned __int128>(rng()) * from.size()) >> 64)];
   return out;
 }
 
@@ -116,7 +116,7 @@ NoiseModel buildNoiseModel(const std::vector<AaPair>& pairs) {
     } catch (const InputError& e) {
       throw InputError("A/A pair " + p.nameA + " and " + p.nameB + ": " + e.what());
     }
-    NoisePairSource source{p.nameA,         p.nameB,         deviceB,        report.b.tracer,
+    NoisePairSource source{p.nameA,           p.nameB,           deviceB,       report.b.tracer,
                            report.a.revision, report.b.revision, report.a.date, report.b.date};
     for (const CompareRow& row : report.rows) {
       if (row.verdict == "not timed" || !(row.ratio > 0) || !std::isfinite(row.ratio)) continue;
@@ -172,8 +172,12 @@ json toJson(const NoiseModel& m) {
                       {"band_pct", 100 * (std::exp(m.z * p.rmsLog) - 1)}});
   for (const NoiseJitter& j : m.jitter)
     jitter.push_back({{"device", j.device}, {"ray_tracing", j.tracer}, {"n", j.n}, {"rms_ms", j.rmsMs}});
-  return {{"kind", "hybridbench-noise"}, {"schema_version", 1}, {"z", m.z},
-          {"pairs", pairs},              {"passes", passes},    {"jitter", jitter}};
+  return {{"kind", "hybridbench-noise"},
+          {"schema_version", 1},
+          {"z", m.z},
+          {"pairs", pairs},
+          {"passes", passes},
+          {"jitter", jitter}};
 }
 
 NoiseModel noiseModelFromJson(const json& j, const std::string& path) {
@@ -195,8 +199,8 @@ NoiseModel noiseModelFromJson(const json& j, const std::string& path) {
       m.pairs.push_back({p.at("a"), p.at("b"), p.at("device"), p.at("ray_tracing"), p.at("revision_a"),
                          p.at("revision_b"), p.at("date_a"), p.at("date_b"), p.at("rows")});
     for (const json& p : requireField(j, "passes", path, "noise")) {
-      NoisePass pass{p.at("device"), p.at("ray_tracing"), p.at("pass"), p.at("n"), p.at("rms_log"),
-                     p.at("max_abs_log")};
+      NoisePass pass{p.at("device"), p.at("ray_tracing"), p.at("pass"),
+                     p.at("n"),      p.at("rms_log"),     p.at("max_abs_log")};
       if (!(pass.rmsLog >= 0)) throw InputError(path + ": passes[].rms_log must be >= 0");
       m.passes.push_back(pass);
     }
@@ -258,7 +262,8 @@ NoiseCheck checkNoiseModel(const std::vector<AaPair>& pairs, const NoiseModel& m
   }
   // The fraction of trials that gate with B slowed by `planted` (a fraction); the generator's
   // state is restored so that every planted size sees the same resamples.
-  auto detectedAt = [&](const std::vector<Row>& rows, const std::string& pass, double planted, const CompareOptions& o) {
+  auto detectedAt = [&](const std::vector<Row>& rows, const std::string& pass, double planted,
+                        const CompareOptions& o) {
     std::mt19937_64 local = rng;
     size_t gated = 0, trials = 0;
     for (const Row& r : rows)
@@ -317,10 +322,12 @@ std::string formatNoise(const NoiseModel& m, const NoiseCheck& c) {
     out += format("| %s | %s | %zu | %zu | %zu | %zu%s |\n", p.a.c_str(), p.b.c_str(), p.rows, p.gatesWithin,
                   p.gatesModel, p.gatesLeaveOut, p.leaveOutCovers ? "" : " (no other pair of its device and tracer)");
   out += format(
-      "\nDetection: a planted %.4g %% slowdown of each A/A row over %.4g ms, %zu resamples a row, threshold %.4g %%\n\n",
+      "\nDetection: a planted %.4g %% slowdown of each A/A row over %.4g ms, %zu resamples a row, threshold %.4g "
+      "%%\n\n",
       c.plantedPct, kDetectionMinMs, c.trialsPerRow, c.thresholdPct);
-  out += "| device | ray tracing | pass | rows | gated (model) | gated (within-run only) | smallest slowdown gated in "
-         "95 % |\n|---|---|---|---:|---:|---:|---:|\n";
+  out +=
+      "| device | ray tracing | pass | rows | gated (model) | gated (within-run only) | smallest slowdown gated in "
+      "95 % |\n|---|---|---|---:|---:|---:|---:|\n";
   for (const NoiseDetection& d : c.detection)
     out += format("| %s | %s | %s | %zu | %.1f %% | %.1f %% | %s |\n", d.device.c_str(), d.tracer.c_str(),
                   d.pass.c_str(), d.rows, 100 * d.detected, 100 * d.detectedWithin,
