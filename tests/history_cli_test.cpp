@@ -86,6 +86,7 @@ TEST_F(HistoryCli, WritesItsJsonAndAPageWithAPlotPerChangedSeries) {
   EXPECT_EQ(j["files"], 12);  // run0 named twice, read once
   ASSERT_EQ(j["series"].size(), 2u);
   EXPECT_EQ(j["series"][0]["points"].size(), 12u);
+  ASSERT_EQ(j["series"][0]["changes"].size(), 1u);  // (operator[] past the end of a const json is undefined)
   EXPECT_EQ(j["series"][0]["changes"][0]["revision_after"], "r6");
   const std::string html = readFile(out / "h.html");
   size_t plots = 0, circles = 0;
