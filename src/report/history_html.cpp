@@ -75,6 +75,17 @@ std::string historySeriesSvg(const HistorySeries& s) {
                      (c.tracerAfter.empty() ? "" : ", ray tracer " + c.tracerBefore + " -> " + c.tracerAfter)) +
            "</title></line>\n";
   }
+  // Each segment's level (the median of its runs' medians) as a grey line across its runs.
+  for (size_t k = 0; k < s.changes.size() + (s.changes.empty() ? 0 : 1); ++k) {
+    const size_t from = k == 0 ? 0 : s.changes[k - 1].index;
+    const size_t to = k < s.changes.size() ? s.changes[k].index : n;
+    const double levelMs = k < s.changes.size() ? s.changes[k].medianBefore : s.changes.back().medianAfter;
+    out += format(
+               "<line class=\"level\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#999\" "
+               "stroke-width=\"2\"><title>",
+               px(from), py(levelMs), px(to - 1), py(levelMs)) +
+           escapeXml(format("level %.4g ms", levelMs)) + "</title></line>\n";
+  }
   std::string path;
   for (size_t i = 0; i < n; ++i) path += format("%s %.1f %.1f ", i == 0 ? "M" : "L", px(i), py(s.points[i].medianMs));
   if (n > 1) out += "<path d=\"" + path + "\" stroke=\"#6a9fd4\" fill=\"none\"/>\n";
