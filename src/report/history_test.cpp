@@ -238,11 +238,11 @@ TEST(History, CommittedRepeatsOfOneSweepShowNoChange) {
 // The H100 thesis sweeps at 02f03e1 (twice), 608c60f, 2b33675, 2c1feca and 677e270 (the fix of
 // issue #30). Forward shading became about 8 % slower at b45be51 and light culling about 24 %
 // slower at 4b3dc94 (results/h100/bisect-30/README.md), both between 608c60f and 2b33675; the fix
-// undid light culling's and most of shading's. Six runs are few: a split of 3 against 3 is one of
-// C(6, 3) = 20 orders, so its p-value cannot reach the default alpha 0.01, and history reports
-// nothing. At alpha 0.05 the shading step is found, at 608c60f -> 2b33675; light culling's is not:
-// its slow runs are two (2b33675, 2c1feca) between fast ones, which 2 of 6 runs cannot make
-// significant (p near 0.19).
+// undid light culling's and most of shading's. Six runs are few: for a split of the first a runs
+// against the next b, the orders within the parts and of the runs after them score alike, so
+// p >= a! b! (6 - a - b)! / 6! >= 8 / 720 = 0.011 (a = b = 2), above the default alpha 0.01, and
+// history reports nothing. At alpha 0.05 the shading step is found, at 608c60f -> 2b33675; light
+// culling's is not (p near 0.19): its slow runs are two (2b33675, 2c1feca) between fast ones.
 TEST(History, OnTheCommittedH100ThesisRunsTheShadingShiftNeedsAlpha005) {
   const std::vector<std::string> folders = {"h100/thesis",         "h100/thesis-run2",    "h100/thesis-608c60f",
                                             "h100/thesis-2b33675", "h100/thesis-2c1feca", "h100/thesis-30"};
