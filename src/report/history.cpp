@@ -315,122 +315,154 @@ std::string groupLabel(const HistoryGroup& g) {
   return g.config + ", " + g.device + ", " + g.resolution + ", scene " + g.sceneSha256.substr(0, 8);
 }
 
+namespace {
+
+HistoryGroup groupOf(const json& results) {
+  const json& c = results::at(results, "context");
+  return {knownOrUnknown(contextText(c, {"config", "name"})), knownOrUnknown(contextText(c, {"scene", "sha256"})),
+          resolutionOf(c), knownOrUnknown(contextText(c, {"device", "name"}))};
+}
+
+// The files by group (their four fields in order), each held to requireResultsFile.
+std::map<std::vector<std::string>, std::vector<const HistoryInput*>> filesByGroup(
+    const std::vector<HistoryInput>& inputs) {
+  std::map<std::vector<std::string>, std::vector<const HistoryInput*>> byGroup;
+  for (const HistoryInput& in : inputs) {
+    results::requireResultsFile(in.results, in.path);
+    const HistoryGroup g = groupOf(in.results);
+    byGroup[{g.config, g.sceneSha256, g.resolution, g.device}].push_back(&in);
+  }
+  return byGroup;
+}
+
+// What a series' points are counted for across groups, for the warnings.
+struct HistoryTally {
+  size_t repeated = 0;  // runs found again in another file
+  size_t cpuFiles = 0;  // files measured on a CPU device
+};
+
+// Every timed run of a group's files as a point of its (variant, pass) series, unsorted; the
+// variants in first-seen order.
+std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> pointsOfGroup(
+    const std::vector<const HistoryInput*>& files, std::vector<std::string>& variants, HistoryTally& tally) {
+  std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> drafts;
+  for (const HistoryInput* in : files) {
+    const json& context = results::at(in->results, "context");
+    // A CPU device's per-pass times mean nothing (results_json.h measuredOnCpu): its frames only.
+    const bool framesOnly = results::measuredOnCpu(in->results);
+    tally.cpuFiles += framesOnly;
+    for (const json& run : in->results["runs"]) {
+      if (run.value("status", std::string("ok")) != "ok") continue;
+      const std::string variant = run.value("name", std::string());
+      if (std::find(variants.begin(), variants.end(), variant) == variants.end()) variants.push_back(variant);
+      std::string tracer = results::tracerOfRun(run);
+      if (tracer.empty()) tracer = contextText(context, {"device", "rt_backend"});
+      std::vector<std::pair<std::string, const json*>> timed = {{"frame", &results::at(run, "frame_ms")}};
+      if (!framesOnly && results::at(run, "passes").is_object())
+        for (auto it = run["passes"].begin(); it != run["passes"].end(); ++it) timed.push_back({it.key(), &*it});
+      for (const auto& [pass, stats] : timed) {
+        const results::Timing t = results::timingOf(*stats);
+        // The log of the median is what E-divisive reads: a time must be positive.
+        if (!(t.median > 0) || !std::isfinite(t.median)) continue;
+        PointDraft d;
+        d.point = {contextText(context, {"tool", "git"}),
+                   contextText(context, {"host", "date"}),
+                   in->path,
+                   tracer,
+                   t.median,
+                   t.cv,
+                   t.samples.size()};
+        d.samplesHash = fnv1a(t.samples.data(), t.samples.size() * sizeof(double));
+        drafts[{variant, pass}].push_back(std::move(d));
+      }
+    }
+  }
+  return drafts;
+}
+
+// One series: its points in order, each run once, and its changes.
+HistorySeries buildSeries(size_t groupIndex, const HistoryGroup& group, const std::string& variant,
+                          const std::string& pass, std::vector<PointDraft> points, const HistoryOptions& options,
+                          HistoryTally& tally) {
+  std::stable_sort(points.begin(), points.end(), [](const PointDraft& a, const PointDraft& b) {
+    return std::tie(a.point.date, a.point.revision, a.point.file) <
+           std::tie(b.point.date, b.point.revision, b.point.file);
+  });
+  HistorySeries s;
+  s.group = groupIndex;
+  s.variant = variant;
+  s.pass = pass;
+  // A merged sweep holds its parts' runs again (merge copies them, under the first part's date): a
+  // run with the same revision and the same samples, bit for bit, as one already taken is one run,
+  // counted once. Hundreds of frame times do not repeat by chance; a file that records a median
+  // without samples is never taken for a repeat.
+  std::vector<const PointDraft*> kept;
+  for (const PointDraft& d : points) {
+    const bool again =
+        d.point.n > 0 && std::any_of(kept.begin(), kept.end(), [&](const PointDraft* k) {
+          return k->samplesHash == d.samplesHash && k->point.n == d.point.n && k->point.revision == d.point.revision;
+        });
+    if (again) {
+      ++tally.repeated;
+      continue;
+    }
+    kept.push_back(&d);
+    s.points.push_back(d.point);
+  }
+  std::vector<double> logs;
+  for (const HistoryPoint& p : s.points) logs.push_back(std::log(p.medianMs));
+  const std::vector<ChangePoint> found = eDivisive(logs, options.alpha, options.permutations, options.minSegment,
+                                                   historySeriesSeed(options.seed, group, variant, pass));
+  s.changes = changesBeyond(s.points, found, options.thresholdPct);
+  if (!s.changes.empty()) {
+    const HistoryChange& last = s.changes.back();
+    const bool tiny = last.medianBefore < options.minMs && last.medianAfter < options.minMs;
+    s.gates = last.ratio > 1 + options.thresholdPct / 100 && !tiny;
+  }
+  return s;
+}
+
+// Refuses inputs in which no two files are alike: one file, or files of as many groups.
+void requireTwoAlike(const std::vector<HistoryInput>& inputs, size_t alone) {
+  if (inputs.empty()) throw InputError("no results files given; pass results files or folders that hold them");
+  if (alone < inputs.size()) return;
+  const HistoryInput& first = inputs.front();
+  if (inputs.size() == 1)
+    throw InputError(first.path + ": one results file has no history; pass several runs of one config on one device");
+  throw InputError(format("no two of the %zu results files were measured alike (same config name, scene sha256, "
+                          "resolution and device name; %s is ",
+                          inputs.size(), first.path.c_str()) +
+                   groupLabel(groupOf(first.results)) +
+                   "); pass runs of one config on one device at several revisions");
+}
+
+}  // namespace
+
 HistoryReport buildHistory(const std::vector<HistoryInput>& inputs, const HistoryOptions& options) {
   checkOptions(options);
   HistoryReport report;
   report.options = options;
   report.files = inputs.size();
-
-  // Files by group; a group's key is its four fields in order.
-  std::map<std::vector<std::string>, std::vector<const HistoryInput*>> byGroup;
-  for (const HistoryInput& in : inputs) {
-    results::requireResultsFile(in.results, in.path);
-    const json& context = results::at(in.results, "context");
-    byGroup[{knownOrUnknown(contextText(context, {"config", "name"})),
-             knownOrUnknown(contextText(context, {"scene", "sha256"})), resolutionOf(context),
-             knownOrUnknown(contextText(context, {"device", "name"}))}]
-        .push_back(&in);
-  }
+  const auto byGroup = filesByGroup(inputs);
   size_t alone = 0;
   for (const auto& [key, files] : byGroup) alone += files.size() < 2;
-  if (alone == inputs.size()) {
-    const HistoryInput& first = inputs.front();
-    const json& c = results::at(first.results, "context");
-    throw InputError(
-        inputs.size() == 1
-            ? first.path + ": one results file has no history; pass several runs of one config on one device"
-            : format("no two of the %zu results files were measured alike (same config name, scene sha256, "
-                     "resolution and device name; %s is ",
-                     inputs.size(), first.path.c_str()) +
-                  groupLabel({knownOrUnknown(contextText(c, {"config", "name"})),
-                              knownOrUnknown(contextText(c, {"scene", "sha256"})), resolutionOf(c),
-                              knownOrUnknown(contextText(c, {"device", "name"}))}) +
-                  "); pass runs of one config on one device at several revisions");
-  }
+  requireTwoAlike(inputs, alone);
   if (alone > 0)
     report.warnings.push_back(countOf(alone, "file") +
                               " measured unlike any other (config, scene, resolution or device): no history, left out");
 
   const std::vector<std::string> order = framePassOrder();
-  size_t repeated = 0, cpuFiles = 0;
+  HistoryTally tally;
   for (const auto& [key, files] : byGroup) {
     if (files.size() < 2) continue;
     const size_t groupIndex = report.groups.size();
     report.groups.push_back({key[0], key[1], key[2], key[3]});
-    // Series of this group by (variant, pass), variants in first-seen order.
     std::vector<std::string> variants;
-    std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> drafts;
-    for (const HistoryInput* in : files) {
-      const json& context = results::at(in->results, "context");
-      // A CPU device's per-pass times mean nothing (results_json.h measuredOnCpu): its frames only.
-      const bool framesOnly = results::measuredOnCpu(in->results);
-      cpuFiles += framesOnly;
-      for (const json& run : in->results["runs"]) {
-        if (run.value("status", std::string("ok")) != "ok") continue;
-        const std::string variant = run.value("name", std::string());
-        if (std::find(variants.begin(), variants.end(), variant) == variants.end()) variants.push_back(variant);
-        std::string tracer = results::tracerOfRun(run);
-        if (tracer.empty()) tracer = contextText(context, {"device", "rt_backend"});
-        std::vector<std::pair<std::string, const json*>> timed = {{"frame", &results::at(run, "frame_ms")}};
-        if (!framesOnly && results::at(run, "passes").is_object())
-          for (auto it = run["passes"].begin(); it != run["passes"].end(); ++it) timed.push_back({it.key(), &*it});
-        for (const auto& [pass, stats] : timed) {
-          const results::Timing t = results::timingOf(*stats);
-          // The log of the median is what E-divisive reads: a time must be positive.
-          if (!(t.median > 0) || !std::isfinite(t.median)) continue;
-          PointDraft d;
-          d.point = {contextText(context, {"tool", "git"}),
-                     contextText(context, {"host", "date"}),
-                     in->path,
-                     tracer,
-                     t.median,
-                     t.cv,
-                     t.samples.size()};
-          d.samplesHash = fnv1a(t.samples.data(), t.samples.size() * sizeof(double));
-          drafts[{variant, pass}].push_back(std::move(d));
-        }
-      }
-    }
     std::vector<HistorySeries> groupSeries;
-    for (auto& [vp, points] : drafts) {
-      std::stable_sort(points.begin(), points.end(), [](const PointDraft& a, const PointDraft& b) {
-        return std::tie(a.point.date, a.point.revision, a.point.file) <
-               std::tie(b.point.date, b.point.revision, b.point.file);
-      });
-      HistorySeries s;
-      s.group = groupIndex;
-      s.variant = vp.first;
-      s.pass = vp.second;
-      // A merged sweep holds its parts' runs again (merge copies them, under the first part's
-      // date): a run with the same revision and the same samples, bit for bit, as one already
-      // taken is one run, counted once. Hundreds of frame times do not repeat by chance; a file
-      // that records a median without samples is never taken for a repeat.
-      std::vector<const PointDraft*> kept;
-      for (const PointDraft& d : points) {
-        const bool again = d.point.n > 0 && std::any_of(kept.begin(), kept.end(), [&](const PointDraft* k) {
-                             return k->samplesHash == d.samplesHash && k->point.n == d.point.n &&
-                                    k->point.revision == d.point.revision;
-                           });
-        if (again) {
-          ++repeated;
-          continue;
-        }
-        kept.push_back(&d);
-        s.points.push_back(d.point);
-      }
-      std::vector<double> logs;
-      for (const HistoryPoint& p : s.points) logs.push_back(std::log(p.medianMs));
-      const std::vector<ChangePoint> found =
-          eDivisive(logs, options.alpha, options.permutations, options.minSegment,
-                    historySeriesSeed(options.seed, report.groups[groupIndex], s.variant, s.pass));
-      s.changes = changesBeyond(s.points, found, options.thresholdPct);
-      if (!s.changes.empty()) {
-        const HistoryChange& last = s.changes.back();
-        const bool tiny = last.medianBefore < options.minMs && last.medianAfter < options.minMs;
-        s.gates = last.ratio > 1 + options.thresholdPct / 100 && !tiny;
-      }
-      groupSeries.push_back(std::move(s));
-    }
+    for (auto& [vp, points] : pointsOfGroup(files, variants, tally))
+      groupSeries.push_back(
+          buildSeries(groupIndex, report.groups.back(), vp.first, vp.second, std::move(points), options, tally));
+    // Variants in the order the files first list them; passes in frame order, "frame" first.
     auto rankOf = [&](const HistorySeries& s) {
       return std::make_pair(size_t(std::find(variants.begin(), variants.end(), s.variant) - variants.begin()),
                             historyPassRank(order, s.pass));
@@ -439,11 +471,11 @@ HistoryReport buildHistory(const std::vector<HistoryInput>& inputs, const Histor
                      [&](const HistorySeries& a, const HistorySeries& b) { return rankOf(a) < rankOf(b); });
     for (HistorySeries& s : groupSeries) report.series.push_back(std::move(s));
   }
-  if (repeated > 0)
-    report.warnings.push_back(countOf(repeated, "time") +
+  if (tally.repeated > 0)
+    report.warnings.push_back(countOf(tally.repeated, "time") +
                               " of a run found again in another file (a merged sweep and its parts): counted once");
-  if (cpuFiles > 0)
-    report.warnings.push_back(countOf(cpuFiles, "file") +
+  if (tally.cpuFiles > 0)
+    report.warnings.push_back(countOf(tally.cpuFiles, "file") +
                               " measured on a CPU device: frame times only (its per-pass times are not meaningful)");
   for (const HistorySeries& s : report.series)
     if (s.gates) {

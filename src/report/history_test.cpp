@@ -166,6 +166,7 @@ TEST(History, OneSlowNewestRunIsNoSegmentOfItsOwn) {
 }
 
 TEST(History, RefusesInputWithNothingToCompareInOneLine) {
+  EXPECT_THROW(buildHistory({}, HistoryOptions{}), InputError);
   const std::vector<HistoryInput> one = {historyFile("a", "2026-11-01T00:00:00Z", 4)};
   EXPECT_THROW(buildHistory(one, HistoryOptions{}), InputError);
   // Two files of two devices: no series has two points.
