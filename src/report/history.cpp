@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <set>
 #include <tuple>
@@ -28,8 +29,10 @@ namespace {
 
 // The best split of one segment and its energy statistic q.
 struct Split {
-  size_t at = 0;  // index of the first value of the right part, within the segment
-  double q = -1;  // -1: no split (the segment is shorter than 2 * minSegment)
+  size_t at = 0;  // index of the first value of the right part, within the segment; 0: no split
+  double q = -std::numeric_limits<double>::infinity();  // may be negative: E is estimated
+  // The sum of the magnitudes of q's three terms: what its rounding error scales with.
+  double magnitude = 0;
 };
 
 // The split of x that maximises Matteson & James's statistic (their eq. 5 with alpha = 1, the
@@ -70,7 +73,12 @@ Split bestSplit(const std::vector<double>& x, size_t minSegment) {
       const double e = 2 * between / (a * b) - (tau > 1 ? 2 * left / (a * (a - 1)) : 0) -
                        (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0);
       const double q = a * b / (a + b) * e;
-      if (q > best.q) best = {tau, q};  // the first of equal maxima: deterministic
+      if (q > best.q) {  // the first of equal maxima: deterministic
+        const double magnitude = a * b / (a + b) *
+                                 (2 * between / (a * b) + (tau > 1 ? 2 * left / (a * (a - 1)) : 0) +
+                                  (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0));
+        best = {tau, q, magnitude};
+      }
     }
   }
   return best;
@@ -235,24 +243,28 @@ std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alp
         best = s;
         bestSegment = k;
       }
-    if (best.q < 0) break;  // no segment can be split
+    if (best.at == 0) break;  // no segment is long enough to split
     // Matteson & James 3.2: the candidate against R permutations in which every segment's values
     // are shuffled within it (the changes found so far stay), each scored by the largest best-split
     // q over the segments, as the candidate was. Under no further change the values within each
     // segment are exchangeable, so p = (1 + #{q_r >= q}) / (1 + R) is a valid p-value:
-    // P(p <= alpha) <= alpha. q_r equal to q (the same values in the same order, summed in
-    // another order) may differ from it by rounding: at most L^2 terms, each off by one unit
-    // roundoff (1.1e-16), so the relative error stays under 1e-12 for any L below 3000.
+    // P(p <= alpha) <= alpha. A q_r that equals q in exact arithmetic (the same parts, their
+    // values in another order) may differ from it by rounding: each of q's sums adds at most L^2
+    // nonnegative distances, so its error is at most L^2 u times its value (u = 2^-53; Higham,
+    // "Accuracy and Stability of Numerical Algorithms", 4.2), and q's at most L^2 u times the
+    // magnitude of its terms; twice that covers both q and q_r.
+    const double longest = double(values.size());
+    const double tieTolerance = 2 * longest * longest * 0x1p-53 * best.magnitude;
     size_t atLeast = 0;
     for (size_t r = 0; r < permutations; ++r) {
-      double qr = -1;
+      double qr = -std::numeric_limits<double>::infinity();
       for (size_t k = 0; k + 1 < bounds.size(); ++k) {
         std::vector<double> v = segment(k);
         if (v.size() < 2 * minSegment) continue;
         shuffle(v, rng);
         qr = std::max(qr, bestSplit(v, minSegment).q);
       }
-      if (qr >= best.q * (1 - 1e-12)) ++atLeast;
+      if (qr >= best.q - tieTolerance) ++atLeast;
     }
     const double p = double(1 + atLeast) / double(1 + permutations);
     if (p > alpha) break;
