@@ -27,63 +27,6 @@ namespace {
 
 // --- E-divisive -----------------------------------------------------------------------------
 
-// The best split of one segment and its energy statistic q.
-struct Split {
-  size_t at = 0;  // index of the first value of the right part, within the segment; 0: no split
-  double q = -std::numeric_limits<double>::infinity();  // may be negative: E is estimated
-  // The sum of the magnitudes of q's three terms: what its rounding error scales with.
-  double magnitude = 0;
-};
-
-// The split of x that maximises Matteson & James's statistic (their eq. 5 with alpha = 1, the
-// distance |x - y|, searched over tau and kappa as their E-divisive does):
-//   q(tau, kappa) = ab/(a+b) * E,  left part x[0, tau), right part x[tau, kappa), a = tau,
-//   b = kappa - tau,
-//   E = 2/(ab) sum_{i<tau<=j<kappa} |x_i - x_j| - 2/(a(a-1)) sum_{i<k<tau} |x_i - x_k|
-//       - 2/(b(b-1)) sum_{tau<=j<k<kappa} |x_j - x_k|
-// (a within-part term is 0 for a part of one value). The change is at tau; kappa lets the right
-// part end before the segment does, so that a regression later undone (low, high, low) is seen
-// as the step it starts with: with kappa fixed at the segment's end (Otava's simplification) the
-// right part would mix the high runs with the low ones after them.
-// With P[t][j] = sum_{i<j} |x_i - x_t| (an O(L^2) table), growing the right part by the value t
-// adds P[t][tau] to the between sum and P[t][t] - P[t][tau] to the right-within sum, and growing
-// the left part by t adds P[t][t] to the left-within sum: every (tau, kappa) costs O(1), a segment
-// O(L^2), a permutation test of R permutations O(R L^2).
-Split bestSplit(const std::vector<double>& x, size_t minSegment) {
-  const size_t n = x.size();
-  Split best;
-  if (n < 2 * minSegment) return best;
-  std::vector<std::vector<double>> prefix(n);  // prefix[t][j], j <= t
-  for (size_t t = 0; t < n; ++t) {
-    prefix[t].assign(t + 1, 0);
-    for (size_t j = 0; j < t; ++j) prefix[t][j + 1] = prefix[t][j] + std::fabs(x[j] - x[t]);
-  }
-  double left = 0;  // sum over pairs within x[0, tau)
-  for (size_t tau = 1; tau + minSegment <= n; ++tau) {
-    left += prefix[tau - 1][tau - 1];
-    if (tau < minSegment) continue;
-    const double a = double(tau);
-    double between = 0, right = 0;
-    for (size_t kappa = tau + 1; kappa <= n; ++kappa) {
-      const size_t t = kappa - 1;  // the value that has just joined the right part
-      between += prefix[t][tau];
-      right += prefix[t][t] - prefix[t][tau];
-      if (kappa - tau < minSegment) continue;
-      const double b = double(kappa - tau);
-      const double e = 2 * between / (a * b) - (tau > 1 ? 2 * left / (a * (a - 1)) : 0) -
-                       (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0);
-      const double q = a * b / (a + b) * e;
-      if (q > best.q) {  // the first of equal maxima: deterministic
-        const double magnitude = a * b / (a + b) *
-                                 (2 * between / (a * b) + (tau > 1 ? 2 * left / (a * (a - 1)) : 0) +
-                                  (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0));
-        best = {tau, q, magnitude};
-      }
-    }
-  }
-  return best;
-}
-
 // A uniform integer in [0, n) from rng, unbiased: draws at or above the largest multiple of n
 // that fits in 64 bits are drawn again (Lemire 2019 discusses faster ways; n here is a few dozen).
 uint64_t uniformBelow(SplitMix64& rng, uint64_t n) {
@@ -222,6 +165,55 @@ void checkOptions(const HistoryOptions& o) {
 
 }  // namespace
 
+// The split of x that maximises Matteson & James's statistic (their eq. 5 with alpha = 1, the
+// distance |x - y|, searched over tau and kappa as their E-divisive does):
+//   q(tau, kappa) = ab/(a+b) * E,  left part x[0, tau), right part x[tau, kappa), a = tau,
+//   b = kappa - tau,
+//   E = 2/(ab) sum_{i<tau<=j<kappa} |x_i - x_j| - 2/(a(a-1)) sum_{i<k<tau} |x_i - x_k|
+//       - 2/(b(b-1)) sum_{tau<=j<k<kappa} |x_j - x_k|
+// (a within-part term is 0 for a part of one value). The change is at tau; kappa lets the right
+// part end before the segment does, so that a regression later undone (low, high, low) is seen
+// as the step it starts with: with kappa fixed at the segment's end (Otava's simplification) the
+// right part would mix the high runs with the low ones after them.
+// With P[t][j] = sum_{i<j} |x_i - x_t| (an O(L^2) table), growing the right part by the value t
+// adds P[t][tau] to the between sum and P[t][t] - P[t][tau] to the right-within sum, and growing
+// the left part by t adds P[t][t] to the left-within sum: every (tau, kappa) costs O(1), a segment
+// O(L^2), a permutation test of R permutations O(R L^2).
+EnergySplit bestEnergySplit(const std::vector<double>& x, size_t minSegment) {
+  const size_t n = x.size();
+  EnergySplit best;
+  if (n < 2 * minSegment) return best;
+  std::vector<std::vector<double>> prefix(n);  // prefix[t][j], j <= t
+  for (size_t t = 0; t < n; ++t) {
+    prefix[t].assign(t + 1, 0);
+    for (size_t j = 0; j < t; ++j) prefix[t][j + 1] = prefix[t][j] + std::fabs(x[j] - x[t]);
+  }
+  double left = 0;  // sum over pairs within x[0, tau)
+  for (size_t tau = 1; tau + minSegment <= n; ++tau) {
+    left += prefix[tau - 1][tau - 1];
+    if (tau < minSegment) continue;
+    const double a = double(tau);
+    double between = 0, right = 0;
+    for (size_t kappa = tau + 1; kappa <= n; ++kappa) {
+      const size_t t = kappa - 1;  // the value that has just joined the right part
+      between += prefix[t][tau];
+      right += prefix[t][t] - prefix[t][tau];
+      if (kappa - tau < minSegment) continue;
+      const double b = double(kappa - tau);
+      const double e = 2 * between / (a * b) - (tau > 1 ? 2 * left / (a * (a - 1)) : 0) -
+                       (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0);
+      const double q = a * b / (a + b) * e;
+      if (q > best.q) {  // the first of equal maxima: deterministic
+        const double magnitude = a * b / (a + b) *
+                                 (2 * between / (a * b) + (tau > 1 ? 2 * left / (a * (a - 1)) : 0) +
+                                  (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0));
+        best = {tau, q, magnitude};
+      }
+    }
+  }
+  return best;
+}
+
 // --- E-divisive: the recursion and the permutation test -------------------------------------------
 
 std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alpha, size_t permutations,
@@ -237,9 +229,9 @@ std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alp
   for (;;) {
     // The candidate: the best split of the segment where it is largest.
     size_t bestSegment = 0;
-    Split best;
+    EnergySplit best;
     for (size_t k = 0; k + 1 < bounds.size(); ++k)
-      if (const Split s = bestSplit(segment(k), minSegment); s.q > best.q) {
+      if (const EnergySplit s = bestEnergySplit(segment(k), minSegment); s.q > best.q) {
         best = s;
         bestSegment = k;
       }
@@ -262,7 +254,7 @@ std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alp
         std::vector<double> v = segment(k);
         if (v.size() < 2 * minSegment) continue;
         shuffle(v, rng);
-        qr = std::max(qr, bestSplit(v, minSegment).q);
+        qr = std::max(qr, bestEnergySplit(v, minSegment).q);
       }
       if (qr >= best.q - tieTolerance) ++atLeast;
     }

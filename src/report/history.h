@@ -6,6 +6,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,17 @@ struct ChangePoint {
 };
 std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alpha, size_t permutations,
                                    size_t minSegment, uint64_t seed);
+
+// The split of one segment x that maximises the energy statistic q(tau, kappa) of eDivisive (its
+// left part x[0, tau), its right part x[tau, kappa), each at least minSegment long; formula in
+// history.cpp). at = 0 when x is shorter than 2 * minSegment.
+struct EnergySplit {
+  size_t at = 0;
+  double q = -std::numeric_limits<double>::infinity();  // may be negative: E is an estimate
+  // The sum of the magnitudes of q's three terms: what its rounding error scales with.
+  double magnitude = 0;
+};
+EnergySplit bestEnergySplit(const std::vector<double>& x, size_t minSegment);
 
 // The seed of one series: options.seed mixed with a hash of its group, variant and pass.
 uint64_t historySeriesSeed(uint64_t seed, const HistoryGroup& group, const std::string& variant,

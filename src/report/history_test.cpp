@@ -62,6 +62,47 @@ const HistorySeries& seriesOf(const HistoryReport& r, const std::string& pass) {
   throw std::logic_error("no series of pass " + pass);
 }
 
+// Matteson & James's q(tau, kappa) straight from its definition (every pair summed afresh), the
+// reference for the incremental sums of bestEnergySplit.
+double directQ(const std::vector<double>& x, size_t tau, size_t kappa) {
+  double between = 0, left = 0, right = 0;
+  for (size_t i = 0; i < kappa; ++i)
+    for (size_t j = i + 1; j < kappa; ++j) {
+      const double d = std::fabs(x[i] - x[j]);
+      (j < tau ? left : i >= tau ? right : between) += d;
+    }
+  const double a = double(tau), b = double(kappa - tau);
+  const double e =
+      2 * between / (a * b) - (a > 1 ? 2 * left / (a * (a - 1)) : 0) - (b > 1 ? 2 * right / (b * (b - 1)) : 0);
+  return a * b / (a + b) * e;
+}
+
+TEST(History, TheBestEnergySplitIsTheMaximumOfTheStatisticOverEverySplit) {
+  for (uint64_t seed = 1; seed <= 30; ++seed) {
+    SplitMix64 rng{seed};
+    const size_t n = 4 + size_t(rng.next() % 20), minSegment = 1 + size_t(rng.next() % 3);
+    std::vector<double> x;
+    for (size_t i = 0; i < n; ++i) x.push_back(rng.uniform(-1, 1) + (i >= n / 2 ? rng.uniform(0, 2) : 0));
+    double bestQ = -1e300;
+    size_t bestTau = 0;
+    for (size_t tau = minSegment; tau + minSegment <= n; ++tau)
+      for (size_t kappa = tau + minSegment; kappa <= n; ++kappa)
+        if (const double q = directQ(x, tau, kappa); q > bestQ) {
+          bestQ = q;
+          bestTau = tau;
+        }
+    const EnergySplit s = bestEnergySplit(x, minSegment);
+    if (n < 2 * minSegment) {
+      EXPECT_EQ(s.at, 0u);
+      continue;
+    }
+    // Both sum at most n^2 distances of at most 4 in another order: they agree within n^2 u times
+    // the magnitude of the terms (history.cpp's tie bound), far below 1e-9 here.
+    EXPECT_NEAR(s.q, bestQ, 1e-9) << "seed " << seed;
+    EXPECT_EQ(s.at, bestTau) << "seed " << seed;
+  }
+}
+
 TEST(History, FindsAPlanted10PercentStepAtItsPointAndNamesItsRevisions) {
   // 7 points at 4 ms, 7 at 4.4 ms, each within +-1 %: the step is after point 6.
   std::vector<double> ms = jittered(7, 4.0, 0.01, 1);
