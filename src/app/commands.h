@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "report/compare.h"
+#include "report/history.h"
 #include "report/noise_model.h"
 #include "scene/scene.h"
 
@@ -93,6 +94,20 @@ struct NoiseOptions {
 int cmdNoise(const NoiseOptions& options);
 // A noise file's model (InputError naming the path when it is not one).
 NoiseModel readNoiseFile(const std::string& path);
+
+// `history`: many results files (or folders searched for results.json and results.json.gz) as series
+// over time, their changes found by E-divisive (report/history.h): a Markdown table on stdout, the
+// series and changes as JSON (json) and an HTML page of plots (html: the series with changes, every
+// series with allSeries). With gate, exit 1 when some series' newest segment is slower.
+struct HistoryCommand {
+  std::vector<std::string> paths;
+  HistoryOptions options;
+  std::string json;  // file to write, or empty
+  std::string html;  // file to write, or empty
+  bool allSeries = false;
+  bool gate = false;
+};
+int cmdHistory(const HistoryCommand& command);
 
 // `report`: the page of a results file (report/html_report.h) written to out, with the images of
 // the variants found beside the results file; with compare, the comparison against that base.

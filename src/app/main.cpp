@@ -176,6 +176,28 @@ int main(int argc, char** argv) {
   reportCmd->add_option("--noise", report.noise, "as compare's: a noise file");
   reportCmd->add_flag("--force", report.compareOptions.force, "compare even when scenes or configs differ");
 
+  HistoryCommand history;
+  auto* historyCmd = app.add_subcommand(
+      "history", "the runs of many results files as series over revisions, and where they changed (E-divisive)");
+  historyCmd
+      ->add_option("paths", history.paths,
+                   "results files (results.json, results.json.gz, any name) or folders searched for them")
+      ->required();
+  historyCmd->add_option("--threshold", history.options.thresholdPct,
+                         "report a change only when the level moves by more than this many percent (default 5)");
+  historyCmd->add_option("--alpha", history.options.alpha,
+                         "significance level of each permutation test (default 0.01, 999 permutations)");
+  historyCmd
+      ->add_option("--min-segment", history.options.minSegment,
+                   "the fewest runs between two changes (default 2: one run alone is not a change)")
+      ->check(CLI::PositiveNumber);
+  historyCmd->add_option("--json", history.json, "write the series and changes as JSON to this file");
+  historyCmd->add_option("--html", history.html, "write a page with one plot per series that changed");
+  historyCmd->add_flag("--all-series", history.allSeries,
+                       "with --html: plot every series, not only those that changed");
+  historyCmd->add_flag("--gate", history.gate,
+                       "exit 1 when some series' newest segment is slower than the one before beyond the threshold");
+
   RaysExportOptions raysExport;
   auto* raysCmd = app.add_subcommand("rays", "write ray files another tracer can trace (rays export)");
   raysCmd->require_subcommand(1);
@@ -292,6 +314,7 @@ int main(int argc, char** argv) {
                                                             : CompareGate::Frame;
       return cmdReport(report);
     }
+    if (*historyCmd) return cmdHistory(history);
     if (*raysExportCmd) return cmdRaysExport(raysExport);
     if (*raysTableCmd) return cmdRaysTable(raysTableFiles, raysTableWork, raysTableCompiled);
     if (*raybenchCmd) return cmdRaybench(raybench);

@@ -111,30 +111,6 @@ void checkComparable(const json& a, const json& b, const CompareOptions& options
     warnings.push_back(results::describeMovedInputs(moved, contextA, differences.empty(), "A", "B"));
 }
 
-struct Timing {
-  std::vector<double> samples;
-  double median = kNaN, cv = kNaN;
-};
-
-// Samples and aggregates of a stats block ({median, cv, samples, ...}). Aggregates are recomputed
-// from the samples when present so that the table and the test see the same numbers.
-Timing timingOf(const json& stats) {
-  Timing t;
-  if (!stats.is_object()) return t;
-  if (stats.contains("samples") && stats["samples"].is_array())
-    for (const json& v : stats["samples"])
-      if (v.is_number()) t.samples.push_back(v.get<double>());
-  if (!t.samples.empty()) {
-    const Summary s = summarize(t.samples);
-    t.median = s.median;
-    t.cv = s.cv;
-  } else {
-    if (stats.contains("median") && stats["median"].is_number()) t.median = stats["median"];
-    if (stats.contains("cv") && stats["cv"].is_number()) t.cv = stats["cv"];
-  }
-  return t;
-}
-
 std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   const bool significant = r.p < o.alpha;  // false for NaN (no samples)
   const bool noisy = r.nA < kMinSamplesForVerdict || r.nB < kMinSamplesForVerdict || !(r.cvA <= kMaxQuietCv) ||
@@ -158,8 +134,8 @@ double sampleResolution(std::vector<double> samples, double period) {
 
 // untimed: a side was measured on a CPU device, whose per-pass times mean nothing: those rows get
 // "not timed" (no verdict, never a regression); the frame row keeps its verdict.
-CompareRow compareTimings(const std::string& variant, const std::string& pass, const Timing& ta, const Timing& tb,
-                          const CompareOptions& o, bool untimed, const RowContext& context) {
+CompareRow compareTimings(const std::string& variant, const std::string& pass, const results::Timing& ta,
+                          const results::Timing& tb, const CompareOptions& o, bool untimed, const RowContext& context) {
   CompareRow r;
   r.variant = variant;
   r.pass = pass;
@@ -387,8 +363,8 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
         report.warnings.push_back("variant '" + name + "' in " + side + ": " + w);
     RowContext context{report.b.device, tracerB.empty() ? textAt(b, {"context", "device", "rt_backend"}) : tracerB,
                        tickA, tickB};
-    CompareRow frame = compareTimings(name, "frame", timingOf(runA.value("frame_ms", json())),
-                                      timingOf(runB->value("frame_ms", json())), options, untimed, context);
+    CompareRow frame = compareTimings(name, "frame", results::timingOf(runA.value("frame_ms", json())),
+                                      results::timingOf(runB->value("frame_ms", json())), options, untimed, context);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {
       logRatioSum += std::log(frame.ratio);
       ++logRatioCount;
@@ -397,8 +373,8 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json passesA = runA.value("passes", json::object());
     const json passesB = runB->value("passes", json::object());
     for (const std::string& pass : passesInFrameOrder(passesA, passesB, name, report.warnings))
-      report.rows.push_back(
-          compareTimings(name, pass, timingOf(passesA[pass]), timingOf(passesB[pass]), options, untimed, context));
+      report.rows.push_back(compareTimings(name, pass, results::timingOf(passesA[pass]),
+                                           results::timingOf(passesB[pass]), options, untimed, context));
   }
   for (const json& runB : b["runs"]) {
     const std::string name = runB.value("name", std::string());
@@ -566,10 +542,10 @@ json toJson(const CompareReport& r) {
 
 CompareRow compareSampleSets(const std::string& variant, const std::string& pass, std::vector<double> a,
                              std::vector<double> b, const CompareOptions& options, const RowContext& context) {
-  Timing ta, tb;
+  results::Timing ta, tb;
   ta.samples = std::move(a);
   tb.samples = std::move(b);
-  for (Timing* t : {&ta, &tb}) {
+  for (results::Timing* t : {&ta, &tb}) {
     const Summary s = summarize(t->samples);
     t->median = s.median;
     t->cv = s.cv;

@@ -29,6 +29,23 @@ double medianOf(const json& stats) {
   return samples.empty() ? std::numeric_limits<double>::quiet_NaN() : summarize(samples).median;
 }
 
+Timing timingOf(const json& stats) {
+  Timing t;
+  if (!stats.is_object()) return t;
+  if (at(stats, "samples").is_array())
+    for (const json& v : at(stats, "samples"))
+      if (v.is_number()) t.samples.push_back(v.get<double>());
+  if (!t.samples.empty()) {
+    const Summary s = summarize(t.samples);
+    t.median = s.median;
+    t.cv = s.cv;
+  } else {
+    t.median = numberAt(stats, "median");
+    t.cv = numberAt(stats, "cv");
+  }
+  return t;
+}
+
 double passMedianMs(const json& run, const char* pass) {
   const json& passes = at(run, "passes");
   return passes.is_object() && passes.contains(pass) ? medianOf(passes[pass])

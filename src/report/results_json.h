@@ -1,6 +1,7 @@
 // Reading results files (docs/results-format.md) for the report writers: tolerant lookups that
 // turn a missing or mistyped field into null/NaN ("—" in a report, never an invented number).
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,15 @@ const json& at(const json& j, const char* key);
 double numberAt(const json& j, const char* key);
 // The median of a stats block: the recorded one, else the median of its samples, else NaN.
 double medianOf(const json& stats);
+// The samples of a stats block ({median, cv, samples, ...}) and their median and CV. Aggregates are
+// recomputed from the samples where present, so that a table and a test on them see the same
+// numbers; the recorded median and cv where there are none; NaN where neither is recorded.
+// compare and history read times through this.
+struct Timing {
+  std::vector<double> samples;
+  double median = std::numeric_limits<double>::quiet_NaN(), cv = std::numeric_limits<double>::quiet_NaN();
+};
+Timing timingOf(const json& stats);
 // The median GPU time of pass `pass` in a run ("passes": {name: stats}), else NaN.
 double passMedianMs(const json& run, const char* pass);
 // A table cell: v through printf format fmt, "—" for NaN (a missing figure).
