@@ -1,6 +1,7 @@
 // hybridbench: a headless benchmark of hybrid rendering, rasterization with ray tracing (see README.md).
 #include <cstdio>
 #include <exception>
+#include <map>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -185,8 +186,13 @@ int main(int argc, char** argv) {
       ->required();
   historyCmd->add_option("--threshold", history.options.thresholdPct,
                          "report a change only when the level moves by more than this many percent (default 5)");
-  historyCmd->add_option("--alpha", history.options.alpha,
-                         "significance level of each permutation test (default 0.01, 999 permutations)");
+  historyCmd->add_option("--alpha", history.options.alpha, "significance level of each split's test (default 0.01)");
+  historyCmd
+      ->add_option("--test", history.options.test,
+                   "how a split is tested: welch (default: Welch's t-test of the two sides, as Apache Otava) or "
+                   "permutation (Matteson & James's, 999 permutations: needs long series)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, HistoryTest>{
+          {"welch", HistoryTest::Welch}, {"permutation", HistoryTest::Permutation}}));
   historyCmd
       ->add_option("--min-segment", history.options.minSegment,
                    "the fewest runs between two changes (default 2: one run alone is not a change)")

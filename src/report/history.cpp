@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <span>
 #include <tuple>
 #include <utility>
 
@@ -154,6 +155,7 @@ void checkOptions(const HistoryOptions& o) {
   if (!(o.thresholdPct >= 0))
     throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5", o.thresholdPct));
   if (o.minSegment < 1) throw InputError("--min-segment 0: a segment holds at least 1 point; use e.g. 2");
+  if (o.test == HistoryTest::Welch) return;
   if (o.permutations < 1) throw InputError("the permutation test needs at least 1 permutation; use e.g. 999");
   // A p-value is at least 1 / (permutations + 1): with fewer permutations no split could pass.
   if (1.0 / double(o.permutations + 1) > o.alpha)
@@ -164,6 +166,13 @@ void checkOptions(const HistoryOptions& o) {
 }
 
 }  // namespace
+
+const char* toString(HistoryTest test) { return test == HistoryTest::Welch ? "welch" : "permutation"; }
+
+std::string historyTestText(const HistoryOptions& o) {
+  return o.test == HistoryTest::Welch ? std::string("Welch's t-test of the two sides")
+                                      : format("a permutation test (%zu permutations)", o.permutations);
+}
 
 // The split of x that maximises Matteson & James's statistic (their eq. 5 with alpha = 1, the
 // distance |x - y|, searched over tau and kappa as their E-divisive does):
@@ -207,7 +216,7 @@ EnergySplit bestEnergySplit(const std::vector<double>& x, size_t minSegment) {
         const double magnitude = a * b / (a + b) *
                                  (2 * between / (a * b) + (tau > 1 ? 2 * left / (a * (a - 1)) : 0) +
                                   (kappa - tau > 1 ? 2 * right / (b * (b - 1)) : 0));
-        best = {tau, q, magnitude};
+        best = {tau, q, magnitude, kappa};
       }
     }
   }
@@ -217,7 +226,7 @@ EnergySplit bestEnergySplit(const std::vector<double>& x, size_t minSegment) {
 // --- E-divisive: the recursion and the permutation test -------------------------------------------
 
 std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alpha, size_t permutations,
-                                   size_t minSegment, uint64_t seed) {
+                                   size_t minSegment, uint64_t seed, HistoryTest test) {
   HB_ASSERT(minSegment >= 1);
   SplitMix64 rng{seed};
   std::vector<size_t> bounds = {0, values.size()};  // segment k is [bounds[k], bounds[k + 1])
@@ -236,6 +245,20 @@ std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alp
         bestSegment = k;
       }
     if (best.at == 0) break;  // no segment is long enough to split
+    const size_t at = bounds[bestSegment] + best.at;
+    if (test == HistoryTest::Welch) {
+      // The log medians of the candidate's segment on either side of it; a part of one run has no
+      // spread to test (Welch needs two a side): such a split is not a change.
+      const std::vector<double> all = segment(bestSegment);
+      // The right part ends where the statistic's does (kappa): a step later undone is tested as
+      // the step, not against the runs after it.
+      const std::span<const double> left(all.data(), best.at), right(all.data() + best.at, best.end - best.at);
+      const double p = left.size() >= 2 && right.size() >= 2 ? welchT(left, right).p : 1.0;
+      if (!(p <= alpha)) break;
+      found.push_back({at, p});
+      bounds.insert(bounds.begin() + std::ptrdiff_t(bestSegment + 1), at);
+      continue;
+    }
     // Matteson & James 3.2: the candidate against R permutations in which every segment's values
     // are shuffled within it (the changes found so far stay), each scored by the largest best-split
     // q over the segments, as the candidate was. Under no further change the values within each
@@ -260,7 +283,6 @@ std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alp
     }
     const double p = double(1 + atLeast) / double(1 + permutations);
     if (p > alpha) break;
-    const size_t at = bounds[bestSegment] + best.at;
     found.push_back({at, p});
     bounds.insert(bounds.begin() + std::ptrdiff_t(bestSegment + 1), at);
   }
@@ -416,7 +438,7 @@ HistorySeries buildSeries(size_t groupIndex, const HistoryGroup& group, const st
   std::vector<double> logs;
   for (const HistoryPoint& p : s.points) logs.push_back(std::log(p.medianMs));
   const std::vector<ChangePoint> found = eDivisive(logs, options.alpha, options.permutations, options.minSegment,
-                                                   historySeriesSeed(options.seed, group, variant, pass));
+                                                   historySeriesSeed(options.seed, group, variant, pass), options.test);
   s.changes = changesBeyond(s.points, found, options.thresholdPct);
   if (!s.changes.empty()) {
     const HistoryChange& last = s.changes.back();
@@ -504,7 +526,7 @@ std::string formatHistory(const HistoryReport& r) {
     }
   std::string out = format("history: %zu files, %zu groups, %zu series, %zu changes\n", r.files, r.groups.size(),
                            r.series.size(), changes);
-  out += format("E-divisive on log medians: alpha %.4g (%zu permutations), min segment %zu\n", o.alpha, o.permutations,
+  out += format("E-divisive on log medians: %s, alpha %.4g, min segment %zu\n", historyTestText(o).c_str(), o.alpha,
                 o.minSegment);
   out += format("changes within %.4g %% are not reported\n\n", o.thresholdPct);
   if (changes == 0) {
@@ -575,7 +597,8 @@ json toJson(const HistoryReport& r) {
           {"method", "e-divisive"},
           {"threshold_pct", o.thresholdPct},
           {"alpha", o.alpha},
-          {"permutations", o.permutations},
+          {"test", toString(o.test)},
+          {"permutations", o.test == HistoryTest::Permutation ? json(o.permutations) : json(nullptr)},
           {"min_segment", o.minSegment},
           {"min_ms", o.minMs},
           {"seed", o.seed},

@@ -14,7 +14,19 @@
 
 namespace hb {
 
+// How a candidate split is judged significant. Welch: Welch's t-test of the log medians on either
+// side of it (Apache Otava's, formerly Hunter's, choice: deterministic, and a step of a few runs
+// in a steady series reaches a small p, which no permutation test of so few runs can).
+// Permutation: Matteson & James's permutation test, distribution-free, whose smallest p with n
+// runs is bounded below (docs/usage.md "history"): it needs long series.
+enum class HistoryTest { Welch, Permutation };
+const char* toString(HistoryTest test);
+struct HistoryOptions;
+// "Welch's t-test of the two sides" or "a permutation test (999 permutations)": for the outputs.
+std::string historyTestText(const HistoryOptions& options);
+
 struct HistoryOptions {
+  HistoryTest test = HistoryTest::Welch;
   // A change is reported only when the level after it differs from the level before by more than
   // this (as compare's threshold): a shift that is significant but small in a very steady series
   // (0.5 % in a series whose points scatter by 0.1 %) is not one anybody acts on.
@@ -122,8 +134,10 @@ struct ChangePoint {
   size_t index = 0;
   double p = 1;
 };
+// test: Welch judges each candidate by Welch's t-test of the log medians on either side of it
+// (a side of one value: no change) instead, and ignores permutations and seed.
 std::vector<ChangePoint> eDivisive(const std::vector<double>& values, double alpha, size_t permutations,
-                                   size_t minSegment, uint64_t seed);
+                                   size_t minSegment, uint64_t seed, HistoryTest test = HistoryTest::Permutation);
 
 // The split of one segment x that maximises the energy statistic q(tau, kappa) of eDivisive (its
 // left part x[0, tau), its right part x[tau, kappa), each at least minSegment long; formula in
@@ -133,6 +147,7 @@ struct EnergySplit {
   double q = -std::numeric_limits<double>::infinity();  // may be negative: E is an estimate
   // The sum of the magnitudes of q's three terms: what its rounding error scales with.
   double magnitude = 0;
+  size_t end = 0;  // kappa: the right part is [at, end)
 };
 EnergySplit bestEnergySplit(const std::vector<double>& x, size_t minSegment);
 

@@ -58,11 +58,14 @@ std::string historySeriesSvg(const HistorySeries& s) {
       kSeriesWidth, kSeriesHeight, kSeriesWidth, kSeriesHeight);
   out += "<text x=\"4\" y=\"16\" font-size=\"13\" font-weight=\"bold\">" + escapeXml(title) + "</text>\n";
   const double bottom = kSeriesHeight - kSeriesBottom;
+  // Decimals enough that the five levels, a quarter of the range apart, read differently.
+  const int decimals = std::clamp(int(std::ceil(-std::log10((hi - lo) / 4))) + 1, 0, 9);
   for (int k = 0; k <= 4; ++k) {  // five levels, lowest to highest
     const double v = lo + (hi - lo) * k / 4;
     out += format("<line x1=\"%.0f\" y1=\"%.1f\" x2=\"%.0f\" y2=\"%.1f\" stroke=\"#eee\"/>", kSeriesLeft, py(v),
                   kSeriesWidth - kSeriesRight, py(v));
-    out += format("<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.4g</text>\n", kSeriesLeft - 4, py(v) + 4, v);
+    out += format("<text x=\"%.0f\" y=\"%.1f\" text-anchor=\"end\">%.*f</text>\n", kSeriesLeft - 4, py(v) + 4, decimals,
+                  v);
   }
   for (const HistoryChange& c : s.changes) {
     const double x = (px(c.index - 1) + px(c.index)) / 2;
@@ -115,8 +118,8 @@ std::string historyHtml(const HistoryReport& report, bool allSeries) {
   const HistoryOptions& o = report.options;
   out += "<p>" +
          escapeXml(format("%zu results files, %zu groups, %zu series. E-divisive on the log of each run's median, "
-                          "alpha %.4g (%zu permutations), min segment %zu; changes within %.4g %% are not shown.",
-                          report.files, report.groups.size(), report.series.size(), o.alpha, o.permutations,
+                          "%s, alpha %.4g, min segment %zu; changes within %.4g %% are not shown.",
+                          report.files, report.groups.size(), report.series.size(), historyTestText(o).c_str(), o.alpha,
                           o.minSegment, o.thresholdPct)) +
          "</p>\n";
   if (report.regression) {

@@ -56,6 +56,20 @@ struct RatioInterval {
 };
 RatioInterval ratioInterval(std::span<const double> a, std::span<const double> b, double alpha);
 
+// The two-sided p-value of Student's t statistic with df degrees of freedom (df > 0, not
+// necessarily whole: Welch's): P(|T| >= |t|) = I_{df/(df+t^2)}(df/2, 1/2), the regularized
+// incomplete beta function (DLMF 8.17.2, 8.17.22: its continued fraction, by Lentz's method, to a
+// relative 1e-14). NaN for a NaN t or df <= 0; 0 for an infinite t.
+double studentTwoSidedP(double t, double df);
+
+// Welch's two-sample t-test of a against b (each >= 2 values): t = (mean a - mean b) /
+// sqrt(s_a^2/n_a + s_b^2/n_b) with the Welch-Satterthwaite degrees of freedom, and its two-sided
+// p. Both variances 0: p = 0 when the means differ, 1 when they do not.
+struct WelchT {
+  double t = 0, df = 0, p = 1;
+};
+WelchT welchT(std::span<const double> a, std::span<const double> b);
+
 // Standard normal CDF and its inverse (bisection on erfc, |error| < 1e-12 in p).
 double normalCdf(double z);
 double normalQuantile(double p);

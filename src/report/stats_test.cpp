@@ -188,3 +188,38 @@ TEST(RatioInterval, NonPositiveSamplesGiveNaN) {
 
 }  // namespace
 }  // namespace hb
+
+namespace hb {
+namespace {
+
+// Student's t against its closed forms: df = 1 (Cauchy) P(|T| >= t) = 1 - (2/pi) atan t, df = 2
+// P = 1 - t / sqrt(2 + t^2), and a large df the normal's 2 (1 - Phi(t)) (the t's excess over the
+// normal is about (t^3 + t) phi(t) / (4 df): under 1e-5 at df = 1e6 for these t). 1e-12: the
+// continued fraction stops at a relative 1e-14, and the closed forms round to a few ulps.
+TEST(StudentT, TwoSidedPMatchesClosedFormsAndTheNormalLimit) {
+  for (double t : {0.0, 0.3, 1.0, 2.0, 5.0, 30.0}) {
+    EXPECT_NEAR(studentTwoSidedP(t, 1), 1 - 2 / M_PI * std::atan(t), 1e-12) << t;
+    EXPECT_NEAR(studentTwoSidedP(-t, 2), 1 - t / std::sqrt(2 + t * t), 1e-12) << t;
+    EXPECT_NEAR(studentTwoSidedP(t, 1e6), 2 * (1 - normalCdf(t)), 1e-5) << t;
+  }
+  EXPECT_EQ(studentTwoSidedP(std::numeric_limits<double>::infinity(), 3), 0);
+  EXPECT_TRUE(std::isnan(studentTwoSidedP(1, 0)));
+}
+
+// Welch's test on two small samples, by hand: a = {1, 2, 3} (mean 2, s^2 1), b = {4, 6} (mean 5,
+// s^2 2): t = -3 / sqrt(1/3 + 1) = -2.598, df = (4/3)^2 / ((1/3)^2 / 2 + 1^2 / 1) = 1.6842.
+TEST(StudentT, WelchsTestOfTwoSmallSamples) {
+  const std::vector<double> a = {1, 2, 3}, b = {4, 6};
+  const WelchT w = welchT(a, b);
+  EXPECT_NEAR(w.t, -3 / std::sqrt(4.0 / 3), 1e-12);
+  EXPECT_NEAR(w.df, (16.0 / 9) / (1.0 / 18 + 1), 1e-12);
+  EXPECT_NEAR(w.p, studentTwoSidedP(w.t, w.df), 0);
+  EXPECT_GT(w.p, 0.05);
+  EXPECT_LT(w.p, 0.3);
+  const std::vector<double> flat = {1, 1}, other = {2, 2};
+  EXPECT_EQ(welchT(flat, other).p, 0);
+  EXPECT_EQ(welchT(flat, flat).p, 1);
+}
+
+}  // namespace
+}  // namespace hb
