@@ -15,7 +15,8 @@
 # sides), 2 bad input (missing baseline, config or device).
 # HYBRIDBENCH (default: hybridbench on PATH, else build/hybridbench), SWEEP_ARGS (e.g. "--frames
 # 100 --device 1") and COMPARE_ARGS (e.g. "--threshold 3", or "--gate frame" to gate on frames
-# only) and NOISE (a noise file for compare --noise, from hybridbench noise) may be set.
+# only), NOISE (a noise file for compare --noise, from hybridbench noise) and HISTORY (a folder of
+# earlier results: the new ones join it and hybridbench history --gate runs over it) may be set.
 # RESULTS=FILE compares that results.json instead of sweeping (e.g. what
 # `hybridbench merge` wrote from a fleet's parts, docs/fleet.md); CONFIG is then not used.
 set -uo pipefail
@@ -87,9 +88,29 @@ if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" "$
 fi
 cat "$out/compare.md"
 if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/compare.md" >> "$GITHUB_STEP_SUMMARY"; fi
+
+# HISTORY=DIR: the results history a CI keeps (a cache, an artifact, a branch). The new results join
+# it, then hybridbench history looks for changes over all of them: exit 1 too when some series'
+# newest segment is slower (a regression that crept in over several runs, which no single compare
+# against the baseline sees). Fewer than two comparable runs is a note, not a failure.
+if [ -n "${HISTORY:-}" ] && [ $status -le 1 ]; then
+  entry="$HISTORY/$(date -u +%Y%m%dT%H%M%SZ)-$$"
+  mkdir -p "$entry" && cp "$candidate" "$entry/results.json" || { echo "ci-compare: cannot write HISTORY='$HISTORY'" >&2; exit 2; }
+  "$hb" history "$HISTORY" --gate --html "$out/history.html" > "$out/history.md" 2> "$out/history.log"
+  hstatus=$?
+  cat "$out/history.md"
+  if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/history.md" >> "$GITHUB_STEP_SUMMARY"; fi
+  case $hstatus in
+    0) ;;
+    1) echo "ci-compare: REGRESSION in the history $HISTORY: a newest segment is slower (see $out/history.md, $out/history.html)"
+       history_gated=1 ;;
+    *) echo "ci-compare: no history yet: $(head -n 1 "$out/history.log")" ;;
+  esac
+fi
 case $status in
   0) echo "ci-compare: no regression against $baseline" ;;
   1) echo "ci-compare: REGRESSION against $baseline (see $out/compare.md, $out/report.html)" ;;
   *) echo "ci-compare: compare refused the pair (exit $status)" >&2 ;;
 esac
+if [ $status -eq 0 ] && [ "${history_gated:-0}" -eq 1 ]; then status=1; fi
 exit $status

@@ -59,13 +59,17 @@ class CiCompareDefaults : public ToolTest {
 
   // The recipe as a CI job runs it with nothing set but the binary: exit status of the script.
   // With `results` (RESULTS=...), the recipe compares that file and sweeps nothing (a fleet's merge).
-  // With `noise` (NOISE=...), compare gates beyond that noise file's between-run spread too.
-  int recipe(const fs::path& baseline, const fs::path& out, const fs::path& results = {}, const fs::path& noise = {}) {
+  // With `noise` (NOISE=...), compare gates beyond that noise file's between-run spread too; with
+  // `history` (HISTORY=...), the results join that folder and history --gate runs over it.
+  int recipe(const fs::path& baseline, const fs::path& out, const fs::path& results = {}, const fs::path& noise = {},
+             const fs::path& history = {}) {
     const std::string script = std::string(HYBRIDBENCH_SOURCE_DIR) + "/scripts/ci-compare.sh";
     // env takes its -u options before any NAME=VALUE.
     const std::string given = std::string(results.empty() ? "-u RESULTS " : "") + (noise.empty() ? "-u NOISE " : "") +
+                              (history.empty() ? "-u HISTORY " : "") +
                               (results.empty() ? "" : "RESULTS='" + results.string() + "' ") +
-                              (noise.empty() ? "" : "NOISE='" + noise.string() + "'");
+                              (noise.empty() ? "" : "NOISE='" + noise.string() + "' ") +
+                              (history.empty() ? "" : "HISTORY='" + history.string() + "'");
     const std::string cmd = "env -u COMPARE_ARGS -u SWEEP_ARGS -u GITHUB_STEP_SUMMARY " + given + " HYBRIDBENCH='" +
                             stub.string() + "' bash '" + script + "' '" + baseline.string() + "' '' '" + out.string() +
                             "' > '" + out.string() + ".log' 2>&1";
@@ -231,6 +235,31 @@ TEST_F(CiCompareDefaults, ANoiseFileStillGatesATwofoldSlowdownAndAMissingOneIsBa
   EXPECT_EQ(recipe(kMeasuredRun, dir / "no-noise", kMeasuredRun, dir / "none.json"), 2)
       << readFile(dir / "no-noise.log");
   EXPECT_NE(readFile(dir / "no-noise.log").find("NOISE="), std::string::npos) << readFile(dir / "no-noise.log");
+}
+
+// HISTORY: a CI's folder of earlier runs. Seeded with the committed H100 thesis sweeps at 02f03e1
+// (twice) and 608c60f, it takes 2b33675's results, where shading and light culling became slower
+// (results/history): one slow run is no segment yet, so the job passes; the next job's 2c1feca,
+// slow too, makes the newest segment slower, and the job fails on the history alone (each compare
+// is an A/A pair that passes), saying so, with the page beside the tables.
+TEST_F(CiCompareDefaults, AHistoryFolderGatesARegressionThatTwoRunsConfirm) {
+  const fs::path h100 = fs::path(HYBRIDBENCH_SOURCE_DIR) / "results/h100";
+  const fs::path history = dir / "history";
+  int k = 0;
+  for (const char* seed : {"thesis", "thesis-run2", "thesis-608c60f"}) {
+    fs::create_directories(history / std::to_string(k));
+    fs::copy_file(h100 / seed / "results.json.gz", history / std::to_string(k++) / "results.json.gz");
+  }
+  const fs::path slow1 = h100 / "thesis-2b33675/results.json.gz", slow2 = h100 / "thesis-2c1feca/results.json.gz";
+  EXPECT_EQ(recipe(slow1, dir / "first", slow1, {}, history), 0) << readFile(dir / "first.log");
+  EXPECT_NE(readFile(dir / "first" / "history.md").find("history: 4 files"), std::string::npos)
+      << readFile(dir / "first" / "history.md");
+  EXPECT_EQ(recipe(slow2, dir / "second", slow2, {}, history), 1) << readFile(dir / "second.log");
+  const std::string log = readFile(dir / "second.log");
+  EXPECT_NE(log.find("no regression against"), std::string::npos) << log;  // the compare passes
+  EXPECT_NE(log.find("REGRESSION in the history"), std::string::npos) << log;
+  EXPECT_NE(readFile(dir / "second" / "history.md").find("shading"), std::string::npos);
+  EXPECT_TRUE(fs::exists(dir / "second" / "history.html"));
 }
 
 }  // namespace
