@@ -11,7 +11,8 @@
   --dry-run.
 - github-actions-matrix.yml: parsed; the sweep job's matrix runs on [self-hosted, gpu] and takes
   --shard "${{ matrix.shard }}/${{ strategy.job-total }}"; the merge job needs it, merges, and has
-  the ci-compare step. The sweep step's command runs, as the matrix's last entry, with --dry-run.
+  the ci-compare step, with the committed noise file and a results history restored from the
+  cache before it. The sweep step's command runs, as the matrix's last entry, with --dry-run.
 
 Each dry run prints its part of the fixture's variants and every part's estimate; it must name
 the part the example asked for, of as many parts as the example has.
@@ -117,6 +118,16 @@ def main():
         compare = steps.get("ci-compare", {}).get("run", "")
         check("scripts/ci-compare.sh" in compare and "RESULTS=out/merged/results.json" in compare,
               "actions: the ci-compare step runs scripts/ci-compare.sh on the merged results")
+        check("HISTORY=perf-history" in compare and "NOISE=results/noise/noise.json" in compare,
+              "actions: the ci-compare step keeps a results history and uses the committed noise file")
+        cache = steps.get("results history", {})
+        check(cache.get("uses", "").startswith("actions/cache@") and cache.get("with", {}).get("path") == "perf-history"
+              and cache.get("with", {}).get("restore-keys") == "perf-history-",
+              "actions: the results history is restored before ci-compare and saved after it")
+        names = [s.get("name") for s in merge.get("steps", [])]
+        check("results history" in names and "ci-compare" in names
+              and names.index("results history") < names.index("ci-compare"),
+              "actions: the history is restored before ci-compare runs")
         run = next((s["run"] for s in sweep.get("steps", []) if "--shard" in s.get("run", "")), "")
         check('--shard "${{ matrix.shard }}/${{ strategy.job-total }}"' in run,
               "actions: --shard from the matrix and strategy.job-total")
