@@ -77,12 +77,12 @@ else
 fi
 
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-"$hb" compare "$baseline" "$candidate" --format junit "${gate[@]}" "${noise[@]}" ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
-"$hb" compare "$baseline" "$candidate" --format md "${gate[@]}" "${noise[@]}" ${COMPARE_ARGS:-} > "$out/compare.md"
+"$hb" compare "$baseline" "$candidate" --format junit ${gate[@]+"${gate[@]}"} ${noise[@]+"${noise[@]}"} ${COMPARE_ARGS:-} > "$out/compare.junit.xml"
+"$hb" compare "$baseline" "$candidate" --format md ${gate[@]+"${gate[@]}"} ${noise[@]+"${noise[@]}"} ${COMPARE_ARGS:-} > "$out/compare.md"
 status=$?
 # The page of the new sweep with the comparison (hybridbench report): the job's artifact to open.
 # shellcheck disable=SC2086  # COMPARE_ARGS is a list of options
-if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" "${gate[@]}" "${noise[@]}" \
+if ! "$hb" report "$candidate" --compare "$baseline" --out "$out/report.html" ${gate[@]+"${gate[@]}"} ${noise[@]+"${noise[@]}"} \
   ${COMPARE_ARGS:-}; then
   echo "ci-compare: report.html not written (see the line above); compare.md stands" >&2
 fi
@@ -94,8 +94,10 @@ if [ -n "${GITHUB_STEP_SUMMARY:-}" ]; then cat "$out/compare.md" >> "$GITHUB_STE
 # newest segment is slower (a regression that crept in over several runs, which no single compare
 # against the baseline sees). Fewer than two comparable runs is a note, not a failure.
 if [ -n "${HISTORY:-}" ] && [ $status -le 1 ]; then
+  # Written under a temporary name, then renamed: a job cancelled mid-copy leaves no truncated entry.
   entry="$HISTORY/$(date -u +%Y%m%dT%H%M%SZ)-$$"
-  mkdir -p "$entry" && cp "$candidate" "$entry/results.json" || { echo "ci-compare: cannot write HISTORY='$HISTORY'" >&2; exit 2; }
+  mkdir -p "$entry" && cp "$candidate" "$entry/.results.json.part" && mv "$entry/.results.json.part" "$entry/results.json" ||
+    { echo "ci-compare: cannot write HISTORY='$HISTORY'" >&2; exit 2; }
   "$hb" history "$HISTORY" --gate --html "$out/history.html" > "$out/history.md" 2> "$out/history.log"
   hstatus=$?
   cat "$out/history.md"
@@ -104,7 +106,14 @@ if [ -n "${HISTORY:-}" ] && [ $status -le 1 ]; then
     0) ;;
     1) echo "ci-compare: REGRESSION in the history $HISTORY: a newest segment is slower (see $out/history.md, $out/history.html)"
        history_gated=1 ;;
-    *) echo "ci-compare: no history yet: $(head -n 1 "$out/history.log")" ;;
+    *)
+      # Too few runs yet is a note; anything else (a damaged entry, a bad file) is bad input.
+      if grep -q -e "one results file has no history" -e "were measured alike" "$out/history.log"; then
+        echo "ci-compare: no history yet: $(head -n 1 "$out/history.log")"
+      else
+        echo "ci-compare: history over HISTORY='$HISTORY' failed: $(head -n 1 "$out/history.log")" >&2
+        exit 2
+      fi ;;
   esac
 fi
 case $status in

@@ -260,6 +260,12 @@ TEST_F(CiCompareDefaults, AHistoryFolderGatesARegressionThatTwoRunsConfirm) {
   EXPECT_NE(log.find("REGRESSION in the history"), std::string::npos) << log;
   EXPECT_NE(readFile(dir / "second" / "history.md").find("shading"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "second" / "history.html"));
+  // A damaged entry (a job cancelled mid-write, say) is bad input, not a silent "no history yet".
+  fs::create_directories(history / "damaged");
+  writeFile(history / "damaged" / "results.json", "{\"schema_version\": 1, \"runs\": [");
+  EXPECT_EQ(recipe(slow2, dir / "third", slow2, {}, history), 2) << readFile(dir / "third.log");
+  EXPECT_NE(readFile(dir / "third.log").find("history over HISTORY="), std::string::npos)
+      << readFile(dir / "third.log");
 }
 
 }  // namespace

@@ -104,8 +104,8 @@ NoiseModel readNoiseFile(const std::string& path) {
   const std::string text = readInputText(path, hint);
   try {
     return noiseModelFromJson(nlohmann::json::parse(text), path);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); " + hint);
+  } catch (const nlohmann::json::exception& e) {  // parse_error; out_of_range for 1e999; a mistyped field
+    throw InputError(path + ": not a valid noise file (" + std::string(e.what()) + "); " + hint);
   }
 }
 

@@ -155,7 +155,14 @@ void checkOptions(const HistoryOptions& o) {
   if (!(o.thresholdPct >= 0))
     throw InputError(format("--threshold %g must be a percentage >= 0, e.g. 5", o.thresholdPct));
   if (o.minSegment < 1) throw InputError("--min-segment 0: a segment holds at least 1 point; use e.g. 2");
-  if (o.test == HistoryTest::Welch) return;
+  if (o.test == HistoryTest::Welch) {
+    if (o.minSegment < 2)
+      throw InputError(
+          format("--min-segment %zu: Welch's test needs two runs on each side of a change; use 2 or more "
+                 "(or --test permutation)",
+                 o.minSegment));
+    return;
+  }
   if (o.permutations < 1) throw InputError("the permutation test needs at least 1 permutation; use e.g. 999");
   // A p-value is at least 1 / (permutations + 1): with fewer permutations no split could pass.
   if (1.0 / double(o.permutations + 1) > o.alpha)

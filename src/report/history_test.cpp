@@ -230,6 +230,9 @@ TEST(History, RefusesInputWithNothingToCompareInOneLine) {
     EXPECT_NE(std::string(e.what()).find(notResults[1].path), std::string::npos) << e.what();
   }
   EXPECT_THROW(findResultsFiles({"/no/such/folder"}), InputError);
+  HistoryOptions oneRunSides;  // Welch's test needs two runs a side
+  oneRunSides.minSegment = 1;
+  EXPECT_THROW(buildHistory(seriesFiles({4, 4}), oneRunSides), InputError);
   HistoryOptions badAlpha;
   badAlpha.test = HistoryTest::Permutation;
   badAlpha.alpha = 0.0001;  // below 1/1000, the smallest p of 999 permutations

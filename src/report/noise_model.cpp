@@ -116,21 +116,21 @@ NoiseModel buildNoiseModel(const std::vector<AaPair>& pairs) {
     } catch (const InputError& e) {
       throw InputError("A/A pair " + p.nameA + " and " + p.nameB + ": " + e.what());
     }
-    NoisePairSource source{p.nameA,           p.nameB,           deviceB,       report.b.tracer,
+    const std::string device = report.b.device;  // as compare looks it up ("unknown" when unnamed)
+    NoisePairSource source{p.nameA,           p.nameB,           device,        report.b.tracer,
                            report.a.revision, report.b.revision, report.a.date, report.b.date};
     for (const CompareRow& row : report.rows) {
       if (row.verdict == "not timed" || !(row.ratio > 0) || !std::isfinite(row.ratio)) continue;
       if (source.rows++ == 0) source.tracer = row.tracer;  // the key's tracer (the file's may be a sentence)
       auto it = std::find_if(byPass.begin(), byPass.end(), [&](const auto& e) {
-        return e.first.device == deviceB && e.first.tracer == row.tracer && e.first.pass == row.pass;
+        return e.first.device == device && e.first.tracer == row.tracer && e.first.pass == row.pass;
       });
-      if (it == byPass.end()) it = byPass.insert(byPass.end(), {NoisePass{deviceB, row.tracer, row.pass}, {}});
+      if (it == byPass.end()) it = byPass.insert(byPass.end(), {NoisePass{device, row.tracer, row.pass}, {}});
       it->second.add(std::log(row.ratio));
       if (row.medianA < kJitterPassMs && row.medianB < kJitterPassMs) {
-        auto jt = std::find_if(byDevice.begin(), byDevice.end(), [&](const auto& e) {
-          return e.first.device == deviceB && e.first.tracer == row.tracer;
-        });
-        if (jt == byDevice.end()) jt = byDevice.insert(byDevice.end(), {NoiseJitter{deviceB, row.tracer}, {}});
+        auto jt = std::find_if(byDevice.begin(), byDevice.end(),
+                               [&](const auto& e) { return e.first.device == device && e.first.tracer == row.tracer; });
+        if (jt == byDevice.end()) jt = byDevice.insert(byDevice.end(), {NoiseJitter{device, row.tracer}, {}});
         jt->second.add(row.medianB - row.medianA);
       }
     }
@@ -204,8 +204,10 @@ NoiseModel noiseModelFromJson(const json& j, const std::string& path) {
       if (!(pass.rmsLog >= 0)) throw InputError(path + ": passes[].rms_log must be >= 0");
       m.passes.push_back(pass);
     }
-    for (const json& p : requireField(j, "jitter", path, "noise"))
+    for (const json& p : requireField(j, "jitter", path, "noise")) {
       m.jitter.push_back({p.at("device"), p.at("ray_tracing"), p.at("n"), p.at("rms_ms")});
+      if (!(m.jitter.back().rmsMs >= 0)) throw InputError(path + ": jitter[].rms_ms must be >= 0");
+    }
   } catch (const json::exception& e) {
     throw InputError(path + ": a field of the noise file is missing or of the wrong type (" + e.what() +
                      "); regenerate it with 'hybridbench noise'");
