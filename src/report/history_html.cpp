@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/text_format.h"
+#include "report/html_report.h"
 
 namespace hb {
 
@@ -11,18 +12,6 @@ namespace {
 
 constexpr double kSeriesWidth = 760, kSeriesHeight = 220;
 constexpr double kSeriesLeft = 64, kSeriesRight = 16, kSeriesTop = 28, kSeriesBottom = 34;
-
-constexpr const char* kHistoryStyle = R"(<style>
-body { font-family: sans-serif; margin: 1.5em auto; max-width: 1200px; padding: 0 1em; color: #222; }
-h1 { font-size: 1.5em; } h2 { border-bottom: 1px solid #ccc; margin-top: 1.6em; } h3 { font-size: 1em; }
-table { border-collapse: collapse; margin: 0.5em 0; font-size: 0.9em; }
-th, td { border: 1px solid #ccc; padding: 2px 6px; text-align: left; vertical-align: top; }
-td[align="right"], th[align="right"] { text-align: right; }
-.alert { background: #fff0f0; border: 2px solid #d62728; padding: 0.2em 1em; }
-.note { color: #555; font-style: italic; }
-svg { max-width: 100%; height: auto; display: block; margin: 0.5em 0; }
-</style>
-)";
 
 // The revision as a table shows it: 7 hex digits, and "-dirty" where the build had local changes.
 std::string pageRevision(const std::string& r) {
@@ -113,7 +102,7 @@ std::string historyHtml(const HistoryReport& report, bool allSeries) {
   std::string out =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>hybridbench "
       "history</title>\n";
-  out += kHistoryStyle;
+  out += reportStyle();
   out += "</head>\n<body>\n<h1>hybridbench history</h1>\n";
   const HistoryOptions& o = report.options;
   out += "<p>" +

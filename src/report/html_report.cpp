@@ -394,6 +394,8 @@ pre { background: #f7f7f7; padding: 0.5em; overflow-x: auto; font-size: 0.8em; }
 
 }  // namespace
 
+const char* reportStyle() { return kStyle; }
+
 std::string passBarsSvg(const json& results) {
   results::requireResultsFile(results);
   std::vector<std::string> names;

@@ -45,6 +45,9 @@ struct HtmlReportInput {
 // be compared (compareResults' rules).
 std::string htmlReport(const HtmlReportInput& input);
 
+// The pages' shared <style> element (report.html's, and history's pages: history_html.h).
+const char* reportStyle();
+
 // The per-pass bars alone (an inline <svg> per pass), and the B/A plot alone: for the page, and
 // for tests that look at one figure.
 std::string passBarsSvg(const nlohmann::json& results);

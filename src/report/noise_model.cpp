@@ -57,18 +57,14 @@ size_t gatesOf(const CompareReport& r) {
   return size_t(std::count_if(r.rows.begin(), r.rows.end(), [](const CompareRow& row) { return row.gates; }));
 }
 
-// A row's timed samples: the frame's or the pass's, as compare reads them.
+// A row's timed samples: the frame's or the pass's, as compare reads them (results::timingOf).
 std::vector<double> samplesOf(const json& resultsFile, const std::string& variant, const std::string& pass) {
-  std::vector<double> out;
-  for (const json& run : results::at(resultsFile, "runs")) {
-    if (textAt(run, {"name"}) != variant) continue;
-    const json& stats =
-        pass == "frame" ? results::at(run, "frame_ms") : results::at(results::at(run, "passes"), pass.c_str());
-    if (stats.is_object() && stats.contains("samples") && stats["samples"].is_array())
-      for (const json& v : stats["samples"])
-        if (v.is_number()) out.push_back(v.get<double>());
-  }
-  return out;
+  for (const json& run : results::at(resultsFile, "runs"))
+    if (textAt(run, {"name"}) == variant)
+      return results::timingOf(pass == "frame" ? results::at(run, "frame_ms")
+                                               : results::at(results::at(run, "passes"), pass.c_str()))
+          .samples;
+  return {};
 }
 
 // n draws with replacement, each index from the top bits of one 64-bit draw (Lemire's

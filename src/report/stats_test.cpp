@@ -213,9 +213,10 @@ TEST(StudentT, WelchsTestOfTwoSmallSamples) {
   const WelchT w = welchT(a, b);
   EXPECT_NEAR(w.t, -3 / std::sqrt(4.0 / 3), 1e-12);
   EXPECT_NEAR(w.df, (16.0 / 9) / (1.0 / 18 + 1), 1e-12);
-  EXPECT_NEAR(w.p, studentTwoSidedP(w.t, w.df), 0);
-  EXPECT_GT(w.p, 0.05);
-  EXPECT_LT(w.p, 0.3);
+  // P(|T| >= t) falls as df grows, so at df = 1.68 it lies between the closed forms at 1 and 2.
+  const double t = std::abs(w.t);
+  EXPECT_LT(w.p, 1 - 2 / M_PI * std::atan(t));
+  EXPECT_GT(w.p, 1 - t / std::sqrt(2 + t * t));
   const std::vector<double> flat = {1, 1}, other = {2, 2};
   EXPECT_EQ(welchT(flat, other).p, 0);
   EXPECT_EQ(welchT(flat, flat).p, 1);
