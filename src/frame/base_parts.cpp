@@ -27,7 +27,7 @@ void samplesWork(const std::string& name, const nlohmann::json& a, std::vector<P
 // counts are the paper's (Davidovic et al., Fig. 10: 57 per 3DR triangle setup, 12 per pixel
 // test), each at most one FMA issue slot.
 std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json& a, double pixels, double tiles,
-                                  PrimaryMethod method) {
+                                  PrimaryMethod method, bool depthCopy) {
   const bool cast = method == PrimaryMethod::RayCast, bvh = primaryUsesBvh(method);
   const bool binned = method == PrimaryMethod::Raster3dBinned || method == PrimaryMethod::Raster2dBinned;
   // Fig. 10's scalar ops: 3DR 57 a setup and 12 a pixel; the 2D homogeneous baseline 73 and 14.
@@ -38,15 +38,16 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   const double tested = figureAt(a, {"primary", "pixels_tested"});
   const double atomics = figureAt(a, {"primary", "atomics"});
   const double entries = figureAt(a, {"primary", "list_entries"});
-  // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; the depth is then
-  // copied into the depth image (4 B read + 4 B written).
+  // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; where a pass draws
+  // against the depth, it is then copied into the D32 image (4 B read + 4 B written).
   const WorkItem resolve = derived("bytes", 12 * pixels, "8 B visibility read + 4 B depth written a pixel");
   const WorkItem copy = derived("bytes", 8 * pixels, "4 B read + 4 B written a pixel");
   std::vector<PassWork> w;
   if (cast) {
     w.push_back({name,
                  {derived("rays_coherent", pixels, "one primary ray per pixel"),
-                  derived("bytes", 20 * pixels, "resolve and depth copy")}});
+                  depthCopy ? derived("bytes", 20 * pixels, "resolve and depth copy")
+                            : derived("bytes", 12 * pixels, "resolve (the depth written where it is read)")}});
   } else {
     const WorkItem setupOps =
         counted("fma", setupCost * setups,
@@ -55,12 +56,13 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     const WorkItem testOps = counted("fma", pixelCost * tested,
                                      "pixel tests x " + std::to_string(int(pixelCost)) + " scalar ops (paper Fig. 10)");
     const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");
-    w.push_back(
-        {name,
-         {counted("fma", setupCost * setups + pixelCost * tested,
-                  "setups x " + std::to_string(int(setupCost)) + " + pixel tests x " + std::to_string(int(pixelCost)) +
-                      " (paper Fig. 10)"),
-          visAtomics, derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")}});
+    w.push_back({name,
+                 {counted("fma", setupCost * setups + pixelCost * tested,
+                          "setups x " + std::to_string(int(setupCost)) + " + pixel tests x " +
+                              std::to_string(int(pixelCost)) + " (paper Fig. 10)"),
+                  visAtomics,
+                  depthCopy ? derived("bytes", 48 * triangles + 20 * pixels, "triangles read + resolve + depth copy")
+                            : derived("bytes", 48 * triangles + 12 * pixels, "triangles read + resolve")}});
     if (bvh) {
       const double nodes = figureAt(a, {"primary", "bvh_nodes_visited"});
       w.push_back({name + ".traverse",
@@ -71,7 +73,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
                             "48 B a node visited + 48 B a triangle set up (3 vertices as vec4)")}});
       samplesWork(name, a, w);
       w.push_back({name + ".resolve", {resolve}});
-      w.push_back({name + ".depth_copy", {copy}});
+      if (depthCopy) w.push_back({name + ".depth_copy", {copy}});
       return w;
     }
     w.push_back({name + ".triangles", {setupOps, setupBytes}});
@@ -86,7 +88,7 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   }
   samplesWork(name, a, w);
   w.push_back({name + ".resolve", {resolve}});
-  w.push_back({name + ".depth_copy", {copy}});
+  if (depthCopy) w.push_back({name + ".depth_copy", {copy}});
   return w;
 }
 
@@ -127,6 +129,8 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
                                f.settings.raster3dStackEntries},
         f.settings.aa);
     if (!f.settings.raster3dListGrows) raster3d_->fixListSize();
+    const bool depthCopy = depth.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT;
+    if (!depthCopy) raster3d_->resolveInto(depth);
     if (f.settings.primary == PrimaryMethod::RayCast)
       pass.reads = {cast.bvh ? res::kTraceBvh : res::kTlas};
     else
@@ -134,13 +138,12 @@ PrimaryPart::PrimaryPart(FrameBuilder& f) {
     pass.writes.insert(pass.writes.end(), {res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles});
     pass.subPasses = raster3d_->subPasses();
     pass.work = [name = pass.name, pixels = double(f.settings.width) * f.settings.height,
-                 tiles = double(raster3d_->screenTiles()), method = f.settings.primary](const nlohmann::json& a) {
-      return primaryWork(name, a, pixels, tiles, method);
-    };
+                 tiles = double(raster3d_->screenTiles()), method = f.settings.primary,
+                 depthCopy](const nlohmann::json& a) { return primaryWork(name, a, pixels, tiles, method, depthCopy); };
     // Its steps declare their own accesses (a dispatch writes the visibility buffer, a copy the depth).
     pass.syncedInside = {res::kDepth, res::kVisibility, res::kVisibilityRays, res::kVisibilityTriangles};
     if (f.settings.primary == PrimaryMethod::RayCast) pass.stages = access::kRayStages;
-    // Leaves depth in DEPTH_READ_ONLY_OPTIMAL.
+    // Leaves a D32 depth in DEPTH_READ_ONLY_OPTIMAL, the colour one in GENERAL.
     pass.record = [this, &depth](VkCommandBuffer cmd, const PassFrame& frame) {
       raster3d_->record(cmd, *frame.sync, depth, frame.analysis, frame.timer);
     };

@@ -97,6 +97,24 @@ static std::vector<Use> declaredUses(const FramePass& pass, const FrameResources
   return uses;
 }
 
+// The frame's depth: a D32 image where a pass draws against it (the hardware prepass writes it,
+// forward shading tests it), else the colour R32F image the compute primary's resolve writes
+// directly (depth_prepass.h kComputeDepthFormat), which saves the copy of a buffer into a D32 image.
+static bool drawsAgainstDepth(const RenderSettings& s) {
+  return s.primary == PrimaryMethod::Hardware || s.shading != ShadingMethod::Visbuffer;
+}
+
+static Image frameDepth(const VulkanContext& ctx, const RenderSettings& s) {
+  if (drawsAgainstDepth(s))
+    return Image(ctx, s.width, s.height, kDepthFormat,
+                 VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
+                     VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                 VK_IMAGE_ASPECT_DEPTH_BIT);
+  return Image(ctx, s.width, s.height, kComputeDepthFormat,
+               VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+               VK_IMAGE_ASPECT_COLOR_BIT);
+}
+
 Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx),
       scene_(scene),
@@ -109,10 +127,7 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
                 : reverseZProjection(float(settings.width) / float(settings.height), camera_.yfov, camera_.znear,
                                      camera_.zfar)),
       gpuScene_(ctx, scene),
-      depth_(ctx, settings.width, settings.height, kDepthFormat,
-             VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT |
-                 VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-             VK_IMAGE_ASPECT_DEPTH_BIT),
+      depth_(frameDepth(ctx, settings)),
       frameConstants_(ctx, sizeof(gpu::FrameConstants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other),
       lights_(ctx, std::max<size_t>(1, scene.lights.size()) * sizeof(gpu::GpuLight), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
               true, MemClass::Other) {
@@ -163,7 +178,10 @@ Renderer::Renderer(const VulkanContext& ctx, const Scene& scene, const RenderSet
   resources_.publish(res::kSceneIndices, gpuScene_.indices(), "u32 index", "the scene's triangles x 3");
   resources_.publish(res::kFrameConstants, frameConstants_, "gpu::FrameConstants", "1");
   resources_.publish(res::kLights, lights_, "gpu::GpuLight", std::to_string(lightCount) + " lights");
-  resources_.publish(res::kDepth, depth_, "reverse-Z D32_SFLOAT", VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL);
+  resources_.publish(res::kDepth, depth_,
+                     drawsAgainstDepth(settings_) ? "reverse-Z D32_SFLOAT"
+                                                  : "reverse-Z R32_SFLOAT (a colour image: no pass draws against it)",
+                     depthReadLayout(depth_));
   resources_.publishSampler(res::kPointSampler, pointSampler_);
   if (accel_) resources_.publishTlas(res::kTlas, accel_->tlas(), accel_->bytes());
   if (tracer_.bvh)
@@ -293,7 +311,7 @@ FrameTiming Renderer::renderFrameOnce(bool analysis) {
 }
 
 std::vector<float> Renderer::readDepth() const {
-  std::vector<uint8_t> bytes = readbackImage(ctx_, depth_, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, 4);
+  std::vector<uint8_t> bytes = readbackImage(ctx_, depth_, depthReadLayout(depth_), 4);
   std::vector<float> out(bytes.size() / 4);
   std::memcpy(out.data(), bytes.data(), bytes.size());
   return out;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "frame/passes/depth_prepass.h"
 #include "gpu/descriptor_binder.h"
 #include "reference/eq_partition.h"
 #include "reference/ldm_ref.h"
@@ -100,7 +101,7 @@ AoPass::AoPass(const VulkanContext& ctx, const Scene& scene, const AoPassSetting
   HB_ASSERT(!needsHits || (in.hitIds && in.hitRays && in.hitTriangles));
   auto provide = [&](DescriptorBinder& b, const Buffer& out, const Buffer& params) {
     b.provide("Frame", *in.frameConstants);
-    b.provide("depthTex", *in.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+    b.provide("depthTex", *in.depth, depthReadLayout(*in.depth), in.sampler);
     if (const TraceBvh* bvh = settings.computeBvh()) {  // backend=compute traces our BVH, not the TLAS
       b.provide("BvhNodes", bvh->nodes);
       b.provide("BvhTriangles", bvh->triangles);

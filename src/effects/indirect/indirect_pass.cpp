@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "frame/passes/depth_prepass.h"
 #include "gpu/descriptor_binder.h"
 #include "gpu/raster_pipeline.h"
 #include "reference/eq_partition.h"
@@ -295,7 +296,7 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
   DescriptorBinder binder("indirect");
   binder.provide("Frame", *in_.frameConstants);
   binder.provide("Lights", *in_.lights);
-  binder.provide("depthTex", *in_.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in_.sampler);
+  binder.provide("depthTex", *in_.depth, depthReadLayout(*in_.depth), in_.sampler);
   if (const TraceBvh* bvh = settings_.computeBvh()) {  // our traversal gives draw-order ids itself
     binder.provide("BvhNodes", bvh->nodes);
     binder.provide("BvhTriangles", bvh->triangles);

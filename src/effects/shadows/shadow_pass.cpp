@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "base/errors.h"
+#include "frame/passes/depth_prepass.h"
 #include "gpu/descriptor_binder.h"
 #include "gpu/rt_pipeline.h"
 #include "gpu/sync.h"
@@ -78,7 +79,7 @@ ShadowPass::ShadowPass(const VulkanContext& ctx, const ShadowSettings& settings,
   binder.provide("Lights", *in.lights);
   binder.provide("Grid", *in.grid);
   binder.provide("Indices", *in.indices);
-  binder.provide("depthTex", *in.depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, in.sampler);
+  binder.provide("depthTex", *in.depth, depthReadLayout(*in.depth), in.sampler);
   if (settings.backend == RtBackend::Compute) {
     if (!ctx.info().shaderFloat64)
       throw DeviceError("backend=compute: device \"" + ctx.info().name +

@@ -7,6 +7,16 @@
 namespace hb {
 
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+// The frame's depth where no pass draws against it (a compute primary, visbuffer shading): a colour
+// image, which the primary's resolve writes as a storage image instead of copying a buffer into a
+// D32 one. The same values; passes sample it as they sample the D32 image.
+constexpr VkFormat kComputeDepthFormat = VK_FORMAT_R32_SFLOAT;
+
+// The layout the frame's passes sample its depth image in: a D32 image read-only, the colour one in
+// GENERAL (where the resolve wrote it: no transition).
+inline VkImageLayout depthReadLayout(const Image& depth) {
+  return depth.aspect() & VK_IMAGE_ASPECT_DEPTH_BIT ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL : VK_IMAGE_LAYOUT_GENERAL;
+}
 
 class DepthPrepass {
  public:

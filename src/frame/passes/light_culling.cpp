@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/errors.h"
+#include "frame/passes/depth_prepass.h"
 #include "gpu/descriptor_binder.h"
 #include "shared/gpu_types.h"
 
@@ -70,7 +71,7 @@ LightCulling::LightCulling(const VulkanContext& ctx, const CullingSettings& sett
   binder.provide("Frustums", frustums_);
   binder.provide("Grid", grid_);
   binder.provide("Indices", indices_);
-  binder.provide("depthTex", depth, VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL, sampler);
+  binder.provide("depthTex", depth, depthReadLayout(depth), sampler);
   binder.provide("SortedLights", sortedLights_);
   binder.provide("ViewLights", viewLights_);
   binder.provide("ViewSpheres", viewSpheres_);

@@ -10,6 +10,7 @@
 
 #include "base/errors.h"
 #include "frame/passes/aa_samples.h"
+#include "frame/passes/depth_prepass.h"
 #include "frame/render_settings.h"
 #include "gpu/descriptor_binder.h"
 #include "gpu/gpu_scene.h"
@@ -345,8 +346,19 @@ std::vector<std::string> Raster3dPass::subPasses() const {
     for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
   if (planes_ > 1) names.push_back(pass + ".samples");
   names.push_back(pass + ".resolve");
-  names.push_back(pass + ".depth_copy");
+  if (!depthImage_) names.push_back(pass + ".depth_copy");
   return names;
+}
+
+void Raster3dPass::resolveInto(const Image& depth) {
+  HB_ASSERT(depth.format() == kComputeDepthFormat && depth.width() == width_ && depth.height() == height_);
+  DescriptorBinder binder("raster3d resolve");
+  binder.provide("Constants", constants_, 0, sizeof(gpu::Raster3dConstants));
+  binder.provide("Visibility", vis_, 0, size_t(width_) * height_ * sizeof(uint64_t));
+  binder.provide("depthImage", depth, VK_IMAGE_LAYOUT_GENERAL);
+  resolveImage_ = std::make_unique<Pipeline>(ctx_);
+  resolveImage_->createCompute(binder, "raster3d_resolve_image.comp", 0);
+  depthImage_ = &depth;
 }
 
 nlohmann::json Raster3dPass::compiled() const {
@@ -361,7 +373,7 @@ nlohmann::json Raster3dPass::compiled() const {
   nlohmann::json out = nlohmann::json::object();
   for (size_t k = 0; k < names.size() && k < timed_.size(); ++k)
     out[names[k]] = pipelineStatistics(ctx_, timed_[k]->handle());
-  out["resolve"] = pipelineStatistics(ctx_, resolve_.handle());
+  out["resolve"] = pipelineStatistics(ctx_, (resolveImage_ ? *resolveImage_ : resolve_).handle());
   return out;
 }
 
@@ -471,8 +483,21 @@ void Raster3dPass::record(VkCommandBuffer cmd, Sync& sync, const Image& depth, b
     vkCmdCopyBuffer(cmd, big_.handle(), demandOut_.handle(), 1, &region);
     demandCopied_ = true;
   }
-  // The resolve reads the visibility buffer into the depth buffer.
+  // The resolve reads the visibility buffer into the depth image (resolveInto), or into a buffer
+  // copied into it.
   std::vector<Use> resolve = working(access::kComputeRead, analysis);
+  if (depthImage_) {
+    HB_ASSERT(&depth == depthImage_);
+    resolve.push_back({depth, access::kComputeWrite.discarding()});
+    sync.use(cmd, resolve);
+    if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
+    VkDescriptorSet set = resolveImage_->set();
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolveImage_->handle());
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolveImage_->layout(), 0, 1, &set, 0, nullptr);
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+    if (timer) timer->end(cmd);
+    return;  // the readers declare their reads: the frame records the barriers before them
+  }
   resolve.push_back({depthStaging_, access::kComputeWrite});
   sync.use(cmd, resolve);
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");

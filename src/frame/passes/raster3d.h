@@ -89,11 +89,15 @@ class Raster3dPass {
                const Raster3dFrustumOptions& frusta = {}, AntiAliasing aa = AntiAliasing::None);
   ~Raster3dPass();
 
-  // Rasterizes (or casts) and writes `depth` (by a copy), declaring each step's accesses through
-  // `sync` (the frame's; the readers of the depth and the visibility buffer declare theirs). An
-  // analysis frame also counts and adds coverage. With a timer, each dispatch is timed as a sub-pass
+  // Makes the resolve write `depth`, a colour R32F storage image (depth_prepass.h
+  // kComputeDepthFormat), itself: record() then takes that image and copies nothing. Without it the
+  // resolve writes a buffer that record() copies into a D32 image. Call before subPasses().
+  void resolveInto(const Image& depth);
+  // Rasterizes (or casts) and writes `depth` (by a copy, or directly after resolveInto), declaring each step's accesses
+  // through `sync` (the frame's; the readers of the depth and the visibility buffer declare theirs). An analysis frame
+  // also counts and adds coverage. With a timer, each dispatch is timed as a sub-pass
   // ("<pass>.triangles", ".count", ".scan", ".fill",
-  // ".tiles", ".resolve", ".depth_copy").
+  // ".tiles", ".resolve", and ".depth_copy" unless resolveInto).
   void record(VkCommandBuffer cmd, Sync& sync, const Image& depth, bool analysis, GpuTimer* timer = nullptr) const;
   PrimaryMethod mode() const { return mode_; }
   // The timer entries record() writes inside the pass's own ("raster3d.tiles", ...).
@@ -165,6 +169,8 @@ class Raster3dPass {
   // and an analysis pipeline.
   std::vector<std::unique_ptr<Pipeline>> timed_, analysis_;
   Pipeline resolve_;
+  std::unique_ptr<Pipeline> resolveImage_;  // resolveInto's: the resolve into depthImage_
+  const Image* depthImage_ = nullptr;
   std::unique_ptr<Pipeline> castTimed_, castAnalysis_;                // ray query
   std::unique_ptr<RaygenMissPipeline> castRtTimed_, castRtAnalysis_;  // ray-tracing pipeline
 };
