@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -159,6 +160,54 @@ TEST_F(Raster3dTest, VisbufferShadingMatchesTheForwardPass) {
   RenderSettings hw;
   hw.shading = ShadingMethod::Visbuffer;
   EXPECT_THROW(Renderer(*ctx, scene, hw), InputError);
+}
+
+TEST_F(Raster3dTest, WithVisbufferShadingTheResolveWritesTheDepthImageItselfBitForBitAsTheCopy) {
+  // No pass draws against the depth of a compute primary with visbuffer shading, so the frame's
+  // depth is an R32F colour image that the resolve writes itself (renderer.cpp frameDepth); forward
+  // shading tests depth in a draw, so there it stays a D32 image filled by a copy of the resolved
+  // buffer. The floats are the same, so the depth, the light lists built from it and the shadow
+  // pass that reconstructs positions from it (world_pos alg41) are the same bit for bit.
+  const Scene scene = makeAtrium(AtriumParams{});
+  struct Out {
+    std::vector<float> depth;
+    std::vector<uint32_t> lists, shadows;
+    std::string format;
+    std::vector<std::string> subPasses;
+  };
+  auto renderWith = [&](ShadingMethod shading) {
+    RenderSettings rs;
+    rs.width = 160;
+    rs.height = 90;
+    rs.primary = hb::testing::primaryNamed("3dr-binned");
+    rs.shading = shading;
+    rs.worldPos = WorldPosMethod::Alg41;
+    Renderer r(*ctx, scene, rs);
+    r.renderFrame(true);
+    const CullingReadback c = r.readCulling();
+    std::vector<uint32_t> lists;  // each tile's count and lights (the slots past a tile's count are not written)
+    for (size_t t = 0; t < c.count.size(); ++t) {
+      lists.push_back(c.count[t]);
+      lists.insert(lists.end(), c.indices.begin() + c.offset[t], c.indices.begin() + c.offset[t] + c.count[t]);
+    }
+    return Out{r.readDepth(), lists, shadowsOf(r)->readShadows().visibility,
+               r.resources().toJson()["depth"]["format"].get<std::string>(), r.raster3d()->subPasses()};
+  };
+  const Out copied = renderWith(ShadingMethod::Forward), direct = renderWith(ShadingMethod::Visbuffer);
+  EXPECT_NE(copied.format.find("D32_SFLOAT"), std::string::npos) << copied.format;
+  EXPECT_NE(direct.format.find("R32_SFLOAT"), std::string::npos) << direct.format;
+  auto has = [](const std::vector<std::string>& v, const char* s) {
+    return std::find(v.begin(), v.end(), s) != v.end();
+  };
+  EXPECT_TRUE(has(copied.subPasses, "raster3d.depth_copy"));
+  EXPECT_FALSE(has(direct.subPasses, "raster3d.depth_copy"));
+  ASSERT_EQ(copied.depth.size(), size_t(160) * 90);
+  size_t covered = 0;
+  for (float d : copied.depth) covered += d > 0.0f;
+  EXPECT_GT(covered, 10000u);  // the atrium fills most of the view: a depth worth comparing
+  EXPECT_EQ(std::memcmp(copied.depth.data(), direct.depth.data(), copied.depth.size() * sizeof(float)), 0);
+  EXPECT_EQ(copied.lists, direct.lists);
+  EXPECT_EQ(copied.shadows, direct.shadows);
 }
 
 TEST_F(Raster3dTest, On3drEarlyDepthTestShadesExactlyWhatTheIdTestAloneShades) {
