@@ -41,6 +41,40 @@ std::string variantTableMarkdown(const json& results) {
   return out;
 }
 
+std::string builtResourcesTableMarkdown(const json& results) {
+  using namespace results;  // at, numberAt, numberCell, escapeCell
+  requireResultsFile(results);
+  std::string rows;
+  for (const json& run : results["runs"]) {
+    const json& resources = at(run, "frame_resources");
+    if (!resources.is_object()) continue;
+    const std::string name = at(run, "name").is_string() ? at(run, "name").get<std::string>() : "?";
+    for (const auto& [resource, r] : resources.items()) {
+      if (!at(r, "build_ms").is_number()) continue;  // written by a pass, or published by its owner: not built
+      const json& by = at(r, "built_by");
+      std::string users;
+      if (at(r, "users").is_array())
+        for (const json& u : r["users"])
+          if (u.is_string()) users += (users.empty() ? "" : ", ") + u.get<std::string>();
+      rows += "| " + escapeCell(name) + " | " + escapeCell(resource) + " | " +
+              escapeCell(by.is_string() ? by.get<std::string>() : "—") + " | " +
+              numberCell(numberAt(r, "build_ms"), "%.2f") + " | " +
+              numberCell(numberAt(r, "built_bytes") / 1048576.0, "%.2f") + " | " +
+              numberCell(numberAt(r, "bytes") / 1048576.0, "%.2f") + " | " + escapeCell(users.empty() ? "—" : users) +
+              " |\n";
+    }
+  }
+  if (rows.empty()) return "";
+  return "## Built once a frame\n\nWhat the frame builds on the CPU from the scene and the settings (docs/frame.md, "
+         "keyed resources): each resource is built once a frame, by the part that first asks for it, and shared by "
+         "its users (the passes that read it; raybench where it traced through it). Build: one build's CPU wall "
+         "clock, the GPU work it waits for included, not a GPU time. MB built: all of it (a BVH's nodes and "
+         "triangles, an LDM set's node pool, maps and counters); MB read: what the frame's passes read of it.\n\n"
+         "| Run | Resource | Built by | Build (ms, CPU wall clock) | MB built | MB read | Users |\n"
+         "|---|---|---|---:|---:|---:|---|\n" +
+         rows;
+}
+
 std::string allTablesMarkdown(const json& results) {
   const std::vector<ThesisRow> rows = thesisRows(results);  // throws InputError for a file of another kind
   const bool thesis = std::any_of(rows.begin(), rows.end(), [](const ThesisRow& r) { return r.status != "missing"; });
@@ -64,6 +98,9 @@ std::string allTablesMarkdown(const json& results) {
     if (e->table) add(e->table(results));
   add(manyLightsTableMarkdown(results));
   if (!any) out += "\n" + variantTableMarkdown(results);
+  // Not a study's table (it never stands in for the per-variant one): every study's frame builds.
+  const std::string built = builtResourcesTableMarkdown(results);
+  if (!built.empty()) out += "\n" + built;
   return out;
 }
 

@@ -1,6 +1,7 @@
 // Each study prints its own tables (all_tables.h): the thesis's Tables 5.1/5.2 only where some run
 // is one of their rows, never a frame of another study under their labels; the effect tables for
-// those effects; and the per-variant table where no table has rows.
+// those effects; and the per-variant table where no table has rows. Whatever the study, the
+// resources each run's frame built on the CPU.
 #include "report/all_tables.h"
 
 #include <fstream>
@@ -71,6 +72,60 @@ TEST(AllTables, RunsNoTableHasRowsForGetThePerVariantTable) {
   EXPECT_EQ(rows, 1 + results["runs"].size()) << md;  // the header and a row per run
   EXPECT_NE(md.find("| baseline_t8 | ok | 4.000 |"), std::string::npos) << md;
   EXPECT_NE(md.find("shadows "), std::string::npos) << md;
+}
+
+// Two runs of the fixture: the first's frame built our BVH and the TLAS (and wrote a depth buffer,
+// which is not built); the second's frame built nothing.
+json builtResults() {
+  json results = thesisFixture();
+  json built = results["runs"][0], plain = results["runs"][1];
+  built["name"] = "ao | rt";  // a '|' the table must escape
+  built["frame_resources"] = {
+      {"depth", {{"format", "D32_SFLOAT"}, {"size", "800x800"}, {"bytes", 2560000}, {"users", {"shading"}}}},
+      {"trace_bvh",
+       {{"format", "gpu::PrimaryBvhNode"},
+        {"bytes", 8275328},
+        {"key", "trace_bvh: binary SAH, collapsed to width 4"},
+        {"built_bytes", 20852672},
+        {"build_ms", 133.233263},
+        {"build_clock", "cpu"},
+        {"built_by", "renderer"},
+        {"users", {"shadows", "ambient_occlusion", "raybench"}}}},
+      {"tlas",
+       {{"format", "acceleration structure"},
+        {"bytes", 24049408},
+        {"built_bytes", 24049408},
+        {"build_ms", 7.650216},
+        {"build_clock", "cpu"},
+        {"built_by", "renderer"}}}};  // no users recorded
+  plain["frame_resources"] = {{"depth", {{"format", "D32_SFLOAT"}, {"bytes", 2560000}, {"users", {"shading"}}}}};
+  results["runs"] = json::array({built, plain});
+  return results;
+}
+
+TEST(AllTables, EachBuiltResourceOfEachRunIsARowWithItsBuildAndBytes) {
+  const json results = builtResults();
+  const std::string table = builtResourcesTableMarkdown(results);
+  // The header, then the rows in the order frame_resources lists them: tlas, trace_bvh. MB = 2^20 bytes.
+  const std::string rows = table.substr(table.find("| Run |"));
+  EXPECT_EQ(rows,
+            "| Run | Resource | Built by | Build (ms, CPU wall clock) | MB built | MB read | Users |\n"
+            "|---|---|---|---:|---:|---:|---|\n"
+            "| ao \\| rt | tlas | renderer | 7.65 | 22.94 | 22.94 | — |\n"
+            "| ao \\| rt | trace_bvh | renderer | 133.23 | 19.89 | 7.89 | shadows, ambient_occlusion, raybench |\n")
+      << table;
+  EXPECT_NE(table.find("CPU wall clock"), std::string::npos) << table;
+  const std::string md = allTablesMarkdown(results);
+  EXPECT_NE(md.find("## Built once a frame\n\n"), std::string::npos) << md;
+  EXPECT_NE(md.find(rows), std::string::npos) << md;
+}
+
+TEST(AllTables, AFileWithoutBuiltResourcesHasNoBuiltTable) {
+  json results = builtResults();
+  results["runs"].erase(0);  // leaves the run whose frame_resources built nothing
+  EXPECT_EQ(builtResourcesTableMarkdown(results), "");
+  EXPECT_EQ(allTablesMarkdown(results).find("Built once a frame"), std::string::npos);
+  EXPECT_EQ(allTablesMarkdown(thesisFixture()).find("Built once a frame"), std::string::npos);  // no frame_resources
 }
 
 }  // namespace
