@@ -281,4 +281,25 @@ TEST_F(ReportCli, TheSummarySaysTheFastestTheMostAccurateAndTheFrontOfTheAccurac
   EXPECT_EQ(chain.front(), fastest);
 }
 
+// tables --format built: the frame's built resources alone, one row a run and resource (the
+// committed H200 sweep of the tracer study builds trace_bvh in every run, and the TLAS where the
+// driver's tracer runs too); a file whose runs built nothing is one line and exit 2.
+TEST_F(ReportCli, TablesFormatBuiltListsWhatEachRunBuiltOrSaysThereIsNone) {
+  const std::string file = kResults + "h200/tracer-51/speculative/bvh-width-H/results.json.gz";
+  const nlohmann::json results = hb::testing::readJson(file);
+  size_t built = 0;
+  for (const nlohmann::json& r : results["runs"])
+    for (const auto& [name, res] : r["frame_resources"].items()) built += res.contains("build_ms");
+  ASSERT_GT(built, 0u);
+  const RunResult table = run({"tables", file, "--format", "built"});
+  ASSERT_EQ(table.exitCode, 0) << table.err;
+  EXPECT_EQ(allOf(table.out, R"(\n\| [^|]+ \| (trace_bvh|tlas|[a-z_.]+) \| [a-z_]+ \| [0-9.]+ \|)").size(), built)
+      << table.out;
+  const RunResult none =
+      run({"tables", kResults + "h200/continuum-32/ab3-3588072/results.json.gz", "--format", "built"});
+  EXPECT_EQ(none.exitCode, 2);
+  EXPECT_NE(none.err.find("no run records a resource built"), std::string::npos) << none.err;
+  EXPECT_EQ(std::count(none.err.begin(), none.err.end(), '\n'), 1) << none.err;
+}
+
 }  // namespace

@@ -87,6 +87,13 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
     std::cout << rooflineMarkdown(results);
   } else if (format == "roofline-svg") {
     std::cout << rooflineSvg(results);
+  } else if (format == "built") {
+    const std::string table = builtResourcesTableMarkdown(results);
+    if (table.empty())
+      throw InputError(resultsPaths[0] +
+                       ": no run records a resource built for the frame (frame_resources with "
+                       "build_ms; files of older builds have none): use --format md");
+    std::cout << table;
   } else {
     // As sweep writes them: tables.md, then accuracy.md (the roofline: --format roofline).
     std::cout << allTablesMarkdown(results);

@@ -112,8 +112,9 @@ int main(int argc, char** argv) {
       ->add_option("--format", tablesFormat,
                    "md (thesis tables + accuracy-vs-time report + roofline table), csv (thesis tables), svg "
                    "(accuracy-vs-time plot), accuracy (the accuracy-vs-time report alone), roofline (the device's "
-                   "peaks and the roofline table), roofline-svg (the roofline plot)")
-      ->check(CLI::IsMember({"md", "csv", "svg", "accuracy", "roofline", "roofline-svg"}));
+                   "peaks and the roofline table), roofline-svg (the roofline plot), built (what the frame built "
+                   "once: BVHs, LDM sets, with build time and memory)")
+      ->check(CLI::IsMember({"md", "csv", "svg", "accuracy", "roofline", "roofline-svg", "built"}));
   bool tablesAllowDuplicates = false;
   tablesCmd->add_flag("--allow-duplicates", tablesAllowDuplicates,
                       "read files that hold the same variant; every row is then named with its file");
