@@ -198,6 +198,11 @@ int main(int argc, char** argv) {
       ->add_option("--min-segment", history.options.minSegment,
                    "the fewest runs between two changes (default 2: one run alone is not a change)")
       ->check(CLI::PositiveNumber);
+  historyCmd
+      ->add_option("--min-ms", history.options.minMs,
+                   "a change whose levels are both under this many ms never gates (default 0: each change's floor, "
+                   "twice its runs' timestamp resolution, decides)")
+      ->check(CLI::NonNegativeNumber);
   historyCmd->add_option("--json", history.json, "write the series and changes as JSON to this file");
   historyCmd->add_option("--html", history.html, "write a page with one plot per series that changed");
   historyCmd->add_flag("--all-series", history.allSeries,

@@ -122,8 +122,8 @@ std::string verdictFor(const CompareRow& r, const CompareOptions& o) {
   return "same";
 }
 
-// The smallest step between two distinct samples (ms), at least `period`: the resolution the
-// timestamps gave this pass (the NVIDIA driver's 1 ns period steps by 32 ns on the H200).
+}  // namespace
+
 double sampleResolution(std::vector<double> samples, double period) {
   std::sort(samples.begin(), samples.end());
   double step = kNaN;
@@ -131,6 +131,8 @@ double sampleResolution(std::vector<double> samples, double period) {
     if (const double d = samples[i] - samples[i - 1]; d > 0 && !(d >= step)) step = d;
   return std::isfinite(step) ? std::max(step, period) : period;
 }
+
+namespace {
 
 // untimed: a side was measured on a CPU device, whose per-pass times mean nothing: those rows get
 // "not timed" (no verdict, never a regression); the frame row keeps its verdict.

@@ -130,6 +130,11 @@ std::string formatCompareJunit(const CompareReport& report);
 
 nlohmann::json toJson(const CompareReport& report);
 
+// The smallest step between two distinct samples (ms), at least `period`: the resolution the
+// timestamps gave a pass (the NVIDIA driver's 1 ns period steps by 32 ns on the H200); `period`
+// when no two samples differ.
+double sampleResolution(std::vector<double> samples, double period);
+
 // One row from two sample sets (the detection trials of noise_model.h): as compareResults makes
 // each row, with the device model, ray tracer and timestamp periods (ms) it would read from B.
 struct RowContext {

@@ -16,6 +16,7 @@
 #include "base/splitmix64.h"
 #include "base/text_format.h"
 #include "plan/effects.h"
+#include "report/compare.h"
 #include "report/results_json.h"
 #include "report/stats.h"
 
@@ -383,6 +384,9 @@ std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> pointsOfG
     const json& context = results::at(in->results, "context");
     // A CPU device's per-pass times mean nothing (results_json.h measuredOnCpu): its frames only.
     const bool framesOnly = results::measuredOnCpu(in->results);
+    // The device's timestamp period (ms): the finest step a pass's samples can take.
+    const json& period = results::at(results::at(context, "device"), "timestamp_period_ns");
+    const double tickMs = period.is_number() ? 1e-6 * period.get<double>() : 0.0;
     tally.cpuFiles += framesOnly;
     for (const json& run : in->results["runs"]) {
       if (run.value("status", std::string("ok")) != "ok") continue;
@@ -404,7 +408,8 @@ std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> pointsOfG
                    tracer,
                    t.median,
                    t.cv,
-                   t.samples.size()};
+                   t.samples.size(),
+                   sampleResolution(t.samples, tickMs)};
         d.samplesHash = fnv1a(t.samples.data(), t.samples.size() * sizeof(double));
         drafts[{variant, pass}].push_back(std::move(d));
       }
@@ -447,10 +452,19 @@ HistorySeries buildSeries(size_t groupIndex, const HistoryGroup& group, const st
   const std::vector<ChangePoint> found = eDivisive(logs, options.alpha, options.permutations, options.minSegment,
                                                    historySeriesSeed(options.seed, group, variant, pass), options.test);
   s.changes = changesBeyond(s.points, found, options.thresholdPct);
+  // Each change's floor, from the points of its two segments (the changes around it bound them).
+  for (size_t k = 0; k < s.changes.size(); ++k) {
+    const size_t from = k > 0 ? s.changes[k - 1].index : 0;
+    const size_t to = k + 1 < s.changes.size() ? s.changes[k + 1].index : s.points.size();
+    double resolution = 0;
+    for (size_t i = from; i < to; ++i) resolution = std::max(resolution, s.points[i].resolutionMs);
+    s.changes[k].floorMs = 2 * resolution;
+  }
   if (!s.changes.empty()) {
     const HistoryChange& last = s.changes.back();
     const bool tiny = last.medianBefore < options.minMs && last.medianAfter < options.minMs;
-    s.gates = last.ratio > 1 + options.thresholdPct / 100 && !tiny;
+    const bool overFloor = last.medianAfter - last.medianBefore > last.floorMs;
+    s.gates = last.ratio > 1 + options.thresholdPct / 100 && !tiny && overFloor;
   }
   return s;
 }
@@ -579,7 +593,8 @@ json toJson(const HistoryReport& r) {
                         {"ray_tracing", p.tracer},
                         {"median_ms", p.medianMs},
                         {"cv", finiteOrNull(p.cv)},
-                        {"n", p.n}});
+                        {"n", p.n},
+                        {"resolution_ms", p.resolutionMs}});
     json changes = json::array();
     for (const HistoryChange& c : s.changes)
       changes.push_back({{"index", c.index},
@@ -589,6 +604,7 @@ json toJson(const HistoryReport& r) {
                          {"median_before_ms", c.medianBefore},
                          {"median_after_ms", c.medianAfter},
                          {"ratio", c.ratio},
+                         {"floor_ms", c.floorMs},
                          {"p", c.p},
                          {"ray_tracing_before", c.tracerBefore},
                          {"ray_tracing_after", c.tracerAfter}});

@@ -45,8 +45,8 @@ struct HistoryOptions {
   // change only once a second run confirms it (compare judges one run against another).
   size_t minSegment = 2;
   // A change of a pass whose levels on both sides are under this is reported but never gates, as
-  // compare's --min-ms: 0.02 ms is 20 ticks of a 1 ns timer, where 5 % is 1 us of jitter.
-  double minMs = 0.02;
+  // compare's --min-ms (default 0: each change's own floor, HistoryChange::floorMs, decides).
+  double minMs = 0;
   // The permutations' seed; each series mixes in its own key (historySeriesSeed), so a series'
   // result does not depend on which other files were read, or in which order.
   uint64_t seed = 0x68697374'6f727921ull;  // "history!"
@@ -63,6 +63,9 @@ struct HistoryPoint {
   double medianMs = 0;  // the median of its samples (results::timingOf, as compare)
   double cv = 0;        // their coefficient of variation (NaN with one sample)
   size_t n = 0;         // samples
+  // The resolution its timestamps gave this pass: the smallest step between two distinct samples,
+  // at least the device's timestamp period (compare.h sampleResolution); 0 where neither is known.
+  double resolutionMs = 0;
 };
 
 // Where a series changed: the points [0, index) and [index, points.size()) of its segments around
@@ -74,7 +77,10 @@ struct HistoryChange {
   // The median of the segment's point medians (robust to one odd run within a segment).
   double medianBefore = 0, medianAfter = 0;
   double ratio = 1;  // medianAfter / medianBefore: > 1 slower
-  double p = 1;      // the permutation test's p-value when the split was accepted
+  // As compare's row floor: twice the coarsest timestamp resolution of the points on either side.
+  // A slower change gates only when medianAfter - medianBefore exceeds it.
+  double floorMs = 0;
+  double p = 1;  // the permutation test's p-value when the split was accepted
   // The ray tracers of points index - 1 and index where both are known and differ: the change
   // then measures the tracer too (compare warns likewise), e.g. backend auto choosing compute.
   std::string tracerBefore, tracerAfter;

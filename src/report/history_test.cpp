@@ -197,6 +197,43 @@ TEST(History, GatesWhenTheNewestSegmentIsSlowerNotWhenItIsFaster) {
   EXPECT_FALSE(undone.regression);
 }
 
+// A slower change gates only beyond its floor, twice the timestamps' resolution (as compare's rows):
+// a 10 us pass that becomes 10 % slower moves by 1 us. Timed by a 32 ns clock (the H200's steps),
+// that is many resolution steps and gates; timed by a 1 us clock, whose samples step by 1 us, it
+// is one step, under the floor of 2 us, and is reported but held.
+TEST(History, ASlowerChangeGatesOnlyBeyondTwiceTheTimestampsResolution) {
+  auto history = [](double periodNs) {
+    const double tick = periodNs * 1e-6;
+    std::vector<HistoryInput> files;
+    for (int i = 0; i < 12; ++i) {
+      const double level = i < 6 ? 0.010 : 0.011;
+      std::vector<double> samples;  // 20 frames within a few ticks of the level, each a whole number of ticks
+      for (int k = 0; k < 20; ++k) samples.push_back(std::round(level / tick + (k * 7 + i) % 3) * tick);
+      HistoryInput f =
+          historyFile("rev" + std::string(i < 10 ? "0" : "") + std::to_string(i),
+                      "2026-11-" + std::string(i + 1 < 10 ? "0" : "") + std::to_string(i + 1) + "T00:00:00Z", 4.0);
+      f.results["context"]["device"]["timestamp_period_ns"] = periodNs;
+      f.results["runs"][0]["passes"]["light_culling"] = {{"samples", samples}};
+      files.push_back(f);
+    }
+    return buildHistory(files, HistoryOptions{});
+  };
+  const HistoryReport fine = history(32), coarse = history(1000);
+  for (const HistoryReport* r : {&fine, &coarse}) {
+    const HistorySeries& s = seriesOf(*r, "light_culling");
+    ASSERT_EQ(s.changes.size(), 1u);
+    EXPECT_EQ(s.changes[0].index, 6u);
+    EXPECT_GT(s.changes[0].ratio, 1.05);  // beyond the threshold either way
+    EXPECT_NEAR(s.points[0].resolutionMs, r == &fine ? 32e-6 : 1e-3, 1e-12);
+  }
+  EXPECT_NEAR(seriesOf(fine, "light_culling").changes[0].floorMs, 64e-6, 1e-12);
+  EXPECT_TRUE(seriesOf(fine, "light_culling").gates);
+  EXPECT_TRUE(fine.regression);
+  EXPECT_NEAR(seriesOf(coarse, "light_culling").changes[0].floorMs, 2e-3, 1e-12);
+  EXPECT_FALSE(seriesOf(coarse, "light_culling").gates);
+  EXPECT_FALSE(coarse.regression);
+}
+
 TEST(History, OneSlowNewestRunIsNoSegmentOfItsOwn) {
   // min segment 2: a single slow run awaits a second (compare judges one run against another).
   std::vector<double> ms = jittered(10, 4.0, 0.01, 21);
