@@ -33,7 +33,6 @@ constexpr NvmlTemperatureSensor kNvmlTemperatureGpu = 0;  // NVML_TEMPERATURE_GP
 constexpr unsigned kNvmlUuidBufferSize = 96;              // NVML_DEVICE_UUID_V2_BUFFER_SIZE
 
 }  // namespace nvml
-using namespace nvml;
 
 namespace {
 
@@ -137,21 +136,23 @@ std::string throttleWarning(const TelemetrySample& before, const TelemetrySample
 struct Telemetry::Nvml {
   void* library = nullptr;  // dlopen's handle
   bool initialised = false;
-  NvmlDevice device = nullptr;
-  NvmlReturn (*init)() = nullptr;                                                     // nvmlInit_v2
-  NvmlReturn (*shutdown)() = nullptr;                                                 // nvmlShutdown
-  const char* (*errorString)(NvmlReturn) = nullptr;                                   // nvmlErrorString
-  NvmlReturn (*handleByUuid)(const char*, NvmlDevice*) = nullptr;                     // nvmlDeviceGetHandleByUUID
-  NvmlReturn (*count)(unsigned*) = nullptr;                                           // nvmlDeviceGetCount_v2
-  NvmlReturn (*handleByIndex)(unsigned, NvmlDevice*) = nullptr;                       // nvmlDeviceGetHandleByIndex_v2
-  NvmlReturn (*uuid)(NvmlDevice, char*, unsigned) = nullptr;                          // nvmlDeviceGetUUID
-  NvmlReturn (*clock)(NvmlDevice, NvmlClockType, unsigned*) = nullptr;                // nvmlDeviceGetClockInfo
-  NvmlReturn (*maxClock)(NvmlDevice, NvmlClockType, unsigned*) = nullptr;             // nvmlDeviceGetMaxClockInfo
-  NvmlReturn (*power)(NvmlDevice, unsigned*) = nullptr;                               // nvmlDeviceGetPowerUsage, mW
-  NvmlReturn (*temperature)(NvmlDevice, NvmlTemperatureSensor, unsigned*) = nullptr;  // nvmlDeviceGetTemperature
+  nvml::NvmlDevice device = nullptr;
+  nvml::NvmlReturn (*init)() = nullptr;                                        // nvmlInit_v2
+  nvml::NvmlReturn (*shutdown)() = nullptr;                                    // nvmlShutdown
+  const char* (*errorString)(nvml::NvmlReturn) = nullptr;                      // nvmlErrorString
+  nvml::NvmlReturn (*handleByUuid)(const char*, nvml::NvmlDevice*) = nullptr;  // nvmlDeviceGetHandleByUUID
+  nvml::NvmlReturn (*count)(unsigned*) = nullptr;                              // nvmlDeviceGetCount_v2
+  nvml::NvmlReturn (*handleByIndex)(unsigned, nvml::NvmlDevice*) = nullptr;    // nvmlDeviceGetHandleByIndex_v2
+  nvml::NvmlReturn (*uuid)(nvml::NvmlDevice, char*, unsigned) = nullptr;       // nvmlDeviceGetUUID
+  nvml::NvmlReturn (*clock)(nvml::NvmlDevice, nvml::NvmlClockType, unsigned*) = nullptr;  // nvmlDeviceGetClockInfo
+  nvml::NvmlReturn (*maxClock)(nvml::NvmlDevice, nvml::NvmlClockType,
+                               unsigned*) = nullptr;                 // nvmlDeviceGetMaxClockInfo
+  nvml::NvmlReturn (*power)(nvml::NvmlDevice, unsigned*) = nullptr;  // nvmlDeviceGetPowerUsage, mW
+  nvml::NvmlReturn (*temperature)(nvml::NvmlDevice, nvml::NvmlTemperatureSensor,
+                                  unsigned*) = nullptr;  // nvmlDeviceGetTemperature
   // nvmlDeviceGetCurrentClocksEventReasons, or on older drivers its former name
   // nvmlDeviceGetCurrentClocksThrottleReasons (the same call); null when the library has neither.
-  NvmlReturn (*clockReasons)(NvmlDevice, unsigned long long*) = nullptr;
+  nvml::NvmlReturn (*clockReasons)(nvml::NvmlDevice, unsigned long long*) = nullptr;
 
   ~Nvml() {
     if (initialised) shutdown();
@@ -164,32 +165,33 @@ struct Telemetry::Nvml {
     return fn != nullptr;
   }
 
-  std::string error(NvmlReturn r) const {
+  std::string error(nvml::NvmlReturn r) const {
     const char* s = errorString ? errorString(r) : nullptr;
     return s ? s : "NVML error " + std::to_string(r);
   }
 
-  double read(NvmlReturn (*fn)(NvmlDevice, NvmlClockType, unsigned*), NvmlClockType type) const {
+  double read(nvml::NvmlReturn (*fn)(nvml::NvmlDevice, nvml::NvmlClockType, unsigned*),
+              nvml::NvmlClockType type) const {
     unsigned v = 0;
-    return fn(device, type, &v) == kNvmlSuccess ? double(v) : kNotRead;
+    return fn(device, type, &v) == nvml::kNvmlSuccess ? double(v) : kNotRead;
   }
 
   // The device whose UUID, without NVML's "GPU-" prefix, is `vulkanUuid` (case aside); "" on
   // success, else why not.
   std::string findDevice(const std::string& vulkanUuid) {
     const std::string wanted = "GPU-" + vulkanUuid;
-    const NvmlReturn r = handleByUuid(wanted.c_str(), &device);
-    if (r == kNvmlSuccess) return "";
-    if (r != kNvmlErrorNotFound)
+    const nvml::NvmlReturn r = handleByUuid(wanted.c_str(), &device);
+    if (r == nvml::kNvmlSuccess) return "";
+    if (r != nvml::kNvmlErrorNotFound)
       return "nvmlDeviceGetHandleByUUID(" + wanted + ") failed: " + error(r) + ": no telemetry";
     // The same UUID in other letters' case, and the list for the message where there is none.
     unsigned n = 0;
     std::string seen;
-    if (count(&n) == kNvmlSuccess)
+    if (count(&n) == nvml::kNvmlSuccess)
       for (unsigned i = 0; i < n; ++i) {
-        NvmlDevice d = nullptr;
-        char name[kNvmlUuidBufferSize] = {};
-        if (handleByIndex(i, &d) != kNvmlSuccess || uuid(d, name, sizeof name) != kNvmlSuccess) continue;
+        nvml::NvmlDevice d = nullptr;
+        char name[nvml::kNvmlUuidBufferSize] = {};
+        if (handleByIndex(i, &d) != nvml::kNvmlSuccess || uuid(d, name, sizeof name) != nvml::kNvmlSuccess) continue;
         if (asciiLower(name) == asciiLower(wanted)) {
           device = d;
           return "";
@@ -240,16 +242,16 @@ Telemetry Telemetry::open(const DeviceInfo& device, const char* library) {
     if (!found) return Telemetry(std::string(library) + " has no " + name + " (a driver too old): no telemetry");
   if (!nvml->resolve(nvml->clockReasons, "nvmlDeviceGetCurrentClocksEventReasons"))
     nvml->resolve(nvml->clockReasons, "nvmlDeviceGetCurrentClocksThrottleReasons");
-  if (const NvmlReturn r = nvml->init(); r != kNvmlSuccess)
+  if (const nvml::NvmlReturn r = nvml->init(); r != nvml::kNvmlSuccess)
     return Telemetry("nvmlInit_v2 failed: " + nvml->error(r) + ": no telemetry");
   nvml->initialised = true;
   if (std::string why = nvml->findDevice(device.uuid); !why.empty()) return Telemetry(std::move(why));
 
   Telemetry t("");
-  t.maxSmClockMHz_ = nvml->read(nvml->maxClock, kNvmlClockSm);
-  t.maxMemClockMHz_ = nvml->read(nvml->maxClock, kNvmlClockMem);
-  char name[kNvmlUuidBufferSize] = {};
-  t.nvmlUuid_ = nvml->uuid(nvml->device, name, sizeof name) == kNvmlSuccess ? name : "GPU-" + device.uuid;
+  t.maxSmClockMHz_ = nvml->read(nvml->maxClock, nvml::kNvmlClockSm);
+  t.maxMemClockMHz_ = nvml->read(nvml->maxClock, nvml::kNvmlClockMem);
+  char name[nvml::kNvmlUuidBufferSize] = {};
+  t.nvmlUuid_ = nvml->uuid(nvml->device, name, sizeof name) == nvml::kNvmlSuccess ? name : "GPU-" + device.uuid;
   t.nvml_ = std::move(nvml);
   return t;
 }
@@ -258,13 +260,13 @@ std::optional<TelemetrySample> Telemetry::sample() const {
   if (!nvml_) return std::nullopt;
   const Nvml& n = *nvml_;
   TelemetrySample s;
-  s.smClockMHz = n.read(n.clock, kNvmlClockSm);
-  s.memClockMHz = n.read(n.clock, kNvmlClockMem);
+  s.smClockMHz = n.read(n.clock, nvml::kNvmlClockSm);
+  s.memClockMHz = n.read(n.clock, nvml::kNvmlClockMem);
   unsigned v = 0;
-  s.powerW = n.power(n.device, &v) == kNvmlSuccess ? v * 1e-3 : kNotRead;  // NVML reports milliwatts
-  s.temperatureC = n.temperature(n.device, kNvmlTemperatureGpu, &v) == kNvmlSuccess ? double(v) : kNotRead;
+  s.powerW = n.power(n.device, &v) == nvml::kNvmlSuccess ? v * 1e-3 : kNotRead;  // NVML reports milliwatts
+  s.temperatureC = n.temperature(n.device, nvml::kNvmlTemperatureGpu, &v) == nvml::kNvmlSuccess ? double(v) : kNotRead;
   unsigned long long reasons = 0;
-  s.throttleReasonsRead = n.clockReasons && n.clockReasons(n.device, &reasons) == kNvmlSuccess;
+  s.throttleReasonsRead = n.clockReasons && n.clockReasons(n.device, &reasons) == nvml::kNvmlSuccess;
   s.throttleReasons = s.throttleReasonsRead ? uint64_t(reasons) : 0;
   s.throttleNames = clockReasonNames(s.throttleReasons);
   return s;
