@@ -329,12 +329,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
         "per-pass rows measured on a CPU device are \"not timed\": no verdict, never a regression; its frame times "
         "follow the host's load, so an A/A pair on a busy machine can differ beyond the threshold");
 
-  // The timestamp period of each side (ms): the finest step its times can take.
-  auto periodOf = [](const json& r) {
-    const json v = valueAt(r, {"context", "device", "timestamp_period_ns"});
-    return v.is_number() ? v.get<double>() * 1e-6 : 0.0;
-  };
-  const double tickA = periodOf(a), tickB = periodOf(b);
+  const double tickA = results::timestampPeriodMs(a), tickB = results::timestampPeriodMs(b);
   if (options.noise)
     report.noise = "between-run (" +
                    (options.noise->source.empty() ? std::string("a noise model") : options.noise->source) +

@@ -384,9 +384,7 @@ std::map<std::pair<std::string, std::string>, std::vector<PointDraft>> pointsOfG
     const json& context = results::at(in->results, "context");
     // A CPU device's per-pass times mean nothing (results_json.h measuredOnCpu): its frames only.
     const bool framesOnly = results::measuredOnCpu(in->results);
-    // The device's timestamp period (ms): the finest step a pass's samples can take.
-    const json& period = results::at(results::at(context, "device"), "timestamp_period_ns");
-    const double tickMs = period.is_number() ? 1e-6 * period.get<double>() : 0.0;
+    const double tickMs = results::timestampPeriodMs(in->results);
     tally.cpuFiles += framesOnly;
     for (const json& run : in->results["runs"]) {
       if (run.value("status", std::string("ok")) != "ok") continue;

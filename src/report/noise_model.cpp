@@ -37,13 +37,6 @@ std::string textAt(const json& j, std::initializer_list<const char*> path) {
   return node->is_string() ? node->get<std::string>() : std::string();
 }
 
-double periodMs(const json& r) {
-  const json& device = results::at(results::at(r, "context"), "device");
-  return device.is_object() && device.contains("timestamp_period_ns") && device["timestamp_period_ns"].is_number()
-             ? device["timestamp_period_ns"].get<double>() * 1e-6
-             : 0.0;
-}
-
 // The pair compared at --gate all, within-run noise only, or with `model`.
 CompareReport comparePair(const AaPair& p, const NoiseModel* model, double thresholdPct) {
   CompareOptions o;
@@ -254,8 +247,10 @@ NoiseCheck checkNoiseModel(const std::vector<AaPair>& pairs, const NoiseModel& m
         return k.first.device == report.b.device && k.first.tracer == row.tracer && k.first.pass == row.pass;
       });
       if (it == keys.end()) it = keys.insert(keys.end(), {NoiseDetection{report.b.device, row.tracer, row.pass}, {}});
-      it->second.push_back({samplesOf(p.a, row.variant, row.pass), samplesOf(p.b, row.variant, row.pass),
-                            RowContext{report.b.device, row.tracer, periodMs(p.a), periodMs(p.b)}, row.variant});
+      it->second.push_back(
+          {samplesOf(p.a, row.variant, row.pass), samplesOf(p.b, row.variant, row.pass),
+           RowContext{report.b.device, row.tracer, results::timestampPeriodMs(p.a), results::timestampPeriodMs(p.b)},
+           row.variant});
     }
   }
   // The fraction of trials that gate with B slowed by `planted` (a fraction); the generator's

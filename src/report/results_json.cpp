@@ -88,6 +88,11 @@ std::vector<std::string> timingCaveats(const json& r) {
   return out;
 }
 
+double timestampPeriodMs(const json& r) {
+  const json& period = at(at(at(r, "context"), "device"), "timestamp_period_ns");
+  return period.is_number() ? period.get<double>() * 1e-6 : 0.0;
+}
+
 bool measuredOnCpu(const json& r) {
   const json& type = at(at(at(r, "context"), "device"), "type");
   return (type.is_string() && type.get<std::string>() == "cpu") || at(at(r, "context"), "timing_caveat").is_string();

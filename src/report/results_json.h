@@ -43,6 +43,9 @@ bool anyRunHas(const json& r, const char* key);
 std::vector<std::string> timingCaveats(const json& r);
 // Measured on a CPU device (lavapipe): per-pass times mean nothing there (docs/results-format.md).
 bool measuredOnCpu(const json& r);
+// The device's timestamp period in ms (context.device.timestamp_period_ns): the finest step a
+// pass's times can take; 0 where the file does not record it.
+double timestampPeriodMs(const json& r);
 // A Markdown table cell: '|' escaped, newlines as spaces.
 std::string escapeCell(std::string s);
 // A CSV field, quoted (RFC 4180) when it holds a comma, quote or newline.

@@ -483,29 +483,24 @@ void Raster3dPass::record(VkCommandBuffer cmd, Sync& sync, const Image& depth, b
     vkCmdCopyBuffer(cmd, big_.handle(), demandOut_.handle(), 1, &region);
     demandCopied_ = true;
   }
-  // The resolve reads the visibility buffer into the depth image (resolveInto), or into a buffer
-  // copied into it.
+  // The resolve reads the visibility buffer into the depth image itself (resolveInto: 8 x 8 pixels
+  // a workgroup, the image's tiles), or into a buffer that is then copied into it.
+  HB_ASSERT(!depthImage_ || &depth == depthImage_);
   std::vector<Use> resolve = working(access::kComputeRead, analysis);
-  if (depthImage_) {
-    HB_ASSERT(&depth == depthImage_);
-    resolve.push_back({depth, access::kComputeWrite.discarding()});
-    sync.use(cmd, resolve);
-    if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
-    VkDescriptorSet set = resolveImage_->set();
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolveImage_->handle());
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolveImage_->layout(), 0, 1, &set, 0, nullptr);
-    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
-    if (timer) timer->end(cmd);
-    return;  // the readers declare their reads: the frame records the barriers before them
-  }
-  resolve.push_back({depthStaging_, access::kComputeWrite});
+  resolve.push_back(depthImage_ ? Use{depth, access::kComputeWrite.discarding()}
+                                : Use{depthStaging_, access::kComputeWrite});
   sync.use(cmd, resolve);
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".resolve");
-  VkDescriptorSet rset = resolve_.set();
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.handle());
-  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, resolve_.layout(), 0, 1, &rset, 0, nullptr);
-  vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);
+  const Pipeline& rp = depthImage_ ? *resolveImage_ : resolve_;
+  VkDescriptorSet rset = rp.set();
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, rp.handle());
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, rp.layout(), 0, 1, &rset, 0, nullptr);
+  if (depthImage_)
+    vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  else
+    vkCmdDispatch(cmd, uint32_t((size_t(width_) * height_ + 63) / 64), 1, 1);
   if (timer) timer->end(cmd);
+  if (depthImage_) return;  // its readers declare their reads: the frame records the barriers before them
   // The depth buffer into the depth image (a depth format cannot be a storage image), timed on its
   // own so that the roofline tells the resolve's bandwidth from the copy's.
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".depth_copy");
