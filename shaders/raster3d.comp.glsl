@@ -20,11 +20,13 @@
 //   PASS 1: brute force: tileWorkgroups workgroups of 64 threads, each over a run of consecutive
 //           work items, one pixel a thread, one atomicMin per covered pixel.
 //   Binned, count-scan-fill over the work items, a thread per item:
+//   PASS 0 also keeps each big triangle's setup at its span's index (setups, R3dSetupRecord):
+//           the passes after it read it back instead of setting the triangle up for every tile.
 //   PASS 3: count: finds each item's triangle and tile (its span), keeps the item if the
 //           triangle can touch the tile (tileMayBeCovered: its edge functions at the tile's
 //           corners), counts +1 on the tile and writes the item for the fill.
 //   (raster3d_scan.comp.glsl: each tile's first list entry.)
-//   PASS 4: fill: each kept item's triangle id at its tile's offset + atomicAdd(cursor).
+//   PASS 4: fill: each kept item's span at its tile's offset + atomicAdd(cursor).
 //   (raster3d_tiles.comp.glsl: one workgroup per screen tile rasterizes its list.)
 // A covered pixel within [znear, zfar] takes atomicMin of (t bits << 32 | triangle id): the nearest
 // hit, ties to the smaller id, the same on every run and for every order of work (t > 0, and
@@ -96,7 +98,12 @@ void perTriangle() {
     // read must belong to a written span: one of an earlier frame would be another triangle's).
     const uint first = base.x + sItems[lid] - n;
     const bool fits = base.x < r3.itemCapacity && first + n <= r3.itemCapacity;
-    if (base.y != kNoItem) spans[base.y + sSpans[lid] - 1u] = uvec2(fits ? id : kNoItem, first);
+    if (base.y != kNoItem) {
+      const uint k = base.y + sSpans[lid] - 1u;
+      spans[k] = uvec2(fits ? id : kNoItem, first);
+      // Binned: the setup, once, for the passes after this one (a span of kNoItem has none).
+      if (BINNED == 1 && fits) storeSetupRecord(k, id, s, lo, hi);
+    }
     if (fits) {
       own = false;
     } else {
@@ -190,12 +197,11 @@ void countItems() {
       for (uint w = 32u; w > 0u; w >>= 1u)
         if (sFirst[k + w] <= item) k += w;
       const uvec2 span = spans[base + k];
-      R3dSetup s;
-      ivec2 lo, hi;
-      // (setupTriangle never fails here: PASS 0 set the triangle up the same way.)
-      if (span.x == kNoItem || !setupTriangle(span.x, s, lo, hi)) {
+      if (span.x == kNoItem) {
         items[item] = uvec2(kNoItem, 0u);
       } else {
+        ivec2 lo, hi;
+        const R3dSetup s = loadSetupRecord(base + k, lo, hi);  // PASS 0's setup
         const uint index = item - span.y, tilesWide = uint(hi.x) / 8u - uint(lo.x) / 8u + 1u;
         const uint ty = index / tilesWide, tx = index - ty * tilesWide;
         const uint tile = (uint(lo.y) / 8u + ty) * tilesX() + uint(lo.x) / 8u + tx;
@@ -204,7 +210,7 @@ void countItems() {
         tileInBox(tile % tilesX(), tile / tilesX(), lo, hi, a, b);
         const bool kept = tileMayBeCovered(s, a.x, a.y, b);
         if (kept) atomicAdd(bins[tile], 1u);
-        items[item] = uvec2(span.x, kept ? tile | kKept : tile);
+        items[item] = uvec2(base + k, kept ? tile | kKept : tile);  // the span: its setup and id
       }
     }
     barrier();  // the shared words are the next chunk's
@@ -222,18 +228,17 @@ void fillItems() {
     const uint tile = it.y & ~kKept;
     const uint entry = bins[T + tile] + atomicAdd(bins[2u * T + tile], 1u);
     if (entry < r3.itemCapacity) {
-      binList[entry] = it.x;
+      binList[entry] = it.x;  // the span, whose setup the tile pass reads
       continue;
     }
     // The list is full: this thread rasterizes the tile (slower, never dropped; counted).
     if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
-    R3dSetup s;
     ivec2 lo, hi;
-    if (!setupTriangle(it.x, s, lo, hi)) continue;
+    const R3dSetup s = loadSetupRecord(it.x, lo, hi);
     uvec2 a;
     ivec2 b;
     tileInBox(tile % tilesX(), tile / tilesX(), lo, hi, a, b);
-    rasterizeBox(it.x, s, a, b, tally);
+    rasterizeBox(setups[it.x].info.x, s, a, b, tally);
   }
   flush(tally);
 }

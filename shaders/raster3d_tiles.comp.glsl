@@ -1,9 +1,9 @@
 #version 460
 // 3dr-binned, last: one workgroup per screen 8x8 tile, a pixel per thread. The tile's triangles
-// (the list the count-scan-fill passes built) are set up 64 at a time into shared memory; each
-// thread keeps its pixel's nearest key in a register and does one atomicMin at the end (against
-// the small triangles PASS 0 rasterized directly). Shared memory lives only in this shader (and the
-// scan's), so the per-triangle and per-item passes keep full occupancy.
+// (the list the count-scan-fill passes built; PASS 0 made their setups) are read 64 at a time into
+// shared memory; each thread keeps its pixel's nearest key in a register and does one atomicMin at
+// the end (against the small triangles PASS 0 rasterized directly). Shared memory lives only in
+// this shader (and the scan's), so the per-triangle and per-item passes keep full occupancy.
 // EARLYZ (2dr-binned always, 3dr-binned with r3d_early_z): each thread starts from its pixel's key
 // so far (the small triangles of PASS 0), and before each batch the tile's farthest depth so far is
 // reduced in shared memory; a triangle whose nearest vertex depth (less a rounding margin) is
@@ -18,15 +18,16 @@
 layout(local_size_x = 64) in;
 layout(constant_id = 6) const uint EARLYZ = 0;
 
-// The batch's setups, as 16-byte vectors (one shared load each). The fast path below reads the
-// rows, the bound and the box; the rest rebuilds an R3dSetup where the test needs one.
+// The batch's setups, as 16-byte vectors (one shared load each): what the fast path below reads,
+// the rows, the bound and the box. A pixel that needs the exact test reads the whole setup from
+// PASS 0's record (setups[sSpan[j]]).
 shared vec4 sRowA[64];   // rowA, the plane's offset
 shared vec4 sRowB[64];   // rowB
 shared uint sId[64];     // the triangle id
-shared vec4 sRowC[64];   // rowC, the volume
+shared uint sSpan[64];   // its span: where its setup is kept
+shared vec4 sRowC[64];   // rowC
 shared vec4 sBound[64];  // the largest rounding bound of r3dCovers over the tile (with a margin), EARLYZ: zmin
-shared vec4 sPlane[64];  // the plane's normal, the orientation
-shared vec4 sErrA[64], sErrB[64], sErrC[64], sP0[64], sP1[64], sP2[64];
+shared vec4 sPlane[64];  // the plane's normal
 shared ivec4 sBox[64];  // lo, hi; empty (hi < lo) for a slot past the batch
 shared uint sHit[64];   // ANALYSIS: did entry j cover a pixel of the tile (bins refined without a hit)
 shared uint sTileMax;   // EARLYZ: max over the tile's pixels of their key's t bits
@@ -40,41 +41,6 @@ shared uint sTileMax;   // EARLYZ: max over the tile's pixels of their key's t b
 // edges is inside with no fallback and no tie. Anything else (a pixel within rounding of an edge)
 // takes r3dCovers itself. The key is the same bit for bit.
 const bool kFastPath = ANALYSIS == 0u && !R3D_2D && R3D_PROJECTION == kProjectionPerspective;
-
-// Slot j of the batch: the setup, the tile's bound (sBound), the early-z depth and the id.
-void storeSetup(uint j, R3dSetup s, vec3 bound, float zmin, uint id) {
-  sRowA[j] = vec4(s.rowA, s.planeOffset);
-  sRowB[j] = vec4(s.rowB, 0.0);
-  sRowC[j] = vec4(s.rowC, s.volume);
-  sBound[j] = vec4(bound, zmin);
-  sPlane[j] = vec4(s.planeNormal, s.orientation);
-  sErrA[j] = vec4(s.errA, 0.0);
-  sErrB[j] = vec4(s.errB, 0.0);
-  sErrC[j] = vec4(s.errC, 0.0);
-  sP0[j] = vec4(s.p0, 0.0);
-  sP1[j] = vec4(s.p1, 0.0);
-  sP2[j] = vec4(s.p2, 0.0);
-  sId[j] = id;
-}
-
-// The setup storeSetup put in slot j.
-R3dSetup sharedSetup(uint j) {
-  R3dSetup s;
-  s.rowA = sRowA[j].xyz;
-  s.rowB = sRowB[j].xyz;
-  s.rowC = sRowC[j].xyz;
-  s.errA = sErrA[j].xyz;
-  s.errB = sErrB[j].xyz;
-  s.errC = sErrC[j].xyz;
-  s.p0 = sP0[j].xyz;
-  s.p1 = sP1[j].xyz;
-  s.p2 = sP2[j].xyz;
-  s.volume = sRowC[j].w;
-  s.orientation = sPlane[j].w;
-  s.planeNormal = sPlane[j].xyz;
-  s.planeOffset = sRowA[j].w;
-  return s;
-}
 
 void main() {
   const uint tile = gl_WorkGroupID.x, T = tileCount();
@@ -93,19 +59,18 @@ void main() {
     const uint k = base + gl_LocalInvocationID.x, lid = gl_LocalInvocationID.x;
     ivec4 box = ivec4(0, 0, -1, -1);
     if (k < end) {
-      const uint id = binList[k];
-      R3dSetup s;
-      ivec2 lo, hi;
-      float zmin = 0.0;
-      if (setupTriangle(id, s, lo, hi)) {
-        box = ivec4(lo, hi);
-        const vec3 f = r3.forward.xyz;
-        const vec3 z = vec3(dot(s.p0, f), dot(s.p1, f), dot(s.p2, f));
-        zmin = min(z.x, min(z.y, z.z));
-        zmin -= 16.0 * 5.9604644775390625e-8 * (abs(zmin) + dot(abs(f), max(abs(s.p0), max(abs(s.p1), abs(s.p2)))));
-      }
-      const vec3 bound = kR3dBound * (s.errA + float(lastX) * s.errB + float(lastY) * s.errC) * 1.001;
-      storeSetup(lid, s, bound, zmin, id);
+      // PASS 0's setup of the entry's triangle (binList holds its span).
+      const uint span = binList[k];
+      box = setups[span].box;
+      const vec4 errA = setups[span].errA;
+      const vec3 bound = kR3dBound * (errA.xyz + float(lastX) * setups[span].errB.xyz + float(lastY) * setups[span].errC.xyz) * 1.001;
+      sRowA[lid] = setups[span].rowA;
+      sRowB[lid] = setups[span].rowB;
+      sRowC[lid] = setups[span].rowC;
+      sBound[lid] = vec4(bound, errA.w);
+      sPlane[lid] = setups[span].planeNormal;
+      sId[lid] = setups[span].info.x;
+      sSpan[lid] = span;
     }
     sBox[lid] = box;
     if (ANALYSIS == 1) sHit[lid] = 0u;
@@ -139,7 +104,8 @@ void main() {
       }
       uint64_t key;
       const uint coveredBefore = tally.covered;
-      if (pixelKey(id, sharedSetup(j), x, y, tally, key)) best = min(best, key);
+      ivec2 lo, hi;
+      if (pixelKey(id, loadSetupRecord(sSpan[j], lo, hi), x, y, tally, key)) best = min(best, key);
       if (ANALYSIS == 1 && tally.covered != coveredBefore) atomicOr(sHit[j], 1u);
     }
     barrier();

@@ -13,6 +13,7 @@ using vec2 = glm::vec2;
 using vec4 = glm::vec4;
 using uvec2 = glm::uvec2;
 using uvec4 = glm::uvec4;
+using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
 using uint = uint32_t;
 #define HB_CONST constexpr
@@ -215,6 +216,24 @@ struct PrimaryBvhNode {
                // triangle order its subtree occupies, z: how many, w: unused
 };
 
+// A big triangle's setup (3dr-binned, 2dr-binned: raster3d_common.glsl.inc), written once by the
+// per-triangle pass at its span's index and read by the count, fill and tile passes, which before
+// set the triangle up again for each of its tiles. The fields of R3dSetup and its screen box.
+struct R3dSetupRecord {
+  ivec4 box;  // lo.x, lo.y, hi.x, hi.y (pixels, inclusive)
+  vec4 rowA;  // w: planeOffset
+  vec4 rowB;  // w: volume
+  vec4 rowC;  // w: orientation
+  vec4 errA;  // w: the nearest vertex's view depth less its rounding margin (the tile pass's early-z)
+  vec4 errB;
+  vec4 errC;
+  vec4 planeNormal;
+  vec4 p0;
+  vec4 p1;
+  vec4 p2;
+  uvec4 info;  // x: the triangle id
+};
+
 HB_CONST uint kProjectionPerspective = 0u;
 HB_CONST uint kProjectionOrthographic = 1u;
 HB_CONST uint kProjectionParaboloid = 2u;
@@ -397,6 +416,7 @@ static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(PrimaryBvhNode) == 48, "PrimaryBvhNode layout");
+static_assert(sizeof(R3dSetupRecord) == 12 * 16, "R3dSetupRecord layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");

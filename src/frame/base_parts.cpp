@@ -5,6 +5,7 @@
 
 #include "base/errors.h"
 #include "frame/pass_work.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
@@ -52,7 +53,13 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
     const WorkItem setupOps =
         counted("fma", setupCost * setups,
                 "triangle setups x " + std::to_string(int(setupCost)) + " scalar ops (paper Fig. 10)");
-    const WorkItem setupBytes = derived("bytes", 48 * triangles, "3 indices + 3 positions read a triangle");
+    const double big = figureAt(a, {"primary", "big_triangles"});
+    // Binned, the per-triangle dispatch also writes each big triangle's setup (gpu::R3dSetupRecord),
+    // which the count, fill and tile dispatches read instead of setting it up again.
+    const WorkItem setupBytes = binned ? derived("bytes", 48 * triangles + double(sizeof(gpu::R3dSetupRecord)) * big,
+                                                 "3 vertices read a triangle + a big triangle's setup written (" +
+                                                     std::to_string(sizeof(gpu::R3dSetupRecord)) + " B)")
+                                       : derived("bytes", 48 * triangles, "3 vertices read a triangle");
     const WorkItem testOps = counted("fma", pixelCost * tested,
                                      "pixel tests x " + std::to_string(int(pixelCost)) + " scalar ops (paper Fig. 10)");
     const WorkItem visAtomics = counted("atomics64", atomics, "64-bit atomicMin on the visibility buffer");

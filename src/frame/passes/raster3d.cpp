@@ -275,6 +275,10 @@ void Raster3dPass::makeLists(uint64_t capacity) {
   // A span (id, first item) per big triangle, at most one a triangle (raster3d_common.glsl.inc Spans).
   spans_ =
       Buffer(ctx_, (bvh ? 1 : std::max<size_t>(triangleCount_, 1)) * 2 * sizeof(uint32_t), rw, false, MemClass::Other);
+  // Binned: each big triangle's setup, made once by the per-triangle dispatch at its span's index
+  // and read by the count, fill and tile dispatches (raster3d_common.glsl.inc Setups).
+  setups_ = Buffer(ctx_, (binned ? std::max<size_t>(triangleCount_, 1) : 1) * sizeof(gpu::R3dSetupRecord), rw, false,
+                   MemClass::Other);
   binList_ = Buffer(ctx_, (binned ? size_t(capacity) : 1) * sizeof(uint32_t), rw, false, MemClass::Other);
   for (uint32_t p = 0; p < planes_; ++p) {
     gpu::Raster3dConstants c;
@@ -301,6 +305,7 @@ void Raster3dPass::makeLists(uint64_t capacity) {
     } else {
       b.provide("Items", big_);
       b.provide("Spans", spans_);
+      b.provide("Setups", setups_);
       b.provide("Bins", bins_);
       b.provide("BinList", binList_);
     }
@@ -382,8 +387,8 @@ std::vector<Use> Raster3dPass::working(Access a, bool analysis) const {
   // The counters and coverage too in a timed frame: some dispatches update them whatever the frame
   // (the anti-aliasing sample counters), and they share the steps' one barrier call anyway.
   (void)analysis;
-  for (const Buffer* b : {&vis_, &triangles_, &depthStaging_, &big_, &spans_, &bins_, &binList_, &idBase_, &bvhNodes_,
-                          &bvhOrder_, &counters_, &sampleCounters_, &coverage_, &tested_})
+  for (const Buffer* b : {&vis_, &triangles_, &depthStaging_, &big_, &spans_, &setups_, &bins_, &binList_, &idBase_,
+                          &bvhNodes_, &bvhOrder_, &counters_, &sampleCounters_, &coverage_, &tested_})
     uses.push_back({*b, a});
   return uses;
 }

@@ -156,8 +156,8 @@ class Raster3dPass {
   PrimaryMethod mode_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
   uint32_t planes_ = 1, planeStride_ = 0;
-  Buffer constants_, triangles_, vis_, big_, spans_, counters_, sampleCounters_, coverage_, tested_, depthStaging_,
-      bins_, binList_, idBase_, bvhNodes_, bvhOrder_;
+  Buffer constants_, triangles_, vis_, big_, spans_, setups_, counters_, sampleCounters_, coverage_, tested_,
+      depthStaging_, bins_, binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
   std::vector<std::unique_ptr<DescriptorSets>> rasterSets_;  // per plane, the dispatches' one set
   std::unique_ptr<ShaderProgram> rasterProgram_;             // the dispatches' shaders, for rasterSets_
