@@ -323,6 +323,8 @@ TEST_F(NewUser, SweepTakesSetSceneAndSizeAndDryRunWritesNothing) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const json results = readJson(out / "results.json");
   EXPECT_EQ(results["context"]["scene"]["name"], "cube");
+  // The overrides as given, for history to keep these runs apart from the config's own.
+  EXPECT_EQ(results["context"]["overrides"]["set"], json::array({"normal_culling=naive", "shadows=true"}));
   ASSERT_EQ(results["runs"].size(), 2u);
   for (const json& run : results["runs"]) {
     EXPECT_EQ(run["params"]["resolution"], json::array({48, 32}));

@@ -77,9 +77,10 @@ json runContext(const VulkanContext& ctx, const Scene& scene) {
   return context;
 }
 
-json inputsContext(const Config& config, const std::string& configFile) {
+json inputsContext(const Config& config, const std::string& configFile, const std::vector<std::string>& sets) {
   json inputs = {{"config", toJson(config)}};
   if (!configFile.empty()) inputs["config_file"] = std::filesystem::absolute(configFile).lexically_normal().string();
+  if (!sets.empty()) inputs["overrides"] = {{"set", sets}};
   if (config.environment && !config.environment->image.empty()) {
     const Environment& e = *config.environment;
     Sha256 sha;

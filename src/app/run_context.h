@@ -3,6 +3,7 @@
 // (docs/results-format.md).
 #pragma once
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,9 +19,12 @@ nlohmann::json runContext(const VulkanContext& ctx, const Scene& scene);
 
 // What identifies a sweep's inputs, beside runContext's (docs/results-format.md#identity):
 // config (toJson of the effective config), config_file (configFile made absolute; absent when
-// empty: the embedded default), and scene.environment_sha256 (the config's environment image, as
-// loaded: its size and texels) where the config names one. Merged into a context with update().
-nlohmann::json inputsContext(const Config& config, const std::string& configFile);
+// empty: the embedded default), overrides.set (the sweep's --set arguments as given, in order;
+// absent without any: `history` keeps runs of other overrides in series of their own), and
+// scene.environment_sha256 (the config's environment image, as loaded: its size and texels) where
+// the config names one. Merged into a context with update().
+nlohmann::json inputsContext(const Config& config, const std::string& configFile,
+                             const std::vector<std::string>& sets = {});
 
 // The caveat a CPU device's times carry (lavapipe: per-pass times mean nothing).
 extern const char* const kCpuTimingCaveat;

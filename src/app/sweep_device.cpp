@@ -364,7 +364,7 @@ int runSweepWorker(const SweepOptions& options, Config config, const DeviceInfo&
   const Scene& baseScene = scenes.get(config, config.defaults);
   json context = runContext(ctx, baseScene);
   context["resolution"] = variants.front().params.resolution;
-  context.update(inputsContext(config, options.config), /*merge_objects=*/true);
+  context.update(inputsContext(config, options.config, options.sets), /*merge_objects=*/true);
   context["frames"] = {{"warmup", config.warmupFrames}, {"measured", config.measuredFrames}};
   // The device's own ceilings, measured once per device and driver (gpu/peaks.h: cached).
   bool peaksCached = false;
@@ -460,7 +460,7 @@ int sweepOneDevice(const SweepOptions& options, Config config, const DeviceInfo&
   std::vector<json> slots(variants.size());
   json resumedContext;
   if (options.resume && fs::exists(resultsPath)) {
-    json inputs = inputsContext(config, options.config);
+    json inputs = inputsContext(config, options.config, options.sets);
     inputs["scene"]["sha256"] = sceneSha256(baseScene);
     ResumedResults resumed = readResumable(resultsPath, inputs, device, shard, options.retryFailed);
     for (const std::string& w : resumed.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());

@@ -304,6 +304,8 @@ uint64_t historySeriesSeed(uint64_t seed, const HistoryGroup& g, const std::stri
     h = fnv1a(s->data(), s->size(), h);
     h = fnv1a("\0", 1, h);  // "ab"+"c" and "a"+"bc" differ
   }
+  // Only where there are overrides, so that a group without any keeps the seed it had before them.
+  if (!g.overrides.empty()) h = fnv1a(g.overrides.data(), g.overrides.size(), h);
   return h;
 }
 
@@ -346,25 +348,36 @@ std::vector<std::string> findResultsFiles(const std::vector<std::string>& paths)
 }
 
 std::string groupLabel(const HistoryGroup& g) {
-  return g.config + ", " + g.device + ", " + g.resolution + ", scene " + g.sceneSha256.substr(0, 8);
+  return g.config + ", " + g.device + ", " + g.resolution + ", scene " + g.sceneSha256.substr(0, 8) +
+         (g.overrides.empty() ? "" : ", --set " + g.overrides);
 }
 
 namespace {
 
+// context.overrides.set joined by spaces; "" where the sweep had none (or predates the field).
+std::string overridesOf(const json& context) {
+  const json& sets = results::at(results::at(context, "overrides"), "set");
+  std::string out;
+  if (!sets.is_array()) return out;
+  for (const json& s : sets)
+    if (s.is_string()) out += (out.empty() ? "" : " ") + s.get<std::string>();
+  return out;
+}
+
 HistoryGroup groupOf(const json& results) {
   const json& c = results::at(results, "context");
   return {knownOrUnknown(contextText(c, {"config", "name"})), knownOrUnknown(contextText(c, {"scene", "sha256"})),
-          resolutionOf(c), knownOrUnknown(contextText(c, {"device", "name"}))};
+          resolutionOf(c), knownOrUnknown(contextText(c, {"device", "name"})), overridesOf(c)};
 }
 
-// The files by group (their four fields in order), each held to requireResultsFile.
+// The files by group (their five fields in order), each held to requireResultsFile.
 std::map<std::vector<std::string>, std::vector<const HistoryInput*>> filesByGroup(
     const std::vector<HistoryInput>& inputs) {
   std::map<std::vector<std::string>, std::vector<const HistoryInput*>> byGroup;
   for (const HistoryInput& in : inputs) {
     results::requireResultsFile(in.results, in.path);
     const HistoryGroup g = groupOf(in.results);
-    byGroup[{g.config, g.sceneSha256, g.resolution, g.device}].push_back(&in);
+    byGroup[{g.config, g.sceneSha256, g.resolution, g.device, g.overrides}].push_back(&in);
   }
   return byGroup;
 }
@@ -475,7 +488,7 @@ void requireTwoAlike(const std::vector<HistoryInput>& inputs, size_t alone) {
   if (inputs.size() == 1)
     throw InputError(first.path + ": one results file has no history; pass several runs of one config on one device");
   throw InputError(format("no two of the %zu results files were measured alike (same config name, scene sha256, "
-                          "resolution and device name; %s is ",
+                          "resolution, device name and --set overrides; %s is ",
                           inputs.size(), first.path.c_str()) +
                    groupLabel(groupOf(first.results)) +
                    "); pass runs of one config on one device at several revisions");
@@ -494,14 +507,15 @@ HistoryReport buildHistory(const std::vector<HistoryInput>& inputs, const Histor
   requireTwoAlike(inputs, alone);
   if (alone > 0)
     report.warnings.push_back(countOf(alone, "file") +
-                              " measured unlike any other (config, scene, resolution or device): no history, left out");
+                              " measured unlike any other (config, scene, resolution, device or --set overrides): no "
+                              "history, left out");
 
   const std::vector<std::string> order = framePassOrder();
   HistoryTally tally;
   for (const auto& [key, files] : byGroup) {
     if (files.size() < 2) continue;
     const size_t groupIndex = report.groups.size();
-    report.groups.push_back({key[0], key[1], key[2], key[3]});
+    report.groups.push_back({key[0], key[1], key[2], key[3], key[4]});
     std::vector<std::string> variants;
     std::vector<HistorySeries> groupSeries;
     for (auto& [vp, points] : pointsOfGroup(files, variants, tally))
@@ -579,8 +593,11 @@ std::string formatHistory(const HistoryReport& r) {
 json toJson(const HistoryReport& r) {
   json groups = json::array();
   for (const HistoryGroup& g : r.groups)
-    groups.push_back(
-        {{"config", g.config}, {"scene_sha256", g.sceneSha256}, {"resolution", g.resolution}, {"device", g.device}});
+    groups.push_back({{"config", g.config},
+                      {"scene_sha256", g.sceneSha256},
+                      {"resolution", g.resolution},
+                      {"device", g.device},
+                      {"overrides", g.overrides}});
   json series = json::array();
   for (const HistorySeries& s : r.series) {
     json points = json::array();

@@ -92,6 +92,9 @@ struct HistoryGroup {
   std::string sceneSha256;
   std::string resolution;  // "1920x1080"
   std::string device;      // context.device.name
+  // context.overrides.set, the sweep's --set arguments joined by spaces ("": none): runs of one
+  // config under other overrides measure other things, so they make a group of their own.
+  std::string overrides;
 };
 
 struct HistorySeries {

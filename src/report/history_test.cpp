@@ -292,6 +292,29 @@ size_t changeCount(const HistoryReport& r) {
   return n;
 }
 
+// A sweep run with --set overrides measures something else than the config alone: its runs, though
+// of the same config, scene, resolution and device, form a group of their own. Mixed into one
+// series, a step between the two would read as a change of the code.
+TEST(History, RunsUnderOtherSetOverridesFormGroupsOfTheirOwn) {
+  std::vector<HistoryInput> files = seriesFiles({4, 4, 4, 4, 4, 4});
+  // Every other file swept with --set bvh_width=8 and twice as slow.
+  for (size_t i = 1; i < files.size(); i += 2) {
+    files[i].results["context"]["overrides"] = {{"set", {"bvh_width=8", "shadows=true"}}};
+    files[i].results["runs"][0]["frame_ms"]["median"] = 8.0;
+    files[i].results["runs"][0]["passes"]["shading"]["median"] = 4.0;
+  }
+  const HistoryReport r = buildHistory(files, HistoryOptions{});
+  ASSERT_EQ(r.groups.size(), 2u);
+  EXPECT_EQ(r.groups[0].overrides, "");
+  EXPECT_EQ(r.groups[1].overrides, "bvh_width=8 shadows=true");
+  EXPECT_EQ(changeCount(r), 0u) << formatHistory(r);
+  for (const HistorySeries& s : r.series) EXPECT_EQ(s.points.size(), 3u) << s.variant << " " << s.pass;
+  // The label that the console's table of changes and the HTML page's headings show.
+  EXPECT_EQ(groupLabel(r.groups[1]), "thesis, Test GPU, 1920x1080, scene 07826db0, --set bvh_width=8 shadows=true");
+  EXPECT_EQ(groupLabel(r.groups[0]), "thesis, Test GPU, 1920x1080, scene 07826db0");
+  EXPECT_EQ(toJson(r)["groups"][1]["overrides"], "bvh_width=8 shadows=true");
+}
+
 // A/A: repeats of one config on one kind of device, which their notes find "same" pass by pass.
 // No series of them may show a change, and each set must form one group (else nothing was tested).
 TEST(History, CommittedRepeatsOfOneSweepShowNoChange) {
