@@ -252,10 +252,7 @@ void rasterizeQueue(inout Work work, inout Tally tally) {
       if (setupTriangle(id, s, lo, hi)) {
         const ivec4 r = rectPixels(sQueueRect[e]);
         box = ivec4(max(lo, r.xy), min(hi, r.zw));
-        const vec3 f = r3.forward.xyz;
-        const vec3 z = vec3(dot(s.p0, f), dot(s.p1, f), dot(s.p2, f));
-        zmin = min(z.x, min(z.y, z.z));
-        zmin -= 16.0 * kU * (abs(zmin) + dot(abs(f), max(abs(s.p0), max(abs(s.p1), abs(s.p2)))));
+        zmin = r3dNearestDepth(s);
       }
       if (ANALYSIS == 1) ++work.setups;
       sSetup[lid] = s;
