@@ -37,6 +37,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared/gpu_types.h"
 
+#define R3D_SAMPLE_PLANES
 #include "raster3d_common.glsl.inc"
 layout(local_size_x = 64) in;
 
@@ -55,9 +56,13 @@ void perTriangle() {
   bool own = id < r3.triangleCount && setupTriangle(id, s, lo, hi);  // rasterized by this thread
   Tally tally = Tally(0u, 0u, 0u, 0u);
   uint n = 0u;  // the items a big triangle asks for
+  if (own && R3D_SHARED) {  // every plane's box (raster3d_common.glsl.inc)
+    lo = max(lo - 1, ivec2(0));
+    hi = min(hi + 1, ivec2(r3.width - 1u, r3.height - 1u));
+  }
   if (own) {
     const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
-    const bool big = w * h > r3.smallArea;
+    const bool big = R3D_SHARED || w * h > r3.smallArea;  // shared planes: all binned
     if (ANALYSIS == 1) {
       atomicAdd(counters[kR3dCounterSetups], 1ul);
       if (big) atomicAdd(counters[kR3dCounterBig], 1ul);
@@ -113,7 +118,10 @@ void perTriangle() {
       if (ANALYSIS == 1) atomicAdd(counters[kR3dCounterOverflow], 1ul);
     }
   }
-  if (own) rasterizeBox(id, s, uvec2(lo), hi, tally);
+  if (own && R3D_SHARED)
+    rasterizeBoxPlanes(id, s, uvec2(lo), hi);
+  else if (own)
+    rasterizeBox(id, s, uvec2(lo), hi, tally);
   flush(tally);
 }
 
@@ -201,7 +209,11 @@ void countItems() {
         items[item] = uvec2(kNoItem, 0u);
       } else {
         ivec2 lo, hi;
-        const R3dSetup s = loadSetupRecord(base + k, lo, hi);  // PASS 0's setup
+        R3dSetup s = loadSetupRecord(base + k, lo, hi);  // PASS 0's setup
+        if (R3D_SHARED) {  // binned for every plane: the largest rowA and errA (raster3d_common.glsl.inc)
+          vec3 aMin;
+          loadPlaneExtents(base + k, aMin, s.rowA, s.errA);
+        }
         const uint index = item - span.y, tilesWide = uint(hi.x) / 8u - uint(lo.x) / 8u + 1u;
         const uint ty = index / tilesWide, tx = index - ty * tilesWide;
         const uint tile = (uint(lo.y) / 8u + ty) * tilesX() + uint(lo.x) / 8u + tx;
@@ -238,7 +250,10 @@ void fillItems() {
     uvec2 a;
     ivec2 b;
     tileInBox(tile % tilesX(), tile / tilesX(), lo, hi, a, b);
-    rasterizeBox(setups[it.x].info.x, s, a, b, tally);
+    if (R3D_SHARED)
+      rasterizeBoxPlanes(setups[it.x].info.x, s, a, b);
+    else
+      rasterizeBox(setups[it.x].info.x, s, a, b, tally);
   }
   flush(tally);
 }

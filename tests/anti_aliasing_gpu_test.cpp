@@ -112,6 +112,53 @@ TEST_F(AaTest, EachSamplePlaneIsTheExactRasterizationAtItsSamplePosition) {
     }
 }
 
+// Timed frames of 3dr-binned rasterize the centre and every sample in one pass of setup, binning
+// and tiles (shared sample planes, raster3d_common.glsl.inc); analysis frames go plane by plane, so
+// the test above does not see that pass. Each plane of a timed frame must hold the exact CPU
+// rasterization at its position, bit for bit (t and id, every tie and shared vertex).
+TEST_F(AaTest, TimedFramesShareOnePassOverAllPlanesAndMatchTheExactRasterizationAtEachSample) {
+  const Scene scene = aaSoupAndGrid();
+  const std::vector<glm::vec3> positions = scene.worldTriangles();
+  std::vector<uint32_t> indices(positions.size());
+  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  constexpr uint32_t w = 48, h = 36;
+  // A list of one entry a tile that never grows: triangles that find it full are rasterized by
+  // their own thread at every plane (PASS 0 and the fill's fallbacks), the rest by the tile pass.
+  for (const bool fullList : {false, true})
+    for (const char* aa : {"msaa4", "msaa16"}) {
+      SCOPED_TRACE(std::string("3dr-binned, aa=") + aa + (fullList ? ", a full list" : ""));
+      RenderSettings rs = aaSettings("3dr-binned", aa, w, h);
+      if (fullList) {
+        rs.raster3dListPerTile = 1;
+        rs.raster3dListGrows = false;
+      }
+      Renderer r(*ctx, scene, rs);
+      const Raster3dPass& pass = *r.raster3d();
+      ASSERT_TRUE(pass.sharedPlanes());
+      r.renderFrame(false);
+      if (fullList) {  // the analysis frame (plane by plane) counts what found the list full
+        r.renderFrame(true);
+        EXPECT_GT(pass.readCounters().listOverflows, 0u);
+        r.renderFrame(false);
+      }
+      const std::span<const glm::vec2> samples = aaStoredPositions(r.settings().aa);
+      size_t hits = 0;
+      for (uint32_t p = 0; p < pass.planes(); ++p) {
+        const gpu::Raster3dConstants c = p == 0 ? raster3dConstants(scene.cameras[0], w, h, 0, 64, 64)
+                                                : raster3dConstants(scene.cameras[0], w, h, 0, 64, 64, samples[p - 1]);
+        const Raster3dResult exact = rasterize3d(raster3dViewOf(c), positions, indices);
+        const std::vector<uint64_t> vis = pass.readVisibility(p);
+        size_t differ = 0;
+        for (size_t i = 0; i < vis.size(); ++i) {
+          differ += vis[i] != exact.visibility[i];
+          hits += vis[i] != ~0ull;
+        }
+        EXPECT_EQ(differ, 0u) << "plane " << p << ": pixels whose (t, id) differs from the CPU reference";
+      }
+      EXPECT_GT(hits, size_t(w) * h) << "the scene covers the samples";
+    }
+}
+
 // A white quad facing the eye whose right edge is vertical on the screen, `edge` of the way into
 // pixel column `column`; directional light, no shadows, black sky beyond the edge.
 Scene halfCoveredQuad(uint32_t w, uint32_t h, uint32_t column, double edge) {

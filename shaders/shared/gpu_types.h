@@ -220,18 +220,27 @@ struct PrimaryBvhNode {
 // per-triangle pass at its span's index and read by the count, fill and tile passes, which before
 // set the triangle up again for each of its tiles. The fields of R3dSetup and its screen box.
 struct R3dSetupRecord {
-  ivec4 box;  // lo.x, lo.y, hi.x, hi.y (pixels, inclusive)
-  vec4 rowA;  // w: planeOffset
-  vec4 rowB;  // w: volume
-  vec4 rowC;  // w: orientation
-  vec4 errA;  // w: the nearest vertex's view depth less its rounding margin (the tile pass's early-z)
-  vec4 errB;
-  vec4 errC;
-  vec4 planeNormal;
-  vec4 p0;
-  vec4 p1;
-  vec4 p2;
-  uvec4 info;  // x: the triangle id
+  ivec4 box;         // lo.x, lo.y, hi.x, hi.y (pixels, inclusive)
+  vec4 rowA;         // w: planeOffset
+  vec4 rowB;         // w: volume
+  vec4 rowC;         // w: orientation
+  vec4 errA;         // w: the nearest vertex's view depth less its rounding margin (the tile pass's early-z)
+  vec4 errB;         // w: shared sample planes (R3dPlaneRays), the largest rowA over the planes, x
+  vec4 errC;         // w: ... y
+  vec4 planeNormal;  // w: ... z
+  vec4 p0;           // w: shared sample planes, the smallest rowA over the planes, x
+  vec4 p1;           // w: ... y
+  vec4 p2;           // w: ... z
+  uvec4 info;        // x: the triangle id; yzw: shared sample planes, the largest errA over the planes (float bits)
+};
+
+// 3dr-binned anti-aliasing with shared sample planes (raster3d_tiles.comp.glsl): one pass of setup,
+// binning and tiles for the centre and every stored sample. Plane p's rays start at d0[p] (its
+// Raster3dConstants' rayD0; plane 0 the centre's); rayDx and rayDy are every plane's.
+HB_CONST uint kR3dMaxPlanes = 17u;  // the centre and at most 16 stored samples
+struct R3dPlaneRays {
+  vec4 d0[kR3dMaxPlanes];
+  uvec4 info;  // x: visibility entries between planes (Raster3dPass::planeStride)
 };
 
 HB_CONST uint kProjectionPerspective = 0u;
@@ -417,6 +426,7 @@ static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(PrimaryBvhNode) == 48, "PrimaryBvhNode layout");
 static_assert(sizeof(R3dSetupRecord) == 12 * 16, "R3dSetupRecord layout");
+static_assert(sizeof(R3dPlaneRays) == (kR3dMaxPlanes + 1) * 16, "R3dPlaneRays layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");

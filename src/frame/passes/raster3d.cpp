@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <span>
+#include <string_view>
 #include <tuple>
 
 #include <glm/gtc/matrix_inverse.hpp>
@@ -142,6 +144,19 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         raster3dConstants(camera, width, height, triangleCount_, smallArea, listPerTile, samples[p - 1]);
     std::memcpy(static_cast<char*>(constants_.mapped()) + p * kConstantsStride, &cp, sizeof cp);
   }
+  sharedPlanes_ = planes_ > 1 && mode == PrimaryMethod::Raster3dBinned &&
+                  camera.projection == CameraProjection::Perspective && !frusta.earlyZ;
+  static_assert(gpu::kR3dMaxPlanes >= 1 + 16, "the centre and msaa16's samples");
+  HB_ASSERT(planes_ <= gpu::kR3dMaxPlanes);
+  gpu::R3dPlaneRays rays{};
+  for (uint32_t p = 0; p < planes_; ++p)
+    std::memcpy(
+        &rays.d0[p],
+        static_cast<const char*>(constants_.mapped()) + p * kConstantsStride + offsetof(gpu::Raster3dConstants, rayD0),
+        sizeof(glm::vec4));
+  rays.info = glm::uvec4(planeStride_, planes_, 0, 0);
+  planeRays_ = Buffer(ctx, sizeof rays, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
+  std::memcpy(planeRays_.mapped(), &rays, sizeof rays);
   const std::vector<glm::vec4> tris = packTriangles(scene);
   triangles_ = uploadBuffer(ctx, tris.data(), std::max<size_t>(1, tris.size()) * sizeof(glm::vec4),
                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemClass::Geometry);
@@ -244,6 +259,10 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
   std::vector<std::string> shaders;
   for (const auto& [shader, pass] : stages)
     if (std::find(shaders.begin(), shaders.end(), shader) == shaders.end()) shaders.emplace_back(shader);
+  // Shared sample planes: timed frames' tile pass is its own shader (the plane-by-plane one has none
+  // of its code).
+  constexpr const char* kPlanesTiles = "raster3d_tiles_planes.comp";
+  if (sharedPlanes_) shaders.emplace_back(kPlanesTiles);
   rasterProgram_ = std::make_unique<ShaderProgram>(shaders);
   demandOut_ = Buffer(ctx, sizeof(uint64_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, MemClass::Other);
   makeLists(c.itemCapacity);
@@ -256,9 +275,11 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
       if (bvh)
         spec.insert(spec.end(), {split ? 1u : 0u, split ? 1u : 0u, split && !full ? 0u : 1u, full ? 1u : 0u,
                                  log2Of8(frusta.frustum), log2Of8(frusta.minFrustum), frusta.stackEntries});
-      else
-        spec.push_back(mode == PrimaryMethod::Raster2dBinned || frusta.earlyZ ? 1u : 0u);
-      p->createCompute(*rasterProgram_, shader, {spec});
+      else  // 6 early-z (the tile pass), 7 the planes a pass rasterizes (raster3d_common.glsl.inc)
+        spec.insert(spec.end(), {mode == PrimaryMethod::Raster2dBinned || frusta.earlyZ ? 1u : 0u,
+                                 sharedPlanes_ && analysis == 0 ? planes_ : 1u});
+      const bool planesTiles = sharedPlanes_ && analysis == 0 && std::string_view(shader) == "raster3d_tiles.comp";
+      p->createCompute(*rasterProgram_, planesTiles ? kPlanesTiles : shader, {spec});
       (analysis ? analysis_ : timed_).push_back(std::move(p));
     }
 }
@@ -294,7 +315,9 @@ void Raster3dPass::makeLists(uint64_t capacity) {
   for (uint32_t p = 0; p < planes_; ++p) {
     DescriptorBinder b("raster3d");
     b.provide("Constants", constants_, p * kConstantsStride, sizeof(gpu::Raster3dConstants));
-    b.provide("Visibility", vis_, size_t(p) * planeStride_ * 8, pixels * 8);
+    // Shared sample planes: set 0's dispatches write every plane (timed frames).
+    b.provide("Visibility", vis_, size_t(p) * planeStride_ * 8,
+              sharedPlanes_ && p == 0 ? size_t(planes_) * planeStride_ * 8 : pixels * 8);
     b.provide("Counters", p == 0 ? counters_ : sampleCounters_);
     b.provide("Coverage", coverage_, size_t(p) * planeStride_ * 4, pixels * 4);
     b.provide("Tested", tested_, size_t(p) * planeStride_ * 4, pixels * 4);
@@ -303,6 +326,7 @@ void Raster3dPass::makeLists(uint64_t capacity) {
       b.provide("BvhNodes", bvhNodes_);
       b.provide("BvhOrder", bvhOrder_);
     } else {
+      b.provide("PlaneRays", planeRays_);
       b.provide("Items", big_);
       b.provide("Spans", spans_);
       b.provide("Setups", setups_);
@@ -349,7 +373,7 @@ std::vector<std::string> Raster3dPass::subPasses() const {
     for (const char* s : {"triangles", "count", "scan", "fill", "tiles"}) names.push_back(pass + "." + s);
   else if (mode_ != PrimaryMethod::RayCast)
     for (const char* s : {"triangles", "tiles"}) names.push_back(pass + "." + s);
-  if (planes_ > 1) names.push_back(pass + ".samples");
+  if (planes_ > 1 && !sharedPlanes_) names.push_back(pass + ".samples");
   names.push_back(pass + ".resolve");
   if (!depthImage_) names.push_back(pass + ".depth_copy");
   return names;
@@ -395,8 +419,10 @@ std::vector<Use> Raster3dPass::working(Access a, bool analysis) const {
 
 void Raster3dPass::recordRaster(VkCommandBuffer cmd, Sync& sync, bool analysis, GpuTimer* timer) const {
   recordPlane(cmd, sync, 0, analysis, timer);
-  if (planes_ == 1) return;
+  if (planes_ == 1 || (sharedPlanes_ && !analysis)) return;  // shared: plane 0's dispatches did every plane
   // The anti-aliasing samples: the same dispatches once per sample plane, timed together.
+  // (Analysis frames of shared planes go plane by plane untimed: subPasses() has no ".samples".)
+  if (sharedPlanes_) timer = nullptr;
   if (timer) timer->begin(cmd, std::string(subPassName(mode_)) + ".samples");
   for (uint32_t p = 1; p < planes_; ++p) {
     const bool binned = mode_ == PrimaryMethod::Raster3dBinned || mode_ == PrimaryMethod::Raster2dBinned;

@@ -111,6 +111,10 @@ class Raster3dPass {
   // (aa_samples.h), planeStride() entries apart.
   const Buffer& visibility() const { return vis_; }
   uint32_t planes() const { return planes_; }
+  // Whether timed frames rasterize every plane in one pass of setup, binning and tiles (3dr-binned,
+  // perspective, no early-z: raster3d_common.glsl.inc "Shared sample planes"); analysis frames and
+  // the other methods go plane by plane.
+  bool sharedPlanes() const { return sharedPlanes_; }
   uint32_t planeStride() const { return planeStride_; }
   // The work list (a count, then uvec2 items): tests seed it with a previous frame's items.
   const Buffer& workList() const { return big_; }
@@ -156,6 +160,8 @@ class Raster3dPass {
   PrimaryMethod mode_;
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
   uint32_t planes_ = 1, planeStride_ = 0;
+  bool sharedPlanes_ = false;
+  Buffer planeRays_;  // gpu::R3dPlaneRays (UBO): each plane's d0 and the planes' stride
   Buffer constants_, triangles_, vis_, big_, spans_, setups_, counters_, sampleCounters_, coverage_, tested_,
       depthStaging_, bins_, binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
