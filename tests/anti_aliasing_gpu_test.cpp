@@ -63,11 +63,17 @@ RenderSettings aaSettings(const char* primary, const char* aa, uint32_t w, uint3
 
 using AaTest = hb::testing::GpuTest;
 
+// The indices of a triangle soup's corners, in order (what the CPU rasterization takes).
+std::vector<uint32_t> inOrder(size_t n) {
+  std::vector<uint32_t> indices(n);
+  for (size_t i = 0; i < n; ++i) indices[i] = uint32_t(i);
+  return indices;
+}
+
 TEST_F(AaTest, EachSamplePlaneIsTheExactRasterizationAtItsSamplePosition) {
   const Scene scene = aaSoupAndGrid();
   const std::vector<glm::vec3> positions = scene.worldTriangles();
-  std::vector<uint32_t> indices(positions.size());
-  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  const std::vector<uint32_t> indices = inOrder(positions.size());
   constexpr uint32_t w = 48, h = 36;
   // msaa16 holds every standard 16x position, msaa8 the 8x ones; the methods whose coverage is
   // additive (frustum culling drops only pairs that cover no sample of the frustum).
@@ -119,8 +125,7 @@ TEST_F(AaTest, EachSamplePlaneIsTheExactRasterizationAtItsSamplePosition) {
 TEST_F(AaTest, TimedFramesShareOnePassOverAllPlanesAndMatchTheExactRasterizationAtEachSample) {
   const Scene scene = aaSoupAndGrid();
   const std::vector<glm::vec3> positions = scene.worldTriangles();
-  std::vector<uint32_t> indices(positions.size());
-  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  const std::vector<uint32_t> indices = inOrder(positions.size());
   constexpr uint32_t w = 48, h = 36;
   // A list of one entry a tile that never grows: triangles that find it full are rasterized by
   // their own thread at every plane (PASS 0 and the fill's fallbacks), the rest by the tile pass.

@@ -98,7 +98,8 @@ std::string aaTableMarkdown(const json& results) {
       "paper's factors are its whole frame's, which shades every sample with a shadow and a reflection ray; here "
       "MSAA and CSAA shade once per pixel and distinct triangle, so the frame grows less than the primary pass. "
       "Primary: the hardware depth prepass, or rasterization in compute with its sample planes (\"of which "
-      "samples\": the stored samples' planes; hardware MSAA multisamples inside the shading pass). Image error: "
+      "samples\": the stored samples' planes, rasterized plane by plane; \"—\" where 3dr-binned rasterizes every plane "
+      "in one pass, timed as the primary's; hardware MSAA multisamples inside the shading pass). Image error: "
       "mean LDR-FLIP against " +
       (reference.empty() ? std::string("each run's reference") : "the reference (" + reference + ")") +
       ". Sample double covers / holes: each stored sample's coverage against exact CPU rasterization at its "
