@@ -18,21 +18,12 @@
 namespace hb {
 namespace {
 
+using raster3d_test::liftOntoPlane;
+using raster3d_test::Mesh;
+using raster3d_test::PixelMesh;
+using raster3d_test::quadGrid;
 using raster3d_test::randomView;
 using raster3d_test::rayAt;
-
-struct Mesh {
-  std::vector<glm::vec3> positions;
-  std::vector<uint32_t> indices;
-};
-
-// A planar mesh given in pixel coordinates (px, one per vertex), with its outline (a closed loop of
-// vertex indices); lifted onto a plane so that every vertex lies on the ray through its pixel
-// position (exactly in double, then rounded to float once, as a scene stores it).
-struct PixelMesh {
-  std::vector<glm::dvec2> px;
-  std::vector<uint32_t> indices, outline;
-};
 
 double area2(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 
@@ -45,55 +36,6 @@ bool isPartition(const PixelMesh& m) {
     sign = a > 0 ? 1 : -1;
   }
   return true;
-}
-
-// Lifts onto the plane through the point at view depth `depth` on the image centre's ray, with
-// its normal tilted from that ray by up to `tilt` radians about a random axis (perspective). A tilt
-// that would put a vertex behind the eye or let a ray graze the plane (cos < 0.2) is drawn again.
-Mesh liftOntoPlane(const Raster3dView& v, const PixelMesh& pm, double depth, double tilt, std::mt19937& rng) {
-  const glm::dvec3 c = depth * rayAt(v, v.width / 2.0 - 0.5, v.height / 2.0 - 0.5);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (;;) {
-    const glm::dvec3 axis = glm::normalize(glm::cross(c, glm::dvec3(u(rng), u(rng), u(rng))));
-    const glm::dvec3 n = glm::dvec3(glm::rotate(glm::dmat4(1.0), tilt, axis) * glm::dvec4(glm::normalize(c), 0.0));
-    Mesh m;
-    bool ok = true;
-    for (const glm::dvec2& p : pm.px) {
-      const glm::dvec3 d = rayAt(v, p.x, p.y);
-      ok = ok && glm::dot(n, d) / glm::length(d) > 0.2;
-      m.positions.push_back(glm::vec3(glm::dvec3(v.eye) + (glm::dot(n, c) / glm::dot(n, d)) * d));
-    }
-    m.indices = pm.indices;
-    if (ok) return m;
-    tilt *= 0.8;
-  }
-}
-
-// n × n quads, vertex (i, j) at centre + R(angle)·(i − n/2, j − n/2)·step, rounded to the nearest
-// pixel centre if `snap`. Diagonals alternate so that vertices of valence 4 and 8 occur (as in CTS).
-PixelMesh quadGrid(int n, double step, double angle, glm::dvec2 centre, bool snap) {
-  PixelMesh g;
-  const double c = std::cos(angle), s = std::sin(angle);
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double a = (i - n / 2.0) * step, b = (j - n / 2.0) * step;
-      glm::dvec2 p = centre + glm::dvec2(c * a - s * b, s * a + c * b);
-      g.px.push_back(snap ? glm::round(p) : p);
-    }
-  auto id = [n](int i, int j) { return uint32_t(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const uint32_t a = id(i, j), b = id(i + 1, j), cc = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0)
-        g.indices.insert(g.indices.end(), {a, b, cc, a, cc, d});
-      else
-        g.indices.insert(g.indices.end(), {a, b, d, b, cc, d});
-    }
-  for (int i = 0; i < n; ++i) g.outline.push_back(id(i, 0));
-  for (int j = 0; j < n; ++j) g.outline.push_back(id(n, j));
-  for (int i = n; i > 0; --i) g.outline.push_back(id(i, n));
-  for (int j = n; j > 0; --j) g.outline.push_back(id(0, j));
-  return g;
 }
 
 // k triangles around a vertex on a pixel centre; outer vertices on pixel centres too.
