@@ -66,8 +66,9 @@ TEST_F(Raster3dTest, TimedFastPathsKeepTheExactKeysWhereFloatsAloneFail) {
       const std::span<const glm::vec2> samples = aaStoredPositions(aa);
       for (uint32_t p = 0; p < pass.planes(); ++p) {
         const Raster3dResult exact =
-            p == 0 ? exact0
-                   : rasterize3d(raster3dViewOf(raster3dConstants(cam, w, h, 0, 64, 64, samples[p - 1])), corners, order);
+            p == 0
+                ? exact0
+                : rasterize3d(raster3dViewOf(raster3dConstants(cam, w, h, 0, 64, 64, samples[p - 1])), corners, order);
         const std::vector<uint64_t> vis = pass.readVisibility(p);
         size_t differ = 0;
         for (size_t i = 0; i < vis.size(); ++i) {
