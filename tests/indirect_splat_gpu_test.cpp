@@ -177,6 +177,10 @@ TEST_F(IndirectSplatGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   std::vector<glm::dvec3> cpuE(ys.size(), glm::dvec3(0.0));
   std::vector<double> conditioning(ys.size(), 0.0);  // the bound above, for Φ = 1 W
   uint64_t stored = 0, onFloor = 0;
+  // The (pixel, photon) pairs inside the ellipse in double: surely (l² + δ < 1) and possibly
+  // (l² − δ < 1). The ellipse lies inside its quad and the view is orthographic, so the gather's
+  // counted terms (covered, facing, l² < 1 in float) lie between the two.
+  uint64_t termsSure = 0, termsMaybe = 0;
   double worstKappa = 0;
   for (const gpu::Photon& p : photons) {
     if (statusOf(p) != gpu::kPhotonStored) continue;
@@ -205,6 +209,8 @@ TEST_F(IndirectSplatGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
       const double dm = 8.0 * kU * (kappa * lm + 2.0 * big * glm::length(rr) / std::abs(den));
       const double delta = 2.0 * lm * dm + dm * dm;
       if (!(l2 - delta < 1.0)) continue;
+      ++termsMaybe;
+      termsSure += l2 + delta < 1.0;
       const double term = splatIrradiance(x, du, dv, n, 1.0, y);
       cpuE[k] += term * phi;
       conditioning[k] +=
@@ -248,6 +254,14 @@ TEST_F(IndirectSplatGpuTest, TheSplatIsTheCpuDoubleSumOfTheGpusOwnPhotons) {
   EXPECT_GT(lit, size_t(W * H / 2));
   EXPECT_GT(maxE, 0.0);
   EXPECT_EQ(check(gpuE, "compute"), 0u);
+  const auto work = pass.splatStats();
+  ASSERT_TRUE(work && work->counted);
+  std::printf("the gather's counted terms %llu (CPU: %llu surely, %llu possibly inside), coverage tests %llu\n",
+              (unsigned long long)work->terms, (unsigned long long)termsSure, (unsigned long long)termsMaybe,
+              (unsigned long long)work->tests);
+  EXPECT_GE(work->terms, termsSure);
+  EXPECT_LE(work->terms, termsMaybe);
+  EXPECT_GE(work->tests, work->terms);
   EXPECT_EQ(check(rasterE, "raster"), 0u);
   // The two splats sum the same terms in the same order: each within the bound above of the
   // double sum, so of each other; how many values are bit-equal is printed.

@@ -39,10 +39,13 @@ const uint kEmptyCoarse = 0x000000FFu;  // x0 = 255 > x1 = 0: holds no bin
 shared uint sCount;
 shared uint sRunTotals[256];  // scanCounts: each thread's run of counts, then its prefix
 
-// The slot a thread takes in round `round` of its group's chunk (see the header).
+// The slot a thread takes in round `round` of its group's chunk (see the header), counted from the
+// run's first slot (sc.first: a run splats slots [first, first + slots)).
 uint slotOf(uint round) {
-  return gl_WorkGroupID.x * kSplatChunk + round * 256u + gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID;
+  return sc.first + gl_WorkGroupID.x * kSplatChunk + round * 256u + gl_SubgroupID * gl_SubgroupSize +
+         gl_SubgroupInvocationID;
 }
+bool inRun(uint s) { return s - sc.first < sc.slots; }
 
 bool coarseHolds(uint box, uvec2 bin) {
   const uvec4 b = uvec4(box & 0xFFu, (box >> 8) & 0xFFu, (box >> 16) & 0xFFu, box >> 24);
@@ -50,8 +53,8 @@ bool coarseHolds(uint box, uvec2 bin) {
 }
 
 void writeBoxes() {
-  const uint k = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationIndex;
-  if (k >= sc.slots) return;
+  const uint k = sc.first + (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationIndex;
+  if (!inRun(k)) return;
   const Photon p = photons[k];
   if (floatBitsToUint(p.normalStatus.w) != kPhotonStored) {
     boxes[k] = kEmptyBox;
@@ -93,7 +96,7 @@ void countChunk() {
   uint n = 0u;
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
-    if (s < sc.slots && coarseHolds(coarse[s], bin)) ++n;
+    if (inRun(s) && coarseHolds(coarse[s], bin)) ++n;
   }
   n = subgroupAdd(n);
   if (subgroupElect()) atomicAdd(sCount, n);
@@ -143,7 +146,7 @@ void fillChunk() {
   uint at = counts[b * sc.chunks + gl_WorkGroupID.x];
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
-    const bool hit = s < sc.slots && coarseHolds(coarse[s], bin);
+    const bool hit = inRun(s) && coarseHolds(coarse[s], bin);
     uint all;
     const uint place = appendPlace(hit, all);
     if (hit) list[at + place] = s;

@@ -391,6 +391,9 @@ struct SplatConstants {
   uint tilesX;     // gather tiles of kSplatTile pixels across
   uint tilesY;     // and down
   uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
+  uint first;      // the first slot this run splats (slots: how many from it)
+  uint workBase;   // analysis frames: the run's first tile in the gather's work counts (SplatWork)
+  uint pad0, pad1;
 };
 struct IndirectConstants {
   uint directions;        // N
@@ -420,7 +423,7 @@ static_assert(sizeof(LdmMap) == 64, "LdmMap layout");
 static_assert(sizeof(Photon) == 64, "Photon layout");
 static_assert(sizeof(PhotonFace) == 64, "PhotonFace layout");
 static_assert(sizeof(IndirectConstants) == 80, "IndirectConstants layout");
-static_assert(sizeof(SplatConstants) == 32, "SplatConstants layout");
+static_assert(sizeof(SplatConstants) == 48, "SplatConstants layout");
 static_assert(sizeof(GpuMaterial) == 32, "GpuMaterial layout");
 static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");

@@ -7,6 +7,7 @@
 #include "effects/ambient_occlusion/ao_effect.h"
 #include "effects/indirect/indirect_part.h"
 #include "effects/indirect/indirect_table.h"
+#include "shared/gpu_types.h"
 
 namespace hb {
 
@@ -46,6 +47,21 @@ IndirectSettings readIndirect(const nlohmann::ordered_json& value, const json_re
   if (value.contains("bounces")) s.bounces = uint32_t(readInt(value["bounces"], where.key("bounces"), 1, 4));
   if (value.contains("bounce_directions"))
     s.bounceDirections = uint32_t(readInt(value["bounce_directions"], where.key("bounce_directions"), 1, 2048));
+  if (value.contains("later_bounce_stride")) {
+    const json_reader::Where w = where.key("later_bounce_stride");
+    s.laterBounceStride = uint32_t(readIntChoice(value["later_bounce_stride"], w, {1, 2, 4, 8}));
+    if (s.laterBounceStride > 1 && s.splat != IndirectSplat::Compute)
+      w.fail(
+          "needs splat \"compute\" (the raster splat draws every photon at every pixel); set \"splat\": "
+          "\"compute\" or later_bounce_stride 1");
+    // A gather tile's receivers span 16·f pixels, which must lie in one bin.
+    if (s.laterBounceStride * gpu::kSplatTile > s.splatBin)
+      w.fail("a stride of " + std::to_string(s.laterBounceStride) +
+             " needs splat_bin >= " + std::to_string(s.laterBounceStride * gpu::kSplatTile) +
+             " (its 16x16 receivers span " + std::to_string(s.laterBounceStride * gpu::kSplatTile) +
+             " pixels a side); raise splat_bin or lower the "
+             "stride");
+  }
   readSquareSamples(value, where, s.samples);
   return s;
 }
@@ -124,6 +140,7 @@ nlohmann::json IndirectSettings::toJson() const {
   j["max_anisotropy"] = maxAnisotropy;
   j["footprint"] = cellFootprint ? "cell" : "rotated";
   if (splat == IndirectSplat::Compute) j["splat_bin"] = splatBin;
+  if (splat == IndirectSplat::Compute && bounces > 1) j["later_bounce_stride"] = laterBounceStride;
   if (method == IndirectMethod::Ldm) {
     j["ldm_resolution"] = ldmResolution;
     j["bias"] = bias;
@@ -180,6 +197,10 @@ const EffectDef& indirectEffect() {
                "ldm_list"},
               {"bounce_directions", "1..2048", "8",
                "M: the directions a photon splits into at its second bounce, halving at each further one"},
+              {"later_bounce_stride", "1 | 2 | 4 | 8", "1",
+               "splat=compute with bounces > 1: bounces 2..K splatted at one receiver pixel in f x f and "
+               "interpolated from the receivers on each pixel's own surface (1: every pixel, the exact splat); "
+               "f x 16 <= splat_bin"},
           },
   };
   return def;

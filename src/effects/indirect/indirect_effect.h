@@ -60,6 +60,9 @@ struct IndirectSettings {
   bool cellFootprint = false;  // footprint "cell" (else "rotated", the paper's)
   uint32_t bounces = 1;
   uint32_t bounceDirections = 8;
+  // splat=compute, bounces > 1: bounces 2..K splatted at one receiver in f x f pixels and interpolated
+  // on each pixel's own surface (1: at every pixel, the exact splat).
+  uint32_t laterBounceStride = 1;
   // The directions a photon landing after bounce b - 1 splits into at bounce b (1-based): N at the
   // first, then min(N, max(1, M >> (b − 2))).
   uint32_t directionsAtBounce(uint32_t b) const {

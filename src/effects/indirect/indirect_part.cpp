@@ -60,19 +60,52 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       const std::string byEntries =
           "counted list entries (splat_bins.entries) x the tiles a bin x (4 B entry + 8 B box), "
           "and the RGBA32F target written once";
-      return std::vector<PassWork>{
+      // The gathers' arithmetic where the analysis frame counted it: each coverage test is the quad's
+      // four edges at the pixel's centre (8 FP32 operations), each term splatAt's expressions (29:
+      // photon_splat.glsl.inc), a lower bound on the issue slots.
+      auto fmaOf = [&in](const char* tests, const char* terms) {
+        const double t = figureAt(in, {"splat_work", tests}), e = figureAt(in, {"splat_work", terms});
+        return WorkItem{"fma", 8 * t + 29 * e,
+                        std::string("counted: splat_work.") + tests + " x 8 + splat_work." + terms +
+                            " x 29 FP32 operations (the coverage test's edges, splatAt's expressions)"};
+      };
+      const bool counted = in.contains("splat_work");
+      std::vector<WorkItem> gatherItems = {derived("bytes", gather, byEntries)};
+      if (counted) gatherItems.push_back(fmaOf("tests", "terms"));
+      // later_bounce_stride > 1: the count, scan and fill run once over the first bounce's slots and
+      // once over the later bounces' ("photon_splat.later.*"); the boxes step over every slot.
+      double first = slots;
+      if (in.value("later_bounce_stride", 1) > 1 && in.contains("split_photons") &&
+          in["split_photons"].contains("per_bounce") && !in["split_photons"]["per_bounce"].empty())
+        first = in["split_photons"]["per_bounce"][0].value("slots", slots);
+      const double rest = slots - first;
+      auto binning = [&](const std::string& prefix, double n, double listed, const std::string& entriesNote) {
+        return std::vector<PassWork>{
+            {prefix + ".count",
+             {derived("bytes", bins * n * 4, "each of its slots' 4 B coarse box read by every bin")}},
+            {prefix + ".scan",
+             {derived("bytes", bins * std::ceil(n / gpu::kSplatChunk) * 4 * 3,
+                      "each (bin, chunk) count read twice and its start written once, by one workgroup")}},
+            {prefix + ".fill",
+             {derived("bytes", bins * n * 4 + listed * 4,
+                      "each of its slots' coarse box read by every bin, each list entry written" + entriesNote)}}};
+      };
+      std::vector<PassWork> later;
+      if (rest > 0) {
+        later = binning(name + ".later", rest, 0, " (the later run's entries are not counted: its boxes only)");
+        if (counted && in["splat_work"].contains("later_tests"))
+          later.push_back({name + ".later.gather", {fmaOf("later_tests", "later_terms")}});
+      }
+      std::vector<PassWork> out{
           {name,
            {derived("bytes", slots * 76 + 2 * bins * slots * 4 + entries * 4 + gather,
                     "its steps' bytes together (photon_splat.*)")}},
           {name + ".boxes", {derived("bytes", slots * 76, "each slot's 64 B photon read, 12 B of boxes written")}},
-          {name + ".count", {derived("bytes", bins * slots * 4, "each slot's 4 B coarse box read by every bin")}},
-          {name + ".scan",
-           {derived("bytes", bins * std::ceil(slots / gpu::kSplatChunk) * 4 * 3,
-                    "each (bin, chunk) count read twice and its start written once, by one workgroup")}},
-          {name + ".fill",
-           {derived("bytes", bins * slots * 4 + entries * 4,
-                    "each slot's coarse box read by every bin, each list entry written (splat_bins.entries)")}},
-          {name + ".gather", {derived("bytes", gather, byEntries)}}};
+          {name + ".gather", gatherItems}};
+      const std::vector<PassWork> own = binning(name, first, entries, " (splat_bins.entries)");
+      out.insert(out.end(), own.begin(), own.end());
+      out.insert(out.end(), later.begin(), later.end());
+      return out;
     } else if (name == kPhotonSplatPass)
       items = {derived("triangles", 2 * slots, "one quad (two triangles) per photon slot"),
                derived("bytes", 16 * pixels + 64 * slots, "RGBA32F target written once, a 64 B photon read per slot")};
@@ -117,7 +150,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
     splat.subPasses = indirect_->splatSubPasses();  // splat=compute: its five steps, timed inside
     splat.syncedInside = {"indirect.photons", kIndirectIrradianceResource};  // declared by its steps
     splat.record = [this](VkCommandBuffer cmd, const PassFrame& frame) {
-      indirect_->recordSplat(cmd, *frame.sync, frame.timer);
+      indirect_->recordSplat(cmd, *frame.sync, frame.timer, frame.analysis);
     };
     splat.work = [workOf](const nlohmann::json& a) { return workOf(kPhotonSplatPass, a); };
     passes_.push_back(std::move(splat));

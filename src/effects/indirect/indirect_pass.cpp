@@ -71,13 +71,24 @@ struct IndirectPass::Program {
 
 // splat=compute (photon_splat_bin.comp.glsl, photon_splat.comp.glsl): per slot its pixel box and
 // coarse box, per (bin, chunk) a count and then its start, per bin its list's range, and the list.
+// With later_bounce_stride f > 1 the boxes step covers every slot (`all`), the later bounces' slots
+// are binned and gathered at stride f into the target's `late` image (`late`), then the first
+// bounce's (`constants`), whose gather adds `late` interpolated.
 struct IndirectPass::ComputeSplat {
-  gpu::SplatConstants constants{};
+  gpu::SplatConstants constants{}, all{}, late{};
+  bool hasLate = false;
+  uint32_t stride = 1;  // the later run's (later_bounce_stride)
+  uint32_t parts = 1;   // the later run's gather: workgroups a tile (photon_splat.comp.glsl PARTS)
   Buffer boxes, coarse, counts, bins, list;
+  Buffer work;  // analysis frames: each gather tile's (tests, terms), the later run's tiles first
   std::vector<std::unique_ptr<Pipeline>> bin;  // MODE 0..3
-  Pipeline gather;
-  explicit ComputeSplat(const VulkanContext& c) : gather(c) {}
-  uint64_t bytes() const { return boxes.size() + coarse.size() + counts.size() + bins.size() + list.size(); }
+  // The gathers: [run][COUNT], run 0 the first bounce's (or every bounce's), 1 the later bounces';
+  // COUNT 0 in timed frames, 1 in analysis frames.
+  std::unique_ptr<Pipeline> gather[2][2];
+  explicit ComputeSplat(const VulkanContext&) {}
+  uint64_t bytes() const {
+    return boxes.size() + coarse.size() + counts.size() + bins.size() + list.size() + work.size();
+  }
 };
 
 IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, const Scene& scene,
@@ -230,13 +241,38 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     // slower, the same sum (photon_splat_bin.comp.glsl).
     const uint64_t maxEntries = props.limits.maxStorageBufferRange / 4;
     k.capacity = uint32_t(std::min<uint64_t>(std::max<uint64_t>(4 * slots(), 1u << 16), maxEntries));
+    cs->all = k;
+    // later_bounce_stride f > 1: two runs over the one set of bins and list, the later bounces' slots
+    // at stride f, then the first bounce's.
+    if (s.laterBounceStride > 1 && s.bounces > 1) {
+      const uint32_t f = s.laterBounceStride;
+      HB_ASSERT(f * gpu::kSplatTile <= k.binPixels);  // readIndirect checked
+      cs->hasLate = true;
+      gpu::SplatConstants& l = cs->late;
+      l = k;
+      l.first = uint32_t(bounceFirstSlot(2));
+      l.slots = k.slots - l.first;
+      l.chunks = (l.slots + gpu::kSplatChunk - 1) / gpu::kSplatChunk;
+      cs->stride = f;
+      l.tilesX = ((width + f - 1) / f + gpu::kSplatTile - 1) / gpu::kSplatTile;
+      l.tilesY = ((height + f - 1) / f + gpu::kSplatTile - 1) / gpu::kSplatTile;
+      // Enough workgroups to fill a large GPU (2,048: 132 SMs' worth of 16 resident ones on an H200)
+      // though a coarse image has few tiles; each part of a tile's list is summed apart, then in order.
+      cs->parts = std::clamp((2048u + l.tilesX * l.tilesY - 1) / (l.tilesX * l.tilesY), 1u, 16u);
+      k.slots = l.first;
+      k.chunks = (k.slots + gpu::kSplatChunk - 1) / gpu::kSplatChunk;
+    }
+    k.workBase = cs->hasLate ? cs->late.tilesX * cs->late.tilesY * cs->parts : 0;
     const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     cs->boxes = Buffer(ctx, std::max<uint64_t>(8, slots() * 8), use, false, MemClass::Other);
     cs->coarse = Buffer(ctx, std::max<uint64_t>(4, slots() * 4), use, false, MemClass::Other);
-    cs->counts = Buffer(ctx, uint64_t(k.binsX) * k.binsY * k.chunks * 4, use, false, MemClass::Other);
+    cs->counts =
+        Buffer(ctx, uint64_t(k.binsX) * k.binsY * std::max(k.chunks, cs->late.chunks) * 4, use, false, MemClass::Other);
     cs->bins =
         Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
     cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, use, false, MemClass::Other);
+    cs->work = Buffer(ctx, (uint64_t(k.workBase) + uint64_t(k.tilesX) * k.tilesY) * 8,
+                      use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
     computeSplat_ = std::move(cs);
   }
   frame_ = makeTarget(s.method != IndirectMethod::Reference);
@@ -247,9 +283,17 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
       p->createCompute(*shaders_, "photon_splat_bin.comp", SpecConstants{{mode}});
       cs->bin.push_back(std::move(p));
     }
-    cs->gather.createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
-    cs->gather.createCompute(*shaders_, "photon_splat.comp",
-                             SpecConstants{{uint32_t(settings.normals), uint32_t(settings.worldPos)}});
+    for (uint32_t run = 0; run < (cs->hasLate ? 2u : 1u); ++run)
+      for (uint32_t count : {0u, 1u}) {
+        // STRIDE, LATE: the first bounce's run adds the later bounces' (1, f); theirs (f, 1).
+        const uint32_t stride = run ? cs->stride : 1u, late = run || !cs->hasLate ? 1u : cs->stride;
+        auto g = std::make_unique<Pipeline>(ctx);
+        g->createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
+        g->createCompute(
+            *shaders_, "photon_splat.comp",
+            SpecConstants{{uint32_t(settings.normals), uint32_t(settings.worldPos), count, stride, late, cs->parts}});
+        cs->gather[run][count] = std::move(g);
+      }
   }
   splat_.createLayout({frame_.sets->layout()}, 0);
   {
@@ -284,13 +328,22 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
                        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
                            VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
                        VK_IMAGE_ASPECT_COLOR_BIT);
+  // splat=compute: the later bounces at their receivers (later_bounce_stride f > 1), else a texel.
+  const uint32_t f = computeSplat_ && computeSplat_->hasLate ? computeSplat_->stride : 0;
+  if (computeSplat_)
+    t.late = Image(ctx_, f ? (width_ + f - 1) / f : 1, f ? (height_ + f - 1) / f * computeSplat_->parts : 1,
+                   kIrradianceFormat, VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
+                   VK_IMAGE_ASPECT_COLOR_BIT);
   ctx_.submitAndWait(
       [&](VkCommandBuffer cmd) {
         Sync sync;
-        sync.use(cmd, {{t.irradiance, access::kFill.in(VK_IMAGE_LAYOUT_GENERAL).discarding()}});
         VkClearColorValue zero{};
         VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-        vkCmdClearColorImage(cmd, t.irradiance.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        for (const Image* img : {&t.irradiance, &t.late}) {
+          if (!img->handle()) continue;
+          sync.use(cmd, {{*img, access::kFill.in(VK_IMAGE_LAYOUT_GENERAL).discarding()}});
+          vkCmdClearColorImage(cmd, img->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        }
       },
       "clearing the indirect light's target");
   DescriptorBinder binder("indirect");
@@ -323,6 +376,8 @@ IndirectPass::Target IndirectPass::makeTarget(bool withPhotons) {
     binder.provide("Counts", cs->counts);
     binder.provide("Bins", cs->bins);
     binder.provide("List", cs->list);
+    binder.provide("lateIrradiance", t.late, VK_IMAGE_LAYOUT_GENERAL);
+    binder.provide("SplatWork", cs->work);
   }
   t.sets = binder.write(ctx_, *shaders_);
   binder.checkEveryNameRead();
@@ -406,9 +461,10 @@ void IndirectPass::recordGatherInto(VkCommandBuffer cmd, Sync& sync, const Progr
   recordDispatch(cmd, p, t, width_ * height_, true);
 }
 
-void IndirectPass::recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const {
+void IndirectPass::recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer,
+                                   bool analysis) const {
   if (computeSplat_) {
-    recordComputeSplat(cmd, sync, t, timer);
+    recordComputeSplat(cmd, sync, t, timer, analysis);
     return;
   }
   // A quad per photon, blended into the target (an attachment in GENERAL, as the shaders bind it).
@@ -444,45 +500,62 @@ void IndirectPass::recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target
 
 // Boxes, counts, starts, lists, then the gather (photon_splat_bin.comp.glsl, photon_splat.comp.glsl),
 // each step reading what the one before wrote.
+// With later_bounce_stride f > 1, the later bounces' count, scan, fill and gather come first, named
+// "photon_splat.later.*".
 std::vector<std::string> IndirectPass::splatSubPasses() const {
   if (!computeSplat_) return {};
-  return {"photon_splat.boxes", "photon_splat.count", "photon_splat.scan", "photon_splat.fill", "photon_splat.gather"};
+  std::vector<std::string> names = {"photon_splat.boxes"};
+  if (computeSplat_->hasLate)
+    names.insert(names.end(), {"photon_splat.later.count", "photon_splat.later.scan", "photon_splat.later.fill",
+                               "photon_splat.later.gather"});
+  names.insert(names.end(), {"photon_splat.count", "photon_splat.scan", "photon_splat.fill", "photon_splat.gather"});
+  return names;
 }
 
-void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const {
+void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer,
+                                      bool analysis) const {
   using namespace access;
   const ComputeSplat& cs = *computeSplat_;
-  const gpu::SplatConstants& k = cs.constants;
-  // Each step reads the photons and what the steps before it wrote, and updates the bins; the
-  // gather (the last) writes the target.
+  // Each step reads the photons and what the steps before it wrote, and updates the bins; a gather
+  // writes the target (the later bounces' gather its `late` image, which the last one reads).
   std::vector<Use> step = {{t.photons, kComputeRead},  {cs.boxes, kComputeWrite}, {cs.coarse, kComputeWrite},
                            {cs.counts, kComputeWrite}, {cs.bins, kComputeWrite},  {cs.list, kComputeWrite}};
   const VkDescriptorSet set = t.sets->set();
-  auto bind = [&](const Pipeline& p) {
+  const std::vector<std::string> names = splatSubPasses();
+  size_t next = 0;
+  auto dispatch = [&](const Pipeline& p, const gpu::SplatConstants& k, uint32_t x, uint32_t y,
+                      std::vector<Use> extra = {}, uint32_t z = 1) {
+    std::vector<Use> uses = step;
+    uses.insert(uses.end(), extra.begin(), extra.end());
+    sync.use(cmd, uses);
+    if (timer) timer->begin(cmd, names[next]);
+    ++next;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.handle());
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout(), 0, 1, &set, 0, nullptr);
     vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_ALL, 0, sizeof k, &k);
-  };
-  const uint32_t slotGroups = (k.slots + 255) / 256, gx = std::max(1u, std::min(slotGroups, 65535u));
-  const std::vector<std::string> names = splatSubPasses();
-  auto dispatch = [&](size_t i, const Pipeline& p, uint32_t x, uint32_t y) {
-    if (i + 1 == names.size()) step.push_back({t.irradiance, kComputeWrite});
-    sync.use(cmd, step);
-    if (timer) timer->begin(cmd, names[i]);
-    bind(p);
-    vkCmdDispatch(cmd, x, y, 1);
+    vkCmdDispatch(cmd, x, y, z);
     if (timer) timer->end(cmd);
   };
-  dispatch(0, *cs.bin[0], gx, (slotGroups + gx - 1) / gx);
-  dispatch(1, *cs.bin[1], k.chunks, k.binsX * k.binsY);
-  dispatch(2, *cs.bin[2], 1, 1);
-  dispatch(3, *cs.bin[3], k.chunks, k.binsX * k.binsY);
-  dispatch(4, cs.gather, k.tilesX, k.tilesY);
+  const uint32_t slotGroups = (cs.all.slots + 255) / 256, gx = std::max(1u, std::min(slotGroups, 65535u));
+  dispatch(*cs.bin[0], cs.all, gx, (slotGroups + gx - 1) / gx);
+  if (analysis) step.push_back({cs.work, kComputeWrite});
+  auto run = [&](uint32_t r, const gpu::SplatConstants& k, std::vector<Use> gatherUses) {
+    dispatch(*cs.bin[1], k, k.chunks, k.binsX * k.binsY);
+    dispatch(*cs.bin[2], k, 1, 1);
+    dispatch(*cs.bin[3], k, k.chunks, k.binsX * k.binsY);
+    dispatch(*cs.gather[r][analysis ? 1 : 0], k, k.tilesX, k.tilesY, std::move(gatherUses), r ? cs.parts : 1u);
+  };
+  if (cs.hasLate) run(1, cs.late, {{t.late, kComputeWrite}});
+  std::vector<Use> last = {{t.irradiance, kComputeWrite}};
+  if (cs.hasLate) last.push_back({t.late, kComputeRead});
+  run(0, cs.constants, std::move(last));
+  HB_ASSERT(next == names.size());
+  if (analysis) splatCounted_ = true;
 }
 
 void IndirectPass::recordTrace(VkCommandBuffer cmd, Sync& sync) const { recordTraceInto(cmd, sync, method(), frame_); }
-void IndirectPass::recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer) const {
-  recordSplatInto(cmd, sync, frame_, timer);
+void IndirectPass::recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer, bool analysis) const {
+  recordSplatInto(cmd, sync, frame_, timer, analysis);
 }
 void IndirectPass::recordGather(VkCommandBuffer cmd, Sync& sync) const {
   recordGatherInto(cmd, sync, *programs_.at({IndirectMethod::Reference, 1u}), frame_);
@@ -550,6 +623,17 @@ std::optional<IndirectPass::SplatStats> IndirectPass::splatStats() const {
     st.entries += v[1];
     st.overCapacity += v[2] == 0;
   }
+  st.counted = splatCounted_;
+  if (st.counted) {
+    const std::vector<uint8_t> work = readbackBuffer(ctx_, computeSplat_->work);
+    const uint32_t firstTile = computeSplat_->constants.workBase;
+    for (size_t i = 0; i < work.size() / 8; ++i) {
+      uint32_t v[2];
+      std::memcpy(v, work.data() + 8 * i, sizeof v);
+      (i < firstTile ? st.laterTests : st.tests) += v[0];
+      (i < firstTile ? st.laterTerms : st.terms) += v[1];
+    }
+  }
   return st;
 }
 
@@ -557,7 +641,7 @@ IndirectMemory IndirectPass::memory() const {
   IndirectMemory m;
   if (ldm_) m.ldmBytes = ldm_->memoryBytes();
   m.photonBytes = frame_.photons.size();
-  if (computeSplat_) m.splatBytes = computeSplat_->bytes();
+  if (computeSplat_) m.splatBytes = computeSplat_->bytes() + uint64_t(frame_.late.width()) * frame_.late.height() * 16;
   m.faceBytes = faces_.size();
   m.directionBytes = directions_.size();
   m.targetBytes = uint64_t(width_) * height_ * 16;

@@ -83,7 +83,8 @@ class IndirectPass {
   // Each declares its steps' accesses to the photons and the target through `sync` (the frame's).
   void recordTrace(VkCommandBuffer cmd, Sync& sync) const;  // "photon_trace" (ldm, raytraced)
   // "photon_splat"; splat=compute times its steps inside it (splatSubPasses) where `timer` is given.
-  void recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer = nullptr) const;
+  // analysis (splat=compute): the gather counts its work (splatStats' tests and terms).
+  void recordSplat(VkCommandBuffer cmd, Sync& sync, GpuTimer* timer = nullptr, bool analysis = false) const;
   std::vector<std::string> splatSubPasses() const;           // "photon_splat.boxes", ... (splat=compute)
   void recordGather(VkCommandBuffer cmd, Sync& sync) const;  // "indirect_gather" (reference)
 
@@ -116,6 +117,10 @@ class IndirectPass {
   // bins whose entries passed the list's capacity (gathered from every slot instead).
   struct SplatStats {
     uint64_t entries = 0, bins = 0, overCapacity = 0, capacity = 0;
+    // The last analysis frame's gathers: pixel-photon coverage tests and the terms added, the first
+    // bounce's (or every bounce's) run and the later bounces' run (later_bounce_stride > 1).
+    uint64_t tests = 0, terms = 0, laterTests = 0, laterTerms = 0;
+    bool counted = false;  // an analysis frame has run
   };
   std::optional<SplatStats> splatStats() const;
 
@@ -123,6 +128,7 @@ class IndirectPass {
   struct Target {
     Buffer photons;
     Image irradiance;
+    Image late;  // splat=compute: the later bounces at their receivers (later_bounce_stride > 1), else 1x1
     std::unique_ptr<DescriptorSets> sets;
   };
   struct Program;
@@ -130,7 +136,7 @@ class IndirectPass {
   const Program& program(IndirectMethod method, uint32_t bounce = 1);
   // Every bounce's trace (programs created: program(method, b) for b = 1..bounces).
   void recordTraceInto(VkCommandBuffer cmd, Sync& sync, IndirectMethod method, const Target& t) const;
-  void recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const;
+  void recordSplatInto(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer, bool analysis = false) const;
   void recordGatherInto(VkCommandBuffer cmd, Sync& sync, const Program& p, const Target& t) const;
   void recordDispatch(VkCommandBuffer cmd, const Program& p, const Target& t, uint32_t count, bool pixels) const;
 
@@ -151,7 +157,8 @@ class IndirectPass {
   // splat=compute: the binning's buffers (in the targets' sets), its four steps and the gather.
   struct ComputeSplat;
   std::unique_ptr<ComputeSplat> computeSplat_;
-  void recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer) const;
+  void recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer, bool analysis) const;
+  mutable bool splatCounted_ = false;
   std::map<std::pair<IndirectMethod, uint32_t>, std::unique_ptr<Program>> programs_;  // (method, bounce)
 };
 

@@ -27,7 +27,21 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
                        {"bins", st->bins},
                        {"over_capacity", st->overCapacity},
                        {"capacity", st->capacity},
-                       {"source", "counted: the coarse bins' ranges after the analysis frame"}};
+                       {"source",
+                        "counted: the coarse bins' ranges after the analysis frame (with later_bounce_stride > 1, the "
+                        "first bounce's run)"}};
+  if (const auto st = ind.splatStats(); st && st->counted) {
+    j["splat_work"] = {{"tests", st->tests},
+                       {"terms", st->terms},
+                       {"source",
+                        "counted by the analysis frame's gathers: pixel-photon coverage tests (a listed photon "
+                        "against a receiving pixel's centre) and the terms added (covered, facing, inside the "
+                        "ellipse)"}};
+    if (ind.settings().indirect.laterBounceStride > 1 && ind.settings().indirect.bounces > 1) {
+      j["splat_work"]["later_tests"] = st->laterTests;
+      j["splat_work"]["later_terms"] = st->laterTerms;
+    }
+  }
   j["emitters"] = ind.emitters();
   j["flux_emitted_w"] = ind.emittedFlux();
   const IndirectMethod method = ind.method();
