@@ -76,15 +76,16 @@ bool sameSurface(ivec2 r, vec3 y, vec3 ny) {
   return dot(normalAt(r, yr), ny) > kLateCos && abs(dot(ny, yr - y)) <= kLateSlope * length(yr - y);
 }
 
-// The later bounces at pixel p: the bilinear weights of the four receivers around it, over those on
-// its own surface (at a receiver itself, its value alone). Where none of the four is, the nearest
-// of the 4x4 around it that is; where none is, nothing (a sliver narrower than the stride).
+// Receiver i's later light: its parts' sums, in order (rows: the coarse image's height).
 vec3 lateValue(ivec2 i, int rows) {
   vec3 v = imageLoad(lateIrradiance, i).rgb;
   for (int z = 1; z < int(PARTS); ++z) v += imageLoad(lateIrradiance, i + ivec2(0, z * rows)).rgb;
   return v;
 }
 
+// The later bounces at pixel p: the bilinear weights of the four receivers around it, over those on
+// its own surface (at a receiver itself, its value alone). Where none of the four is, the nearest
+// of the 4x4 around it that is; where none is, nothing (a sliver narrower than the stride).
 vec3 lateAt(ivec2 p, vec3 y, vec3 ny) {
   const int f = int(LATE);
   const ivec2 cext = (ivec2(frame.extent.xy) + f - 1) / f;
