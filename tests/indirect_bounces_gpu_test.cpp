@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -174,6 +175,18 @@ TEST(IndirectBounces, SettingsOutsideTheirRangesAreOneLineNamingTheSetting) {
   EXPECT_EQ(s.directionsAtBounce(4), 2u);
   s = indirectSettingsOf({{"directions", 4}, {"bounce_directions", 16}});
   EXPECT_EQ(s.directionsAtBounce(2), 4u);  // never more than N
+  // later_bounce_stride (indirect_later_stride_gpu_test.cpp): a choice, within splat_bin/16, compute only.
+  EXPECT_EQ(errorOf({{"bounces", 3}, {"later_bounce_stride", 4}}), "");
+  EXPECT_EQ(indirectSettingsOf({{"bounces", 3}, {"later_bounce_stride", 8}}).laterBounceStride, 8u);
+  for (const auto& [v, want] : std::vector<std::pair<nlohmann::json, std::string>>{
+           {{{"later_bounce_stride", 3}}, "indirect.later_bounce_stride"},
+           {{{"later_bounce_stride", 8}, {"splat_bin", 64}}, "needs splat_bin >= 128"},
+           {{{"later_bounce_stride", 2}, {"splat", "raster"}}, "needs splat \"compute\""}}) {
+    const std::string m = errorOf(v);
+    EXPECT_NE(m.find(want), std::string::npos) << v.dump() << ": " << m;
+    EXPECT_NE(m.find("later_bounce_stride"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
 }
 
 // The LDM lists that hold no triangle ids cannot carry a photon past its first bounce: the frame

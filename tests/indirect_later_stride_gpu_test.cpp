@@ -3,7 +3,7 @@
 // receiver pixel in f x f, then interpolated on each pixel's own surface. At the receivers the frame
 // is the exact splat's sum, to float rounding of a different association; elsewhere each pixel's
 // later light is 0 or lies between its neighbouring receivers'; the first bounce is untouched; the
-// frame is deterministic; bad strides are one line naming the setting.
+// frame is deterministic. Bad strides: indirect_bounces_gpu_test.cpp's settings test.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,7 +14,6 @@
 
 #include <gtest/gtest.h>
 
-#include "base/errors.h"
 #include "effects/indirect/indirect_effect.h"
 #include "effects/indirect/indirect_part.h"
 #include "frame/renderer.h"
@@ -142,28 +141,6 @@ TEST_F(IndirectLaterStrideGpuTest, AtTheReceiversTheFrameIsTheExactSplatAndBetwe
     EXPECT_GT(lateLit, receivers / 2);
     EXPECT_EQ(outside, 0u);
     EXPECT_GT(lit, size_t(kStrideW) * kStrideH / 2);
-  }
-}
-
-TEST(IndirectLaterStride, BadStridesAreOneLineNamingTheSettingAndTheFix) {
-  auto errorOf = [](const nlohmann::json& v) -> std::string {
-    try {
-      indirectSettingsOf(v);
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
-  EXPECT_EQ(errorOf({{"bounces", 3}, {"later_bounce_stride", 4}}), "");
-  EXPECT_EQ(indirectSettingsOf({{"bounces", 3}, {"later_bounce_stride", 8}}).laterBounceStride, 8u);
-  for (const auto& [v, want] : std::vector<std::pair<nlohmann::json, std::string>>{
-           {{{"later_bounce_stride", 3}}, "indirect.later_bounce_stride"},
-           {{{"later_bounce_stride", 8}, {"splat_bin", 64}}, "needs splat_bin >= 128"},
-           {{{"later_bounce_stride", 2}, {"splat", "raster"}}, "needs splat \"compute\""}}) {
-    const std::string m = errorOf(v);
-    EXPECT_NE(m.find(want), std::string::npos) << v.dump() << ": " << m;
-    EXPECT_NE(m.find("later_bounce_stride"), std::string::npos) << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
 }
 
