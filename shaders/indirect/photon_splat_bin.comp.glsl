@@ -6,13 +6,15 @@
 //                  image, and the same box in coarse bins of sc.binPixels; empty for a slot
 //                  that holds no stored photon or whose quad lies outside the image. A quad with a
 //                  corner behind the eye (w <= 0) takes the whole image.
-//  MODE 1 (count)  a group per (chunk, bin): the slots of the chunk whose coarse box holds the bin.
+//  MODE 1 (count)  a group per (chunk, sc.rowBins bins of a row): the slots of the chunk whose
+//                  coarse box holds each bin (each box read once for the row's bins).
 //  MODE 2 (scan)   one group: the counts' exclusive prefix, bin after bin and chunk after chunk, so
 //                  bin b's slots are entries [start_b, start_b + count_b) of the list, in slot
 //                  order; a bin whose entries would pass the list's capacity is marked, and the
 //                  gather scans every slot for it instead (slower, the same sum).
-//  MODE 3 (fill)   a group per (chunk, bin): the chunk's overlapping slots written in slot order
-//                  (a subgroup ballot's prefix), so every entry's position is fixed: deterministic.
+//  MODE 3 (fill)   a group per (chunk, sc.rowBins bins of a row): each bin's overlapping slots of
+//                  the chunk written in slot order (per bin, a subgroup ballot's prefix), so every
+//                  entry's position is fixed: deterministic.
 // The slot a thread takes in a round is ordered by (gl_SubgroupID, gl_SubgroupInvocationID), so the
 // list's order is the slots' whatever the hardware's mapping of local indices to subgroups.
 #extension GL_GOOGLE_include_directive : require
@@ -20,7 +22,6 @@
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "shared/gpu_types.h"
-#include "splat_append.glsl.inc"
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0u;
 
@@ -37,7 +38,9 @@ const uvec2 kEmptyBox = uvec2(0xFFFFFFFFu, 0u);
 const uint kEmptyCoarse = 0x000000FFu;  // x0 = 255 > x1 = 0: holds no bin
 
 shared uint sCount;
-shared uint sRunTotals[256];  // scanCounts: each thread's run of counts, then its prefix
+shared uint sRunTotals[256];        // scanCounts: each thread's run of counts, then its prefix
+shared uint sRowCounts[kSplatBinRow];  // countChunk: the row's bins' counts
+shared uvec4 sRowTotals[256];       // fillChunk: per subgroup, the row's bins' counts, 16 bits each
 
 // The slot a thread takes in round `round` of its group's chunk (see the header), counted from the
 // run's first slot (sc.first: a run splats slots [first, first + slots)).
@@ -46,11 +49,6 @@ uint slotOf(uint round) {
          gl_SubgroupInvocationID;
 }
 bool inRun(uint s) { return s - sc.first < sc.slots; }
-
-bool coarseHolds(uint box, uvec2 bin) {
-  const uvec4 b = uvec4(box & 0xFFu, (box >> 8) & 0xFFu, (box >> 16) & 0xFFu, box >> 24);
-  return bin.x >= b.x && bin.x <= b.z && bin.y >= b.y && bin.y <= b.w;
-}
 
 void writeBoxes() {
   const uint k = sc.first + (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 256u + gl_LocalInvocationIndex;
@@ -89,19 +87,48 @@ void writeBoxes() {
   coarse[k] = ca.x | ca.y << 8 | cb.x << 16 | cb.y << 24;
 }
 
+// The bins a count or fill group takes (gl_WorkGroupID.y): sc.rowBins (at most kSplatBinRow)
+// consecutive bins of one row, from bin (x0, y); the row's last group may hold fewer (valid: how
+// many). The loops over a row's bins run to kSplatBinRow, unrolled, and skip bins past `valid`.
+struct BinRow {
+  uint x0, y, valid;
+};
+BinRow binRowOf() {
+  const uint groupsX = (sc.binsX + sc.rowBins - 1u) / sc.rowBins;
+  const uint x0 = (gl_WorkGroupID.y % groupsX) * sc.rowBins;
+  return BinRow(x0, gl_WorkGroupID.y / groupsX, min(sc.rowBins, sc.binsX - x0));
+}
+
+// The bins of `row` that coarse box `box` holds: bit g for bin x0 + g (its x range ∩ the row's).
+uint rowMask(uint box, BinRow row) {
+  const uvec4 b = uvec4(box & 0xFFu, (box >> 8) & 0xFFu, (box >> 16) & 0xFFu, box >> 24);
+  if (row.y < b.y || row.y > b.w) return 0u;
+  const uint lo = max(b.x, row.x0), hi = min(b.z, row.x0 + row.valid - 1u);
+  return lo > hi ? 0u : (2u << (hi - row.x0)) - (1u << (lo - row.x0));
+}
+
 void countChunk() {
-  const uvec2 bin = uvec2(gl_WorkGroupID.y % sc.binsX, gl_WorkGroupID.y / sc.binsX);
-  if (gl_LocalInvocationIndex == 0u) sCount = 0u;
+  const BinRow row = binRowOf();
+  if (gl_LocalInvocationIndex < kSplatBinRow) sRowCounts[gl_LocalInvocationIndex] = 0u;
   barrier();
-  uint n = 0u;
+  // Each slot's coarse box is read once for the row's bins; a thread's count of a bin is at most
+  // the chunk's rounds (256), so two bins share a uint in 16-bit halves.
+  uvec4 n = uvec4(0u);
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
-    if (inRun(s) && coarseHolds(coarse[s], bin)) ++n;
+    if (!inRun(s)) continue;
+    const uint m = rowMask(coarse[s], row);
+    n += uvec4(m & 1u, (m >> 2) & 1u, (m >> 4) & 1u, (m >> 6) & 1u) |
+         (uvec4((m >> 1) & 1u, (m >> 3) & 1u, (m >> 5) & 1u, (m >> 7) & 1u) << 16);
   }
-  n = subgroupAdd(n);
-  if (subgroupElect()) atomicAdd(sCount, n);
+  for (uint g = 0u; g < kSplatBinRow; ++g) {
+    if (g >= row.valid) break;
+    const uint c = subgroupAdd((n[g >> 1] >> (16u * (g & 1u))) & 0xFFFFu);
+    if (subgroupElect() && c != 0u) atomicAdd(sRowCounts[g], c);
+  }
   barrier();
-  if (gl_LocalInvocationIndex == 0u) counts[gl_WorkGroupID.y * sc.chunks + gl_WorkGroupID.x] = sCount;
+  const uint g = gl_LocalInvocationIndex;
+  if (g < row.valid) counts[(row.y * sc.binsX + row.x0 + g) * sc.chunks + gl_WorkGroupID.x] = sRowCounts[g];
 }
 
 // One group: each thread takes a contiguous run of the (bin, chunk) counts, the runs' totals are
@@ -139,18 +166,52 @@ void scanCounts() {
   }
 }
 
+// Each of the row's bins gets the chunk's slots that its coarse box holds, in slot order, at the
+// entries the scan gave the (bin, chunk): per round, each subgroup's ballot per bin, the subgroups'
+// counts through shared memory (two bins a uint, 16 bits each: at most 256 a round), a thread's
+// place the counts before its subgroup plus its rank within the ballot. The list is the one a group
+// per (bin, chunk) would write. The group stops once every bin has its (bin, chunk) entries.
 void fillChunk() {
-  const uint b = gl_WorkGroupID.y;
-  const uvec2 bin = uvec2(b % sc.binsX, b / sc.binsX);
-  if (bins[b].z == 0u) return;  // past the capacity: the gather scans every slot for this bin
-  uint at = counts[b * sc.chunks + gl_WorkGroupID.x];
-  for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
+  const BinRow row = binRowOf();
+  uint at[kSplatBinRow], end[kSplatBinRow];
+  uint pending = 0u;  // the row's bins still to fill: uniform over the group
+  for (uint g = 0u; g < kSplatBinRow; ++g) {
+    at[g] = end[g] = 0u;
+    if (g >= row.valid) continue;
+    const uint b = row.y * sc.binsX + row.x0 + g;
+    const uvec4 range = bins[b];
+    if (range.z == 0u) continue;  // past the capacity: the gather scans every slot for this bin
+    at[g] = counts[b * sc.chunks + gl_WorkGroupID.x];
+    end[g] = gl_WorkGroupID.x + 1u < sc.chunks ? counts[b * sc.chunks + gl_WorkGroupID.x + 1u] : range.x + range.y;
+    if (at[g] < end[g]) pending |= 1u << g;
+  }
+  for (uint round = 0u; round < kSplatChunk / 256u && pending != 0u; ++round) {
     const uint s = slotOf(round);
-    const bool hit = inRun(s) && coarseHolds(coarse[s], bin);
-    uint all;
-    const uint place = appendPlace(hit, all);
-    if (hit) list[at + place] = s;
-    at += all;
+    const uint m = inRun(s) ? rowMask(coarse[s], row) & pending : 0u;
+    uint rank[kSplatBinRow];
+    uvec4 mine = uvec4(0u);
+    for (uint g = 0u; g < kSplatBinRow; ++g) {
+      rank[g] = 0u;
+      if (g >= row.valid) continue;
+      const uvec4 ballot = subgroupBallot(((m >> g) & 1u) != 0u);
+      rank[g] = subgroupBallotExclusiveBitCount(ballot);
+      mine[g >> 1] |= subgroupBallotBitCount(ballot) << (16u * (g & 1u));
+    }
+    if (subgroupElect()) sRowTotals[gl_SubgroupID] = mine;
+    barrier();
+    uvec4 before = uvec4(0u), total = uvec4(0u);
+    for (uint sg = 0u; sg < gl_NumSubgroups; ++sg) {
+      const uvec4 v = sRowTotals[sg];
+      before += sg < gl_SubgroupID ? v : uvec4(0u);
+      total += v;
+    }
+    for (uint g = 0u; g < kSplatBinRow; ++g) {
+      if (g >= row.valid) break;
+      const uint shift = 16u * (g & 1u);
+      if (((m >> g) & 1u) != 0u) list[at[g] + ((before[g >> 1] >> shift) & 0xFFFFu) + rank[g]] = s;
+      at[g] += (total[g >> 1] >> shift) & 0xFFFFu;
+      if (at[g] >= end[g]) pending &= ~(1u << g);
+    }
     barrier();
   }
 }

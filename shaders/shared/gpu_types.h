@@ -381,6 +381,7 @@ struct PhotonFace {
 HB_CONST uint kSplatChunk = 65536u;  // slots a binning workgroup scans (256 rounds of 256)
 HB_CONST uint kSplatBin = 128u;      // pixels: a coarse bin's side by default (splat_bin), a multiple of the tile's
 HB_CONST uint kSplatTile = 16u;      // pixels: one 256-thread workgroup gathers a tile
+HB_CONST uint kSplatBinRow = 8u;     // the most bins of a row a binning workgroup counts and fills
 // The compute splat's push constants (photon_splat_bin.comp.glsl, photon_splat.comp.glsl).
 struct SplatConstants {
   uint slots;      // photon slots
@@ -393,7 +394,8 @@ struct SplatConstants {
   uint binPixels;  // a coarse bin's side (effects.indirect.splat_bin)
   uint first;      // the first slot this run splats (slots: how many from it)
   uint workBase;   // analysis frames: the run's first tile in the gather's work counts (SplatWork)
-  uint pad0, pad1;
+  uint rowBins;    // bins of a row a count or fill group takes (1, 2, 4 or kSplatBinRow)
+  uint pad0;
 };
 struct IndirectConstants {
   uint directions;        // N

@@ -40,10 +40,11 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
 
   const double pixels = double(f.settings.width) * f.settings.height;
   const uint32_t bin = indirect_->settings().indirect.splatBin;
-  const double bins = double((f.settings.width + bin - 1) / bin) * double((f.settings.height + bin - 1) / bin);
+  const uint32_t binsX = (f.settings.width + bin - 1) / bin, binsY = (f.settings.height + bin - 1) / bin;
+  const double bins = double(binsX) * binsY;
   const double tilesABin = double(bin / gpu::kSplatTile) * double(bin / gpu::kSplatTile);
   // What each pass did, from the analysis frame's "indirect" record and the frame's sizes.
-  auto workOf = [pixels, bins, tilesABin](const std::string& name, const nlohmann::json& a) {
+  auto workOf = [pixels, bins, binsX, binsY, tilesABin](const std::string& name, const nlohmann::json& a) {
     const nlohmann::json& in = a.contains("indirect") ? a["indirect"] : nlohmann::json::object();
     const double slots = figureAt(in, {"split_photons", "slots"});
     std::vector<WorkItem> items;
@@ -53,8 +54,9 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       items = {derived("rays_random", slots, "one ray per photon slot")};
     else if (name == kPhotonSplatPass && in.value("splat", "raster") == "compute") {
       // The steps (photon_splat_bin.comp.glsl, photon_splat.comp.glsl): each slot's 64 B photon read
-      // and 12 B of boxes written; its 4 B coarse box read by every bin, counting and filling; each
-      // list entry written, then read with its 8 B box by every tile of its bin; the target written.
+      // and 12 B of boxes written; its 4 B coarse box read by every group of a row's bins, counting
+      // and filling (the fill stops early once its bins are full: at most that); each list entry
+      // written, then read with its 8 B box by every tile of its bin; the target written.
       const double entries = figureAt(in, {"splat_bins", "entries"});
       const double gather = tilesABin * entries * 12 + 16 * pixels;
       const std::string byEntries =
@@ -79,16 +81,26 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
           in["split_photons"].contains("per_bounce") && !in["split_photons"]["per_bounce"].empty())
         first = in["split_photons"]["per_bounce"][0].value("slots", slots);
       const double rest = slots - first;
+      // The count and fill groups: rowBins bins of a row each (IndirectPass::splatRowBins), reading
+      // each of the run's slots' coarse box once.
+      auto binRowsOf = [&](double n) {
+        const uint32_t r = IndirectPass::splatRowBins(uint64_t(std::ceil(n / gpu::kSplatChunk)), binsX, binsY);
+        return double((binsX + r - 1) / r) * binsY;
+      };
       auto binning = [&](const std::string& prefix, double n, double listed, const std::string& entriesNote) {
+        const double binRows = binRowsOf(n);
         return std::vector<PassWork>{
             {prefix + ".count",
-             {derived("bytes", bins * n * 4, "each of its slots' 4 B coarse box read by every bin")}},
+             {derived("bytes", binRows * n * 4,
+                      "each of its slots' 4 B coarse box read once by every group of a row's bins")}},
             {prefix + ".scan",
              {derived("bytes", bins * std::ceil(n / gpu::kSplatChunk) * 4 * 3,
                       "each (bin, chunk) count read twice and its start written once, by one workgroup")}},
             {prefix + ".fill",
-             {derived("bytes", bins * n * 4 + listed * 4,
-                      "each of its slots' coarse box read by every bin, each list entry written" + entriesNote)}}};
+             {derived("bytes", binRows * n * 4 + listed * 4,
+                      "each of its slots' coarse box read by every group of a row's bins (at most: a group "
+                      "stops once its bins are full), each list entry written" +
+                          entriesNote)}}};
       };
       std::vector<PassWork> later;
       if (rest > 0) {
@@ -98,7 +110,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       }
       std::vector<PassWork> out{
           {name,
-           {derived("bytes", slots * 76 + 2 * bins * slots * 4 + entries * 4 + gather,
+           {derived("bytes", slots * 76 + 2 * binRowsOf(slots) * slots * 4 + entries * 4 + gather,
                     "its steps' bytes together (photon_splat.*)")}},
           {name + ".boxes", {derived("bytes", slots * 76, "each slot's 64 B photon read, 12 B of boxes written")}},
           {name + ".gather", gatherItems}};

@@ -263,14 +263,16 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
       k.chunks = (k.slots + gpu::kSplatChunk - 1) / gpu::kSplatChunk;
     }
     k.workBase = cs->hasLate ? cs->late.tilesX * cs->late.tilesY * cs->parts : 0;
+    for (gpu::SplatConstants* run : {&k, &cs->late, &cs->all})
+      run->rowBins = splatRowBins(run->chunks, run->binsX, run->binsY);
     const VkBufferUsageFlags use = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     cs->boxes = Buffer(ctx, std::max<uint64_t>(8, slots() * 8), use, false, MemClass::Other);
-    cs->coarse = Buffer(ctx, std::max<uint64_t>(4, slots() * 4), use, false, MemClass::Other);
+    const VkBufferUsageFlags readable = use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;  // readSplatBins
+    cs->coarse = Buffer(ctx, std::max<uint64_t>(4, slots() * 4), readable, false, MemClass::Other);
     cs->counts =
         Buffer(ctx, uint64_t(k.binsX) * k.binsY * std::max(k.chunks, cs->late.chunks) * 4, use, false, MemClass::Other);
-    cs->bins =
-        Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
-    cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, use, false, MemClass::Other);
+    cs->bins = Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, readable, false, MemClass::Other);
+    cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, readable, false, MemClass::Other);
     cs->work = Buffer(ctx, (uint64_t(k.workBase) + uint64_t(k.tilesX) * k.tilesY) * 8,
                       use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
     computeSplat_ = std::move(cs);
@@ -540,9 +542,10 @@ void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Tar
   dispatch(*cs.bin[0], cs.all, gx, (slotGroups + gx - 1) / gx);
   if (analysis) step.push_back({cs.work, kComputeWrite});
   auto run = [&](uint32_t r, const gpu::SplatConstants& k, std::vector<Use> gatherUses) {
-    dispatch(*cs.bin[1], k, k.chunks, k.binsX * k.binsY);
+    const uint32_t rows = (k.binsX + k.rowBins - 1) / k.rowBins * k.binsY;  // rowBins bins a group
+    dispatch(*cs.bin[1], k, k.chunks, rows);
     dispatch(*cs.bin[2], k, 1, 1);
-    dispatch(*cs.bin[3], k, k.chunks, k.binsX * k.binsY);
+    dispatch(*cs.bin[3], k, k.chunks, rows);
     dispatch(*cs.gather[r][analysis ? 1 : 0], k, k.tilesX, k.tilesY, std::move(gatherUses), r ? cs.parts : 1u);
   };
   if (cs.hasLate) run(1, cs.late, {{t.late, kComputeWrite}});
@@ -609,6 +612,59 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
     if (photons) *photons = readSlots(ctx_, scratch_.photons);
   }
   return readRgba(ctx_, scratch_.irradiance);
+}
+
+// A count or fill group reads each slot's coarse box once for rowBins bins of a row. The widest row
+// that leaves 512 groups (4 of 256 threads for each of an H200's 132 SMs); a run of few chunks (the
+// first bounce's at a stride) needs the groups more than the shared reads, since a group's 256
+// rounds are then the step's time: measured on the H200 (docs/methods/layered-depth-maps.md).
+uint32_t IndirectPass::splatRowBins(uint64_t chunks, uint32_t binsX, uint32_t binsY) {
+  for (uint32_t r = gpu::kSplatBinRow; r > 1; r /= 2)
+    if (chunks * ((binsX + r - 1) / r) * binsY >= 512) return r;
+  return 1;
+}
+
+void IndirectPass::forceSplatRowBins(uint32_t rowBins) {
+  HB_ASSERT(computeSplat_ && rowBins >= 1 && rowBins <= gpu::kSplatBinRow && (rowBins & (rowBins - 1)) == 0);
+  for (gpu::SplatConstants* run : {&computeSplat_->constants, &computeSplat_->late, &computeSplat_->all})
+    run->rowBins = rowBins;
+}
+
+nlohmann::json IndirectPass::splatPipelineStatistics() const {
+  if (!computeSplat_ || !ctx_.info().pipelineStatistics) return nullptr;
+  const ComputeSplat& cs = *computeSplat_;
+  nlohmann::json j = {{"count", pipelineStatistics(ctx_, cs.bin[1]->handle())},
+                      {"fill", pipelineStatistics(ctx_, cs.bin[3]->handle())},
+                      {"gather", pipelineStatistics(ctx_, cs.gather[0][0]->handle())}};
+  if (cs.hasLate) j["later.gather"] = pipelineStatistics(ctx_, cs.gather[1][0]->handle());
+  return j;
+}
+
+std::optional<IndirectPass::SplatBins> IndirectPass::readSplatBins() const {
+  if (!computeSplat_) return std::nullopt;
+  const gpu::SplatConstants& k = computeSplat_->constants;  // the last run: the first bounce's, or all
+  SplatBins out;
+  out.binsX = k.binsX;
+  out.binsY = k.binsY;
+  out.first = k.first;
+  out.slots = k.slots;
+  out.capacity = k.capacity;
+  auto words = [this](const Buffer& b) {
+    const std::vector<uint8_t> bytes = readbackBuffer(ctx_, b);
+    std::vector<uint32_t> w(bytes.size() / 4);
+    std::memcpy(w.data(), bytes.data(), w.size() * 4);
+    return w;
+  };
+  out.coarse = words(computeSplat_->coarse);
+  const std::vector<uint32_t> bins = words(computeSplat_->bins);
+  uint64_t entries = 0;
+  for (size_t b = 0; b + 3 < bins.size(); b += 4) {
+    out.bins.push_back({bins[b], bins[b + 1], bins[b + 2]});
+    entries = std::max<uint64_t>(entries, uint64_t(bins[b]) + bins[b + 1]);
+  }
+  out.list = words(computeSplat_->list);
+  out.list.resize(std::min<uint64_t>(entries, out.list.size()));
+  return out;
 }
 
 std::optional<IndirectPass::SplatStats> IndirectPass::splatStats() const {

@@ -12,6 +12,7 @@
 // every frame, and either splat sums the slots in slot order: the result is deterministic. An analysis
 // frame can compute the other methods on the same surface (computeWith).
 #pragma once
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -123,6 +124,25 @@ class IndirectPass {
     bool counted = false;  // an analysis frame has run
   };
   std::optional<SplatStats> splatStats() const;
+  // splat=compute: the last run's binning as the gather reads it (tests; photon_splat_bin.comp.glsl):
+  // every slot's coarse box (x0 | y0 << 8 | x1 << 16 | y1 << 24), each bin's (start, entries, fits)
+  // and the list's first `entries` of all bins; the run's slots [first, first + slots).
+  struct SplatBins {
+    std::vector<uint32_t> coarse, list;
+    std::vector<std::array<uint32_t, 3>> bins;
+    uint32_t binsX = 0, binsY = 0, first = 0, slots = 0, capacity = 0;
+  };
+  std::optional<SplatBins> readSplatBins() const;
+  // splat=compute: what the driver compiled the count, fill and timed gathers into (registers,
+  // shared memory, spills: gpu/vk_pipeline.h pipelineStatistics), by step; null where the device
+  // does not say.
+  nlohmann::json splatPipelineStatistics() const;
+  // splat=compute: the bins of a row each count and fill group takes (photon_splat_bin.comp.glsl):
+  // the widest of 8, 4, 2 that still leaves 512 groups for a run of `chunks` slot chunks over
+  // binsX x binsY bins, else 1.
+  static uint32_t splatRowBins(uint64_t chunks, uint32_t binsX, uint32_t binsY);
+  // Tests: every run's row width from the next frame on (1, 2, 4 or 8), whatever the rule says.
+  void forceSplatRowBins(uint32_t rowBins);
 
  private:
   struct Target {

@@ -30,6 +30,7 @@ static nlohmann::json indirectJson(IndirectPass& ind, uint32_t w, uint32_t h, co
                        {"source",
                         "counted: the coarse bins' ranges after the analysis frame (with later_bounce_stride > 1, the "
                         "first bounce's run)"}};
+  if (nlohmann::json ps = ind.splatPipelineStatistics(); !ps.is_null()) j["splat_pipelines"] = std::move(ps);
   if (const auto st = ind.splatStats(); st && st->counted) {
     j["splat_work"] = {{"tests", st->tests},
                        {"terms", st->terms},
