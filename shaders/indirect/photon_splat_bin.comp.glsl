@@ -1,6 +1,6 @@
 #version 460
 // The compute splat's binning (splat=compute; effects/indirect/indirect_pass.cpp recordSplatInto),
-// four steps picked by MODE, 256 threads a group:
+// four steps picked by MODE (the count and fill in two forms), 256 threads a group:
 //  MODE 0 (boxes)  a thread a slot: the pixel box of its footprint's quad x ± du/2 ± dv/2 (the raster
 //                  splat's, photon_splat.vert.glsl), one pixel wider on each side, clamped to the
 //                  image, and the same box in coarse bins of sc.binPixels; empty for a slot
@@ -15,13 +15,16 @@
 //  MODE 3 (fill)   a group per (chunk, sc.rowBins bins of a row): each bin's overlapping slots of
 //                  the chunk written in slot order (per bin, a subgroup ballot's prefix), so every
 //                  entry's position is fixed: deterministic.
+//  MODE 4, 5       the count and the fill with sc.rowBins = 1: a single bin's loops.
 // The slot a thread takes in a round is ordered by (gl_SubgroupID, gl_SubgroupInvocationID), so the
 // list's order is the slots' whatever the hardware's mapping of local indices to subgroups.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_EXT_control_flow_attributes : require
 #include "shared/gpu_types.h"
+#include "splat_append.glsl.inc"
 layout(local_size_x = 256) in;
 layout(constant_id = 0) const uint MODE = 0u;
 
@@ -121,8 +124,7 @@ void countChunk() {
     n += uvec4(m & 1u, (m >> 2) & 1u, (m >> 4) & 1u, (m >> 6) & 1u) |
          (uvec4((m >> 1) & 1u, (m >> 3) & 1u, (m >> 5) & 1u, (m >> 7) & 1u) << 16);
   }
-  for (uint g = 0u; g < kSplatBinRow; ++g) {
-    if (g >= row.valid) break;
+  [[unroll]] for (uint g = 0u; g < kSplatBinRow; ++g) {  // a bin past the row counts 0
     const uint c = subgroupAdd((n[g >> 1] >> (16u * (g & 1u))) & 0xFFFFu);
     if (subgroupElect() && c != 0u) atomicAdd(sRowCounts[g], c);
   }
@@ -175,27 +177,32 @@ void fillChunk() {
   const BinRow row = binRowOf();
   uint at[kSplatBinRow], end[kSplatBinRow];
   uint pending = 0u;  // the row's bins still to fill: uniform over the group
-  for (uint g = 0u; g < kSplatBinRow; ++g) {
+  [[unroll]] for (uint g = 0u; g < kSplatBinRow; ++g) {
     at[g] = end[g] = 0u;
-    if (g >= row.valid) continue;
     const uint b = row.y * sc.binsX + row.x0 + g;
-    const uvec4 range = bins[b];
-    if (range.z == 0u) continue;  // past the capacity: the gather scans every slot for this bin
-    at[g] = counts[b * sc.chunks + gl_WorkGroupID.x];
-    end[g] = gl_WorkGroupID.x + 1u < sc.chunks ? counts[b * sc.chunks + gl_WorkGroupID.x + 1u] : range.x + range.y;
-    if (at[g] < end[g]) pending |= 1u << g;
+    // A bin past the capacity is left out: the gather scans every slot for it.
+    if (g < row.valid && bins[b].z != 0u) {
+      at[g] = counts[b * sc.chunks + gl_WorkGroupID.x];
+      end[g] = gl_WorkGroupID.x + 1u < sc.chunks ? counts[b * sc.chunks + gl_WorkGroupID.x + 1u]
+                                                 : bins[b].x + bins[b].y;
+      if (at[g] < end[g]) pending |= 1u << g;
+    }
   }
   for (uint round = 0u; round < kSplatChunk / 256u && pending != 0u; ++round) {
     const uint s = slotOf(round);
     const uint m = inRun(s) ? rowMask(coarse[s], row) & pending : 0u;
     uint rank[kSplatBinRow];
     uvec4 mine = uvec4(0u);
-    for (uint g = 0u; g < kSplatBinRow; ++g) {
+    // Unrolled, without break or continue, so that rank[], at[] and end[] can stay in registers (a
+    // build with break and continue in these loops ran the fill 2x slower on the H200); the bins
+    // done or past the row (uniform) skip their ballot.
+    [[unroll]] for (uint g = 0u; g < kSplatBinRow; ++g) {
       rank[g] = 0u;
-      if (g >= row.valid) continue;
-      const uvec4 ballot = subgroupBallot(((m >> g) & 1u) != 0u);
-      rank[g] = subgroupBallotExclusiveBitCount(ballot);
-      mine[g >> 1] |= subgroupBallotBitCount(ballot) << (16u * (g & 1u));
+      if (((pending >> g) & 1u) != 0u) {
+        const uvec4 ballot = subgroupBallot(((m >> g) & 1u) != 0u);
+        rank[g] = subgroupBallotExclusiveBitCount(ballot);
+        mine[g >> 1] |= subgroupBallotBitCount(ballot) << (16u * (g & 1u));
+      }
     }
     if (subgroupElect()) sRowTotals[gl_SubgroupID] = mine;
     barrier();
@@ -205,13 +212,46 @@ void fillChunk() {
       before += sg < gl_SubgroupID ? v : uvec4(0u);
       total += v;
     }
-    for (uint g = 0u; g < kSplatBinRow; ++g) {
-      if (g >= row.valid) break;
+    [[unroll]] for (uint g = 0u; g < kSplatBinRow; ++g) {  // a bin past the row or done adds 0
       const uint shift = 16u * (g & 1u);
       if (((m >> g) & 1u) != 0u) list[at[g] + ((before[g >> 1] >> shift) & 0xFFFFu) + rank[g]] = s;
       at[g] += (total[g >> 1] >> shift) & 0xFFFFu;
       if (at[g] >= end[g]) pending &= ~(1u << g);
     }
+    barrier();
+  }
+}
+
+// sc.rowBins = 1 (a run of few chunks): a group per (chunk, bin) with a single bin's loop, the
+// count's and fill's code before the rows of bins (MODE 4, 5). The rows' code at one bin a group ran
+// the fill of the first bounce's run at a stride 2.8x slower on the H200.
+void countBin() {
+  const BinRow row = binRowOf();
+  if (gl_LocalInvocationIndex == 0u) sCount = 0u;
+  barrier();
+  uint n = 0u;
+  for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
+    const uint s = slotOf(round);
+    if (inRun(s) && rowMask(coarse[s], row) != 0u) ++n;
+  }
+  n = subgroupAdd(n);
+  if (subgroupElect()) atomicAdd(sCount, n);
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) counts[(row.y * sc.binsX + row.x0) * sc.chunks + gl_WorkGroupID.x] = sCount;
+}
+
+void fillBin() {
+  const BinRow row = binRowOf();
+  const uint b = row.y * sc.binsX + row.x0;
+  if (bins[b].z == 0u) return;  // past the capacity: the gather scans every slot for this bin
+  uint at = counts[b * sc.chunks + gl_WorkGroupID.x];
+  for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
+    const uint s = slotOf(round);
+    const bool hit = inRun(s) && rowMask(coarse[s], row) != 0u;
+    uint all;
+    const uint place = appendPlace(hit, all);
+    if (hit) list[at + place] = s;
+    at += all;
     barrier();
   }
 }
@@ -223,6 +263,10 @@ void main() {
     countChunk();
   else if (MODE == 2u)
     scanCounts();
-  else
+  else if (MODE == 3u)
     fillChunk();
+  else if (MODE == 4u)
+    countBin();
+  else
+    fillBin();
 }

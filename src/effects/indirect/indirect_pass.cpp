@@ -81,7 +81,7 @@ struct IndirectPass::ComputeSplat {
   uint32_t parts = 1;   // the later run's gather: workgroups a tile (photon_splat.comp.glsl PARTS)
   Buffer boxes, coarse, counts, bins, list;
   Buffer work;  // analysis frames: each gather tile's (tests, terms), the later run's tiles first
-  std::vector<std::unique_ptr<Pipeline>> bin;  // MODE 0..3
+  std::vector<std::unique_ptr<Pipeline>> bin;  // MODE 0..5
   // The gathers: [run][COUNT], run 0 the first bounce's (or every bounce's), 1 the later bounces';
   // COUNT 0 in timed frames, 1 in analysis frames.
   std::unique_ptr<Pipeline> gather[2][2];
@@ -279,7 +279,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
   }
   frame_ = makeTarget(s.method != IndirectMethod::Reference);
   if (ComputeSplat* cs = computeSplat_.get()) {
-    for (uint32_t mode = 0; mode < 4; ++mode) {
+    for (uint32_t mode = 0; mode < 6; ++mode) {
       auto p = std::make_unique<Pipeline>(ctx);
       p->createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
       p->createCompute(*shaders_, "photon_splat_bin.comp", SpecConstants{{mode}});
@@ -543,9 +543,10 @@ void IndirectPass::recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Tar
   if (analysis) step.push_back({cs.work, kComputeWrite});
   auto run = [&](uint32_t r, const gpu::SplatConstants& k, std::vector<Use> gatherUses) {
     const uint32_t rows = (k.binsX + k.rowBins - 1) / k.rowBins * k.binsY;  // rowBins bins a group
-    dispatch(*cs.bin[1], k, k.chunks, rows);
+    const bool single = k.rowBins == 1;                                     // MODE 4, 5: a single bin's loops
+    dispatch(*cs.bin[single ? 4 : 1], k, k.chunks, rows);
     dispatch(*cs.bin[2], k, 1, 1);
-    dispatch(*cs.bin[3], k, k.chunks, rows);
+    dispatch(*cs.bin[single ? 5 : 3], k, k.chunks, rows);
     dispatch(*cs.gather[r][analysis ? 1 : 0], k, k.tilesX, k.tilesY, std::move(gatherUses), r ? cs.parts : 1u);
   };
   if (cs.hasLate) run(1, cs.late, {{t.late, kComputeWrite}});
