@@ -1,6 +1,6 @@
 #version 460
 // The compute splat's binning (splat=compute; effects/indirect/indirect_pass.cpp recordSplatInto),
-// four steps picked by MODE (the count and fill in two forms), 256 threads a group:
+// the steps picked by MODE (the count and fill in two forms), 256 threads a group:
 //  MODE 0 (boxes)  a thread a slot: the pixel box of its footprint's quad x ± du/2 ± dv/2 (the raster
 //                  splat's, photon_splat.vert.glsl), one pixel wider on each side, clamped to the
 //                  image, and the same box in coarse bins of sc.binPixels; empty for a slot

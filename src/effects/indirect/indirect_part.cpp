@@ -110,7 +110,8 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       }
       std::vector<PassWork> out{
           {name,
-           {derived("bytes", slots * 76 + 2 * binRowsOf(slots) * slots * 4 + entries * 4 + gather,
+           {derived("bytes",
+                    slots * 76 + 2 * (binRowsOf(first) * first + binRowsOf(rest) * rest) * 4 + entries * 4 + gather,
                     "its steps' bytes together (photon_splat.*)")}},
           {name + ".boxes", {derived("bytes", slots * 76, "each slot's 64 B photon read, 12 B of boxes written")}},
           {name + ".gather", gatherItems}};

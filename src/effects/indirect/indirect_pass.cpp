@@ -272,7 +272,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
     cs->counts =
         Buffer(ctx, uint64_t(k.binsX) * k.binsY * std::max(k.chunks, cs->late.chunks) * 4, use, false, MemClass::Other);
     cs->bins = Buffer(ctx, uint64_t(k.binsX) * k.binsY * 16, readable, false, MemClass::Other);
-    cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, readable, false, MemClass::Other);
+    cs->list = Buffer(ctx, uint64_t(k.capacity) * 4, readable | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+                      MemClass::Other);  // filled by tests (fillSplatList)
     cs->work = Buffer(ctx, (uint64_t(k.workBase) + uint64_t(k.tilesX) * k.tilesY) * 8,
                       use | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, MemClass::Other);
     computeSplat_ = std::move(cs);
@@ -616,9 +617,9 @@ std::vector<float> IndirectPass::computeWith(IndirectMethod m, std::vector<gpu::
 }
 
 // A count or fill group reads each slot's coarse box once for rowBins bins of a row. The widest row
-// that leaves 512 groups (4 of 256 threads for each of an H200's 132 SMs); a run of few chunks (the
-// first bounce's at a stride) needs the groups more than the shared reads, since a group's 256
-// rounds are then the step's time: measured on the H200 (docs/methods/layered-depth-maps.md).
+// that leaves 512 groups (about 4 of 256 threads for each of an H200's 132 SMs); a run of few chunks
+// (the first bounce's at a stride) needs the groups more than the shared reads, since a group's 256
+// rounds are then the step's time (measured on the H200: results/h200/raster3d-52/splat-rows).
 uint32_t IndirectPass::splatRowBins(uint64_t chunks, uint32_t binsX, uint32_t binsY) {
   for (uint32_t r = gpu::kSplatBinRow; r > 1; r /= 2)
     if (chunks * ((binsX + r - 1) / r) * binsY >= 512) return r;
@@ -629,6 +630,13 @@ void IndirectPass::forceSplatRowBins(uint32_t rowBins) {
   HB_ASSERT(computeSplat_ && rowBins >= 1 && rowBins <= gpu::kSplatBinRow && (rowBins & (rowBins - 1)) == 0);
   for (gpu::SplatConstants* run : {&computeSplat_->constants, &computeSplat_->late, &computeSplat_->all})
     run->rowBins = rowBins;
+}
+
+void IndirectPass::fillSplatList(uint32_t value) {
+  HB_ASSERT(computeSplat_);
+  ctx_.submitAndWait(
+      [&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, computeSplat_->list.handle(), 0, VK_WHOLE_SIZE, value); },
+      "the splat list filled for a test");
 }
 
 nlohmann::json IndirectPass::splatPipelineStatistics() const {

@@ -143,6 +143,9 @@ class IndirectPass {
   static uint32_t splatRowBins(uint64_t chunks, uint32_t binsX, uint32_t binsY);
   // Tests: every run's row width from the next frame on (1, 2, 4 or 8), whatever the rule says.
   void forceSplatRowBins(uint32_t rowBins);
+  // Tests: every word of the splat's list set to `value` now, so that an entry the next frame's
+  // fill leaves unwritten shows (a fresh buffer may hold an earlier renderer's list).
+  void fillSplatList(uint32_t value);
 
  private:
   struct Target {
