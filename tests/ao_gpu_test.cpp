@@ -223,7 +223,10 @@ TEST_F(AoGpuTest, InsideAClosedBoxNothingSeesTheSky) {
 // Per pixel the two sums agree to the float sum's rounding (64 terms: 64u) unless a ray passes
 // within rounding of an edge or grazes a surface; such a direction moves AO by at most 2·|n·v|/N.
 // The same with backend=compute (our BVH, compute_occluded.glsl.inc): held to the same bounds, and
-// to the ray-query AO pixel for pixel where neither differs from the CPU rays.
+// to the ray-query AO pixel for pixel where neither differs from the CPU rays, unless the pixel has
+// a direction whose weight 2·|n·v|/N fits in the tolerance, so that one backend may count it and
+// the other not while both match the CPU (seen once: |n·v| ≈ 1e-5, a difference of 3e-7, after the
+// slab test's fma form of compute_occluded.glsl.inc changed which of two tracers counted it).
 TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
   const Scene scene = makeAtrium(AtriumParams{});
   std::vector<float> byAuto;
@@ -239,7 +242,7 @@ TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
     const ShadowReadback sh = shadowsOf(r)->readShadows();
     const Bvh bvh = buildBvh(scene);
     const std::vector<glm::dvec3> dirs = ldmDirections(64);
-    size_t compared = 0, equal = 0, sameAsAuto = 0, bothExact = 0;
+    size_t compared = 0, equal = 0, sameAsAuto = 0, bothExact = 0, lightOnly = 0;
     double sumDiff = 0;
     for (size_t i = 0; i < ao.size(); ++i) {
       if (ao[i] < 0.0f) continue;
@@ -254,17 +257,32 @@ TEST_F(AoGpuTest, RayTracedAoEqualsTheCpuDoubleRaysFromTheSamePositions) {
       sumDiff += d;
       if (!byAuto.empty() && d <= 64.0 * 5.96e-8 && std::abs(cpu - double(byAuto[i])) <= 64.0 * 5.96e-8) {
         ++bothExact;
-        sameAsAuto += ao[i] == byAuto[i];
+        // Within the tolerance of the CPU both, yet unequal: a direction whose weight 2|n·v|/N fits
+        // inside the tolerance and the difference may differ between them (a grazing ray within
+        // rounding of a surface, as the closed box's bound says); where none is that light, one ray
+        // set differs by a term larger than the tolerance could hide, and both cannot match the CPU.
+        bool light = false;
+        const double diff = std::abs(double(ao[i]) - double(byAuto[i]));
+        for (const glm::dvec3& v : dirs)
+          light =
+              light || (2.0 * std::abs(glm::dot(glm::normalize(n), v)) / double(dirs.size()) <= diff + 64.0 * 5.96e-8);
+        sameAsAuto += ao[i] == byAuto[i] || light;
+        lightOnly += ao[i] != byAuto[i] && light;
       }
     }
-    std::printf("atrium 64x36, %s raytraced AO vs CPU double rays: %zu of %zu pixels equal, mean |difference| %.2g\n",
-                backend, equal, compared, compared ? sumDiff / double(compared) : 0.0);
+    std::printf(
+        "atrium 64x36, %s raytraced AO vs CPU double rays: %zu of %zu pixels equal, mean |difference| %.2g; %zu "
+        "pixel(s) matching the CPU differ from the first backend's by a direction light enough to hide in the "
+        "tolerance\n",
+        backend, equal, compared, compared ? sumDiff / double(compared) : 0.0, lightOnly);
     EXPECT_GT(compared, 1500u);
     EXPECT_GE(double(equal), 0.98 * double(compared));
     EXPECT_LE(sumDiff / double(compared), 1e-3);
-    // Both within the float sum's rounding of the CPU: the same rays hit, the same float sum.
+    // Both within the float sum's rounding of the CPU: the same rays hit, the same float sum, but
+    // for directions too light to show (above).
     if (!byAuto.empty()) {
-      EXPECT_EQ(sameAsAuto, bothExact) << "pixels where both match the CPU rays but not each other";
+      EXPECT_EQ(sameAsAuto, bothExact)
+          << "pixels where both match the CPU rays but differ by more than a light direction";
     }
     byAuto = ao;
   }

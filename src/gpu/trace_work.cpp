@@ -17,6 +17,7 @@ constexpr uint64_t kTriangleBytes = 48;  // 3 vec4
 
 struct Ray {
   glm::vec3 o, d, inv;
+  glm::vec3 slabLo, slabHi;  // the shader's SlabRay: o · inv widened by 2^-22 |o · inv| toward each plane's side
   float tMin, tMax;
 };
 
@@ -48,7 +49,11 @@ bool hitTriangle(const TraceBvhLayout& l, const Ray& r, uint32_t tri, float tMin
 }
 
 bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, float tMax, float& entry) {
-  const glm::vec3 t0 = (lo - r.o) * r.inv, t1 = (hi - r.o) * r.inv;
+  glm::vec3 t0, t1;
+  for (int a = 0; a < 3; ++a) {  // one fma a plane, as the shader's hitBox
+    t0[a] = std::fma(lo[a], r.inv[a], -r.slabLo[a]);
+    t1[a] = std::fma(hi[a], r.inv[a], -r.slabHi[a]);
+  }
   const glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
   entry = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
   const float far = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax)) * kFarWiden;
@@ -193,7 +198,13 @@ TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& 
       Ray r;
       r.o = glm::vec3(rr.origin[0], rr.origin[1], rr.origin[2]);
       r.d = glm::vec3(rr.dir[0], rr.dir[1], rr.dir[2]);
-      for (int a = 0; a < 3; ++a) r.inv[a] = 1.0f / (r.d[a] == 0.0f ? 1e-30f : r.d[a]);  // safeInverse
+      for (int a = 0; a < 3; ++a) {
+        r.inv[a] = 1.0f / (r.d[a] == 0.0f ? 1e-30f : r.d[a]);  // safeInverse
+        // slabRay: lo is the near plane where inv > 0
+        const float q = r.o[a] * r.inv[a], d = std::fabs(q) * (1.0f / 4194304.0f), s = r.inv[a] > 0.0f ? 1.0f : -1.0f;
+        r.slabLo[a] = q + s * d;
+        r.slabHi[a] = q - s * d;
+      }
       r.tMin = rr.tMin;
       r.tMax = rr.tMax;
       ++c.w.rays;
