@@ -17,7 +17,10 @@ constexpr uint64_t kTriangleBytes = 48;  // 3 vec4
 
 struct Ray {
   glm::vec3 o, d, inv;
-  glm::vec3 slabLo, slabHi;  // the shader's SlabRay: o · inv widened by 2^-22 |o · inv| toward each plane's side
+  // The shader's SlabRay: `fused` (any-hit rays) o · inv widened by 2^-22 |o · inv| toward each plane's
+  // side, for t = fma(p, inv, −slab); else o, for t = (p − o) · inv (closest hits).
+  glm::vec3 slabLo, slabHi;
+  bool fused;
   float tMin, tMax;
 };
 
@@ -50,9 +53,9 @@ bool hitTriangle(const TraceBvhLayout& l, const Ray& r, uint32_t tri, float tMin
 
 bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, float tMax, float& entry) {
   glm::vec3 t0, t1;
-  for (int a = 0; a < 3; ++a) {  // one fma a plane, as the shader's hitBox
-    t0[a] = std::fma(lo[a], r.inv[a], -r.slabLo[a]);
-    t1[a] = std::fma(hi[a], r.inv[a], -r.slabHi[a]);
+  for (int a = 0; a < 3; ++a) {  // as the shader's slabT
+    t0[a] = r.fused ? std::fma(lo[a], r.inv[a], -r.slabLo[a]) : (lo[a] - r.slabLo[a]) * r.inv[a];
+    t1[a] = r.fused ? std::fma(hi[a], r.inv[a], -r.slabHi[a]) : (hi[a] - r.slabHi[a]) * r.inv[a];
   }
   const glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
   entry = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
@@ -202,9 +205,10 @@ TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& 
         r.inv[a] = 1.0f / (r.d[a] == 0.0f ? 1e-30f : r.d[a]);  // safeInverse
         // slabRay: lo is the near plane where inv > 0
         const float q = r.o[a] * r.inv[a], d = std::fabs(q) * (1.0f / 4194304.0f), s = r.inv[a] > 0.0f ? 1.0f : -1.0f;
-        r.slabLo[a] = q + s * d;
-        r.slabHi[a] = q - s * d;
+        r.slabLo[a] = anyHit ? q + s * d : r.o[a];
+        r.slabHi[a] = anyHit ? q - s * d : r.o[a];
       }
+      r.fused = anyHit;
       r.tMin = rr.tMin;
       r.tMax = rr.tMax;
       ++c.w.rays;
