@@ -374,6 +374,26 @@ int cmdRaybench(const RaybenchOptions& o) {
          {"through", p.description},
          {"compiled", p.compiled}});
   }
+  // The loads ceiling (gpu/peaks.h traceRayFile): the 4-wide traversal's fetches alone; not a tracer,
+  // its missed flags are the CPU replay's. How close the traversal runs to it.
+  j["loads_ceiling"] = nlohmann::json::array();
+  for (const Peak& ceiling : trace.figures) {
+    const size_t at = ceiling.backend.find("-loads");
+    if (at == std::string::npos) continue;
+    const std::string traced = ceiling.backend.substr(0, at);  // "-loads" or "-loads-half" ends it
+    for (const Peak& p : trace.figures)
+      if (p.backend == traced && ceiling.perSecond > 0) {
+        std::printf(
+            "\n%s is the loads alone of %s's traversal (replayed on the CPU, each load waiting for the one before, no "
+            "test%s): a ceiling, not a tracer. %s runs at %.0f %% of it.\n",
+            ceiling.backend.c_str(), traced.c_str(),
+            ceiling.backend.find("-half") != std::string::npos ? "; a node's 4 children read as 64 B, not 112 B" : "",
+            traced.c_str(), 100.0 * p.perSecond / ceiling.perSecond);
+        j["loads_ceiling"].push_back({{"backend", traced},
+                                      {"ceiling", ceiling.backend},
+                                      {"fraction_of_ceiling", p.perSecond / ceiling.perSecond}});
+      }
+  }
   // What the driver compiled each compute kernel into (registers, spills, ...), where it says.
   if (!ctx.info().pipelineStatistics) {
     std::printf("\nThe driver gives no pipeline statistics (VK_KHR_pipeline_executable_properties not offered)\n");
@@ -439,6 +459,7 @@ int cmdRaybench(const RaybenchOptions& o) {
     writeHits((fs::path(o.hitsOut) / "cpu.hits.bin").string(), recs);
     desc["files"]["cpu"] = "cpu.hits.bin (the CPU's double-precision BVH)";
     for (const Peak& p : trace.figures) {
+      if (p.backend.find("-loads") != std::string::npos) continue;  // a ceiling: no hits of its own
       const RayFileHits& h = trace.hits.at(p.backend);
       for (size_t i = 0; i < recs.size(); ++i) {
         const bool missed = h.missed[i] != 0;

@@ -21,6 +21,7 @@
 #include "gpu/rt_pipeline.h"
 #include "gpu/sync.h"
 #include "gpu/trace_bvh.h"
+#include "gpu/trace_work.h"
 #include "gpu/vk_pipeline.h"
 #include "gpu/vk_resources.h"
 #include "gpu/warm_up.h"
@@ -346,6 +347,119 @@ void addPublicRayPeaks(const VulkanContext& ctx, const Scene& scene, Peaks& peak
     if (p.unit != "rays_public_warmup") peaks.figures.push_back(p);
 }
 
+namespace {
+
+// raybench's loads ceiling (shaders/peaks/peaks_rays_loads.comp.glsl): the fetches of our traversal
+// at `bvhWidth` for the file's rays, replayed on the CPU (gpu/trace_work.h) and laid out a subgroup
+// chunk of 32 invocations at a time, then loaded on the GPU in that order, each address waiting for
+// the loads before it, with no test. Its rate bounds the traversal's from above: what the memory
+// allows these addresses. The figure's backend is "compute-w<W>-loads"; its missed flags are the
+// replay's.
+// half: each group of 4 children read as 4 vec4 of a 64 B stride instead of 7 of 128 B (a node
+// compressed to half its bytes; backend "compute-w<W>-loads-half").
+Peak measureLoadsCeiling(const VulkanContext& ctx, const Scene& scene, const RayFile& file, uint32_t width,
+                         uint32_t height, uint32_t bvhWidth, bool half, const std::string& where, RayFileHits& hits) {
+  const TraceBvhLayout layout = layoutTraceBvh(scene.worldTriangles(), bvhWidth);
+  std::vector<std::vector<uint32_t>> events;
+  std::vector<uint8_t> replayMissed;
+  traceWork(layout, file.rays, file.info.query == "any", &events, &replayMissed);
+  const uint32_t tilesX = (width + 7) / 8, tilesY = (height + 7) / 8;
+  const size_t rays = file.rays.size();
+  std::vector<uint32_t> chunkBase(size_t(tilesX) * tilesY * 2, 0), rayInfo(rays, 0);
+  // The ray of invocation li (0..63) of tile (tx, ty), or ~0 for none (as peaks_rays.glsl.inc).
+  auto rayOf = [&](uint32_t tx, uint32_t ty, uint32_t li) -> size_t {
+    const uint32_t x = tx * 8 + li % 8, y = ty * 8 + li / 8;
+    if (x >= width || y >= height) return ~size_t(0);
+    const size_t i = size_t(y) * width + x;
+    return i < rays ? i : ~size_t(0);
+  };
+  uint64_t total = 0;
+  for (uint32_t ty = 0; ty < tilesY; ++ty)
+    for (uint32_t tx = 0; tx < tilesX; ++tx)
+      for (uint32_t chunk = 0; chunk < 2; ++chunk) {
+        size_t steps = 0;
+        for (uint32_t lane = 0; lane < 32; ++lane) {
+          const size_t i = rayOf(tx, ty, 32 * chunk + lane);
+          if (i != ~size_t(0)) steps = std::max(steps, events[i].size());
+        }
+        chunkBase[(size_t(ty) * tilesX + tx) * 2 + chunk] = uint32_t(total);
+        total += 32 * uint64_t(steps);
+        if (total >= (uint64_t(1) << 32))
+          throw InputError("raybench: the loads ceiling's replay of " + std::to_string(rays) +
+                           " rays holds more than 2^32 fetches; trace fewer rays a file");
+      }
+  std::vector<uint32_t> flat(std::max<uint64_t>(total, 1), 0);
+  for (uint32_t ty = 0; ty < tilesY; ++ty)
+    for (uint32_t tx = 0; tx < tilesX; ++tx)
+      for (uint32_t li = 0; li < 64; ++li) {
+        const size_t i = rayOf(tx, ty, li);
+        if (i == ~size_t(0)) continue;
+        const uint64_t base = chunkBase[(size_t(ty) * tilesX + tx) * 2 + li / 32];
+        for (size_t k = 0; k < events[i].size(); ++k) flat[base + 32 * k + li % 32] = events[i][k];
+        rayInfo[i] = uint32_t(events[i].size()) | (replayMissed[i] ? 0x80000000u : 0u);
+      }
+  events.clear();
+  events.shrink_to_fit();
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const Buffer nodes =
+      uploadBuffer(ctx, layout.wide.data(), layout.wide.size() * sizeof(glm::vec4), storage, MemClass::Other);
+  const Buffer triangles =
+      uploadBuffer(ctx, layout.triangles.data(), layout.triangles.size() * sizeof(glm::vec4), storage, MemClass::Other);
+  const Buffer eventBuf = uploadBuffer(ctx, flat.data(), flat.size() * 4, storage, MemClass::Other);
+  const Buffer chunkBuf = uploadBuffer(ctx, chunkBase.data(), chunkBase.size() * 4, storage, MemClass::Other);
+  const Buffer infoBuf = uploadBuffer(ctx, rayInfo.data(), rayInfo.size() * 4, storage, MemClass::Other);
+  Buffer missed(ctx, size_t(width) * height * 4,
+                storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
+  DescriptorBinder binder("peaks.rays_loads");
+  binder.provide("Dst", missed);
+  binder.provide("BvhNodes", nodes);
+  binder.provide("BvhTriangles", triangles);
+  binder.provide("Events", eventBuf);
+  binder.provide("ChunkBase", chunkBuf);
+  binder.provide("RayInfo", infoBuf);
+  Pipeline compute(ctx);
+  compute.createCompute(binder, "peaks_rays_loads.comp", 4 * sizeof(uint32_t),
+                        {{bvhWidth, half ? 4u : 7u, half ? 4u : kWideGroupVec4s}});
+  binder.checkEveryNameRead();
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, missed.handle(), 0, VK_WHOLE_SIZE, ~0u); },
+                    "clearing the loads ceiling's results");
+  const uint32_t push[4] = {width, height, uint32_t(rays), 0u};
+  VkDescriptorSet descriptors = compute.set();
+  DeviceWarmer warmer(ctx);
+  warmer.warm(kRewarmPolicy);
+  const std::string backend = "compute-w" + std::to_string(bvhWidth) + "-loads" + (half ? "-half" : "");
+  Peak peak = makePeak(
+      "rays_file_compute_w" + std::to_string(bvhWidth) + "_loads" + (half ? "_half" : ""), "rays_file", double(rays),
+      timeRepetitions(ctx, sizesFor(ctx.info()),
+                      [&](VkCommandBuffer cmd) {
+                        vkCmdBindPipeline(cmd, compute.bindPoint(), compute.handle());
+                        vkCmdBindDescriptorSets(cmd, compute.bindPoint(), compute.layout(), 0, 1, &descriptors, 0,
+                                                nullptr);
+                        vkCmdPushConstants(cmd, compute.layout(), VK_SHADER_STAGE_ALL, 0, sizeof push, push);
+                        vkCmdDispatch(cmd, tilesX, tilesY, 1);
+                      }),
+      std::to_string(rays) + " rays of a ray file (" + file.info.kind + "): the loads alone of our " +
+          std::to_string(bvhWidth) + "-wide traversal (" + std::to_string(total / 32) +
+          " subgroup steps), in its order, each waiting for the one before, with no test" +
+          (half ? ", a node's group of 4 children read as 64 B (4 vec4) instead of 112 B" : "") + where +
+          ": a ceiling, not a tracer");
+  peak.backend = backend;
+  peak.compiled = pipelineStatistics(ctx, compute.handle());
+  const std::vector<uint8_t> bytes = readbackBuffer(ctx, missed);
+  const uint32_t* m = reinterpret_cast<const uint32_t*>(bytes.data());
+  peak.missed = 0;
+  for (size_t i = 0; i < rays; ++i) {
+    if (m[i] > 1)
+      throw DeviceError("the loads ceiling left ray " + std::to_string(i) +
+                        " unvisited: a bug in its shader or the driver");
+    peak.missed += m[i];
+  }
+  hits.missed.assign(m, m + rays);
+  return peak;
+}
+
+}  // namespace
+
 RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const RayFile& file) {
   HB_ASSERT(ctx.canTrace() && !file.rays.empty());
   RayParams params{};
@@ -363,6 +477,12 @@ RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const Ra
   out.figures = measureRaySets(ctx, scene, params, width, height, file.rays.size(), &rays, sets, where, true,
                                out.warnings, &hits);
   for (auto& [backend, h] : hits) out.hits[backend] = {std::move(h.t), std::move(h.missed), std::move(h.ids)};
+  // The ceiling of the default width's traversal: its loads alone, as they are and at half the bytes.
+  for (bool half : {false, true}) {
+    RayFileHits loadsHits;
+    out.figures.push_back(measureLoadsCeiling(ctx, scene, file, width, height, 4, half, where, loadsHits));
+    out.hits[out.figures.back().backend] = std::move(loadsHits);
+  }
   return out;
 }
 

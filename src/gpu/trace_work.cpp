@@ -65,6 +65,7 @@ bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, 
 
 struct Counter {
   TraceWork w;
+  std::vector<uint32_t>* events = nullptr;  // the current ray's fetches, where recorded
   std::vector<std::pair<uint32_t, float>> stack;
   bool found = false;  // the ray has a hit
   void push(uint32_t code, float entry) {
@@ -78,6 +79,7 @@ struct Counter {
     for (uint32_t i = first; i < first + count; ++i) {
       ++w.triangles;
       w.triangleBytes += kTriangleBytes;
+      if (events) events->push_back(kWideLeaf | i);
       float t;
       if (!hitTriangle(l, r, i, r.tMin, best, t)) continue;
       found = true;
@@ -110,6 +112,7 @@ void wideRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
     if ((code & kWideLeaf) == 0) {
       ++c.w.nodes;
       c.w.nodeBytes += 16 * wideNodeVec4s(l.width);
+      if (c.events) c.events->push_back(code);
       uint32_t next = kWideEmpty;
       float nextEntry = 0.0f;
       const size_t base = c.stack.size();  // this node's pushes
@@ -189,8 +192,11 @@ void binaryRay(const TraceBvhLayout& l, const Ray& r, bool anyHit, Counter& c) {
 
 }  // namespace
 
-TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& rays, bool anyHit) {
+TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& rays, bool anyHit,
+                    std::vector<std::vector<uint32_t>>* events, std::vector<uint8_t>* missed) {
   constexpr size_t kChunk = 4096;
+  if (events) events->assign(rays.size(), {});
+  if (missed) missed->assign(rays.size(), 0);
   const size_t chunks = (rays.size() + kChunk - 1) / kChunk;
   TraceWork total;
   std::mutex m;
@@ -212,10 +218,12 @@ TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& 
       r.tMin = rr.tMin;
       r.tMax = rr.tMax;
       ++c.w.rays;
+      c.events = events && layout.width != 2 ? &(*events)[i] : nullptr;
       if (layout.width == 2)
         binaryRay(layout, r, anyHit, c);
       else
         wideRay(layout, r, anyHit, c);
+      if (missed) (*missed)[i] = c.found ? 0 : 1;
     }
     std::lock_guard<std::mutex> lock(m);
     total.rays += c.w.rays;

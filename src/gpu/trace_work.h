@@ -26,7 +26,11 @@ struct TraceWork {
   double perRay(uint64_t v) const { return rays ? double(v) / double(rays) : 0.0; }
 };
 
-// anyHit: the occlusion query (the first hit ends the ray); else the closest hit.
-TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& rays, bool anyHit);
+// anyHit: the occlusion query (the first hit ends the ray); else the closest hit. With `events`
+// (width 4 or 8), each ray's fetches in order: a wide node's code (< kWideLeaf), or kWideLeaf | the
+// triangle slot for a triangle tested (raybench's loads ceiling replays them on the GPU); and with
+// `missed`, whether each ray ended without a hit.
+TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& rays, bool anyHit,
+                    std::vector<std::vector<uint32_t>>* events = nullptr, std::vector<uint8_t>* missed = nullptr);
 
 }  // namespace hb
