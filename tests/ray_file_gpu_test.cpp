@@ -222,6 +222,12 @@ TEST_F(RaysCli, ExportedFilesTraceWithEveryBackendAndAnotherScenesFileIsRefused)
   EXPECT_NE(table.out.find("| b.json | shadow | closest | " + std::to_string(figures["file"]["count"].get<uint64_t>())),
             std::string::npos)
       << table.out;
+  // and each loads ceiling's share, as raybench's JSON has it.
+  for (const json& c : figures["loads_ceiling"])
+    EXPECT_NE(table.out.find(format("| b.json | compute-w4 | %s |", c["ceiling"].get<std::string>().c_str())),
+              std::string::npos)
+        << table.out;
+  EXPECT_EQ(figures["loads_ceiling"].size(), 2u) << figures.dump();
   const RunResult work = run({"rays", "table", (dir / "b.json").string(), "--work"});
   ASSERT_EQ(work.exitCode, 0) << work.err;
   EXPECT_NE(work.out.find(

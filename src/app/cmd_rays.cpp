@@ -246,6 +246,26 @@ int cmdRaysTable(const std::vector<std::string>& files, bool work, bool compiled
     }
     std::printf("\n");
   }
+  // How close the traversal runs to its loads ceiling, where a file measured one (raybench's
+  // loads_ceiling): the traversal's rate over the ceiling's.
+  bool anyCeiling = false;
+  for (const nlohmann::json& j : runs)
+    anyCeiling = anyCeiling || !j.value("loads_ceiling", nlohmann::json::array()).empty();
+  if (anyCeiling) {
+    std::printf(
+        "\nEach traversal's rate against its loads ceiling (the same fetches alone, each waiting for the one "
+        "before, no test; `-half`: a node's 4 children read as 64 B instead of 112 B):\n\n| file | backend | "
+        "ceiling | ceiling G rays/s | share of the ceiling |\n|---|---|---|---:|---:|\n");
+    for (size_t r = 0; r < runs.size(); ++r)
+      for (const nlohmann::json& c : runs[r].value("loads_ceiling", nlohmann::json::array())) {
+        double rate = 0;
+        for (const nlohmann::json& b : runs[r]["backends"])
+          if (b.value("backend", "") == c.value("ceiling", "")) rate = b.value("rays_per_s", 0.0);
+        std::printf("| %s | %s | %s | %.3g | %.0f %% |\n", fs::path(files[r]).filename().string().c_str(),
+                    c.value("backend", "?").c_str(), c.value("ceiling", "?").c_str(), rate / 1e9,
+                    100.0 * c.value("fraction_of_ceiling", 0.0));
+      }
+  }
   if (compiled) {
     // What the driver compiled each compute kernel into, where the file carries it (raybench's
     // "compiled"): the statistics' names as the driver gives them, one column each.
