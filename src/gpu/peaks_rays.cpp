@@ -357,8 +357,11 @@ namespace {
 // replay's.
 // half: each group of 4 children read as 4 vec4 of a 64 B stride instead of 7 of 128 B (a node
 // compressed to half its bytes; backend "compute-w<W>-loads-half").
-Peak measureLoadsCeiling(const VulkanContext& ctx, const Scene& scene, const RayFile& file, uint32_t width,
-                         uint32_t height, uint32_t bvhWidth, bool half, const std::string& where, RayFileHits& hits) {
+// None (and a warning) where the replay's fetches do not fit one storage buffer of the device.
+std::optional<Peak> measureLoadsCeiling(const VulkanContext& ctx, const Scene& scene, const RayFile& file,
+                                        uint32_t width, uint32_t height, uint32_t bvhWidth, bool half,
+                                        const std::string& where, RayFileHits& hits,
+                                        std::vector<std::string>& warnings) {
   const TraceBvhLayout layout = layoutTraceBvh(scene.worldTriangles(), bvhWidth);
   std::vector<std::vector<uint32_t>> events;
   std::vector<uint8_t> replayMissed;
@@ -373,6 +376,9 @@ Peak measureLoadsCeiling(const VulkanContext& ctx, const Scene& scene, const Ray
     const size_t i = size_t(y) * width + x;
     return i < rays ? i : ~size_t(0);
   };
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(ctx.physical(), &props);
+  const uint64_t maxEntries = props.limits.maxStorageBufferRange / 4;  // one binding holds the events
   uint64_t total = 0;
   for (uint32_t ty = 0; ty < tilesY; ++ty)
     for (uint32_t tx = 0; tx < tilesX; ++tx)
@@ -384,9 +390,12 @@ Peak measureLoadsCeiling(const VulkanContext& ctx, const Scene& scene, const Ray
         }
         chunkBase[(size_t(ty) * tilesX + tx) * 2 + chunk] = uint32_t(total);
         total += 32 * uint64_t(steps);
-        if (total >= (uint64_t(1) << 32))
-          throw InputError("raybench: the loads ceiling's replay of " + std::to_string(rays) +
-                           " rays holds more than 2^32 fetches; trace fewer rays a file");
+        if (total > maxEntries) {
+          warnings.push_back("raybench: no loads ceiling: the replay of " + std::to_string(rays) +
+                             " rays holds more than " + std::to_string(maxEntries) +
+                             " fetches (the device's largest storage buffer); trace fewer rays a file for one");
+          return std::nullopt;
+        }
       }
   std::vector<uint32_t> flat(std::max<uint64_t>(total, 1), 0);
   for (uint32_t ty = 0; ty < tilesY; ++ty)
@@ -480,8 +489,11 @@ RayFileTrace traceRayFile(const VulkanContext& ctx, const Scene& scene, const Ra
   // The ceiling of the default width's traversal: its loads alone, as they are and at half the bytes.
   for (bool half : {false, true}) {
     RayFileHits loadsHits;
-    out.figures.push_back(measureLoadsCeiling(ctx, scene, file, width, height, 4, half, where, loadsHits));
-    out.hits[out.figures.back().backend] = std::move(loadsHits);
+    const std::optional<Peak> ceiling =
+        measureLoadsCeiling(ctx, scene, file, width, height, 4, half, where, loadsHits, out.warnings);
+    if (!ceiling) break;
+    out.figures.push_back(*ceiling);
+    out.hits[ceiling->backend] = std::move(loadsHits);
   }
   return out;
 }

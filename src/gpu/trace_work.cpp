@@ -12,8 +12,9 @@ namespace hb {
 
 namespace {
 
-constexpr float kFarWiden = 1.0000004f;  // + 3 ulps (Ize 2013), as the shader
-constexpr uint64_t kTriangleBytes = 48;  // 3 vec4
+constexpr float kFarWiden = 1.0000004f;       // + 3 ulps (Ize 2013), as the shader
+constexpr float kFarWidenFused = 1.0000006f;  // + 5 ulps: the fused form's (any-hit rays)
+constexpr uint64_t kTriangleBytes = 48;       // 3 vec4
 
 struct Ray {
   glm::vec3 o, d, inv;
@@ -59,7 +60,7 @@ bool hitBox(const glm::vec3& lo, const glm::vec3& hi, const Ray& r, float tMin, 
   }
   const glm::vec3 tn = glm::min(t0, t1), tf = glm::max(t0, t1);
   entry = std::max(std::max(tn.x, tn.y), std::max(tn.z, tMin));
-  const float far = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax)) * kFarWiden;
+  const float far = std::min(std::min(tf.x, tf.y), std::min(tf.z, tMax)) * (r.fused ? kFarWidenFused : kFarWiden);
   return !(entry > far);
 }
 
@@ -208,7 +209,9 @@ TraceWork traceWork(const TraceBvhLayout& layout, const std::vector<RayRecord>& 
       r.o = glm::vec3(rr.origin[0], rr.origin[1], rr.origin[2]);
       r.d = glm::vec3(rr.dir[0], rr.dir[1], rr.dir[2]);
       for (int a = 0; a < 3; ++a) {
-        r.inv[a] = 1.0f / (r.d[a] == 0.0f ? 1e-30f : r.d[a]);  // safeInverse
+        // safeInverse: a component below 1e-30 in magnitude becomes ±1e-30 (a zero one +1e-30)
+        const float d0 = std::fabs(r.d[a]) < 1e-30f ? (r.d[a] < 0.0f ? -1e-30f : 1e-30f) : r.d[a];
+        r.inv[a] = 1.0f / d0;
         // slabRay: lo is the near plane where inv > 0
         const float q = r.o[a] * r.inv[a], d = std::fabs(q) * (1.0f / 4194304.0f), s = r.inv[a] > 0.0f ? 1.0f : -1.0f;
         r.slabLo[a] = anyHit ? q + s * d : r.o[a];
