@@ -39,6 +39,24 @@ RayFile fileOf(const Scene& scene, const std::string& kind, std::vector<RayRecor
   return f;
 }
 
+// The CPU's double-precision hits of a file's rays and the GPU's trace of it by every backend;
+// not vacuous: the rays both hit and miss.
+RayFileTrace traceBeside(const VulkanContext& ctx, const Scene& scene, const Bvh& bvh, const RayFile& file,
+                         RayHits& cpu) {
+  cpu = traceOnCpu(bvh, file.rays, file.info.query == "any");
+  EXPECT_GT(cpu.hits(), 0u);
+  EXPECT_LT(cpu.hits(), file.rays.size());
+  RayFileTrace trace = traceRayFile(ctx, scene, file);
+  EXPECT_FALSE(trace.figures.empty());
+  return trace;
+}
+// Rays a backend hits where the CPU misses, or misses where it hits.
+size_t unlikeCpu(const RayFileHits& h, const RayHits& cpu) {
+  size_t unlike = 0;
+  for (size_t i = 0; i < h.missed.size(); ++i) unlike += (h.missed[i] == 0) != (cpu.t[i] >= 0.0);
+  return unlike;
+}
+
 TEST_F(RayFileGpuTest, EveryBackendHitsWhatTheCpuHitsOnTheCameraAoAndShadowSets) {
   const Scene scene = makeAtrium(AtriumParams{});
   const RayView view = rayViewOf(scene.cameras.front(), 64, 36);
@@ -53,12 +71,8 @@ TEST_F(RayFileGpuTest, EveryBackendHitsWhatTheCpuHitsOnTheCameraAoAndShadowSets)
   for (const RayFile& file : files) {
     SCOPED_TRACE(file.info.kind);
     const bool any = file.info.query == "any";
-    const RayHits cpu = traceOnCpu(bvh, file.rays, any);
-    // Not vacuous: each set has rays that hit and rays that miss.
-    EXPECT_GT(cpu.hits(), 0u);
-    EXPECT_LT(cpu.hits(), file.rays.size());
-    const RayFileTrace trace = traceRayFile(*ctx, scene, file);
-    ASSERT_FALSE(trace.figures.empty());
+    RayHits cpu;
+    const RayFileTrace trace = traceBeside(*ctx, scene, bvh, file, cpu);
     for (const Peak& p : trace.figures) {
       SCOPED_TRACE(p.backend);
       const RayFileHits& h = trace.hits.at(p.backend);
@@ -77,9 +91,7 @@ TEST_F(RayFileGpuTest, EveryBackendHitsWhatTheCpuHitsOnTheCameraAoAndShadowSets)
       // Watertight tracers, ours and the driver's, on the same float rays: a ray the exact test
       // hits is hit by every backend, one it misses by none (a silhouette edge is hit by both of
       // its triangles or neither, whichever side the ray passes).
-      size_t unlike = 0;
-      for (size_t i = 0; i < file.rays.size(); ++i) unlike += (h.missed[i] == 0) != (cpu.t[i] >= 0.0);
-      EXPECT_EQ(unlike, 0u);
+      EXPECT_EQ(unlikeCpu(h, cpu), 0u);
       EXPECT_EQ(size_t(p.missed), file.rays.size() - cpu.hits());
       if (any || h.t.empty() || p.backend.rfind("compute", 0) != 0) continue;
       // Our BVH's t: the watertight test's ratio of float sums, a few u (2^-24) of t away from the
@@ -135,18 +147,13 @@ TEST_F(RayFileGpuTest, RaysThroughTheEdgesOfABoxFarFromTheOriginAreTracedAsTheCp
   for (const char* query : {"any", "closest"}) {
     SCOPED_TRACE(query);
     const RayFile file = fileOf(scene, "edges", rays, 64, query);
-    const RayHits cpu = traceOnCpu(bvh, file.rays, std::string(query) == "any");
-    // Not vacuous: rays on both sides of the edges.
-    EXPECT_GT(cpu.hits(), 0u);
-    EXPECT_LT(cpu.hits(), file.rays.size());
-    const RayFileTrace trace = traceRayFile(*ctx, scene, file);
-    ASSERT_FALSE(trace.figures.empty());
+    RayHits cpu;
+    const RayFileTrace trace = traceBeside(*ctx, scene, bvh, file, cpu);  // rays on both sides of the edges
     for (const Peak& p : trace.figures) {
       SCOPED_TRACE(p.backend);
       const RayFileHits& h = trace.hits.at(p.backend);
       ASSERT_EQ(h.missed.size(), file.rays.size());
-      size_t unlike = 0;
-      for (size_t i = 0; i < file.rays.size(); ++i) unlike += (h.missed[i] == 0) != (cpu.t[i] >= 0.0);
+      const size_t unlike = unlikeCpu(h, cpu);
       std::printf("edges of the far cube, %s hit: %s differs from the CPU on %zu of %zu rays\n", query,
                   p.backend.c_str(), unlike, file.rays.size());
       // Ours only: lavapipe's own traversal loses 18 of these rays (its boxes are not widened so).
