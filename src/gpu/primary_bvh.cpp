@@ -9,6 +9,7 @@
 
 #include "base/errors.h"
 #include "base/parallel.h"
+#include "gpu/bvh_reinsert.h"
 
 namespace hb {
 
@@ -299,6 +300,7 @@ PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuil
     for (uint32_t d : depths) out.depth = std::max(out.depth, d);
     out.order.resize(n);
     for (size_t i = 0; i < n; ++i) out.order[i] = items[i].triangle;
+    if (options.reinsertRounds > 0) reinsertBvh(out, options.reinsertRounds);
   }
   out.buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -35,6 +35,7 @@ struct PrimaryBvh {
 struct BvhBuildOptions {
   int bins = 12;
   bool allAxes = false;
+  uint32_t reinsertRounds = 0;  // then rounds of reinsertion (bvh_reinsert.h); 0: the SAH build as it is
 };
 
 // `vertices`: 3 per triangle, world space (Scene::worldTriangles()).

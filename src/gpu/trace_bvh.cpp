@@ -72,9 +72,9 @@ struct WideCollapse {
 
 }  // namespace
 
-TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width) {
+TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width, const BvhBuildOptions& build) {
   HB_ASSERT(width == 2 || width == 4 || width == 8);
-  const PrimaryBvh tree = buildPrimaryBvh(vertices, kTraceBvhBuild);
+  const PrimaryBvh tree = buildPrimaryBvh(vertices, build);
   TraceBvhLayout out;
   out.width = width;
   out.triangles.reserve(3 * tree.order.size());

@@ -27,8 +27,11 @@ namespace hb {
 // the centroids' widest. On the H200 the 4-wide tree traced the atrium's exported camera, AO and
 // shadow rays faster with it, and the frame's own rays a little faster. The count was chosen by
 // those measurements on that one scene; the full sweep was slower on the exported sets and faster on
-// the frame's own rays (results/h200/tracer-51/tree, docs/rays.md).
-inline constexpr BvhBuildOptions kTraceBvhBuild{64, true};
+// the frame's own rays (results/h200/tracer-51/tree, docs/rays.md). Then up to 40 rounds of
+// reinsertion (bvh_reinsert.h; on the atrium it stops after fewer, once a round gains < 0.01 %):
+// every backend traced every ray set faster through it on the H200, no frame pass slower
+// (results/h200/tracer-51/reinsert).
+inline constexpr BvhBuildOptions kTraceBvhBuild{64, true, 40};
 
 inline constexpr uint32_t kWideLeaf = 0x80000000u;
 inline constexpr uint32_t kWideEmpty = 0xFFFFFFFFu;
@@ -58,7 +61,8 @@ struct WideChild {
 WideChild wideChild(const std::vector<glm::vec4>& wide, uint32_t width, uint32_t node, uint32_t k);
 
 // `vertices`: 3 per triangle, world space (Scene::worldTriangles()); width 2, 4 or 8.
-TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width = 2);
+TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t width = 2,
+                              const BvhBuildOptions& build = kTraceBvhBuild);
 // The id a layout's triangle slot carries (the bits of its first vertex's w).
 uint32_t traceBvhTriangleId(const TraceBvhLayout& layout, size_t slot);
 

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -16,6 +17,7 @@
 
 #include "base/parallel_test_util.h"
 #include "gltf/gltf_io.h"
+#include "gpu/bvh_reinsert.h"
 #include "scene/atrium.h"
 
 namespace hb {
@@ -245,6 +247,47 @@ TEST(TraceBvh, TheTreeIsTheSameBitForBitOnOneThreadAndOnSeveral) {
     EXPECT_EQ(one.order, several.order) << options.bins;
     EXPECT_EQ(one.depth, several.depth) << options.bins;
   }
+}
+
+// The tracer's tree is optimized by reinsertion (bvh_reinsert.h, kTraceBvhBuild): on the atrium it
+// must cost less than the tree as built, by the cost it reports; every interior box must be exactly
+// its children's union (a box left as it was before a subtree moved out still holds its subtree, so
+// only equality shows a missed refit); and the leaves must be the built tree's leaves, moved whole.
+TEST(TraceBvh, ReinsertionLowersTheSahCostAndMovesLeavesWhole) {
+  const std::vector<glm::vec3> v = makeAtrium().worldTriangles();
+  BvhBuildOptions asBuilt = kTraceBvhBuild;
+  asBuilt.reinsertRounds = 0;
+  const PrimaryBvh built = buildPrimaryBvh(v, asBuilt);
+  PrimaryBvh tree = built;
+  const BvhReinsertStats stats = reinsertBvh(tree, kTraceBvhBuild.reinsertRounds);
+  EXPECT_EQ(stats.costBefore, bvhSahCost(built));
+  EXPECT_EQ(stats.costAfter, bvhSahCost(tree));
+  EXPECT_LT(stats.costAfter, stats.costBefore);
+  EXPECT_GT(stats.reinserted, 0u);
+  EXPECT_EQ(stats.depthAfter, tree.depth);
+  ASSERT_EQ(tree.nodes.size(), built.nodes.size());
+  const auto leaves = [](const PrimaryBvh& t) {
+    std::vector<std::vector<uint32_t>> out;
+    for (const gpu::PrimaryBvhNode& n : t.nodes)
+      if (n.info.x == 0) out.emplace_back(t.order.begin() + n.info.y, t.order.begin() + n.info.y + n.info.z);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(leaves(tree), leaves(built));
+  int unions = 0;
+  for (size_t i = 0; i < tree.nodes.size(); ++i) {
+    const gpu::PrimaryBvhNode& n = tree.nodes[i];
+    if (n.info.x == 0) continue;
+    const gpu::PrimaryBvhNode &l = tree.nodes[i + 1], &r = tree.nodes[n.info.x];
+    const bool exact = glm::vec3(n.lo) == glm::min(glm::vec3(l.lo), glm::vec3(r.lo)) &&
+                       glm::vec3(n.hi) == glm::max(glm::vec3(l.hi), glm::vec3(r.hi));
+    unions += exact;
+    EXPECT_TRUE(exact) << "node " << i;
+    if (!exact) break;
+  }
+  EXPECT_GT(unions, 1000);
+  // A layout of it is still every triangle once, in boxes that hold them, at every width.
+  checkLayout(v, "the atrium, reinserted");
 }
 
 TEST(TraceBvh, EdgeCases) {

@@ -17,6 +17,7 @@
 #include "base/text_format.h"
 #include "plan/effects.h"
 #include "report/compare.h"
+#include "report/results_identity.h"
 #include "report/results_json.h"
 #include "report/stats.h"
 
