@@ -114,6 +114,13 @@ uint rowMask(uint box, BinRow row) {
   return lo > hi ? 0u : (2u << (hi - row.x0)) - (1u << (lo - row.x0));
 }
 
+// Whether coarse box `box` holds bin (x, y): the single-bin steps' test (MODE 4, 5), four compares
+// where rowMask builds a row's mask.
+bool coarseHolds(uint box, uint x, uint y) {
+  const uvec4 b = uvec4(box & 0xFFu, (box >> 8) & 0xFFu, (box >> 16) & 0xFFu, box >> 24);
+  return x >= b.x && x <= b.z && y >= b.y && y <= b.w;
+}
+
 void countChunk() {
   const BinRow row = binRowOf();
   if (gl_LocalInvocationIndex < kSplatBinRow) sRowCounts[gl_LocalInvocationIndex] = 0u;
@@ -236,7 +243,7 @@ void countBin() {
   uint n = 0u;
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
-    if (inRun(s) && rowMask(coarse[s], row) != 0u) ++n;
+    if (inRun(s) && coarseHolds(coarse[s], row.x0, row.y)) ++n;
   }
   n = subgroupAdd(n);
   if (subgroupElect()) atomicAdd(sCount, n);
@@ -251,7 +258,7 @@ void fillBin() {
   uint at = counts[b * sc.chunks + gl_WorkGroupID.x];
   for (uint round = 0u; round < kSplatChunk / 256u; ++round) {
     const uint s = slotOf(round);
-    const bool hit = inRun(s) && rowMask(coarse[s], row) != 0u;
+    const bool hit = inRun(s) && coarseHolds(coarse[s], row.x0, row.y);
     uint all;
     const uint place = appendPlace(hit, all);
     if (hit) list[at + place] = s;
