@@ -334,6 +334,11 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     report.noise = "between-run (" +
                    (options.noise->source.empty() ? std::string("a noise model") : options.noise->source) +
                    format(": %zu A/A pairs)", options.noise->pairs.size());
+  const auto besideOthers = [](const json& r) {
+    const json& c = r.value("context", json::object());
+    return c.contains("concurrent_with") && c["concurrent_with"].is_array() && !c["concurrent_with"].empty();
+  };
+  const bool sweptBeside = besideOthers(a) || besideOthers(b);
   double logRatioSum = 0;
   size_t logRatioCount = 0;
   for (const json& runA : a["runs"]) {
@@ -360,6 +365,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
         report.warnings.push_back("variant '" + name + "' in " + side + ": " + w);
     RowContext context{report.b.device, tracerB.empty() ? textAt(b, {"context", "device", "rt_backend"}) : tracerB,
                        tickA, tickB};
+    if (sweptBeside) context.tracer += kSweptBesideOthers;
     CompareRow frame = compareTimings(name, "frame", results::timingOf(runA.value("frame_ms", json())),
                                       results::timingOf(runB->value("frame_ms", json())), options, untimed, context);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {

@@ -137,6 +137,10 @@ double sampleResolution(std::vector<double> samples, double period);
 
 // One row from two sample sets (the detection trials of noise_model.h): as compareResults makes
 // each row, with the device model, ray tracer and timestamp periods (ms) it would read from B.
+// The noise class of runs swept beside other devices on one host (results context.concurrent_with):
+// their ray tracer's name with this appended. Host, bus and, where the device is shared, device
+// contention enter their times, so their between-run spread is modelled apart from lone runs'.
+inline constexpr const char* kSweptBesideOthers = ", swept beside other devices";
 struct RowContext {
   std::string device, tracer;
   double tickA = 0, tickB = 0;

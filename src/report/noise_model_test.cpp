@@ -58,10 +58,10 @@ TEST(NoiseModel, TheCommittedAaPairsRaiseNoFalseAlarmWithTheirModel) {
     EXPECT_EQ(gates(r), 0u) << p.nameA;
     EXPECT_EQ(r.noise.rfind("between-run (a noise model: 4 A/A pairs)", 0), 0u) << r.noise;
   }
-  // Keys are per device model and ray tracer: the H200's compute runs are quiet, its pipeline's are
-  // not, and the H100's pipeline is quiet.
+  // Keys are per device model and ray tracer: the H200's compute runs are quiet, its pipeline's swept
+  // beside another device are not, and the H100's pipeline is quiet.
   const NoisePass* computeShading = model.find("NVIDIA H200", "compute", "shading");
-  const NoisePass* pipelineShading = model.find("NVIDIA H200", "pipeline", "shading");
+  const NoisePass* pipelineShading = model.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
   ASSERT_NE(computeShading, nullptr);
   ASSERT_NE(pipelineShading, nullptr);
   EXPECT_EQ(computeShading->n, 18u);  // 9 variants, 2 pairs
@@ -84,13 +84,14 @@ TEST(NoiseModel, AChangeGatesOnlyBeyondItsPassesBand) {
   const CompareRow quiet = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", "compute", 1e-6, 1e-6});
   EXPECT_TRUE(quiet.gates) << quiet.held;
   EXPECT_LT(quiet.bandPct, 1.0);
-  const CompareRow noisy = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", "pipeline", 1e-6, 1e-6});
+  const std::string beside = std::string("pipeline") + kSweptBesideOthers;
+  const CompareRow noisy = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", beside, 1e-6, 1e-6});
   EXPECT_EQ(noisy.verdict, "slower");
   EXPECT_FALSE(noisy.gates);
   EXPECT_EQ(noisy.held.rfind("within the between-run band", 0), 0u) << noisy.held;
   // Without a model nothing is held: within-run noise only.
   o.noise = nullptr;
-  EXPECT_TRUE(compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", "pipeline", 1e-6, 1e-6}).gates);
+  EXPECT_TRUE(compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", beside, 1e-6, 1e-6}).gates);
 }
 
 // The floor: a 20 % slowdown of a 0.5 us pass is one step of a 0.1 us timer; twice the resolution
@@ -146,13 +147,35 @@ TEST(NoiseModel, TheCommittedNoiseFileIsWhatItsPairsGive) {
   pairs.pop_back();
   const NoiseModel built = buildNoiseModel(pairs);
   const NoiseModel file = committedModel();
-  EXPECT_EQ(file.pairs.size(), 9u);
+  EXPECT_EQ(file.pairs.size(), 10u);
   for (const NoisePass& p : built.passes) {
     const NoisePass* f = file.find(p.device, p.tracer, p.pass);
     ASSERT_NE(f, nullptr) << p.device << " " << p.tracer << " " << p.pass;
     EXPECT_EQ(f->n, p.n) << p.pass;
     EXPECT_DOUBLE_EQ(f->rmsLog, p.rmsLog) << p.pass;
   }
+}
+
+// Runs swept beside other devices (context.concurrent_with) are a noise class of their own. The
+// H200 pipeline's two pairs: the thesis on two GPUs at once (shading differs by up to 2x) and the
+// same thesis twice on one GPU alone (every row within 0.1 %). Pooled into one key, the lone pair's
+// quiet rows would narrow the band below the concurrent pair's spread, and one of its rows gated.
+TEST(NoiseModel, RunsSweptBesideOtherDevicesAreANoiseClassOfTheirOwn) {
+  const AaPair beside = committedPairs()[0];
+  const AaPair alone{committed("h200/aa-pipeline-53/run1"), committed("h200/aa-pipeline-53/run2"),
+                     "h200/aa-pipeline-53/run1", "h200/aa-pipeline-53/run2"};
+  const NoiseModel both = buildNoiseModel({beside, alone});
+  const NoisePass* b = both.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
+  const NoisePass* a = both.find("NVIDIA H200", "pipeline", "shading");
+  ASSERT_NE(b, nullptr);
+  ASSERT_NE(a, nullptr);
+  EXPECT_GT(b->rmsLog, 0.1);
+  EXPECT_LT(a->rmsLog, 0.01);
+  CompareOptions o;
+  o.gate = CompareGate::All;
+  o.noise = &both;
+  EXPECT_EQ(gates(compareResults(beside.a, beside.b, o)), 0u);
+  EXPECT_EQ(gates(compareResults(alone.a, alone.b, o)), 0u);
 }
 
 TEST(NoiseModel, TheFileRoundTripsAndANonNoiseFileIsNamed) {
