@@ -210,8 +210,9 @@ BvhReinsertStats reinsertBvh(PrimaryBvh& tree, uint32_t maxRounds) {
       picked.emplace_back(a * (a / mean) * (a / lo), int(i));
     }
     const size_t k = std::max<size_t>(1, picked.size() / 100);
-    std::partial_sort(picked.begin(), picked.begin() + ptrdiff_t(k), picked.end(),
-                      [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
+    std::partial_sort(picked.begin(), picked.begin() + ptrdiff_t(k), picked.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first > b.first : a.second < b.second;
+    });
     for (size_t j = 0; j < k; ++j) {
       const int i = picked[j].second;
       const Node& x = t.n[size_t(i)];

@@ -12,9 +12,9 @@
 namespace hb {
 
 struct BvhReinsertStats {
-  uint32_t rounds = 0;           // rounds run (each moves the batch of nodes it picked)
-  uint64_t reinserted = 0;       // interior nodes taken out and their children put back
-  double costBefore = 0.0;       // the binary tree's SAH cost (root area 1, a node 1, a triangle 1)
+  uint32_t rounds = 0;      // rounds run (each moves the batch of nodes it picked)
+  uint64_t reinserted = 0;  // interior nodes taken out and their children put back
+  double costBefore = 0.0;  // the binary tree's SAH cost (root area 1, a node 1, a triangle 1)
   double costAfter = 0.0;
   uint32_t depthBefore = 0, depthAfter = 0;
 };
