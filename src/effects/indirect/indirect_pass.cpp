@@ -215,7 +215,8 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
       : rayQuery_            ? std::vector<std::string>{"indirect.comp"}
                              : std::vector<std::string>{"indirect.rgen", "indirect.rmiss", "indirect.rchit"};
   shaders.insert(shaders.end(), {"photon_splat.vert", "photon_splat.frag"});
-  if (splatCompute) shaders.insert(shaders.end(), {"photon_splat_bin.comp", "photon_splat.comp"});
+  if (splatCompute)
+    shaders.insert(shaders.end(), {"photon_splat_bin.comp", "photon_splat.comp", "photon_splat_count.comp"});
   shaders_ = std::make_unique<ShaderProgram>(shaders);
   if (splatCompute) {
     if (!ctx.info().computeSubgroupBallot)
@@ -293,7 +294,7 @@ IndirectPass::IndirectPass(const VulkanContext& ctx, const GpuScene& gpuScene, c
         auto g = std::make_unique<Pipeline>(ctx);
         g->createLayout({frame_.sets->layout()}, sizeof(gpu::SplatConstants));
         g->createCompute(
-            *shaders_, "photon_splat.comp",
+            *shaders_, count ? "photon_splat_count.comp" : "photon_splat.comp",
             SpecConstants{{uint32_t(settings.normals), uint32_t(settings.worldPos), count, stride, late, cs->parts}});
         cs->gather[run][count] = std::move(g);
       }
