@@ -1,4 +1,4 @@
-// effects.indirect.later_bounce_stride on the real device (shaders/indirect/photon_splat.comp.glsl
+// effects.indirect.later_bounce_stride on the real device (shaders/indirect/photon_splat_gather.glsl.inc
 // lateAt, effects/indirect/indirect_pass.cpp recordComputeSplat): bounces 2..K splatted at one
 // receiver pixel in f x f, then interpolated on each pixel's own surface. At the receivers the frame
 // is the exact splat's sum, to float rounding of a different association; elsewhere each pixel's

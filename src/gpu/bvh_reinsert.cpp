@@ -39,11 +39,6 @@ struct Tree {
     return r > 0.0 ? c / r : c;
   }
 
-  uint32_t depth(int i) const {
-    const Node& x = n[size_t(i)];
-    return x.leaf() ? 1u : 1u + std::max(depth(x.left), depth(x.right));
-  }
-
   void replaceChild(int parent, int from, int to) {
     if (parent < 0) {
       root = to;
@@ -209,6 +204,7 @@ BvhReinsertStats reinsertBvh(PrimaryBvh& tree, uint32_t maxRounds) {
       const double lo = std::max(std::min(al, ar), 1e-30), mean = std::max(0.5 * (al + ar), 1e-30);
       picked.emplace_back(a * (a / mean) * (a / lo), int(i));
     }
+    if (picked.empty()) break;  // e.g. a tree of the root, its two children and their leaves
     const size_t k = std::max<size_t>(1, picked.size() / 100);
     std::partial_sort(picked.begin(), picked.begin() + ptrdiff_t(k), picked.end(), [](const auto& a, const auto& b) {
       return a.first != b.first ? a.first > b.first : a.second < b.second;

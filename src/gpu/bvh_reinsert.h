@@ -1,9 +1,11 @@
 // Optimizing a built binary BVH by reinsertion (Bittner, Hapala and Havran 2013, "Fast
-// insertion-based optimization of bounding volume hierarchies"): a node whose box is large against
-// its children's is taken out with its subtree, its sibling takes its parent's place, and the
-// subtree is put back beside the node where it adds the least surface area to the tree (a
-// branch-and-bound search from the root). Each move keeps or lowers the tree's SAH cost. Leaves keep
-// their triangles; the tree is laid out again depth first, so its ranges and order stay valid.
+// insertion-based optimization of bounding volume hierarchies"): an interior node whose box is
+// large against its children's is taken out, its sibling takes its parent's place, and its two
+// children are put back, each beside the node where it adds the least surface area to the tree (a
+// branch-and-bound search from the root). Each child is put back greedily, one after the other, so a
+// move can also raise the cost; a round that gains less than the stop (or loses) ends the rounds,
+// and its tree is the one kept. Leaves keep their triangles; the tree is laid out again depth first,
+// so its ranges and order stay valid.
 #pragma once
 #include <cstdint>
 
@@ -20,8 +22,9 @@ struct BvhReinsertStats {
 };
 
 // Rounds of reinsertion: each picks the nodes of the largest inefficiency (Bittner's product of
-// the node's area, its area over its children's mean and over their smaller), 1 % of the nodes,
-// and reinserts them one after another; a node is picked in one round only. Stops after `maxRounds`
+// the node's area, its area over its children's mean and over their smaller), 1 % of the candidates
+// (interior nodes but the root and its children, not picked before: by index, and a reinsertion
+// reuses the indices it frees), and reinserts them one after another. Stops after `maxRounds`
 // or when a round lowers the cost by less than 0.01 %. Deterministic: the same tree in gives the
 // same tree out (one thread).
 BvhReinsertStats reinsertBvh(PrimaryBvh& tree, uint32_t maxRounds);

@@ -88,7 +88,10 @@ uint64_t traceBvhBuildCount();
 // closest hits ran 1.30 ms a 1080p frame in shared memory against 0.79 ms in local memory, and the
 // 4-wide tree's any-hit stack (45 entries, 11.5 KiB) 1.33 ms in shared against 1.06 ms in local:
 // shared memory beyond ~8 KiB a 64-thread group cuts the groups an SM holds more than the stack
-// saves. (Stacks of 106 KiB at 1024 threads lost the device.)
+// saves. (Stacks of 106 KiB at 1024 threads lost the device.) Those were the tree as built; the
+// reinserted tree is deeper (the atrium's binary stack 25 → 33 entries, 8.25 KiB at 64 threads), so
+// its any-hit stacks went to local memory too, measured in the same run as the new tree
+// (results/h200/tracer-51/reinsert: the binary tree's frame passes gained from both).
 inline bool traceStackShared(const TraceBvh& bvh, uint32_t threads, bool closest = false) {
   return uint64_t(bvh.stack) * threads * (closest ? 8 : 4) <= 8192;
 }

@@ -290,6 +290,24 @@ TEST(TraceBvh, ReinsertionLowersTheSahCostAndMovesLeavesWhole) {
   checkLayout(v, "the atrium, reinserted");
 }
 
+// Trees with no node to reinsert (every interior node the root or a child of it) and barely more:
+// reinsertion leaves them as valid as it found them. Four, eight and sixteen triangles in a row
+// (leaves of up to 4: the root alone, the root and two leaves, and seven nodes).
+TEST(TraceBvh, ReinsertionOfSmallTreesIsSafe) {
+  for (int count : {4, 8, 12, 16, 24}) {
+    std::vector<glm::vec3> v;
+    for (int i = 0; i < count; ++i) v.insert(v.end(), {{float(i), 0, 0}, {float(i) + 1, 0, 0}, {float(i), 1, 0}});
+    BvhBuildOptions asBuilt = kTraceBvhBuild;
+    asBuilt.reinsertRounds = 0;
+    PrimaryBvh tree = buildPrimaryBvh(v, asBuilt);
+    const size_t nodes = tree.nodes.size();
+    const BvhReinsertStats stats = reinsertBvh(tree, kTraceBvhBuild.reinsertRounds);
+    EXPECT_EQ(tree.nodes.size(), nodes) << count;
+    EXPECT_LE(stats.costAfter, stats.costBefore * (1 + 1e-12)) << count;
+    checkLayout(v, std::to_string(count) + " triangles in a row");
+  }
+}
+
 TEST(TraceBvh, EdgeCases) {
   checkLayout({}, "no triangle");
   checkLayout({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, "one triangle");
@@ -319,7 +337,9 @@ TEST(TraceBvh, TheTracersSahTriesEveryAxis) {
     const gpu::PrimaryBvhNode &l = n[1], &r = n[n[0].info.x];
     return std::pair<bool, bool>(l.hi.y < r.lo.y || r.hi.y < l.lo.y, l.hi.x < r.lo.x || r.hi.x < l.lo.x);
   };
-  const TraceBvhLayout trace = layoutTraceBvh(v);
+  BvhBuildOptions sahOnly = kTraceBvhBuild;  // the SAH build alone, before any reinsertion
+  sahOnly.reinsertRounds = 0;
+  const TraceBvhLayout trace = layoutTraceBvh(v, 2, sahOnly);
   ASSERT_NE(trace.nodes[0].info.x, 0u);
   EXPECT_EQ(rootCut(trace.nodes), std::make_pair(true, false)) << "the tracer's root separates the rows (y)";
   const PrimaryBvh primary = buildPrimaryBvh(v);

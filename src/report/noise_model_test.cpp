@@ -158,7 +158,7 @@ TEST(NoiseModel, TheCommittedNoiseFileIsWhatItsPairsGive) {
 
 // Runs swept beside other devices (context.concurrent_with) are a noise class of their own. The
 // H200 pipeline's two pairs: the thesis on two GPUs at once (shading differs by up to 2x) and the
-// same thesis twice on one GPU alone (every row within 0.1 %). Pooled into one key, the lone pair's
+// same thesis twice on one GPU alone (every row within 0.4 %). Pooled into one key, the lone pair's
 // quiet rows would narrow the band below the concurrent pair's spread, and one of its rows gated.
 TEST(NoiseModel, RunsSweptBesideOtherDevicesAreANoiseClassOfTheirOwn) {
   const AaPair beside = committedPairs()[0];
