@@ -10,7 +10,6 @@
 #include "base/errors.h"
 #include "base/parallel.h"
 #include "gpu/bvh_reinsert.h"
-#include "gpu/bvh_split.h"
 
 namespace hb {
 
@@ -254,36 +253,20 @@ struct ParallelBuild {
 
 PrimaryBvh buildPrimaryBvh(const std::vector<glm::vec3>& vertices, const BvhBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  std::vector<Item> items;
-  if (options.splitBudget > 0.0) {
-    // A triangle's references (bvh_split.h): an empty box for a non-finite one, as below.
-    const std::vector<TriangleReference> refs =
-        splitTriangleReferences(vertices, options.splitBudget, options.splitExcessOnly);
-    items.resize(refs.size());
-    for (size_t i = 0; i < refs.size(); ++i) {
-      Item& item = items[i];
-      item.triangle = refs[i].triangle;
-      if (!(refs[i].lo.x <= refs[i].hi.x)) continue;
-      item.box.lo = refs[i].lo;
-      item.box.hi = refs[i].hi;
-      item.centroid = (item.box.lo + item.box.hi) * 0.5f;
-    }
-  } else {
-    items.resize(vertices.size() / 3);
-    for (size_t t = 0; t < items.size(); ++t) {
-      Item& item = items[t];
-      item.triangle = uint32_t(t);
-      const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
-      auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-      const bool finite = finite3(v0) && finite3(v1) && finite3(v2);
-      if (!finite) continue;
-      item.box.grow(v0);
-      item.box.grow(v1);
-      item.box.grow(v2);
-      item.centroid = (item.box.lo + item.box.hi) * 0.5f;
-    }
+  const size_t n = vertices.size() / 3;
+  std::vector<Item> items(n);
+  for (size_t t = 0; t < n; ++t) {
+    Item& item = items[t];
+    item.triangle = uint32_t(t);
+    const glm::vec3 &v0 = vertices[3 * t], &v1 = vertices[3 * t + 1], &v2 = vertices[3 * t + 2];
+    auto finite3 = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    const bool finite = finite3(v0) && finite3(v1) && finite3(v2);
+    if (!finite) continue;
+    item.box.grow(v0);
+    item.box.grow(v1);
+    item.box.grow(v2);
+    item.centroid = (item.box.lo + item.box.hi) * 0.5f;
   }
-  const size_t n = items.size();
   PrimaryBvh out;
   if (n == 0) {
     gpu::PrimaryBvhNode empty{};

@@ -25,7 +25,7 @@ inline constexpr uint32_t kPrimaryBvhLeaf = 4;
 
 struct PrimaryBvh {
   std::vector<gpu::PrimaryBvhNode> nodes;  // [0] is the root
-  std::vector<uint32_t> order;             // triangle ids (draw order) in leaf order (with splits, repeats)
+  std::vector<uint32_t> order;             // triangle ids (draw order) in leaf order
   uint32_t depth = 0;                      // the longest root-to-leaf path, in nodes
   double buildMs = 0.0;                    // wall time of the build on the CPU
 };
@@ -36,12 +36,6 @@ struct BvhBuildOptions {
   int bins = 12;
   bool allAxes = false;
   uint32_t reinsertRounds = 0;  // then rounds of reinsertion (bvh_reinsert.h); 0: the SAH build as it is
-  // Before the build, up to floor(splitBudget × triangles) more references of the largest triangles'
-  // boxes (bvh_split.h); 0: one reference a triangle. With splits a triangle can sit in several
-  // leaves, so `order` holds it more than once and a leaf's box holds its triangles' parts only: for
-  // the ray tracer, not for primary visibility (whose nodes are rasterized whole).
-  double splitBudget = 0.0;
-  bool splitExcessOnly = false;  // bvh_split.h: split by the box's area less the triangle's own
 };
 
 // `vertices`: 3 per triangle, world space (Scene::worldTriangles()).
