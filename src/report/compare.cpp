@@ -338,7 +338,12 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
     const json& c = r.value("context", json::object());
     return c.contains("concurrent_with") && c["concurrent_with"].is_array() && !c["concurrent_with"].empty();
   };
-  const bool sweptBeside = besideOthers(a) || besideOthers(b);
+  const auto onSharedDevice = [](const json& r) {
+    return r.value("context", json::object()).contains("timing_caveat_shared_device");
+  };
+  const char* sweptClass = onSharedDevice(a) || onSharedDevice(b) ? kSweptOnSharedDevice
+                           : besideOthers(a) || besideOthers(b)   ? kSweptBesideOthers
+                                                                  : "";
   double logRatioSum = 0;
   size_t logRatioCount = 0;
   for (const json& runA : a["runs"]) {
@@ -365,7 +370,7 @@ CompareReport compareResults(const json& a, const json& b, const CompareOptions&
         report.warnings.push_back("variant '" + name + "' in " + side + ": " + w);
     RowContext context{report.b.device, tracerB.empty() ? textAt(b, {"context", "device", "rt_backend"}) : tracerB,
                        tickA, tickB};
-    if (sweptBeside) context.tracer += kSweptBesideOthers;
+    context.tracer += sweptClass;
     CompareRow frame = compareTimings(name, "frame", results::timingOf(runA.value("frame_ms", json())),
                                       results::timingOf(runB->value("frame_ms", json())), options, untimed, context);
     if (std::isfinite(frame.ratio) && frame.ratio > 0) {

@@ -137,9 +137,15 @@ double sampleResolution(std::vector<double> samples, double period);
 
 // One row from two sample sets (the detection trials of noise_model.h): as compareResults makes
 // each row, with the device model, ray tracer and timestamp periods (ms) it would read from B.
-// The noise class of runs swept beside other devices on one host (results context.concurrent_with):
-// their ray tracer's name with this appended. Host, bus and, where the device is shared, device
-// contention enter their times, so their between-run spread is modelled apart from lone runs'.
+// The noise classes of runs swept at the same time as other sweeps (`sweep --device` with a list or
+// all): their ray tracer's name with one of these appended, so that their between-run spread is
+// modelled apart from lone runs'.
+//  - kSweptOnSharedDevice: the device itself ran another sweep at the same time (a list that names
+//    it twice; results context.timing_caveat_shared_device): that sweep's work is in its times.
+//  - kSweptBesideOthers: other devices of the host were swept at the same time
+//    (context.concurrent_with): host and bus contention enter its times.
+// Either side of a compare being so gives the rows its class; a shared device wins.
+inline constexpr const char* kSweptOnSharedDevice = ", swept on a device shared with another sweep";
 inline constexpr const char* kSweptBesideOthers = ", swept beside other devices";
 struct RowContext {
   std::string device, tracer;

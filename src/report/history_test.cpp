@@ -325,7 +325,7 @@ TEST(History, CommittedRepeatsOfOneSweepShowNoChange) {
   const std::vector<AA> sets = {
       // The H100 thesis sweep and its second run, at 02f03e1 (results/h100/thesis/README.md).
       {{"h100/thesis", "h100/thesis-run2"}, 2},
-      // One sweep alone and two at once on two H200s, and the CI sweep, all at f03a8f9.
+      // One sweep alone and two at once on one H200, and the CI sweep, all at f03a8f9.
       {{"h200/concurrent"}, 4},
       // The fleet of issue #35 twice (ad54024, 27a429b): the whole sweep, and its parts merged
       // (the parts' runs are the merged file's: counted once).

@@ -162,7 +162,7 @@ json toJson(const NoiseModel& m) {
   for (const NoiseJitter& j : m.jitter)
     jitter.push_back({{"device", j.device}, {"ray_tracing", j.tracer}, {"n", j.n}, {"rms_ms", j.rmsMs}});
   return {{"kind", "hybridbench-noise"},
-          {"schema_version", 1},
+          {"schema_version", kNoiseSchemaVersion},
           {"z", m.z},
           {"pairs", pairs},
           {"passes", passes},
@@ -174,9 +174,15 @@ NoiseModel noiseModelFromJson(const json& j, const std::string& path) {
     throw InputError(path +
                      ": not a noise file (no \"kind\": \"hybridbench-noise\"); write one with 'hybridbench noise "
                      "A.json B.json ... --out FILE'");
-  if (j.value("schema_version", 0) != 1)
+  if (j.value("schema_version", 0) == 1)  // its ray_tracing keys pooled runs swept alone and beside others
+    throw InputError(
+        path +
+        ": noise file schema_version 1 pools runs swept at the same time as other sweeps with runs "
+        "swept alone (version 2 keys them apart); regenerate it with 'hybridbench noise A.json B.json ... --out FILE'");
+  if (j.value("schema_version", 0) != kNoiseSchemaVersion)
     throw InputError(path + ": noise file schema_version " + j.value("schema_version", json()).dump() +
-                     " is not supported (expected 1); regenerate it with this version of hybridbench");
+                     " is not supported (expected " + std::to_string(kNoiseSchemaVersion) +
+                     "); regenerate it with this version of hybridbench");
   NoiseModel m;
   m.source = path;
   const json z = requireField(j, "z", path, "noise");

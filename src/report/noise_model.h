@@ -29,6 +29,10 @@ constexpr double kJitterPassMs = 0.1;
 // Fewer A/A rows than this for a key: its sigma is printed with a warning (sqrt(n) bounds what
 // any one row can be in units of the RMS, so a small n cannot show a heavy tail).
 constexpr size_t kNoiseFewRows = 8;
+// The noise file's schema_version. 2: runs swept at the same time as other sweeps are keyed apart
+// (their ray_tracing ends in compare.h's kSweptOnSharedDevice or kSweptBesideOthers); a version 1
+// file pooled them with runs swept alone, and is refused with the command that rebuilds it.
+constexpr int kNoiseSchemaVersion = 2;
 
 struct NoisePass {
   std::string device, tracer, pass;

@@ -24,7 +24,7 @@ json committed(const std::string& path) {
 // The committed A/A pairs (docs/usage.md "Between-run noise"): one revision swept twice.
 std::vector<AaPair> committedPairs() {
   const std::vector<std::pair<std::string, std::string>> names = {
-      {"h200/concurrent/thesis-aa/0-nvidia-h200", "h200/concurrent/thesis-aa/1-nvidia-h200"},  // two H200s at once
+      {"h200/concurrent/thesis-aa/0-nvidia-h200", "h200/concurrent/thesis-aa/1-nvidia-h200"},  // one H200, 2 at once
       {"h200/fleet-35/thesis-whole", "h200/fleet-35/thesis-merged"},        // whole, and three parts merged
       {"h200/fleet-35-x4/thesis-whole", "h200/fleet-35-x4/thesis-merged"},  // the same on a 4-GPU host
       {"h100/thesis", "h100/thesis-run2"}};                                 // H100, twice
@@ -43,8 +43,9 @@ size_t gates(const CompareReport& r) {
   return size_t(std::count_if(r.rows.begin(), r.rows.end(), [](const CompareRow& row) { return row.gates; }));
 }
 
-// The two H200s swept at once with the driver's ray-tracing pipeline differ by up to 2x in shading
-// (the pipeline's times are bimodal there): within-run noise alone gates 9 rows of that A/A pair.
+// Two sweeps at once on one H200 (`sweep --device 0,0`) with the driver's ray-tracing pipeline differ
+// by up to 2x in shading (each sweep's times hold the other's work): within-run noise alone gates 9
+// rows of that A/A pair.
 // The model of the pairs holds every row of every pair, and says which noise it used.
 TEST(NoiseModel, TheCommittedAaPairsRaiseNoFalseAlarmWithTheirModel) {
   const std::vector<AaPair> pairs = committedPairs();
@@ -59,9 +60,10 @@ TEST(NoiseModel, TheCommittedAaPairsRaiseNoFalseAlarmWithTheirModel) {
     EXPECT_EQ(r.noise.rfind("between-run (a noise model: 4 A/A pairs)", 0), 0u) << r.noise;
   }
   // Keys are per device model and ray tracer: the H200's compute runs are quiet, its pipeline's swept
-  // beside another device are not, and the H100's pipeline is quiet.
+  // on a device shared with another sweep are not, and the H100's pipeline is quiet.
   const NoisePass* computeShading = model.find("NVIDIA H200", "compute", "shading");
-  const NoisePass* pipelineShading = model.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
+  const NoisePass* pipelineShading =
+      model.find("NVIDIA H200", std::string("pipeline") + kSweptOnSharedDevice, "shading");
   ASSERT_NE(computeShading, nullptr);
   ASSERT_NE(pipelineShading, nullptr);
   EXPECT_EQ(computeShading->n, 18u);  // 9 variants, 2 pairs
@@ -84,14 +86,14 @@ TEST(NoiseModel, AChangeGatesOnlyBeyondItsPassesBand) {
   const CompareRow quiet = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", "compute", 1e-6, 1e-6});
   EXPECT_TRUE(quiet.gates) << quiet.held;
   EXPECT_LT(quiet.bandPct, 1.0);
-  const std::string beside = std::string("pipeline") + kSweptBesideOthers;
-  const CompareRow noisy = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", beside, 1e-6, 1e-6});
+  const std::string shared = std::string("pipeline") + kSweptOnSharedDevice;
+  const CompareRow noisy = compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", shared, 1e-6, 1e-6});
   EXPECT_EQ(noisy.verdict, "slower");
   EXPECT_FALSE(noisy.gates);
   EXPECT_EQ(noisy.held.rfind("within the between-run band", 0), 0u) << noisy.held;
   // Without a model nothing is held: within-run noise only.
   o.noise = nullptr;
-  EXPECT_TRUE(compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", beside, 1e-6, 1e-6}).gates);
+  EXPECT_TRUE(compareSampleSets("v", "shading", a, b, o, {"NVIDIA H200", shared, 1e-6, 1e-6}).gates);
 }
 
 // The floor: a 20 % slowdown of a 0.5 us pass is one step of a 0.1 us timer; twice the resolution
@@ -143,39 +145,62 @@ TEST(NoiseModel, APlantedSlowdownBeyondTheThresholdIsDetected) {
 // The committed noise file holds the committed pairs: the H200 keys it has are the ones the pairs
 // above give (its H100 keys pool more pairs: the bisect's and 2b33675's repeats).
 TEST(NoiseModel, TheCommittedNoiseFileIsWhatItsPairsGive) {
+  // Every H200 pair of the file (the H100's are left out for the test's time): each of its H200 keys
+  // (compute; pipeline alone, beside other devices, on a device shared with another sweep) is rebuilt
+  // from them.
   std::vector<AaPair> pairs = committedPairs();
   pairs.pop_back();
+  for (const char* run : {"run1", "run2"}) {
+    const std::string d = std::string("h200/aa-pipeline-concurrent-53/") + run;
+    pairs.push_back({committed(d + "/0-nvidia-h200"), committed(d + "/1-nvidia-h200"), d + "/0", d + "/1"});
+  }
+  pairs.push_back({committed("h200/aa-pipeline-53/run1"), committed("h200/aa-pipeline-53/run2"),
+                   "h200/aa-pipeline-53/run1", "h200/aa-pipeline-53/run2"});
   const NoiseModel built = buildNoiseModel(pairs);
   const NoiseModel file = committedModel();
-  EXPECT_EQ(file.pairs.size(), 10u);
+  EXPECT_EQ(file.pairs.size(), 12u);
+  size_t h200Keys = 0;
+  for (const NoisePass& f : file.passes) h200Keys += f.device == "NVIDIA H200";
+  EXPECT_EQ(built.passes.size(), h200Keys);
   for (const NoisePass& p : built.passes) {
     const NoisePass* f = file.find(p.device, p.tracer, p.pass);
     ASSERT_NE(f, nullptr) << p.device << " " << p.tracer << " " << p.pass;
-    EXPECT_EQ(f->n, p.n) << p.pass;
-    EXPECT_DOUBLE_EQ(f->rmsLog, p.rmsLog) << p.pass;
+    EXPECT_EQ(f->n, p.n) << p.tracer << " " << p.pass;
+    EXPECT_DOUBLE_EQ(f->rmsLog, p.rmsLog) << p.tracer << " " << p.pass;
   }
 }
 
-// Runs swept beside other devices (context.concurrent_with) are a noise class of their own. The
-// H200 pipeline's two pairs: the thesis on two GPUs at once (shading differs by up to 2x) and the
-// same thesis twice on one GPU alone (every row within 0.4 %). Pooled into one key, the lone pair's
-// quiet rows would narrow the band below the concurrent pair's spread, and one of its rows gated.
-TEST(NoiseModel, RunsSweptBesideOtherDevicesAreANoiseClassOfTheirOwn) {
-  const AaPair beside = committedPairs()[0];
+// Runs swept at the same time as other sweeps are noise classes of their own (compare.h). The H200
+// pipeline's pairs: two sweeps at once on one GPU (context.timing_caveat_shared_device; shading
+// differs by up to 2x), each GPU of a 2-GPU host swept at once (context.concurrent_with), and one
+// GPU swept alone, twice. Pooling the two concurrent kinds narrowed the band below the shared pair's
+// spread, and one of its rows gated with the committed pairs' model; pooling them with the lone
+// pair would do the same.
+TEST(NoiseModel, RunsSweptBesideOtherSweepsAreNoiseClassesOfTheirOwn) {
+  const AaPair shared = committedPairs()[0];
+  const AaPair beside{committed("h200/aa-pipeline-concurrent-53/run1/0-nvidia-h200"),
+                      committed("h200/aa-pipeline-concurrent-53/run1/1-nvidia-h200"), "run1/0", "run1/1"};
+  const AaPair besideAgain{committed("h200/aa-pipeline-concurrent-53/run2/0-nvidia-h200"),
+                           committed("h200/aa-pipeline-concurrent-53/run2/1-nvidia-h200"), "run2/0", "run2/1"};
   const AaPair alone{committed("h200/aa-pipeline-53/run1"), committed("h200/aa-pipeline-53/run2"),
                      "h200/aa-pipeline-53/run1", "h200/aa-pipeline-53/run2"};
-  const NoiseModel both = buildNoiseModel({beside, alone});
-  const NoisePass* b = both.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
-  const NoisePass* a = both.find("NVIDIA H200", "pipeline", "shading");
+  const NoiseModel all = buildNoiseModel({shared, beside, besideAgain, alone});
+  const NoisePass* s = all.find("NVIDIA H200", std::string("pipeline") + kSweptOnSharedDevice, "shading");
+  const NoisePass* b = all.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
+  const NoisePass* a = all.find("NVIDIA H200", "pipeline", "shading");
+  ASSERT_NE(s, nullptr);
   ASSERT_NE(b, nullptr);
   ASSERT_NE(a, nullptr);
-  EXPECT_GT(b->rmsLog, 0.1);
+  EXPECT_EQ(s->n, 9u);
+  EXPECT_EQ(b->n, 18u);
+  EXPECT_GT(s->rmsLog, 0.1);
+  EXPECT_LT(b->rmsLog, 0.01);
   EXPECT_LT(a->rmsLog, 0.01);
   CompareOptions o;
   o.gate = CompareGate::All;
-  o.noise = &both;
-  EXPECT_EQ(gates(compareResults(beside.a, beside.b, o)), 0u);
-  EXPECT_EQ(gates(compareResults(alone.a, alone.b, o)), 0u);
+  o.noise = &all;
+  for (const AaPair* p : {&shared, &beside, &besideAgain, &alone})
+    EXPECT_EQ(gates(compareResults(p->a, p->b, o)), 0u) << p->nameA;
 }
 
 TEST(NoiseModel, TheFileRoundTripsAndANonNoiseFileIsNamed) {
@@ -191,6 +216,17 @@ TEST(NoiseModel, TheFileRoundTripsAndANonNoiseFileIsNamed) {
     FAIL() << "a results file was read as a noise file";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("results.json: not a noise file", 0), 0u) << e.what();
+  }
+  // A version 1 file pooled runs swept beside other devices with runs swept alone: refused, naming
+  // the command that rebuilds it.
+  json v1 = toJson(model);
+  v1["schema_version"] = 1;
+  try {
+    noiseModelFromJson(v1, "old.json");
+    FAIL() << "a version 1 noise file was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("old.json: noise file schema_version 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("hybridbench noise"), std::string::npos) << e.what();
   }
   json broken = toJson(model);
   broken["passes"][0].erase("rms_log");
