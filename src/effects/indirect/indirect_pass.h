@@ -178,8 +178,12 @@ class IndirectPass {
   Target frame_, scratch_;
   Pipeline splat_;
   // splat=compute: the binning's buffers (in the targets' sets), its four steps and the gather.
-  struct ComputeSplat;
+  struct ComputeSplat;  // indirect_splat.h
   std::unique_ptr<ComputeSplat> computeSplat_;
+  // splat=compute (indirect_splat.cpp): its constants and buffers, then (after the frame's target,
+  // whose set they use) its pipelines; the latter does nothing without the splat.
+  void setUpComputeSplat(uint32_t width, uint32_t height, const VkPhysicalDeviceProperties& props);
+  void createComputeSplatPipelines();
   void recordComputeSplat(VkCommandBuffer cmd, Sync& sync, const Target& t, GpuTimer* timer, bool analysis) const;
   mutable bool splatCounted_ = false;
   std::map<std::pair<IndirectMethod, uint32_t>, std::unique_ptr<Program>> programs_;  // (method, bounce)
