@@ -174,11 +174,10 @@ NoiseModel noiseModelFromJson(const json& j, const std::string& path) {
     throw InputError(path +
                      ": not a noise file (no \"kind\": \"hybridbench-noise\"); write one with 'hybridbench noise "
                      "A.json B.json ... --out FILE'");
-  if (j.value("schema_version", 0) == 1)  // its ray_tracing keys pooled runs swept alone and beside others
-    throw InputError(
-        path +
-        ": noise file schema_version 1 pools runs swept at the same time as other sweeps with runs "
-        "swept alone (version 2 keys them apart); regenerate it with 'hybridbench noise A.json B.json ... --out FILE'");
+  if (j.value("schema_version", 0) == 1)  // its ray_tracing keys did not set a shared device's runs apart
+    throw InputError(path +
+                     ": noise file schema_version 1 does not key runs swept on a device shared with another sweep "
+                     "apart (version 2 does); regenerate it with 'hybridbench noise A.json B.json ... --out FILE'");
   if (j.value("schema_version", 0) != kNoiseSchemaVersion)
     throw InputError(path + ": noise file schema_version " + j.value("schema_version", json()).dump() +
                      " is not supported (expected " + std::to_string(kNoiseSchemaVersion) +

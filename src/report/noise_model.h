@@ -1,8 +1,8 @@
 // The between-run noise of a device (issue #53): how far two runs of the same build, config and
 // device model differ, pass by pass, measured on A/A pairs (the same revision swept twice: on two
-// GPUs at once, on two days, whole and in merged parts). `compare --noise FILE` gates a row only
-// beyond that spread as well as beyond its threshold; `hybridbench noise` writes the file from the
-// pairs and measures its false alarms and what it can detect (docs/usage.md "Between-run noise").
+// GPUs at once, twice at once on one GPU, on two days, whole and in merged parts). `compare --noise FILE` gates a row
+// only beyond that spread as well as beyond its threshold; `hybridbench noise` writes the file from the pairs and
+// measures its false alarms and what it can detect (docs/usage.md "Between-run noise").
 //
 // The model, per (device model, ray tracer, pass): d = log(B/A) of each A/A row (compare's
 // Hodges-Lehmann ratio), pooled over the config's variants and the pairs; its root mean square
@@ -29,9 +29,10 @@ constexpr double kJitterPassMs = 0.1;
 // Fewer A/A rows than this for a key: its sigma is printed with a warning (sqrt(n) bounds what
 // any one row can be in units of the RMS, so a small n cannot show a heavy tail).
 constexpr size_t kNoiseFewRows = 8;
-// The noise file's schema_version. 2: runs swept at the same time as other sweeps are keyed apart
-// (their ray_tracing ends in compare.h's kSweptOnSharedDevice or kSweptBesideOthers); a version 1
-// file pooled them with runs swept alone, and is refused with the command that rebuilds it.
+// The noise file's schema_version. 2: runs swept on a device shared with another sweep have a key of
+// their own (their ray_tracing ends in compare.h's kSweptOnSharedDevice). Version 1 did not set them
+// apart (its "swept beside other devices" held them too; before that class, its keys pooled every
+// run alone); such a file is refused with the command that rebuilds it.
 constexpr int kNoiseSchemaVersion = 2;
 
 struct NoisePass {

@@ -142,8 +142,8 @@ TEST(NoiseModel, APlantedSlowdownBeyondTheThresholdIsDetected) {
     EXPECT_EQ(check.detection[i].smallest95, again.detection[i].smallest95);
 }
 
-// The committed noise file holds the committed pairs: the H200 keys it has are the ones the pairs
-// above give (its H100 keys pool more pairs: the bisect's and 2b33675's repeats).
+// The committed noise file holds the committed pairs: its H200 keys are the ones its H200 pairs
+// give (its H100 keys pool more pairs: the bisect's and 2b33675's repeats).
 TEST(NoiseModel, TheCommittedNoiseFileIsWhatItsPairsGive) {
   // Every H200 pair of the file (the H100's are left out for the test's time): each of its H200 keys
   // (compute; pipeline alone, beside other devices, on a device shared with another sweep) is rebuilt
@@ -217,8 +217,8 @@ TEST(NoiseModel, TheFileRoundTripsAndANonNoiseFileIsNamed) {
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("results.json: not a noise file", 0), 0u) << e.what();
   }
-  // A version 1 file pooled runs swept beside other devices with runs swept alone: refused, naming
-  // the command that rebuilds it.
+  // A version 1 file did not key a shared device's runs apart: refused, naming the command that
+  // rebuilds it.
   json v1 = toJson(model);
   v1["schema_version"] = 1;
   try {

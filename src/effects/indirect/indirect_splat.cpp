@@ -4,7 +4,6 @@
 #include <cstring>
 
 #include "base/errors.h"
-#include "gpu/descriptor_binder.h"
 
 namespace hb {
 
