@@ -185,6 +185,13 @@ TEST(NoiseModel, RunsSweptBesideOtherSweepsAreNoiseClassesOfTheirOwn) {
   const AaPair alone{committed("h200/aa-pipeline-53/run1"), committed("h200/aa-pipeline-53/run2"),
                      "h200/aa-pipeline-53/run1", "h200/aa-pipeline-53/run2"};
   const NoiseModel all = buildNoiseModel({shared, beside, besideAgain, alone});
+  // The gates first: without the shared device's class, its pair's rows are held by the quieter
+  // two-GPU pairs' band, and one gates.
+  CompareOptions o;
+  o.gate = CompareGate::All;
+  o.noise = &all;
+  for (const AaPair* p : {&shared, &beside, &besideAgain, &alone})
+    EXPECT_EQ(gates(compareResults(p->a, p->b, o)), 0u) << p->nameA;
   const NoisePass* s = all.find("NVIDIA H200", std::string("pipeline") + kSweptOnSharedDevice, "shading");
   const NoisePass* b = all.find("NVIDIA H200", std::string("pipeline") + kSweptBesideOthers, "shading");
   const NoisePass* a = all.find("NVIDIA H200", "pipeline", "shading");
@@ -196,11 +203,6 @@ TEST(NoiseModel, RunsSweptBesideOtherSweepsAreNoiseClassesOfTheirOwn) {
   EXPECT_GT(s->rmsLog, 0.1);
   EXPECT_LT(b->rmsLog, 0.01);
   EXPECT_LT(a->rmsLog, 0.01);
-  CompareOptions o;
-  o.gate = CompareGate::All;
-  o.noise = &all;
-  for (const AaPair* p : {&shared, &beside, &besideAgain, &alone})
-    EXPECT_EQ(gates(compareResults(p->a, p->b, o)), 0u) << p->nameA;
 }
 
 TEST(NoiseModel, TheFileRoundTripsAndANonNoiseFileIsNamed) {
