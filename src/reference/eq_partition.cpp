@@ -154,14 +154,17 @@ std::vector<glm::dvec3> ldmDirections(uint32_t n) {
   if (dirs.size() != n)
     throw refuse("EQ(2, 2n) is not symmetric about the equator (" + std::to_string(dirs.size()) +
                  " directions, not n)");
-  // A centre at a longitude of a multiple of π/2 gets, for the component that is 0, the sin or cos
-  // of that multiple's double: the rounding of π, |x| ≤ 1.3e-16 (n = 256's fifth direction has
-  // y = 2.1e-17). Left so, it puts the direction a rounding off an axis plane, and n · v ≠ 0 in
-  // float for a wall on that plane: a split photon then runs along the wall (the floor of a box),
-  // and from an x1 that a driver rounded a float's ulp outside the wall it leaves the closed box
-  // (on the H200). A component under 1e-14 is written 0: every direction has a component of at
-  // least 1/√3, whose float rounding (≥ 3e-8) is six orders above it, so in float the direction
-  // lies in the plane either way, and now exactly.
+  // A component that is 0 in exact arithmetic can come out as a rounding: sin or cos of a multiple
+  // of π/2 in double, and the collars' offsets rounded as they add up. For n = 1..2048 and the
+  // larger n the test takes, these are at most 8.9e-16 (n = 295), and every true component is at
+  // least 1.0e-6 (LdmDirections.NoComponentIsTheRoundingOfZero; n = 256's fifth direction had
+  // y = 2.1e-17). Left so, a direction lies a rounding off an axis plane, and n · v ≠ 0 in float
+  // for a wall on that plane: a split photon then runs along the wall (the floor of a box), and
+  // from an x1 that a driver rounded outside the wall it left the closed box (on the H200). A
+  // component under 1e-14 is written 0. That moves the unit direction by less than 1e-14, under
+  // 1e-6 of a float ulp of its largest component (at least 1/√3, so an ulp of at least 6e-8): no
+  // other float component changes. Beyond the tested n nothing is shown either way, and zeroing a
+  // true component that small would change no float component but itself.
   constexpr double kRoundingOfZero = 1e-14;
   for (glm::dvec3& d : dirs)
     for (int k = 0; k < 3; ++k)

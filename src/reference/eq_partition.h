@@ -59,9 +59,8 @@ std::vector<glm::dvec3> eqPointSet(uint32_t regions);
 // k + m/2), and of each pair the one with the smaller longitude in [0, 2π) is kept (the one in
 // [0, π)). No direction is the negative of another, and every direction stands for itself and
 // its negative (an LDM is traced both ways), so together they cover the sphere with equal-area
-// regions. Order: as eqRegions, the equator half last. A component that is 0 but for the rounding
-// of sin or cos at a multiple of π/2 (under 1e-14) is written 0, so no direction lies a rounding off
-// an axis plane.
+// regions. Order: as eqRegions, the equator half last. A component that is 0 but for rounding
+// (under 1e-14) is written 0, so no direction lies a rounding off an axis plane.
 // The count is exactly n for every n in [1, 2048] (tested exhaustively) and for n = 3000, 4096,
 // 8192, 16384, 65536 (tested). It holds whenever the rounded ring counts of EQ(2, 2n) are
 // mirror-symmetric about the equator, which carried rounding gives unless a cumulative ideal

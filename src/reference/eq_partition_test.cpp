@@ -102,14 +102,18 @@ TEST(LdmDirections, GivesExactlyNDirectionsForEveryNUpTo2048AndLargePowersOfTwo)
   for (uint32_t n : {3000u, 4096u, 8192u, 16384u, 65536u}) EXPECT_EQ(ldmDirections(n).size(), n);
 }
 
-// A component is 0 or a true one: none is the rounding of sin or cos at a multiple of π/2 (≤ 1.3e-16),
-// which would put the direction a rounding off an axis plane (n = 256's fifth direction had
-// y = 2.1e-17: on the H200, split photons along a box's floor left the closed box). 1e-9 lies
-// between: every true component of these n exceeds it (the smallest one is printed).
+// A component is 0 or a true one: none is a rounding of 0 (sin or cos at a multiple of π/2, the
+// collars' offsets: up to 8.9e-16 at n = 295 before ldmDirections zeroed them), which would put the
+// direction a rounding off an axis plane (n = 256's fifth direction had y = 2.1e-17: on the H200,
+// split photons along a box's floor left the closed box). 1e-9 lies between: the smallest true
+// component of these n is 1.03e-6 (printed).
 TEST(LdmDirections, NoComponentIsTheRoundingOfZero) {
   double smallest = 1.0;
   size_t zeros = 0;
-  for (uint32_t n = 1; n <= 2048; ++n)
+  std::vector<uint32_t> ns;
+  for (uint32_t n = 1; n <= 2048; ++n) ns.push_back(n);
+  for (uint32_t n : {3000u, 4096u, 8192u, 16384u, 65536u}) ns.push_back(n);
+  for (uint32_t n : ns)
     for (const glm::dvec3& d : ldmDirections(n))
       for (int k = 0; k < 3; ++k) {
         const double a = std::abs(d[k]);
@@ -120,7 +124,8 @@ TEST(LdmDirections, NoComponentIsTheRoundingOfZero) {
         ASSERT_GT(a, 1e-9) << "n = " << n << ", component " << k;
         smallest = std::min(smallest, a);
       }
-  std::printf("ldmDirections(1..2048): %zu components exactly 0, the smallest other %.3g\n", zeros, smallest);
+  std::printf("ldmDirections(1..2048, 3000, ..., 65536): %zu components exactly 0, the smallest other %.3g\n", zeros,
+              smallest);
   const std::vector<glm::dvec3> d256 = ldmDirections(256);
   EXPECT_EQ(d256[4].y, 0.0);  // the direction of the H200's escaping photons
 }
