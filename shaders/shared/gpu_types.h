@@ -236,11 +236,16 @@ struct R3dSetupRecord {
 
 // 3dr-binned anti-aliasing with shared sample planes (raster3d_tiles.comp.glsl): one pass of setup,
 // binning and tiles for the centre and every stored sample. Plane p's rays start at d0[p] (its
-// Raster3dConstants' rayD0; plane 0 the centre's); rayDx and rayDy are every plane's.
+// Raster3dConstants' rayD0; plane 0 the centre's); rayDx and rayDy are every plane's. The tile pass
+// tests plane p's coverage with the centre's rows at (x + offset[p].x, y + offset[p].y): d0[p] is
+// d0[0] + offset.x·rayDx + offset.y·rayDy but for the rounding of each to float, at most `slack`
+// (per component, over the planes) apart.
 HB_CONST uint kR3dMaxPlanes = 17u;  // the centre and at most 16 stored samples
 struct R3dPlaneRays {
   vec4 d0[kR3dMaxPlanes];
-  uvec4 info;  // x: visibility entries between planes (Raster3dPass::planeStride)
+  vec4 offset[kR3dMaxPlanes];  // xy: the sample's position in its pixel less the centre's, px
+  uvec4 info;                  // x: visibility entries between planes (Raster3dPass::planeStride)
+  vec4 slack;                  // xyz: the largest |d0[p] − (d0[0] + offset.x·rayDx + offset.y·rayDy)|
 };
 
 HB_CONST uint kProjectionPerspective = 0u;
@@ -431,7 +436,7 @@ static_assert(sizeof(DrawConstants) == 144, "DrawConstants layout");
 static_assert(sizeof(Raster3dConstants) == 9 * 16 + 32 + 4 * 16, "Raster3dConstants layout");
 static_assert(sizeof(PrimaryBvhNode) == 48, "PrimaryBvhNode layout");
 static_assert(sizeof(R3dSetupRecord) == 12 * 16, "R3dSetupRecord layout");
-static_assert(sizeof(R3dPlaneRays) == (kR3dMaxPlanes + 1) * 16, "R3dPlaneRays layout");
+static_assert(sizeof(R3dPlaneRays) == (2 * kR3dMaxPlanes + 2) * 16, "R3dPlaneRays layout");
 static_assert(sizeof(GpuDraw) == 2 * 64 + 16, "GpuDraw layout");
 static_assert(sizeof(FrameConstants) == 5 * 64 + 3 * 16 + 16 + 2 * 16, "FrameConstants layout");
 static_assert(sizeof(GpuLight) == 64, "GpuLight layout");

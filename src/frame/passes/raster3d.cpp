@@ -154,6 +154,22 @@ Raster3dPass::Raster3dPass(const VulkanContext& ctx, const Scene& scene, const C
         &rays.d0[p],
         static_cast<const char*>(constants_.mapped()) + p * kConstantsStride + offsetof(gpu::Raster3dConstants, rayD0),
         sizeof(glm::vec4));
+  // Each plane's sample offset, and how far the floats d0[p] lie from d0[0] + offset·(dx, dy), in
+  // double: the products of a float by a multiple of 1/16 and the floats are exact there, and the
+  // two sums round by at most 2^-52 of their magnitude, which the margin covers.
+  const glm::dvec3 d0c(rays.d0[0]), dx(c.rayDx), dy(c.rayDy);
+  glm::dvec3 slack(0.0);
+  for (uint32_t p = 1; p < planes_; ++p) {
+    const glm::dvec2 o = glm::dvec2(samples[p - 1]) - 0.5;
+    rays.offset[p] = glm::vec4(glm::vec2(o), 0.0f, 0.0f);
+    const glm::dvec3 moved = d0c + o.x * dx + o.y * dy;
+    const glm::dvec3 margin = std::ldexp(1.0, -50) * (glm::abs(d0c) + glm::abs(o.x * dx) + glm::abs(o.y * dy));
+    slack = glm::max(slack, glm::abs(glm::dvec3(rays.d0[p]) - moved) + margin);
+  }
+  for (int k = 0; k < 3; ++k) {  // rounded up to float
+    const float f = float(slack[k]);
+    rays.slack[k] = double(f) < slack[k] ? std::nextafter(f, INFINITY) : f;
+  }
   rays.info = glm::uvec4(planeStride_, planes_, 0, 0);
   planeRays_ = Buffer(ctx, sizeof rays, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT, true, MemClass::Other);
   std::memcpy(planeRays_.mapped(), &rays, sizeof rays);
