@@ -28,8 +28,23 @@ class GpuTest : public ::testing::Test {
       EXPECT_EQ(ctx->validationMessages(), 0u) << "validation layers reported messages (see stderr)";
     }
   }
+  // The backend that traces a test's shadow rays where the tracer is not what the test checks (the
+  // normals, the positions, what a hard case shadows): ray query where the device has it (lavapipe,
+  // on which CI runs them), else the driver's ray-tracing pipeline (an NVIDIA H200 has no ray
+  // query), else our own compute tracer. Each traces the same rays exactly as far as the tests ask.
+  std::string exactBackend() const {
+    if (ctx->info().rayQuery) return "rayquery";
+    return ctx->info().rayTracingPipeline ? "pipeline" : "compute";
+  }
   std::unique_ptr<VulkanContext> ctx;
 };
+
+// In a GpuTest's body: skips a test that compares ray query itself on a device without it, saying
+// why (a test that only needs some exact tracer takes exactBackend() instead).
+#define HB_SKIP_WITHOUT_RAY_QUERY()                                                              \
+  if (!ctx->info().rayQuery)                                                                     \
+  GTEST_SKIP() << "the device (" << ctx->info().name << ") has no VK_KHR_ray_query, which this " \
+               << "test compares with the other tracers"
 
 // A perspective camera at eye looking at target (y up), near 0.05 m, far 100 m: the GPU tests' scenes.
 inline Camera lookFrom(glm::vec3 eye, glm::vec3 target) {

@@ -94,6 +94,7 @@ void expectCleanImages(const ShadowFrame& f, const std::string& what) {
 class ShadowBackends : public testing::GpuTest, public ::testing::WithParamInterface<std::string> {};
 
 TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
+  HB_SKIP_WITHOUT_RAY_QUERY();
   const Scene& scene = sceneNamed(GetParam());
   const Bvh bvh = buildBvh(scene);
   const Bvh tbvh = buildBvh(scene);
@@ -199,6 +200,7 @@ INSTANTIATE_TEST_SUITE_P(ShadowScenes, ShadowBackends, ::testing::ValuesIn(built
 class ShadowComputeTiles : public testing::GpuTest {};
 
 TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
+  HB_SKIP_WITHOUT_RAY_QUERY();
   const Scene& scene = sceneNamed("atrium");
   for (uint32_t tile : {8u, 16u, 32u}) {
     const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", tile);
@@ -246,6 +248,7 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
 class ShadowScaledTMin : public testing::GpuTest {};
 
 TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
+  HB_SKIP_WITHOUT_RAY_QUERY();
   for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
     const Scene& scene = sceneNamed(name);
     const Bvh bvh = buildBvh(scene);
@@ -307,7 +310,7 @@ size_t pixelsBeyondPlaneBound(const ShadowFrame& f, const Scene& scene, const Re
 
 TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
   const Scene& scene = sceneNamed("plane");
-  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, exactBackend());
   const ReferenceSurface ref = referenceSurface(buildBvh(scene), f.depth, f.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
@@ -318,13 +321,13 @@ TEST_F(ShadowNormals, ImprovedIsExactOnThePlaneToTheFloatBound) {
 TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
   const Scene& scene = sceneNamed("depth-step");
   const Bvh bvh = buildBvh(scene);
-  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, exactBackend());
   const ReferenceSurface ref = referenceSurface(bvh, improved.depth, improved.cam);
   ASSERT_EQ(ref.unmatched, 0u);
   double ratio;
   EXPECT_EQ(pixelsBeyondPlaneBound(improved, scene, ref, &ratio), 0u) << "improved normals mixed the two sides";
   // The scene does test something: naive normals take the derivative across the step there.
-  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
+  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, exactBackend());
   const NormalAccuracy acc = normalAccuracy(naive.shadows.normals, ref);
   EXPECT_GT(acc.maxAngleDeg, 45.0);
   std::printf("[ normals ] depth-step improved: max angle / bound = %.3g; naive max %.1f deg\n", ratio,
@@ -334,8 +337,8 @@ TEST_F(ShadowNormals, ImprovedKeepsEachSideOfTheDepthStep) {
 TEST_F(ShadowNormals, ImprovedHasALowerMeanErrorThanNaiveOnTheAtrium) {
   const Scene& scene = sceneNamed("atrium");
   const Bvh bvh = buildBvh(scene);
-  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, "rayquery");
-  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame naive = render(*ctx, scene, NormalCulling::Naive, exactBackend());
+  const ShadowFrame improved = render(*ctx, scene, NormalCulling::Improved, exactBackend());
   const ReferenceSurface ref = referenceSurface(bvh, naive.depth, naive.cam);
   const NormalAccuracy a = normalAccuracy(naive.shadows.normals, ref);
   const NormalAccuracy b = normalAccuracy(improved.shadows.normals, ref);
@@ -416,7 +419,7 @@ std::vector<PositionSample> positionSamples(const ShadowFrame& f) {
 TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
   for (const std::string& name : builtinSceneNames()) {
     if (name == "far-origin") continue;
-    const ShadowFrame f = render(*ctx, sceneNamed(name), NormalCulling::Off, "rayquery");
+    const ShadowFrame f = render(*ctx, sceneNamed(name), NormalCulling::Off, exactBackend());
     const PositionAccuracy acc = positionAccuracy(f.shadows.positions, f.depth, f.cam);
     EXPECT_EQ(acc.nonFinite, 0u) << name;
     EXPECT_LE(acc.maxRelative, 8.0 * kU) << name;
@@ -431,7 +434,7 @@ TEST_F(ShadowPositions, Alg41IsWithinFourUlpsOfTheDistanceNearTheOrigin) {
 // distance, stay within the same 4·2^-23·distance bound (derivation above), and each plane has
 // its own figure, so that a precision loss at one distance cannot hide in the others' average.
 TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance) {
-  const ShadowFrame f = render(*ctx, sceneNamed("far-planes"), NormalCulling::Off, "rayquery");
+  const ShadowFrame f = render(*ctx, sceneNamed("far-planes"), NormalCulling::Off, exactBackend());
   struct PlaneFigure {
     size_t pixels = 0;
     double maxRel = 0, sumRel = 0;
@@ -468,7 +471,7 @@ TEST_F(ShadowPositions, EachFarPlaneKeepsItsPositionsWithinFourUlpsOfItsDistance
 // where v is the view-space point, d = |v| and Md = inverse in double.
 TEST_F(ShadowPositions, FarFromTheOriginTheErrorFollowsTheEyeDistanceBound) {
   const Scene& scene = sceneNamed("far-origin");
-  const ShadowFrame f = render(*ctx, scene, NormalCulling::Off, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Off, exactBackend());
   const glm::dmat4 mf(glm::inverse(f.view));  // what makeFrameConstants uploads
   const glm::dmat4 md = glm::inverse(glm::dmat4(f.view));
   const glm::dvec3 t(md[3]);
@@ -528,7 +531,7 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
   Scene scene = sceneNamed("thin-gap");
   scene.lights[0].position = {1.5f, 0.15f, 0.0f};
   const Bvh tbvh = buildBvh(scene);
-  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, "rayquery");
+  const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, exactBackend());
   const ShadowComparison cmp = compare(f, scene, buildBvh(scene));
   EXPECT_EQ(cmp.unexplained(), 0u);
   const glm::dvec3 light(scene.lights[0].position);
@@ -555,12 +558,18 @@ TEST_F(ShadowHardCases, ThinGapRaysThatEnterTheGapEndOnTheUnderside) {
 TEST_F(ShadowHardCases, OpenOccluderShadowsFromBehind) {
   const Scene& scene = sceneNamed("open-occluder");
   for (const char* backend : {"rayquery", "pipeline", "compute"}) {
+    if (std::string(backend) == "rayquery" && !ctx->info().rayQuery) continue;  // every tracer the device has
     const ShadowFrame f = render(*ctx, scene, NormalCulling::Improved, backend);
     const glm::dvec3 light(scene.lights[0].position);
     int inShadow = 0;
+    double groundY = 0.0;  // the largest |y| of the ground points counted
     for (size_t i = 0; i < f.pixels(); ++i) {
       const glm::dvec3 p(f.shadows.positions[4 * i], f.shadows.positions[4 * i + 1], f.shadows.positions[4 * i + 2]);
-      if (f.shadows.positions[4 * i + 3] != 1.0f || std::abs(p.y) > 1e-5) continue;
+      // The ground's points: the scene's only other surface, the quad, lies at y >= 0.5, so a point
+      // within 0.25 of y = 0 is the ground's whatever the depth's rounding. (A 1e-5 cut took no
+      // pixel at all on an NVIDIA H200, whose raster hardware puts the ground's reconstructed
+      // points further from y = 0 than lavapipe.)
+      if (f.shadows.positions[4 * i + 3] != 1.0f || std::abs(p.y) > 0.25) continue;
       // Where the segment to the light crosses z = 0 inside the quad (|x| < 1, 0.5 < y < 1.5),
       // with a 5 cm margin from its edges.
       if (p.z >= 0.0) continue;
@@ -569,8 +578,12 @@ TEST_F(ShadowHardCases, OpenOccluderShadowsFromBehind) {
       if (std::abs(q.x) > 0.95 || q.y < 0.55 || q.y > 1.45) continue;
       EXPECT_EQ(f.shadows.visibility[i] & 1u, 0u) << backend << ": ground pixel " << i << " behind the quad is lit";
       inShadow++;
+      groundY = std::max(groundY, std::abs(p.y));
     }
     EXPECT_GT(inShadow, 100) << backend;
+    std::printf(
+        "[ hard cases ] open-occluder %s: %d ground pixels behind the quad, all in shadow; largest |y| %.3g m\n",
+        backend, inShadow, groundY);
   }
 }
 

@@ -148,7 +148,35 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   return d;
 }
 
+// On the NVIDIA driver (580, an H200), a process that had created and destroyed about thirty
+// instances could create no more: vkCreateInstance returned VK_ERROR_INCOMPATIBLE_DRIVER from then
+// on (every GPU test after about the fifteenth of a process failed in its set-up:
+// results/h200/gpu-tests-36). The loader unloads a driver's library with the last instance that
+// uses it and loads it again with the next. One instance without layers, made before the first and
+// destroyed at exit, keeps every driver loaded for the process's life. If it cannot be made, the
+// instance that follows reports why.
+static void keepDriversLoaded() {
+  struct KeepAlive {
+    VkInstance inst = VK_NULL_HANDLE;
+    KeepAlive() {
+      VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+      app.pApplicationName = "hybridbench (keeps the drivers loaded)";
+      app.apiVersion = VK_API_VERSION_1_3;
+      VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+      ci.pApplicationInfo = &app;
+      if (vkCreateInstance(&ci, nullptr, &inst) != VK_SUCCESS) inst = VK_NULL_HANDLE;
+    }
+    ~KeepAlive() {
+      if (inst) vkDestroyInstance(inst, nullptr);
+    }
+    KeepAlive(const KeepAlive&) = delete;
+    KeepAlive& operator=(const KeepAlive&) = delete;
+  };
+  static const KeepAlive keep;  // thread-safe, once
+}
+
 static VkInstance createInstance(bool validation) {
+  keepDriversLoaded();
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "hybridbench";
   app.apiVersion = VK_API_VERSION_1_3;
