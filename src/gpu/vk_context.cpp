@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <sstream>
 
 #include "base/errors.h"
@@ -152,27 +153,27 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
 // instances could create no more: vkCreateInstance returned VK_ERROR_INCOMPATIBLE_DRIVER from then
 // on (every GPU test after about the fifteenth of a process failed in its set-up:
 // results/h200/gpu-tests-36). The loader unloads a driver's library with the last instance that
-// uses it and loads it again with the next. One instance without layers, made before the first and
-// destroyed at exit, keeps every driver loaded for the process's life. If it cannot be made, the
-// instance that follows reports why.
+// uses it and loads it again with the next. One instance that enables no layer of its own (implicit
+// layers still load), made before the first and destroyed at exit, keeps every driver loaded for
+// the process's life. Where it cannot be made (no driver yet), the instance that follows reports
+// why, and the next call tries again.
 static void keepDriversLoaded() {
   struct KeepAlive {
+    std::mutex mutex;
     VkInstance inst = VK_NULL_HANDLE;
-    KeepAlive() {
-      VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-      app.pApplicationName = "hybridbench (keeps the drivers loaded)";
-      app.apiVersion = VK_API_VERSION_1_3;
-      VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-      ci.pApplicationInfo = &app;
-      if (vkCreateInstance(&ci, nullptr, &inst) != VK_SUCCESS) inst = VK_NULL_HANDLE;
-    }
     ~KeepAlive() {
       if (inst) vkDestroyInstance(inst, nullptr);
     }
-    KeepAlive(const KeepAlive&) = delete;
-    KeepAlive& operator=(const KeepAlive&) = delete;
   };
-  static const KeepAlive keep;  // thread-safe, once
+  static KeepAlive keep;
+  const std::lock_guard<std::mutex> lock(keep.mutex);
+  if (keep.inst) return;
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "hybridbench (keeps the drivers loaded)";
+  app.apiVersion = VK_API_VERSION_1_3;
+  VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ci.pApplicationInfo = &app;
+  if (vkCreateInstance(&ci, nullptr, &keep.inst) != VK_SUCCESS) keep.inst = VK_NULL_HANDLE;
 }
 
 static VkInstance createInstance(bool validation) {

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Session 36, call 6: does a process that opens and closes VulkanContext again and again run out of
+# Session 36, call 7 (call 6: the same, sampling the wrong process): does a process that opens and closes VulkanContext again and again run out of
 # something on the NVIDIA driver? One light GPU test repeated 150 times; its open files, threads and
 # resident memory sampled every second.
 set -u

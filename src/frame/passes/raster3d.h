@@ -161,7 +161,7 @@ class Raster3dPass {
   uint32_t width_, height_, triangleCount_, tileWorkgroups_ = 0, screenTiles_ = 0, frusta_ = 0;
   uint32_t planes_ = 1, planeStride_ = 0;
   bool sharedPlanes_ = false;
-  Buffer planeRays_;  // gpu::R3dPlaneRays (UBO): each plane's d0 and the planes' stride
+  Buffer planeRays_;  // gpu::R3dPlaneRays (UBO): each plane's d0, sample offset and slack, and the planes' stride
   Buffer constants_, triangles_, vis_, big_, spans_, setups_, counters_, sampleCounters_, coverage_, tested_,
       depthStaging_, bins_, binList_, idBase_, bvhNodes_, bvhOrder_;
   Raster3dBvhStats bvhStats_;
