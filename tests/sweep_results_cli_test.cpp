@@ -196,6 +196,21 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   const RunResult refused = run({"tables", (out / "results.json").string(), (out / "other.json").string()});
   EXPECT_EQ(refused.exitCode, 2);
   EXPECT_NE(refused.err.find("another GPU"), std::string::npos) << refused.err;
+
+  // --ceiling: only with the roofline table, only from the same device, and only a file whose runs
+  // measured a rate no device peak counts (this sweep's thesis frames have none); one line, exit 2.
+  const RunResult noFormat = run({"tables", file, "--ceiling", file});
+  EXPECT_EQ(noFormat.exitCode, 2);
+  EXPECT_NE(noFormat.err.find("--format roofline"), std::string::npos) << noFormat.err;
+  const RunResult otherDevice =
+      run({"tables", file, "--format", "roofline", "--ceiling", (out / "other.json").string()});
+  EXPECT_EQ(otherDevice.exitCode, 2);
+  EXPECT_NE(otherDevice.err.find("another GPU"), std::string::npos) << otherDevice.err;
+  const RunResult noRates = run({"tables", file, "--format", "roofline", "--ceiling", file});
+  EXPECT_EQ(noRates.exitCode, 2);
+  EXPECT_NE(noRates.err.find("configs/ceilings"), std::string::npos) << noRates.err;
+  for (const RunResult* line : {&noFormat, &otherDevice, &noRates})
+    EXPECT_EQ(std::count(line->err.begin(), line->err.end(), '\n'), 1) << line->err;
 }
 
 // The 64-lights variant fails (only 32 per tile is implemented); the depth-sliced one, placed

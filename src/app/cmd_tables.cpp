@@ -32,8 +32,11 @@ static nlohmann::json readResults(const std::string& path) {
   }
 }
 
-int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates) {
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates,
+              const std::vector<std::string>& ceilingPaths) {
   HB_ASSERT(!resultsPaths.empty());
+  if (!ceilingPaths.empty() && format != "roofline")
+    throw InputError("--ceiling " + ceilingPaths[0] + " rates the roofline table's passes; add --format roofline");
   std::vector<nlohmann::json> files;
   for (const std::string& path : resultsPaths) {
     files.push_back(readResults(path));
@@ -84,7 +87,30 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
   } else if (format == "accuracy") {
     std::cout << accuracyReportMarkdown(results);
   } else if (format == "roofline") {
-    std::cout << rooflineMarkdown(results);
+    if (ceilingPaths.empty()) {
+      std::cout << rooflineMarkdown(results);
+    } else {
+      // Every file's rates together: the highest for each (pass, unit, primary, aa).
+      MeasuredCeilings ceilings;
+      for (const std::string& path : ceilingPaths) {
+        const nlohmann::json ceiling = readResults(path);
+        results::requireResultsFile(ceiling, path);
+        if (deviceName(ceiling) != deviceName(results))
+          throw InputError("--ceiling " + path + ": measured on \"" + deviceName(ceiling) + "\", " + resultsPaths[0] +
+                           " on \"" + deviceName(results) +
+                           "\"; a ceiling rates passes only on the device that measured it (sweep "
+                           "configs/ceilings*.json there)");
+        const MeasuredCeilings one = measuredCeilings(ceiling, path);
+        if (one.rates.empty())
+          throw InputError("--ceiling " + path +
+                           ": no run measured a rate without a device peak (a loop's steps); sweep "
+                           "configs/ceilings*.json with this build and pass its results.json");
+        ceilings.file += (ceilings.file.empty() ? "" : ", ") + path;
+        for (const auto& [key, rate] : one.rates)
+          if (rate.perSecond > ceilings.rates[key].perSecond) ceilings.rates[key] = rate;
+      }
+      std::cout << rooflineMarkdown(results, &ceilings);
+    }
   } else if (format == "roofline-svg") {
     std::cout << rooflineSvg(results);
   } else if (format == "built") {

@@ -71,7 +71,8 @@ int cmdRaybench(const RaybenchOptions& options);
 // Several files: their runs one after another under the first file's context (a study whose runs
 // did not fit one sweep); refused unless every file was measured on a device of the same name.
 // A variant in two files is refused unless allowDuplicates; then each row's name carries its file.
-int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates = false);
+int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates = false,
+              const std::vector<std::string>& ceilingPaths = {});
 // `merge`: the parts of one sweep (`sweep --shard K/N`, one folder each) as one results folder in
 // out: every variant of the config once, in config order, with its images. Throws InputError when
 // the parts' config, scene hash, revision or device name differ (force: devices may, and each run

@@ -118,6 +118,11 @@ int main(int argc, char** argv) {
   bool tablesAllowDuplicates = false;
   tablesCmd->add_flag("--allow-duplicates", tablesAllowDuplicates,
                       "read files that hold the same variant; every row is then named with its file");
+  std::vector<std::string> tablesCeiling;
+  tablesCmd->add_option("--ceiling", tablesCeiling,
+                        "with --format roofline: a results.json of configs/ceilings*.json from the same device "
+                        "(repeatable); a loop's steps (no device peak counts them) are rated against the same "
+                        "pass there");
 
   std::string compareA, compareB;
   CompareOptions compareOpts;
@@ -304,7 +309,7 @@ int main(int argc, char** argv) {
       sweep.images = !noImages;
       return cmdSweep(sweep);
     }
-    if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates);
+    if (*tablesCmd) return cmdTables(tablesPaths, tablesFormat, tablesAllowDuplicates, tablesCeiling);
     if (*mergeCmd) return cmdMerge(mergeDirs, mergeOut, mergeForce);
     if (*compareCmd) {
       if (compareJson && compareFormatOpt->count() > 0 && compareFormat != "json")

@@ -327,7 +327,7 @@ TEST(ConfigErrors, SceneSpecificParametersAreRefusedForGltfScenes) {
       << e;
   EXPECT_EQ(
       errorOfText(R"({"name": "n", "scene": "sponza"})"),
-      R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes, microbench-262144, microbench-144) nor a .gltf/.glb path)");
+      R"(x.json: scene: "sponza" is neither a built-in scene (atrium, plane, depth-step, cube, tiny-triangles, grazing, grazing-far, thin-gap, degenerate, open-occluder, far-origin, far-planes, microbench-262144, microbench-144, microbench-dense, microbench-tiny) nor a .gltf/.glb path)");
 }
 
 TEST(ConfigErrors, StructuralMistakesNameTheField) {

@@ -42,6 +42,9 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
   // The resolve reads 8 B of visibility and writes 4 B of depth per pixel; where a pass draws
   // against the depth, it is then copied into the D32 image (4 B read + 4 B written).
   const WorkItem resolve = derived("bytes", 12 * pixels, "8 B visibility read + 4 B depth written a pixel");
+  // Rates no device peak counts (tables --ceiling rates them against the same sub-pass on a ceiling
+  // run: docs/methods/3d-rasterization.md "Measured ceilings").
+  const WorkItem resolved = derived("pixels_resolved", pixels, "one a pixel");
   const WorkItem copy = derived("bytes", 8 * pixels, "4 B read + 4 B written a pixel");
   std::vector<PassWork> w;
   if (cast) {
@@ -79,11 +82,14 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
                     counted("bytes", 48 * nodes + 48 * setups,
                             "48 B a node visited + 48 B a triangle set up (3 vertices as vec4)")}});
       samplesWork(name, a, w);
-      w.push_back({name + ".resolve", {resolve}});
+      w.push_back({name + ".resolve", {resolve, resolved}});
       if (depthCopy) w.push_back({name + ".depth_copy", {copy}});
       return w;
     }
-    w.push_back({name + ".triangles", {setupOps, setupBytes}});
+    w.push_back(
+        {name + ".triangles",
+         {setupOps, setupBytes,
+          counted("triangles_set_up", triangles, "every triangle the per-triangle pass took (primary.triangles)")}});
     if (binned) {
       const WorkItem listAtomics = counted("atomics", entries, "one atomicAdd per (triangle, tile) list entry");
       w.push_back({name + ".count", {listAtomics}});
@@ -91,10 +97,18 @@ std::vector<PassWork> primaryWork(const std::string& name, const nlohmann::json&
           {name + ".scan", {derived("bytes", 12 * tiles, "per 8x8 tile its count read, offset and cursor written")}});
       w.push_back({name + ".fill", {listAtomics, derived("bytes", 4 * entries, "each list entry written")}});
     }
-    w.push_back({name + ".tiles", {testOps, visAtomics}});
+    // The tile pass's loop: every thread of a tile's workgroup (64) takes each (triangle, tile) pair of
+    // the tile's list once. No device peak counts these; `tables --ceiling` rates them against the
+    // same pass on a ceiling run (docs/methods/3d-rasterization.md "Measured ceilings").
+    std::vector<WorkItem> tileItems = {testOps, visAtomics};
+    if (binned)
+      tileItems.push_back(counted("tile_loop_steps", 64 * figureAt(a, {"primary", "bins_refined"}),
+                                  "(triangle, tile) pairs the tile pass tested (primary.bins_refined) x 64 "
+                                  "threads: its loop's steps"));
+    w.push_back({name + ".tiles", tileItems});
   }
   samplesWork(name, a, w);
-  w.push_back({name + ".resolve", {resolve}});
+  w.push_back({name + ".resolve", {resolve, resolved}});
   if (depthCopy) w.push_back({name + ".depth_copy", {copy}});
   return w;
 }

@@ -86,10 +86,17 @@ json rooflineOf(const Renderer& renderer, const json& run, const std::map<std::s
 
 namespace {
 
+struct Load {
+  std::string unit, source;
+  double achieved = 0, peak = 0;
+};
+
 struct Point {
   std::string variant, entry, unit, source;
   double ms = 0, achieved = 0, peak = 0;
   bool hasFraction = false;
+  std::vector<Load> loads;
+  nlohmann::json params;
 };
 
 std::vector<Point> points(const json& results) {
@@ -108,6 +115,10 @@ std::vector<Point> points(const json& results) {
       p.achieved = r.value("achieved_per_s", 0.0);
       p.peak = r.value("peak_per_s", 0.0);
       p.hasFraction = r.contains("fraction") && r["fraction"].is_number();
+      for (const json& l : r.value("loads", json::array()))
+        p.loads.push_back(
+            {l.value("unit", ""), l.value("source", ""), l.value("achieved_per_s", 0.0), l.value("peak_per_s", 0.0)});
+      p.params = run.value("params", json::object());
       pts.push_back(p);
     }
   }
@@ -168,7 +179,26 @@ std::string peaksMarkdown(const json& results) {
   return s + "\n";
 }
 
-std::string rooflineMarkdown(const json& results) {
+std::string ceilingKey(const std::string& entry, const std::string& unit, const json& params) {
+  auto param = [&params](const char* key) {
+    return params.is_object() && params.contains(key) ? params[key].dump() : std::string("-");
+  };
+  return entry + " | " + unit + " | primary " + param("primary") + " | aa " + param("aa");
+}
+
+MeasuredCeilings measuredCeilings(const json& ceilingResults, const std::string& file) {
+  MeasuredCeilings c;
+  c.file = file;
+  for (const Point& p : points(ceilingResults))
+    for (const Load& l : p.loads) {
+      if (l.peak > 0 || !(l.achieved > 0)) continue;  // a device peak rates it already; no rate
+      MeasuredCeiling& m = c.rates[ceilingKey(p.entry, l.unit, p.params)];
+      if (l.achieved > m.perSecond) m = {l.achieved, p.variant};
+    }
+  return c;
+}
+
+std::string rooflineMarkdown(const json& results, const MeasuredCeilings* ceilings) {
   std::string s = "## Roofline: how close each pass runs to the device's peak\n\n";
   s += "Device: " + deviceOf(results) +
        ". Peaks: `hybridbench peaks` (context.device.peaks); rays: the frame's own shadow rays traced alone "
@@ -186,15 +216,47 @@ std::string rooflineMarkdown(const json& results) {
   if (empty.contains("ms")) emptyMs = empty["ms"].value("median", 0.0);
   if (emptyMs > 0)
     s += format("Empty dispatch: %.4g ms (peaks dispatch_empty); \"x empty\" is the pass's time over it.\n\n", emptyMs);
-  s += "| Variant | Pass | ms | x empty | Bound | Achieved | Peak | Fraction of the limit | Work is |\n";
-  s += "|---|---|---|---|---|---|---|---|---|\n";
-  const std::vector<Point> pts = points(results);
-  for (const Point& p : pts)
+  if (ceilings)
+    s += "Measured ceilings: " + ceilings->file +
+         " (the same passes on a ceiling workload; a unit no device peak counts is rated against the "
+         "highest rate its runs reached for the same pass, primary and aa, named in \"Work is\").\n\n";
+  // The share of its ceiling only with measured ceilings: the tables of earlier studies keep their
+  // columns.
+  if (ceilings)
+    s += "\"Share of its ceiling\": the largest of the bound's fraction and the empty dispatch's time over "
+         "the pass's (launch).\n\n";
+  s += std::string("| Variant | Pass | ms | x empty | Bound | Achieved | Peak | Fraction of the limit | ") +
+       (ceilings ? "Share of its ceiling | " : "") + "Work is |\n";
+  s += std::string("|---|---|---|---|---|---|---|---|") + (ceilings ? "---|" : "") + "---|\n";
+  std::vector<Point> pts = points(results);
+  for (Point& p : pts) {
+    // With measured ceilings, a unit without a device peak takes its ceiling run's rate, and the
+    // bound is again the unit closest to its peak.
+    if (ceilings)
+      for (const Load& l : p.loads) {
+        if (l.peak > 0) continue;
+        const auto c = ceilings->rates.find(ceilingKey(p.entry, l.unit, p.params));
+        if (c == ceilings->rates.end()) continue;
+        const double fraction = l.achieved / c->second.perSecond;
+        if (p.hasFraction && fraction <= p.achieved / p.peak) continue;
+        p.unit = l.unit;
+        p.achieved = l.achieved;
+        p.peak = c->second.perSecond;
+        p.hasFraction = true;
+        p.source = l.source + "; ceiling: \"" + c->second.variant + "\" of the ceiling runs";
+      }
+    const double fraction = p.hasFraction ? p.achieved / p.peak : 0.0;
+    const double launch = emptyMs > 0 && p.ms > 0 ? emptyMs / p.ms : 0.0;
+    const std::string share = launch > fraction ? peakFractionText(launch) + " (launch)"
+                              : p.hasFraction   ? peakFractionText(fraction) + " (" + p.unit + ")"
+                                                : std::string("—");
     s += "| " + p.variant + " | " + p.entry + " | " + format("%.4g", p.ms) + " | " +
          (emptyMs > 0 ? format("%.1f", p.ms / emptyMs) : "—") + " | " + p.unit + " | " +
          formatRate(p.achieved, p.unit) + " | " + (p.peak > 0 ? formatRate(p.peak, p.unit) : "—") + " | " +
-         (p.hasFraction ? peakFractionText(p.achieved / p.peak) : "—") + " | " + p.source + " |\n";
-  if (pts.empty()) s += "| (no run carries a roofline) | | | | | | | | |\n";
+         (p.hasFraction ? peakFractionText(fraction) : "—") + " | " + (ceilings ? share + " | " : "") + p.source +
+         " |\n";
+  }
+  if (pts.empty()) s += std::string("| (no run carries a roofline) | | | | | | | | ") + (ceilings ? "| " : "") + "|\n";
   return s + "\n";
 }
 

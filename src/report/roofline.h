@@ -39,10 +39,29 @@ std::string peakFractionText(double fraction);
 // What a fraction over 100 % means, for captions and legends.
 inline constexpr const char* kOverPeakMeaning = "over 100 %: not this pass's peak";
 
+// Ceilings measured by the same passes on a ceiling workload (`tables --ceiling FILE`, e.g. a sweep
+// of configs/ceilings.json): for the units no device peak counts (a loop's steps: tile_loop_steps,
+// splat_tests), the highest rate any run of that file reached, per (pass entry, unit, params.primary,
+// params.aa). A run's load in such a unit is then rated against it, as against a peak.
+struct MeasuredCeiling {
+  double perSecond = 0;
+  std::string variant;  // the ceiling run that reached it
+};
+struct MeasuredCeilings {
+  std::string file;                              // where they were measured (a path, for the table's words)
+  std::map<std::string, MeasuredCeiling> rates;  // by ceilingKey
+};
+std::string ceilingKey(const std::string& entry, const std::string& unit, const nlohmann::json& params);
+MeasuredCeilings measuredCeilings(const nlohmann::json& ceilingResults, const std::string& file);
+
 // The roofline of every run of a results file: a Markdown table (variant, pass, bound, achieved,
-// peak, fraction, source) and an SVG (achieved against peak on log axes, one point per pass and
-// variant, the diagonal = 100 % of the peak).
-std::string rooflineMarkdown(const nlohmann::json& results);
+// peak, fraction, share of its ceiling, source) and an SVG (achieved against peak on log axes, one
+// point per pass and variant, the diagonal = 100 % of the peak).
+// With `ceilings`, units no device peak counts are rated against the ceiling runs' rates (above),
+// and a column gives each pass's share of its ceiling: the largest of its fractions (its bound's)
+// and of the empty dispatch's time over the pass's (peaks dispatch_empty: no dispatch takes less,
+// so a pass within a few of it is bound by the launch), with the one that sets it named.
+std::string rooflineMarkdown(const nlohmann::json& results, const MeasuredCeilings* ceilings = nullptr);
 // The device's peaks of a results file (context.device.peaks) as a Markdown table, each beside the
 // vendor's data-sheet figure where this project knows one (memory bandwidth, FP32 on the H100 and
 // H200) and the ratio; empty when the file has no peaks.

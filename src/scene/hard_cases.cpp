@@ -224,13 +224,16 @@ Scene makeFarPlanes() {
   return s;
 }
 
-Scene makeMicrobench(uint32_t triangles) {
-  Scene s = baseScene(triangles == 262144 ? "microbench-262144" : "microbench-144");
+Scene makeMicrobench(uint32_t triangles, double layers) {
+  Scene s = baseScene(layers > 4            ? "microbench-dense"
+                      : layers < 4          ? "microbench-tiny"
+                      : triangles == 262144 ? "microbench-262144"
+                                            : "microbench-144");
   MeshBuilder mb(s.name);
-  // Sized so that the triangles cover the 1920x1080 screen about 4 times over: a triangle's
-  // projected area is ~4·W·H/N pixels, i.e. legs of sqrt(8·W·H/N) pixels; a pixel at depth z is
-  // 2·z·tan(30°)/1080 m.
-  const double legPixels = std::sqrt(8.0 * 1920.0 * 1080.0 / double(triangles));
+  // Sized so that the triangles cover the 1920x1080 screen about `layers` times over: a triangle's
+  // projected area is ~layers·W·H/N pixels, i.e. legs of sqrt(2·layers·W·H/N) pixels; a pixel at
+  // depth z is 2·z·tan(30°)/1080 m.
+  const double legPixels = std::sqrt(2.0 * layers * 1920.0 * 1080.0 / double(triangles));
   std::mt19937 rng(2012);  // the paper's year: any fixed seed
   std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(4.0, 12.0);
   const double tanHalf = std::tan(kPi / 6), aspect = 1920.0 / 1080.0;
@@ -253,7 +256,9 @@ std::vector<std::string> builtinSceneNames() {
           "grazing-far", "thin-gap", "degenerate", "open-occluder", "far-origin",     "far-planes"};
 }
 
-std::vector<std::string> benchmarkSceneNames() { return {"microbench-262144", "microbench-144"}; }
+std::vector<std::string> benchmarkSceneNames() {
+  return {"microbench-262144", "microbench-144", "microbench-dense", "microbench-tiny"};
+}
 
 std::vector<std::string> allSceneNames() {
   std::vector<std::string> names = builtinSceneNames();
@@ -286,6 +291,8 @@ std::string builtinSceneDescription(const std::string& name) {
       {"far-planes", "planes at 0.1 m, 100 m and 900 m (znear 0.05, zfar 1000)"},
       {"microbench-262144", "3D rasterization paper's microbenchmark: 262,144 random triangles"},
       {"microbench-144", "3D rasterization paper's microbenchmark: 144 random triangles"},
+      {"microbench-dense", "the microbenchmark's construction, 4,096 triangles about 64 deep: long tile lists"},
+      {"microbench-tiny", "the microbenchmark's construction, 262,144 triangles of about 2-pixel legs"},
   };
   for (const auto& [n, description] : kDescriptions)
     if (name == n) return description;
@@ -307,6 +314,8 @@ Scene makeBuiltinScene(const std::string& name) {
   if (name == "far-planes") return makeFarPlanes();
   if (name == "microbench-262144") return makeMicrobench(262144);
   if (name == "microbench-144") return makeMicrobench(144);
+  if (name == "microbench-dense") return makeMicrobench(4096, 64);
+  if (name == "microbench-tiny") return makeMicrobench(262144, 0.25);
   throw InputError("unknown built-in scene '" + name + "' (" + unknownSceneHint(name) +
                    "; or give a path to a .gltf/.glb file)");
 }

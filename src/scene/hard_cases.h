@@ -84,7 +84,14 @@ Scene makeFarPlanes();
 // al. 2012, Sect. 5: 262,144 and 144 triangles): random triangles of random orientation at depths
 // 4..12 m in front of a camera at the origin looking down -z, sized to cover a 1920x1080 screen
 // about 4 times over (fixed seed); one light at (0, 3, -2).
-Scene makeMicrobench(uint32_t triangles);
+// The same construction makes the scenes `configs/ceilings.json` measures ceilings on
+// (docs/methods/3d-rasterization.md "Measured ceilings"):
+// - "microbench-dense": 4,096 triangles covering the screen about 64 times over (layers = 64), so
+//   that every 8x8 tile's list is long and launching a tile and reading its setups are spread over
+//   many steps of the tile pass's loop;
+// - "microbench-tiny": 262,144 triangles covering it about a quarter over, legs of about 2 pixels,
+//   so that the per-triangle pass does the least work a triangle can ask of it.
+Scene makeMicrobench(uint32_t triangles, double layers = 4);
 
 std::vector<std::string> builtinSceneNames();
 // Built-in scenes for benchmarks only (the microbenchmarks): loadable by name like the others, but

@@ -73,7 +73,16 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       };
       const bool counted = in.contains("splat_work");
       std::vector<WorkItem> gatherItems = {derived("bytes", gather, byEntries)};
-      if (counted) gatherItems.push_back(fmaOf("tests", "terms"));
+      // The pixel-photon coverage tests alone, a rate with no device peak: `tables --ceiling` rates it
+      // against the same gather on a ceiling run (docs/methods/layered-depth-maps.md).
+      auto testsOf = [&in](const char* tests) {
+        return WorkItem{"splat_tests", figureAt(in, {"splat_work", tests}),
+                        std::string("counted: splat_work.") + tests + " (pixel-photon coverage tests)"};
+      };
+      if (counted) {
+        gatherItems.push_back(fmaOf("tests", "terms"));
+        gatherItems.push_back(testsOf("tests"));
+      }
       // later_bounce_stride > 1: the count, scan and fill run once over the first bounce's slots and
       // once over the later bounces' ("photon_splat.later.*"); the boxes step over every slot.
       double first = slots;
@@ -106,7 +115,7 @@ IndirectPart::IndirectPart(FrameBuilder& f) {
       if (rest > 0) {
         later = binning(name + ".later", rest, 0, " (the later run's entries are not counted: its boxes only)");
         if (counted && in["splat_work"].contains("later_tests"))
-          later.push_back({name + ".later.gather", {fmaOf("later_tests", "later_terms")}});
+          later.push_back({name + ".later.gather", {fmaOf("later_tests", "later_terms"), testsOf("later_tests")}});
       }
       std::vector<PassWork> out{
           {name,
