@@ -154,26 +154,27 @@ static DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
 // on (every GPU test after about the fifteenth of a process failed in its set-up:
 // results/h200/gpu-tests-36). The loader unloads a driver's library with the last instance that
 // uses it and loads it again with the next. One instance that enables no layer of its own (implicit
-// layers still load), made before the first and destroyed at exit, keeps every driver loaded for
+// layers still load), made before the first and never destroyed (below), keeps every driver loaded for
 // the process's life. Where it cannot be made (no driver yet), the instance that follows reports
 // why, and the next call tries again.
 static void keepDriversLoaded() {
+  // Never destroyed: at exit the driver's own destructors (registered when the loader opened it,
+  // after this object was made) run first, and a vkDestroyInstance after them crashed the NVIDIA
+  // driver (every command exited with SIGSEGV after writing its results). The process's end
+  // releases the instance; a pointer in a static keeps it reachable for leak checkers.
   struct KeepAlive {
     std::mutex mutex;
     VkInstance inst = VK_NULL_HANDLE;
-    ~KeepAlive() {
-      if (inst) vkDestroyInstance(inst, nullptr);
-    }
   };
-  static KeepAlive keep;
-  const std::lock_guard<std::mutex> lock(keep.mutex);
-  if (keep.inst) return;
+  static KeepAlive* const keep = new KeepAlive;
+  const std::lock_guard<std::mutex> lock(keep->mutex);
+  if (keep->inst) return;
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "hybridbench (keeps the drivers loaded)";
   app.apiVersion = VK_API_VERSION_1_3;
   VkInstanceCreateInfo ci{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   ci.pApplicationInfo = &app;
-  if (vkCreateInstance(&ci, nullptr, &keep.inst) != VK_SUCCESS) keep.inst = VK_NULL_HANDLE;
+  if (vkCreateInstance(&ci, nullptr, &keep->inst) != VK_SUCCESS) keep->inst = VK_NULL_HANDLE;
 }
 
 static VkInstance createInstance(bool validation) {
