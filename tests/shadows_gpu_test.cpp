@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -89,19 +90,51 @@ void expectCleanImages(const ShadowFrame& f, const std::string& what) {
   EXPECT_EQ(bad, 0u) << what << ": pixels with NaN/Inf, a sky pixel with a mask/normal/position, or w != 1";
 }
 
+// Whether two frames traced the same rays at pixel i: the same position, normal and lights traced.
+// Each backend reconstructs its rays' origins and normals in its own shader (a ray-generation shader,
+// a compute shader); the NVIDIA driver compiles them to different roundings (on the H200, 2-64
+// pixels of a built-in scene at 320x180 got a different position or normal from the pipeline than
+// from compute, and every one of them was a differing mask: results/h200/raster3d-52/ceilings).
+bool sameRays(const ShadowFrame& a, const ShadowFrame& b, size_t i) {
+  for (int k = 0; k < 4; ++k)
+    if (a.shadows.positions[4 * i + k] != b.shadows.positions[4 * i + k] ||
+        a.shadows.normals[4 * i + k] != b.shadows.normals[4 * i + k])
+      return false;
+  return a.shadows.traced[i] == b.shadows.traced[i];
+}
+
+// Pixels whose masks differ, split into those that traced the same rays and those that did not.
+struct MaskDiff {
+  size_t sameRays = 0, otherRays = 0;
+  std::string text() const {
+    return std::to_string(sameRays) + " with the same rays, " + std::to_string(otherRays) +
+           " with another position, normal or set of lights";
+  }
+};
+
+MaskDiff maskDiff(const ShadowFrame& a, const ShadowFrame& b) {
+  MaskDiff d;
+  for (size_t i = 0; i < a.pixels(); ++i)
+    if (a.shadows.visibility[i] != b.shadows.visibility[i]) ++(sameRays(a, b, i) ? d.sameRays : d.otherRays);
+  return d;
+}
+
 // ---- both backends, every scene, every normal mode ---------------------------------------------
 
 class ShadowBackends : public testing::GpuTest, public ::testing::WithParamInterface<std::string> {};
 
+// The reference is ray query, or on a device without it (an H200) the driver's pipeline
+// (exactBackend): both trace the driver's own acceleration structure, and the comparison of the two
+// runs where both exist.
 TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
-  HB_SKIP_WITHOUT_RAY_QUERY();
   const Scene& scene = sceneNamed(GetParam());
   const Bvh bvh = buildBvh(scene);
   const Bvh tbvh = buildBvh(scene);
+  const std::string reference = exactBackend();
   for (NormalCulling normals : kNormalModes) {
     const std::string what = GetParam() + " normals=" + toString(normals);
-    const ShadowFrame rq = render(*ctx, scene, normals, "rayquery");
-    const ShadowFrame rt = render(*ctx, scene, normals, "pipeline");
+    const ShadowFrame rq = render(*ctx, scene, normals, reference);
+    const ShadowFrame rt = render(*ctx, scene, normals, ctx->info().rayTracingPipeline ? "pipeline" : reference);
     size_t visDiff = 0, accDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) {
       visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
@@ -109,17 +142,19 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     }
     EXPECT_EQ(visDiff, 0u) << what << ": pixels whose visibility mask differs between rayquery and pipeline";
     // backend=compute: our BVH and watertight test in float. A pixel whose mask differs from ray
-    // query's holds a pair on which one of the two differs from the double-precision CPU ray, and
-    // every such pair must be explained (compareShadows' float bound), so the differing pixels are at
-    // most the two backends' mismatches together.
+    // query's although both traced the same rays (sameRays) holds a pair on which one of the two
+    // differs from the double-precision CPU ray, and every such pair must be explained
+    // (compareShadows' float bound), so those pixels are at most the two backends' mismatches
+    // together. A pixel where the two reconstructed another position or normal traced other rays:
+    // each frame's rays are held to the CPU's from its own positions (compare, below, for both).
     // The 4- and 8-wide trees (bvh_width=4, 8) test the same triangles with the same test: held to the
     // same.
     const ShadowFrame cp = render(*ctx, scene, normals, "compute");
     const ShadowFrame cp4 = render(*ctx, scene, normals, "compute", 16, false, 4);
     const ShadowFrame cp8 = render(*ctx, scene, normals, "compute", 16, false, 8);
-    size_t cpDiff = 0, cp4Diff = 0, cp8Diff = 0;
+    const MaskDiff cpDiff = maskDiff(rq, cp);
+    size_t cp4Diff = 0, cp8Diff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) {
-      cpDiff += rq.shadows.visibility[i] != cp.shadows.visibility[i];
       cp4Diff += cp.shadows.visibility[i] != cp4.shadows.visibility[i];
       cp8Diff += cp.shadows.visibility[i] != cp8.shadows.visibility[i];
     }
@@ -163,8 +198,8 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     // perturbation of 2^-17 of the magnitudes involved); none may be left unexplained.
     const ShadowComparison cmp = compare(rq, scene, bvh);
     EXPECT_EQ(cmp.unexplained(), 0u) << what << ": " << cmp.mismatches << " mismatches of " << cmp.pairs << " pairs";
-    EXPECT_LE(cpDiff, cmp.mismatches + cmpCp.mismatches)
-        << what << ": pixels whose mask differs, compute against rayquery";
+    EXPECT_LE(cpDiff.sameRays, cmp.mismatches + cmpCp.mismatches)
+        << what << ": pixels whose mask differs, compute against " << reference << " (" << cpDiff.text() << ")";
     // Not a tolerance but a check that the explanation stays meaningful: if a large share of the
     // rays needed it, δ would be hiding real errors. lavapipe measured 0 on every scene but
     // grazing-far, which exists to make the thesis's constant t_min fail: a third of its rays
@@ -176,11 +211,12 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     }
     std::printf(
         "[ shadows ] %-14s normals=%s traced %llu of %llu candidates, CPU mismatches %llu "
-        "(tie %llu, endpoint %llu, grazing %llu); compute: CPU mismatches %llu, pixels differing from rayquery "
-        "%zu\n",
+        "(tie %llu, endpoint %llu, grazing %llu); compute: CPU mismatches %llu, pixels differing from %s: "
+        "%zu with the same rays, %zu with others\n",
         GetParam().c_str(), toString(normals), (unsigned long long)acc.traced, (unsigned long long)acc.candidates,
         (unsigned long long)cmp.mismatches, (unsigned long long)cmp.nearTie, (unsigned long long)cmp.endpoint,
-        (unsigned long long)cmp.grazing, (unsigned long long)cmpCp.mismatches, cpDiff);
+        (unsigned long long)cmp.grazing, (unsigned long long)cmpCp.mismatches, reference.c_str(), cpDiff.sameRays,
+        cpDiff.otherRays);
   }
 }
 
@@ -200,26 +236,35 @@ INSTANTIATE_TEST_SUITE_P(ShadowScenes, ShadowBackends, ::testing::ValuesIn(built
 class ShadowComputeTiles : public testing::GpuTest {};
 
 TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
-  HB_SKIP_WITHOUT_RAY_QUERY();
+  // Ray query's visibility, or the driver's pipeline's where there is no ray query (exactBackend).
+  // Equal on every pixel that traced the same rays (sameRays); where the two shaders reconstructed
+  // another position or normal, both frames' pairs are held to the CPU's double-precision rays from
+  // their own positions, every mismatch explained (as in ShadowBackends).
+  const std::string reference = exactBackend();
+  const Bvh cpuBvh = buildBvh(sceneNamed("atrium"));
+  const auto expectEqual = [&](const ShadowFrame& rq, const ShadowFrame& cp, const Scene& scene, const Bvh& bvh,
+                               const std::string& what) {
+    const MaskDiff d = maskDiff(rq, cp);
+    EXPECT_EQ(d.sameRays, 0u) << what << ": pixels whose mask differs from " << reference << "'s (" << d.text() << ")";
+    if (d.otherRays == 0) return;
+    EXPECT_EQ(compare(rq, scene, bvh).unexplained(), 0u) << what << ": " << reference;
+    EXPECT_EQ(compare(cp, scene, bvh).unexplained(), 0u) << what << ": compute";
+  };
   const Scene& scene = sceneNamed("atrium");
   for (uint32_t tile : {8u, 16u, 32u}) {
-    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", tile);
+    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, reference, tile);
     const ShadowFrame cp = render(*ctx, scene, NormalCulling::Improved, "compute", tile);
     const TraceBvh bvh = buildTraceBvh(*ctx, scene);
     EXPECT_EQ(bvh.stack, bvh.depth - 1);
     EXPECT_EQ(traceStackShared(bvh, tile * tile), uint64_t(bvh.stack) * tile * tile * 4 <= 8192) << "tile " << tile;
-    size_t differ = 0;
-    for (size_t i = 0; i < rq.pixels(); ++i) differ += rq.shadows.visibility[i] != cp.shadows.visibility[i];
-    EXPECT_EQ(differ, 0u) << "tile " << tile << ": pixels whose mask differs from ray query's";
+    expectEqual(rq, cp, scene, cpuBvh, "tile " + std::to_string(tile));
     if (tile == 8)  // the wide trees' W − 1 entries a level: in local memory at 64 threads
       for (uint32_t width : {4u, 8u}) {
         const ShadowFrame cpw = render(*ctx, scene, NormalCulling::Improved, "compute", tile, false, width);
         const TraceBvh wide = buildTraceBvh(*ctx, scene, width);
         EXPECT_EQ(wide.stack, (width - 1) * wide.depth);
         EXPECT_LT(wide.depth, bvh.depth);
-        size_t differW = 0;
-        for (size_t i = 0; i < rq.pixels(); ++i) differW += rq.shadows.visibility[i] != cpw.shadows.visibility[i];
-        EXPECT_EQ(differW, 0u) << "bvh_width " << width << ": pixels whose mask differs from ray query's";
+        expectEqual(rq, cpw, scene, cpuBvh, "bvh_width " + std::to_string(width));
       }
   }
   // The shared form: the first built-in scene whose binary stack fits at 8x8.
@@ -227,11 +272,9 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
   for (const std::string& name : builtinSceneNames()) {
     const Scene& small = sceneNamed(name);
     if (name == "atrium" || !traceStackShared(buildTraceBvh(*ctx, small), 64)) continue;
-    const ShadowFrame rq = render(*ctx, small, NormalCulling::Improved, "rayquery", 8);
+    const ShadowFrame rq = render(*ctx, small, NormalCulling::Improved, reference, 8);
     const ShadowFrame cp = render(*ctx, small, NormalCulling::Improved, "compute", 8);
-    size_t differ = 0;
-    for (size_t i = 0; i < rq.pixels(); ++i) differ += rq.shadows.visibility[i] != cp.shadows.visibility[i];
-    EXPECT_EQ(differ, 0u) << name << ": pixels whose mask differs from ray query's (stacks in shared memory)";
+    expectEqual(rq, cp, small, buildBvh(small), name + " (stacks in shared memory)");
     sharedTested = true;
     break;
   }
@@ -248,12 +291,14 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
 class ShadowScaledTMin : public testing::GpuTest {};
 
 TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
-  HB_SKIP_WITHOUT_RAY_QUERY();
+  // Ray query against the pipeline where both exist; else the one there is (exactBackend) alone.
+  const std::string reference = exactBackend();
+  const std::string other = ctx->info().rayTracingPipeline ? "pipeline" : reference;
   for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
     const Scene& scene = sceneNamed(name);
     const Bvh bvh = buildBvh(scene);
-    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, "rayquery", 16, /*scaledTMin=*/true);
-    const ShadowFrame rt = render(*ctx, scene, NormalCulling::Improved, "pipeline", 16, /*scaledTMin=*/true);
+    const ShadowFrame rq = render(*ctx, scene, NormalCulling::Improved, reference, 16, /*scaledTMin=*/true);
+    const ShadowFrame rt = render(*ctx, scene, NormalCulling::Improved, other, 16, /*scaledTMin=*/true);
     size_t visDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
     EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between rayquery and pipeline";
