@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Rewrites every committed file in scenes/ (see scenes/README.md):
-#   - the built-in scenes, exported by hybridbench (all but the two of ~262k triangles: the atrium
-#     and microbench-262144, megabytes each; they are built in anyway);
+#   - the built-in scenes, exported by hybridbench (all but the two of ~262k triangles, the atrium
+#     and microbench-262144, megabytes each, and the ceiling scenes microbench-dense and
+#     microbench-tiny; they are built in anyway);
 #   - cornell-box.gltf, written by cornell-box.mjs (node).
 # Usage: scenes/regenerate.sh [HYBRIDBENCH]   (default: build/hybridbench)
 # A test (Scenes.CommittedBuiltinsAreWhatTheExporterWrites) fails when an exported file differs

@@ -112,6 +112,23 @@ struct MaskDiff {
   }
 };
 
+// Non-sky pixels whose two reconstructed positions lie farther apart than rounding allows. Each is
+// Alg. 4.1 in float from the same depth, within 8u of the magnitudes its last step sums, |eye| +
+// distance (ShadowPositions' derivation, which bounds by the distance alone where |eye| <~
+// distance), so the two lie within 16u·(|eye| + distance) of each other. A pixel that took a
+// neighbour's position instead (a pixel's footprint, ~distance/300 at 320x180) is far outside.
+size_t positionsApart(const ShadowFrame& a, const ShadowFrame& b) {
+  const glm::dvec3 eye(a.cam.viewInv[3]);
+  size_t apart = 0;
+  for (size_t i = 0; i < a.pixels(); ++i) {
+    if (!(a.depth[i] > 0.0f)) continue;
+    const glm::dvec3 pa(a.shadows.positions[4 * i], a.shadows.positions[4 * i + 1], a.shadows.positions[4 * i + 2]);
+    const glm::dvec3 pb(b.shadows.positions[4 * i], b.shadows.positions[4 * i + 1], b.shadows.positions[4 * i + 2]);
+    apart += !(glm::length(pa - pb) <= 16.0 * kU * (glm::length(eye) + glm::length(pa - eye)));
+  }
+  return apart;
+}
+
 MaskDiff maskDiff(const ShadowFrame& a, const ShadowFrame& b) {
   MaskDiff d;
   for (size_t i = 0; i < a.pixels(); ++i)
@@ -131,16 +148,19 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
   const Bvh bvh = buildBvh(scene);
   const Bvh tbvh = buildBvh(scene);
   const std::string reference = exactBackend();
+  if (reference == "compute") GTEST_SKIP() << "the device has neither ray query nor the ray-tracing pipeline";
+  const std::string second = ctx->info().rayTracingPipeline ? "pipeline" : reference;
   for (NormalCulling normals : kNormalModes) {
     const std::string what = GetParam() + " normals=" + toString(normals);
     const ShadowFrame rq = render(*ctx, scene, normals, reference);
-    const ShadowFrame rt = render(*ctx, scene, normals, ctx->info().rayTracingPipeline ? "pipeline" : reference);
+    const ShadowFrame rt = render(*ctx, scene, normals, second);
     size_t visDiff = 0, accDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) {
       visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
       accDiff += rq.shadows.accounting[i] != rt.shadows.accounting[i];
     }
-    EXPECT_EQ(visDiff, 0u) << what << ": pixels whose visibility mask differs between rayquery and pipeline";
+    EXPECT_EQ(visDiff, 0u) << what << ": pixels whose visibility mask differs between " << reference << " and "
+                           << second;
     // backend=compute: our BVH and watertight test in float. A pixel whose mask differs from ray
     // query's although both traced the same rays (sameRays) holds a pair on which one of the two
     // differs from the double-precision CPU ray, and every such pair must be explained
@@ -168,7 +188,7 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     EXPECT_EQ(cp8Diff, 0u) << what << ": pixels whose mask differs between bvh_width 2 and 8";
     expectCleanImages(cp4, what + " compute, bvh_width 4");
     expectCleanImages(cp8, what + " compute, bvh_width 8");
-    EXPECT_EQ(accDiff, 0u) << what << ": pixels whose accounting differs between rayquery and pipeline";
+    EXPECT_EQ(accDiff, 0u) << what << ": pixels whose accounting differs between " << reference << " and " << second;
     expectCleanImages(rq, what + " rayquery");
     expectCleanImages(rt, what + " pipeline");
 
@@ -198,6 +218,8 @@ TEST_P(ShadowBackends, AgreeAddUpAndMatchTheCpuShadowRays) {
     // perturbation of 2^-17 of the magnitudes involved); none may be left unexplained.
     const ShadowComparison cmp = compare(rq, scene, bvh);
     EXPECT_EQ(cmp.unexplained(), 0u) << what << ": " << cmp.mismatches << " mismatches of " << cmp.pairs << " pairs";
+    EXPECT_EQ(positionsApart(rq, cp), 0u)
+        << what << ": pixels whose compute position is not " << reference << "'s within rounding";
     EXPECT_LE(cpDiff.sameRays, cmp.mismatches + cmpCp.mismatches)
         << what << ": pixels whose mask differs, compute against " << reference << " (" << cpDiff.text() << ")";
     // Not a tolerance but a check that the explanation stays meaningful: if a large share of the
@@ -241,11 +263,14 @@ TEST_F(ShadowComputeTiles, ComputeBackendAtEveryTileSizeEqualsRayQuery) {
   // another position or normal, both frames' pairs are held to the CPU's double-precision rays from
   // their own positions, every mismatch explained (as in ShadowBackends).
   const std::string reference = exactBackend();
+  if (reference == "compute") GTEST_SKIP() << "the device has neither ray query nor the ray-tracing pipeline";
   const Bvh cpuBvh = buildBvh(sceneNamed("atrium"));
   const auto expectEqual = [&](const ShadowFrame& rq, const ShadowFrame& cp, const Scene& scene, const Bvh& bvh,
                                const std::string& what) {
     const MaskDiff d = maskDiff(rq, cp);
     EXPECT_EQ(d.sameRays, 0u) << what << ": pixels whose mask differs from " << reference << "'s (" << d.text() << ")";
+    EXPECT_EQ(positionsApart(rq, cp), 0u)
+        << what << ": pixels whose compute position is not " << reference << "'s within rounding";
     if (d.otherRays == 0) return;
     EXPECT_EQ(compare(rq, scene, bvh).unexplained(), 0u) << what << ": " << reference;
     EXPECT_EQ(compare(cp, scene, bvh).unexplained(), 0u) << what << ": compute";
@@ -293,6 +318,7 @@ class ShadowScaledTMin : public testing::GpuTest {};
 TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
   // Ray query against the pipeline where both exist; else the one there is (exactBackend) alone.
   const std::string reference = exactBackend();
+  if (reference == "compute") GTEST_SKIP() << "the device has neither ray query nor the ray-tracing pipeline";
   const std::string other = ctx->info().rayTracingPipeline ? "pipeline" : reference;
   for (const char* name : {"grazing", "grazing-far", "far-planes", "far-origin", "thin-gap"}) {
     const Scene& scene = sceneNamed(name);
@@ -301,7 +327,8 @@ TEST_F(ShadowScaledTMin, BackendsAgreeAndMatchTheCpuRaysWithTheSameTMin) {
     const ShadowFrame rt = render(*ctx, scene, NormalCulling::Improved, other, 16, /*scaledTMin=*/true);
     size_t visDiff = 0;
     for (size_t i = 0; i < rq.pixels(); ++i) visDiff += rq.shadows.visibility[i] != rt.shadows.visibility[i];
-    EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between rayquery and pipeline";
+    EXPECT_EQ(visDiff, 0u) << name << ": pixels whose visibility mask differs between " << reference << " and "
+                           << other;
     expectCleanImages(rq, std::string(name) + " scaled t_min");
     const ShadowComparison cmp = compare(rq, scene, bvh);
     EXPECT_EQ(cmp.unexplained(), 0u) << name << ": " << cmp.mismatches << " mismatches of " << cmp.pairs << " pairs";

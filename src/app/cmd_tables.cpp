@@ -109,6 +109,10 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
         for (const auto& [key, rate] : one.rates)
           if (rate.perSecond > ceilings.rates[key].perSecond) ceilings.rates[key] = rate;
       }
+      if (ceilingMatches(results, ceilings) == 0)
+        throw InputError("--ceiling " + ceilings.file + ": no pass of " + resultsPaths[0] +
+                         " ran with the pass, primary and aa of a ceiling run; sweep configs/ceilings*.json with "
+                         "the same primary and aa (--set primary=... --set aa=...)");
       std::cout << rooflineMarkdown(results, &ceilings);
     }
   } else if (format == "roofline-svg") {

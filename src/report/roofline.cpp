@@ -186,16 +186,28 @@ std::string ceilingKey(const std::string& entry, const std::string& unit, const 
   return entry + " | " + unit + " | primary " + param("primary") + " | aa " + param("aa");
 }
 
+bool rateOnlyUnit(const std::string& unit) {
+  return unit == "tile_loop_steps" || unit == "triangles_set_up" || unit == "pixels_resolved" || unit == "splat_tests";
+}
+
 MeasuredCeilings measuredCeilings(const json& ceilingResults, const std::string& file) {
   MeasuredCeilings c;
   c.file = file;
   for (const Point& p : points(ceilingResults))
     for (const Load& l : p.loads) {
-      if (l.peak > 0 || !(l.achieved > 0)) continue;  // a device peak rates it already; no rate
+      if (!rateOnlyUnit(l.unit) || !(l.achieved > 0)) continue;  // a device peak rates it; no rate
       MeasuredCeiling& m = c.rates[ceilingKey(p.entry, l.unit, p.params)];
       if (l.achieved > m.perSecond) m = {l.achieved, p.variant};
     }
   return c;
+}
+
+size_t ceilingMatches(const json& results, const MeasuredCeilings& ceilings) {
+  size_t matches = 0;
+  for (const Point& p : points(results))
+    for (const Load& l : p.loads)
+      matches += rateOnlyUnit(l.unit) && ceilings.rates.count(ceilingKey(p.entry, l.unit, p.params)) > 0;
+  return matches;
 }
 
 std::string rooflineMarkdown(const json& results, const MeasuredCeilings* ceilings) {
@@ -234,7 +246,7 @@ std::string rooflineMarkdown(const json& results, const MeasuredCeilings* ceilin
     // bound is again the unit closest to its peak.
     if (ceilings)
       for (const Load& l : p.loads) {
-        if (l.peak > 0) continue;
+        if (!rateOnlyUnit(l.unit)) continue;
         const auto c = ceilings->rates.find(ceilingKey(p.entry, l.unit, p.params));
         if (c == ceilings->rates.end()) continue;
         const double fraction = l.achieved / c->second.perSecond;

@@ -39,10 +39,14 @@ std::string peakFractionText(double fraction);
 // What a fraction over 100 % means, for captions and legends.
 inline constexpr const char* kOverPeakMeaning = "over 100 %: not this pass's peak";
 
+// The units no device peak counts, rated only against measured ceilings (below): the tile pass's
+// loop steps, the per-triangle pass's triangles, the resolve's pixels, the splat gather's tests.
+bool rateOnlyUnit(const std::string& unit);
+
 // Ceilings measured by the same passes on a ceiling workload (`tables --ceiling FILE`, e.g. a sweep
-// of configs/ceilings.json): for the units no device peak counts (a loop's steps: tile_loop_steps,
-// splat_tests), the highest rate any run of that file reached, per (pass entry, unit, params.primary,
-// params.aa). A run's load in such a unit is then rated against it, as against a peak.
+// of configs/ceilings.json): for the rate-only units (above), the highest rate any run of that file
+// reached, per (pass entry, unit, params.primary, params.aa). A run's load in such a unit is then
+// rated against it, as against a peak.
 struct MeasuredCeiling {
   double perSecond = 0;
   std::string variant;  // the ceiling run that reached it
@@ -53,6 +57,8 @@ struct MeasuredCeilings {
 };
 std::string ceilingKey(const std::string& entry, const std::string& unit, const nlohmann::json& params);
 MeasuredCeilings measuredCeilings(const nlohmann::json& ceilingResults, const std::string& file);
+// How many of a results file's (pass, unit) loads find a ceiling: 0 says the files do not fit.
+size_t ceilingMatches(const nlohmann::json& results, const MeasuredCeilings& ceilings);
 
 // The roofline of every run of a results file: a Markdown table (variant, pass, bound, achieved,
 // peak, fraction, share of its ceiling, source) and an SVG (achieved against peak on log axes, one

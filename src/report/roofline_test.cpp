@@ -88,6 +88,8 @@ TEST(Roofline, AShortPassIsBoundByTheLaunchAndALoopByItsCeilingRun) {
                                         {{"loop", 1.0}}, {{"primary", "3dr-binned"}, {"aa", "msaa16"}});
   const MeasuredCeilings other = measuredCeilings(msaa, "msaa.json");
   EXPECT_NE(rowOf(rooflineMarkdown(results, &other), "loop").find("| — | — |"), std::string::npos);
+  EXPECT_EQ(ceilingMatches(results, other), 0u);  // `tables --ceiling` refuses such files
+  EXPECT_EQ(ceilingMatches(results, ceilings), 1u);
 
   // A unit a device peak rates is never taken from a ceiling run.
   const nlohmann::json bytesOnly = resultsOf("GPU", works, {{"short", 0.001}, {"loop", 1.0}}, params);
