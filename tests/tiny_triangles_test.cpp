@@ -47,7 +47,7 @@ RenderSettings tinySettings(uint32_t w, uint32_t h, NormalCulling normals) {
 //    exactly when neither the −1 nor the +1 neighbour along x (or along y) has depth, and then the
 //    normal is flagged (exactly zero; its rays are traced). A 1.9-px triangle covers one or two
 //    centres per row and column, a 1-px strip one per row, so most pixels are flagged.
-//  - What remains is rounding, as on a plane seen head-on (ShadowNormals in shadows_gpu_test.cpp,
+//  - What remains is rounding, as on a plane seen head-on (ShadowNormals in shadow_reconstruction_gpu_test.cpp,
 //    docs/numerics.md): each position errs by ε_P·r, ε_P = 16u (the rasterised depth) + 8u (Alg. 4.1
 //    in float), r the distance to the eye; a derivative (two positions one pixel apart) by 2ε_P·r
 //    against its length s = 10 m · 2 tan(30°) / 1080 = 1.07 cm (the pixel's footprint on the
