@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "base/errors.h"
@@ -18,32 +19,95 @@ float halfAreaOf(const gpu::PrimaryBvhNode& n) {
   return d.x * d.y + d.y * d.z + d.z * d.x;
 }
 
-// Collapses the binary tree below binary node `b` into wide nodes, depth first (a node before its
-// children); returns the wide node's index.
-struct WideCollapse {
+// The SAH-optimal collapse (Ylitie, Karras and Laine 2017, Sect. 3.1): which binary nodes become
+// the wide nodes and which subtrees become leaves, chosen bottom up to minimize the wide tree's SAH
+// cost, the sum of each wide node's area times kNodeCost and each leaf's area times its triangles
+// times kTriangleCost. cost(n, i) is the least cost of binary subtree n cut into at most i roots,
+// each a leaf (a subtree of at most kMaxLeaf triangles: its range of the triangle order is
+// contiguous, trace_bvh.h's leaf code holds up to 8) or a wide node whose children are its subtree
+// cut into at most W roots. Depth first: a node before its children.
+struct SahCollapse {
   const std::vector<gpu::PrimaryBvhNode>& binary;
   std::vector<glm::vec4>& out;
   uint32_t width;
+  // The binary build's costs (primary_bvh.cpp: 1 a node traversal, 1 a triangle test). On the H200
+  // a cheaper triangle (0.15 to 0.5 of a node) merged more leaves and traced every ray set slower
+  // (results/h200/tracer-51/collapse); from 1 up the tree is the same but for a few hundred nodes.
+  static constexpr double kNodeCost = 1.0, kTriangleCost = 1.0;
+  static constexpr uint32_t kMaxLeaf = 8;
+  std::vector<double> cost;    // [n · W + i − 1]
+  std::vector<uint8_t> split;  // [n · W + i − 1], i ≥ 2: 0 as i − 1 roots, else k: the left child's share
+  std::vector<uint8_t> leaf;   // [n]: cost(n, 1) is n as one leaf
   uint32_t depth = 0;
 
+  uint32_t right(uint32_t n) const { return binary[n].info.x; }
+  bool isBinaryLeaf(uint32_t n) const { return binary[n].info.x == 0; }
+  double c(uint32_t n, uint32_t i) const { return cost[size_t(n) * width + i - 1]; }
+  // The best split of i roots between n's children, and its cost.
+  std::pair<double, uint32_t> distribute(uint32_t n, uint32_t i) const {
+    double best = std::numeric_limits<double>::infinity();
+    uint32_t bestK = 1;
+    for (uint32_t k = 1; k < i; ++k) {
+      const double v = c(n + 1, k) + c(right(n), i - k);
+      if (v < best) {
+        best = v;
+        bestK = k;
+      }
+    }
+    return {best, bestK};
+  }
+
+  void solve() {
+    const size_t count = binary.size();
+    cost.assign(count * width, 0.0);
+    split.assign(count * width, 0);
+    leaf.assign(count, 0);
+    for (size_t m = count; m-- > 0;) {  // a node's children follow it
+      const uint32_t n = uint32_t(m);
+      const double area = double(halfAreaOf(binary[n]));
+      const uint32_t tris = binary[n].info.z;
+      const bool mayLeaf = isBinaryLeaf(n) || (tris >= 1 && tris <= kMaxLeaf);
+      const double asLeaf = mayLeaf ? area * double(tris) * kTriangleCost : std::numeric_limits<double>::infinity();
+      if (isBinaryLeaf(n)) {
+        for (uint32_t i = 1; i <= width; ++i) cost[m * width + i - 1] = asLeaf;
+        leaf[m] = 1;
+        continue;
+      }
+      const double asNode = area * kNodeCost + distribute(n, width).first;
+      cost[m * width] = std::min(asLeaf, asNode);
+      leaf[m] = asLeaf <= asNode ? 1 : 0;
+      for (uint32_t i = 2; i <= width; ++i) {
+        const auto [v, k] = distribute(n, i);
+        if (v < c(n, i - 1)) {
+          cost[m * width + i - 1] = v;
+          split[m * width + i - 1] = uint8_t(k);
+        } else {
+          cost[m * width + i - 1] = c(n, i - 1);
+        }
+      }
+    }
+  }
+
+  void roots(uint32_t n, uint32_t i, std::vector<uint32_t>& kids) const {
+    while (i >= 2 && !isBinaryLeaf(n) && split[size_t(n) * width + i - 1] == 0) --i;
+    if (i == 1 || isBinaryLeaf(n)) {
+      kids.push_back(n);
+      return;
+    }
+    const uint32_t k = split[size_t(n) * width + i - 1];
+    roots(n + 1, k, kids);
+    roots(right(n), i - k, kids);
+  }
+
+  // Wide node for binary node b (its subtree cut into at most W roots); returns its index.
   uint32_t build(uint32_t b, uint32_t level) {
     std::vector<uint32_t> kids;
-    if (binary[b].info.x == 0)
+    if (isBinaryLeaf(b)) {
       kids = {b};  // the root is a leaf: one child
-    else
-      kids = {b + 1, binary[b].info.x};
-    while (kids.size() < width) {
-      int widest = -1;
-      float area = -1.0f;
-      for (size_t i = 0; i < kids.size(); ++i)
-        if (binary[kids[i]].info.x != 0 && halfAreaOf(binary[kids[i]]) > area) {
-          area = halfAreaOf(binary[kids[i]]);
-          widest = int(i);
-        }
-      if (widest < 0) break;
-      const uint32_t k = kids[size_t(widest)];
-      kids[size_t(widest)] = k + 1;  // its children take its place, in order
-      kids.insert(kids.begin() + widest + 1, binary[k].info.x);
+    } else {
+      const uint32_t k = distribute(b, width).second;
+      roots(b + 1, k, kids);
+      roots(right(b), width - k, kids);
     }
     const size_t stride = wideNodeVec4s(width);
     const uint32_t index = uint32_t(out.size() / stride);
@@ -57,7 +121,7 @@ struct WideCollapse {
         out[group + a][int(i % 4)] = k.lo[a];
         out[group + 3 + a][int(i % 4)] = k.hi[a];
       }
-      if (k.info.x == 0) {
+      if (leaf[kids[i]]) {
         HB_ASSERT(k.info.z >= 1 && k.info.z <= 8 && k.info.y < (1u << 28));
         codes[i] = kWideLeaf | (k.info.z - 1) << 28 | k.info.y;
       } else {
@@ -97,7 +161,8 @@ TraceBvhLayout layoutTraceBvh(const std::vector<glm::vec3>& vertices, uint32_t w
         for (int i = 0; i < 4; ++i) std::memcpy(&out.wide[g * kWideGroupVec4s + 6][i], &empty, sizeof empty);
       out.depth = 1;
     } else {
-      WideCollapse c{out.nodes, out.wide, width};
+      SahCollapse c{out.nodes, out.wide, width};
+      c.solve();
       c.build(0, 1);
       out.depth = c.depth;
     }

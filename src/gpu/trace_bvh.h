@@ -16,9 +16,9 @@
 
 namespace hb {
 
-// bvh_width=4 or 8: the binary tree collapsed into nodes of up to W children (a node's children are
-// its binary node's two; then, while fewer than W, the interior child with the largest box is
-// replaced by its two), in groups of 4 children of 8 vec4 = 128 B: the children's lo.x, lo.y, lo.z,
+// bvh_width=4 or 8: the binary tree collapsed into nodes of up to W children, the collapse of least
+// SAH cost (trace_bvh.cpp SahCollapse: which binary nodes become wide nodes and which subtrees of up
+// to 8 triangles become leaves), in groups of 4 children of 8 vec4 = 128 B: the children's lo.x, lo.y, lo.z,
 // hi.x, hi.y, hi.z (one vec4 each, child k of the group in component k), their codes (vec4 of uint
 // bits), and one unused; a node is W / 4 groups (width 4: 128 B, width 8: 256 B). A code is a wide
 // node's index, or a leaf: kWideLeaf | (count − 1) << 28 | first (entries of the triangle order), or
