@@ -14,8 +14,10 @@ namespace hb {
 
 namespace {
 
-float halfAreaOf(const gpu::PrimaryBvhNode& n) {
-  const glm::vec3 d = glm::max(glm::vec3(n.hi) - glm::vec3(n.lo), glm::vec3(0.0f));
+// In double: a finite box of extents near 1e19 has no float half area (the glTF loader takes any
+// finite vertex), and an infinite cost would leave the collapse no finite choice.
+double halfAreaOf(const gpu::PrimaryBvhNode& n) {
+  const glm::dvec3 d = glm::max(glm::dvec3(glm::vec3(n.hi)) - glm::dvec3(glm::vec3(n.lo)), glm::dvec3(0.0));
   return d.x * d.y + d.y * d.z + d.z * d.x;
 }
 
@@ -32,7 +34,8 @@ struct SahCollapse {
   uint32_t width;
   // The binary build's costs (primary_bvh.cpp: 1 a node traversal, 1 a triangle test). On the H200
   // a cheaper triangle (0.15 to 0.5 of a node) merged more leaves and traced every ray set slower
-  // (results/h200/tracer-51/collapse); from 1 up the tree is the same but for a few hundred nodes.
+  // at width 4 (results/h200/tracer-51/collapse); from 1 up the tree is the same but for a few
+  // hundred nodes.
   static constexpr double kNodeCost = 1.0, kTriangleCost = 1.0;
   static constexpr uint32_t kMaxLeaf = 8;
   std::vector<double> cost;    // [n · W + i − 1]
@@ -64,7 +67,7 @@ struct SahCollapse {
     leaf.assign(count, 0);
     for (size_t m = count; m-- > 0;) {  // a node's children follow it
       const uint32_t n = uint32_t(m);
-      const double area = double(halfAreaOf(binary[n]));
+      const double area = halfAreaOf(binary[n]);
       const uint32_t tris = binary[n].info.z;
       const bool mayLeaf = isBinaryLeaf(n) || (tris >= 1 && tris <= kMaxLeaf);
       const double asLeaf = mayLeaf ? area * double(tris) * kTriangleCost : std::numeric_limits<double>::infinity();
@@ -75,10 +78,12 @@ struct SahCollapse {
       }
       const double asNode = area * kNodeCost + distribute(n, width).first;
       cost[m * width] = std::min(asLeaf, asNode);
-      leaf[m] = asLeaf <= asNode ? 1 : 0;
+      leaf[m] = mayLeaf && asLeaf <= asNode ? 1 : 0;
+      // On a tie, more roots: a subtree of no area (triangles collapsed to a point) costs 0 however
+      // it is cut, and fuller nodes keep it shallow.
       for (uint32_t i = 2; i <= width; ++i) {
         const auto [v, k] = distribute(n, i);
-        if (v < c(n, i - 1)) {
+        if (v <= c(n, i - 1)) {
           cost[m * width + i - 1] = v;
           split[m * width + i - 1] = uint8_t(k);
         } else {
@@ -122,7 +127,8 @@ struct SahCollapse {
         out[group + 3 + a][int(i % 4)] = k.hi[a];
       }
       if (leaf[kids[i]]) {
-        HB_ASSERT(k.info.z >= 1 && k.info.z <= 8 && k.info.y < (1u << 28));
+        HB_ASSERT(k.info.z >= 1 && k.info.z <= kMaxLeaf &&
+                  uint64_t(k.info.y) + k.info.z <= (1u << 28));  // never kWideEmpty
         codes[i] = kWideLeaf | (k.info.z - 1) << 28 | k.info.y;
       } else {
         codes[i] = build(kids[i], level + 1);

@@ -41,7 +41,7 @@ inline constexpr uint32_t wideNodeVec4s(uint32_t width) { return 2 * width; }
 // What is uploaded, built on the CPU (tested without a device: trace_bvh_test.cpp).
 struct TraceBvhLayout {
   uint32_t width = 2;
-  std::vector<gpu::PrimaryBvhNode> nodes;  // the binary tree (kept for widths 4, 8: its leaves are the wide leaves)
+  std::vector<gpu::PrimaryBvhNode> nodes;  // the binary tree (kept for widths 4, 8: a wide leaf is one of its subtrees)
   std::vector<glm::vec4> wide;             // width 4, 8: wideNodeVec4s(width) per node, the root first
   std::vector<glm::vec4> triangles;        // 3 per triangle in leaf order; [3i].w = the id's bits
   uint32_t depth = 0;                      // in nodes of the width's tree

@@ -228,7 +228,7 @@ TEST(TraceBvh, EveryTriangleOnceInBoxesThatHoldThem) {
   }
 }
 
-// The wide tree's SAH cost as collapse() minimizes it (trace_bvh.cpp SahCollapse): each wide node
+// The wide tree's SAH cost as the collapse minimizes it (trace_bvh.cpp SahCollapse::solve): each wide node
 // below the root its box's half area, each leaf its box's half area times its triangles.
 double wideSahCost(const TraceBvhLayout& l, uint32_t node) {
   double cost = 0;
@@ -378,6 +378,52 @@ TEST(TraceBvh, EdgeCases) {
   v[3 * 7] = glm::vec3(nan, 0, 0);            // a triangle with a non-finite vertex sits in a leaf, in no box
   v.insert(v.end(), 30, glm::vec3(2, 2, 2));  // ten triangles collapsed to one point
   checkLayout(v, "a row, a NaN vertex, collapsed triangles");
+  // Finite but huge: boxes 4e20 wide, whose half area overflows a float (the collapse weighs them in
+  // double; in float every cost above 8 triangles was infinite and the root's child became a leaf
+  // of 40, which the leaf code cannot hold).
+  std::vector<glm::vec3> huge;
+  for (int i = 0; i < 40; ++i) {
+    const float x = float(i) * 1e19f;
+    huge.insert(huge.end(), {{x, 0, 0}, {x + 1e19f, 0, 1e20f}, {x, 1e20f, 0}});
+  }
+  checkLayout(huge, "coordinates near 1e20");
+}
+
+// Subtrees the binary build must split (it keeps at most 4 triangles a leaf) become one wide leaf
+// of up to 8 where that costs less: W clusters of 8 triangles that overlap almost whole, 100 m apart,
+// for width W. A cluster as one leaf costs 8 half areas A; as a wide node, A more than its leaves;
+// as two of the root's slots, W clusters would need 2W. So the root holds W leaves of 8. Rays
+// through every cluster find brute force's nearest triangle through the merged leaves. Fails if the
+// collapse keeps the binary leaves (no leaf over 4).
+TEST(TraceBvh, TheCollapseMergesSmallSubtreesIntoLeavesOfUpToEight) {
+  for (uint32_t width : {4u, 8u}) {
+    SCOPED_TRACE("width " + std::to_string(width));
+    std::vector<glm::vec3> v;
+    for (uint32_t c = 0; c < width; ++c)
+      for (int i = 0; i < 8; ++i) {
+        const float cx = 100.0f * float(c), e = 0.001f * float(i);  // nearly the same triangle
+        v.insert(v.end(), {{cx + e, e, 0}, {cx + 1 + e, 0, e}, {cx, 1 + e, 0.5f}});
+      }
+    checkLayout(v, std::to_string(width) + " clusters of 8");
+    const TraceBvhLayout l = layoutTraceBvh(v, width);
+    for (uint32_t k = 0; k < width; ++k) {
+      const WideChild c = wideChild(l.wide, width, 0, k);
+      ASSERT_NE(c.code, kWideEmpty) << "slot " << k;
+      ASSERT_TRUE(c.code & kWideLeaf) << "slot " << k;
+      EXPECT_EQ(((c.code >> 28) & 7u) + 1, 8u) << "slot " << k;
+    }
+    std::vector<uint32_t> all(v.size() / 3);
+    for (uint32_t s = 0; s < all.size(); ++s) all[s] = s;
+    for (int r = 0; r < 64; ++r) {
+      const glm::dvec3 o(100.0 * (r % int(width)) + 0.1 + 0.005 * r, 0.1 + 0.004 * r, -5.0), d(0, 0, 1);
+      double tAll = 1e30, tWide = 1e30;
+      std::vector<uint32_t> slots;
+      wideSlotsAlong(l, 0, o, d, slots);
+      const int brute = nearestOf(l, all, o, d, tAll);
+      EXPECT_GE(brute, 0) << "ray " << r;
+      EXPECT_EQ(nearestOf(l, slots, o, d, tWide), brute) << "ray " << r;
+    }
+  }
 }
 
 // The tracer's SAH tries every axis (kTraceBvhBuild), not only the centroids' widest: two rows of
