@@ -209,7 +209,22 @@ TEST_F(Sweep, TinySweepWritesCompleteResultsCsvAndTables) {
   const RunResult noRates = run({"tables", file, "--format", "roofline", "--ceiling", file});
   EXPECT_EQ(noRates.exitCode, 2);
   EXPECT_NE(noRates.err.find("configs/ceilings"), std::string::npos) << noRates.err;
-  for (const RunResult* line : {&noFormat, &otherDevice, &noRates})
+  // A field of the wrong type (a roofline entry's loads that are numbers, not objects) is the file's
+  // fault: one line naming the file, exit 2, nothing printed (it was exit 3, an internal error).
+  nlohmann::json mistyped = results;
+  bool edited = false;
+  for (nlohmann::json& entry : mistyped["runs"])
+    if (!edited && entry.contains("roofline") && !entry["roofline"].empty()) {
+      entry["roofline"].begin()->operator[]("loads") = nlohmann::json::array({7});
+      edited = true;
+    }
+  ASSERT_TRUE(edited) << "no run of the tiny sweep has a roofline entry";
+  std::ofstream(out / "mistyped.json") << mistyped.dump();
+  const RunResult wrongType = run({"tables", (out / "mistyped.json").string(), "--format", "roofline"});
+  EXPECT_EQ(wrongType.exitCode, 2) << wrongType.err;
+  EXPECT_NE(wrongType.err.find("mistyped.json: a field has the wrong type"), std::string::npos) << wrongType.err;
+  EXPECT_EQ(wrongType.out, "");
+  for (const RunResult* line : {&noFormat, &otherDevice, &noRates, &wrongType})
     EXPECT_EQ(std::count(line->err.begin(), line->err.end(), '\n'), 1) << line->err;
 }
 

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 
@@ -31,6 +32,10 @@ static nlohmann::json readResults(const std::string& path) {
     throw InputError(path + ": not valid JSON (" + std::string(e.what()) + "); " + kResultsHint);
   }
 }
+
+static int renderTables(const nlohmann::json& results, const std::vector<std::string>& resultsPaths,
+                        const std::string& format, const std::vector<std::string>& ceilingPaths,
+                        const std::function<std::string(const nlohmann::json&)>& deviceName);
 
 int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& format, bool allowDuplicates,
               const std::vector<std::string>& ceilingPaths) {
@@ -80,6 +85,23 @@ int cmdTables(const std::vector<std::string>& resultsPaths, const std::string& f
         run["name"] = run.value("name", std::string()) + " [" + resultsPaths[i] + "]";
       }
   }
+  // A field of the right name but the wrong type (a roofline entry's `loads` that is not an array of
+  // objects, a time that is a string) is the file's fault, not the tool's: one line, exit 2. Each
+  // table is made whole before it is written, so nothing is half printed.
+  try {
+    return renderTables(results, resultsPaths, format, ceilingPaths, deviceName);
+  } catch (const nlohmann::json::exception& e) {  // type_error, out_of_range, invalid_iterator
+    std::string named;
+    for (const std::string& path : resultsPaths) named += (named.empty() ? "" : ", ") + path;
+    for (const std::string& path : ceilingPaths) named += ", --ceiling " + path;
+    throw InputError(named + ": a field has the wrong type or is missing (" + std::string(e.what()) + "); " +
+                     kResultsHint);
+  }
+}
+
+static int renderTables(const nlohmann::json& results, const std::vector<std::string>& resultsPaths,
+                        const std::string& format, const std::vector<std::string>& ceilingPaths,
+                        const std::function<std::string(const nlohmann::json&)>& deviceName) {
   if (format == "csv") {
     std::cout << thesisTablesCsv(results);
   } else if (format == "svg") {
