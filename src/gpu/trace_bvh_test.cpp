@@ -245,7 +245,7 @@ double wideSahCost(const TraceBvhLayout& l, uint32_t node) {
   return cost;
 }
 
-// The same cost for the collapse the tracer used before (session 39): a node's children start as
+// The same cost for the collapse the tracer used before the one of least SAH cost: a node's children start as
 // its binary node's two, and while fewer than W, the interior child with the largest box opens.
 double greedyCollapseCost(const std::vector<gpu::PrimaryBvhNode>& b, uint32_t node, uint32_t width) {
   const auto area = [&](uint32_t n) {
