@@ -13,7 +13,8 @@ export HYBRIDBENCH_VALIDATION=1
 # lavapipe's thread count: both cores, but no more (CI has 2).
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
 # Two tests at a time: a lavapipe test spends much of its time compiling pipelines on one thread, so
-# on CI's 2 cores the suite took 450 s with -j2 against 700-820 s with -j1 (at bbbade5).
+# on CI's 2 cores the suite took 450 s with -j2 against 700-820 s with -j1 (at bbbade5); -j3 was slower
+# than -j2 at 25deb97 (docs/contributing.md, "Where CI's time goes").
 (cd build && ctest --output-on-failure -j2 --timeout 900 "$@")
 if [ $# -eq 0 ]; then
   bash scripts/sanitize.sh
