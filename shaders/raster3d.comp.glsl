@@ -56,10 +56,6 @@ void perTriangle() {
   bool own = id < r3.triangleCount && setupTriangle(id, s, lo, hi);  // rasterized by this thread
   Tally tally = Tally(0u, 0u, 0u, 0u);
   uint n = 0u;  // the items a big triangle asks for
-  if (own && R3D_SHARED) {  // every plane's box (raster3d_common.glsl.inc)
-    lo = max(lo - 1, ivec2(0));
-    hi = min(hi + 1, ivec2(r3.width - 1u, r3.height - 1u));
-  }
   if (own) {
     const uint w = uint(hi.x - lo.x + 1), h = uint(hi.y - lo.y + 1);
     const bool big = R3D_SHARED || w * h > r3.smallArea;  // shared planes: all binned

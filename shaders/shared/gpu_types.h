@@ -198,7 +198,8 @@ struct Raster3dConstants {
                         // binned: (triangle, screen tile) entries
   uint tileWorkgroups;  // workgroups of the tile dispatch (each strides over the items)
   uint projection;      // kProjection*: the camera's projection (camera_ray.glsl.inc)
-  uint pad1;
+  float boxMargin;      // perspective: how far (px) a float ray's pixel may lie from where the
+                        // constants project its points (raster3dConstants derives it; r3dScreenBox)
   // Orthographic: ray origins eye + origin0 + x·originX + y·originY (xyz), direction forward.
   vec4 origin0;
   vec4 originX;

@@ -60,6 +60,21 @@ gpu::Raster3dConstants raster3dConstants(const Camera& camera, uint32_t width, u
   c.itemCapacity = listPerTile * ((width + 7) / 8) * ((height + 7) / 8);
   c.tileWorkgroups = 4096;
   c.projection = uint32_t(camera.projection);
+  // How far pixel (x, y)'s float ray may project from x with the float constants (r3dScreenBox's
+  // tight box). Each constant is its double value rounded once (relative u = 2^-24 a component).
+  // With S the larger scale (pixels a unit of tangent), R = W + H: |dx*|, |dy*| = 1/S, |d0*| <=
+  // 1 + R/S, so the exact ray d* of a pixel on the screen has |d*| <= 1 + 2R/S and d*·forward = 1.
+  // The float ray and the float right, forward move d·right and d·forward by at most
+  // 2√3·u·(1 + 2R/S) each; the quotient (|d*·right| <= R/S) by that times (1 + R/S) and 1.01 for
+  // the denominator; scaled by S and with scale's and offset's own rounding (u·R each):
+  // |π(d(x, y)) − x| <= 3.6u·(S + 2R)·(1 + R/S) + 2u·R. Twice that, rounded up to a float.
+  if (camera.projection == CameraProjection::Perspective) {
+    const double u = std::ldexp(1.0, -24), S = std::max(double(c.project.x), double(c.project.y)),
+                 Sm = std::min(double(c.project.x), double(c.project.y)), R = w + h;
+    const double m = 2.0 * (3.6 * u * (S + 2.0 * R) * (1.0 + R / Sm) + 2.0 * u * R);
+    const float f = float(m);
+    c.boxMargin = double(f) < m ? std::nextafter(f, INFINITY) : f;
+  }
   static_assert(uint32_t(CameraProjection::Latlong) == gpu::kProjectionLatlong);
   switch (camera.projection) {
     case CameraProjection::Perspective: break;
