@@ -185,7 +185,9 @@ TEST_F(Determinism, EveryScenesRenderGivesTheSameCountsErrorsAndImagesTwice) {
 // H200, three renders of a CAD mesh counted three different numbers of overflows). The list grows to what the
 // view asks for and the frame is rendered again, so three renders do the same work: no overflow,
 // the same capacity and every count the same. (The full list's own path, which no kept frame now
-// takes, is tested with growth off: raster3d_list_gpu_test.cpp.)
+// takes, is tested with growth off: raster3d_list_gpu_test.cpp.) Boxes of more than 4 pixels take
+// the list (r3d_thread_box 4): at these sizes the CAD mesh's boxes, tight to its triangles, fit the
+// default thread box, and the list of one entry a tile would hold the rest.
 TEST_F(Determinism, TheWorkListGrowsToWhatTheViewAsksSoThreeRendersDoTheSameWork) {
   const std::string gears = (fs::path(HYBRIDBENCH_SOURCE_DIR) / "scenes/external/mcad-gears.glb").string();
   for (const auto& [scene, size, entries] :
@@ -194,7 +196,7 @@ TEST_F(Determinism, TheWorkListGrowsToWhatTheViewAsksSoThreeRendersDoTheSameWork
       const std::string what = fs::path(scene).stem().string() + "-" + method;
       const json r = renderTwice(what,
                                  {"--scene", scene, "--size", size, "--set", std::string("primary=") + method, "--set",
-                                  "r3d_list_per_tile=1", "--set", "effects.shadows=false"},
+                                  "r3d_list_per_tile=1", "--set", "r3d_thread_box=4", "--set", "effects.shadows=false"},
                                  3);
       if (r.is_null()) continue;
       const json& p = r.at("primary");
