@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -86,7 +87,7 @@ TEST_F(Raster3dTest, PixelCentresAtTheEdgeOfATrianglesProjectedExtentStayInItsBo
   const Coverage cov = rasterize(*ctx, s);
   const std::vector<glm::vec3> positions = s.worldTriangles();
   std::vector<uint32_t> indices(positions.size());
-  for (size_t i = 0; i < indices.size(); ++i) indices[i] = uint32_t(i);
+  std::iota(indices.begin(), indices.end(), 0u);  // the soup's corners in order
   const Raster3dResult exact = rasterize3d(raster3dViewOf(rays.c), positions, indices);
   size_t holes = 0, doubles = 0, covered = 0;
   for (size_t i = 0; i < cov.count.size(); ++i) {
