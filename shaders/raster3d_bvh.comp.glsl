@@ -34,6 +34,7 @@
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #include "shared/gpu_types.h"
 
+#define R3D_BVH  // raster3d_common.glsl.inc: rasterizeBox keeps the exact test at every pixel
 #include "raster3d_common.glsl.inc"
 // 256 threads: the first 64 traverse and set triangles up; all four groups of 64 rasterize, four
 // blocks at a time (64 threads alone left too few warps on an SM to hide memory latency).
