@@ -1,6 +1,7 @@
-// The margins of the timed frames' fast paths (raster3d_tiles.glsl.inc: a pixel whose float edge
-// values clear the rounding bound is decided without the exact test; with shared sample planes,
-// all planes at once by the extremes of their rows) on the CPU reference's hardest grids: 100 x 100
+// The margins of the timed frames' fast paths (raster3d_tiles.glsl.inc, and the per-triangle pass's
+// small boxes, rasterizeBox in raster3d_common.glsl.inc: a pixel whose float edge values clear the
+// rounding bound is decided without the exact test; with shared sample planes, all planes at once
+// by the extremes of their rows) on the CPU reference's hardest grids: 100 x 100
 // quads with a vertex on every pixel centre, lifted onto tilted planes under random perspectives
 // (src/reference/raster3d_ref_test.cpp's dense grids), where the float edge values alone give many
 // pixels to the wrong triangle. Every plane of a timed frame must hold the exact CPU rasterization's
