@@ -6,7 +6,8 @@
 // (src/reference/raster3d_ref_test.cpp's dense grids), where the float edge values alone give many
 // pixels to the wrong triangle. Every plane of a timed frame must hold the exact CPU rasterization's
 // keys there, so a margin too small (or a fast path that skips the exact test) fails here, where
-// the other scenes' pixels all lie far from their edges' rounding.
+// the other scenes' pixels all lie far from their edges' rounding. Brute force's item pass takes the
+// small boxes' fast path too (boxFastPixel in raster3d.comp.glsl's perItem).
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -50,12 +51,23 @@ TEST_F(Raster3dTest, TimedFastPathsKeepTheExactKeysWhereFloatsAloneFail) {
     const Raster3dResult plain = rasterize3d(view, corners, order, floatsAlone);
     for (size_t i = 0; i < exact0.visibility.size(); ++i) floatsWrong += plain.visibility[i] != exact0.visibility[i];
 
-    for (const AntiAliasing aa : {AntiAliasing::None, AntiAliasing::Msaa16}) {
-      SCOPED_TRACE(std::string("aa=") + toString(aa));
+    // The binned tile pass and the small boxes (the default thread box), with and without shared
+    // sample planes; and brute force with a thread box of 1, whose item pass takes every pixel.
+    struct Case {
+      const char* primary;
+      AntiAliasing aa;
+      uint32_t threadBox;
+    };
+    for (const Case& c : {Case{"3dr-binned", AntiAliasing::None, RenderSettings{}.raster3dThreadBox},
+                          Case{"3dr-binned", AntiAliasing::Msaa16, RenderSettings{}.raster3dThreadBox},
+                          Case{"3dr", AntiAliasing::None, 1u}}) {
+      const AntiAliasing aa = c.aa;
+      SCOPED_TRACE(std::string(c.primary) + ", aa=" + toString(aa) + ", thread box " + std::to_string(c.threadBox));
       RenderSettings rs;
       rs.width = w;
       rs.height = h;
-      rs.primary = hb::testing::primaryNamed("3dr-binned");
+      rs.primary = hb::testing::primaryNamed(c.primary);
+      rs.raster3dThreadBox = c.threadBox;
       rs.shading = ShadingMethod::Visbuffer;
       rs.lightCulling = false;
       rs.aa = aa;
