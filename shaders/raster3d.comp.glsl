@@ -138,7 +138,6 @@ void perItem() {
   uint spanEnd = begin, id = kNoItem, first = 0u, tilesWide = 1u;
   R3dSetup s;
   ivec2 lo = ivec2(0), hi = ivec2(-1);
-  vec3 bound = vec3(0.0);  // the fast path's, at the box's last pixel (rasterizeBox)
   for (uint item = begin; item < end; ++item) {
     if (item >= spanEnd) {  // the next span (uniform across the workgroup)
       const uint k = findSpan(item);
@@ -151,13 +150,11 @@ void perItem() {
         continue;
       }
       tilesWide = uint(hi.x - lo.x) / 8u + 1u;
-      bound = boxFastBound(s, hi);
     }
     const uint index = item - first, ty = index / tilesWide, tx = index - ty * tilesWide;
     const uint x = uint(lo.x) + tx * 8u + gl_LocalInvocationID.x % 8u;
     const uint y = uint(lo.y) + ty * 8u + gl_LocalInvocationID.x / 8u;
-    if (x <= uint(hi.x) && y <= uint(hi.y) && !(kBoxFastPath && boxFastPixel(id, s, bound, x, y)))
-      testPixel(id, s, x, y, tally);
+    if (x <= uint(hi.x) && y <= uint(hi.y)) testPixel(id, s, x, y, tally);
   }
   flush(tally);
 }
